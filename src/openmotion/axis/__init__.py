@@ -1,0 +1,1 @@
+"""The NC axis: parameters, kernel arrays, drive simulation, state machine and commands."""

@@ -1,0 +1,882 @@
+"""The axis: a thin view onto kernel row ``row``, plus its commands and PLCopen state.
+
+Every way of moving an axis - FB, Python call, scenario line - ends in one of the public
+methods here and gets a ``Command`` back. Bad input and wrong state never raise: the command
+comes back with ``error`` set (architecture: "an FB never raises during a cycle").
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+from openmotion.axis import jobs
+from openmotion.axis.commands import Command, CommandStatus, Job
+from openmotion.axis.drive import DriveModel
+from openmotion.axis.dynamics import require_position, resolve, resolve_limits
+from openmotion.axis.homing import HomingSequence
+from openmotion.axis.parameters import PARAMETERS, AxisPara, AxisParameters
+from openmotion.axis.state_machine import admit
+from openmotion.core.enums import AxisState, BufferMode, Direction, NewPosAndVeloMode
+from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.core.modulo import modulo_target
+from openmotion.core.special_values import DEFAULT_HOME_POSITION, MC_DEFAULT, InputValue
+from openmotion.trajectory.plan import Limits, plan_stop, plan_velocity
+from openmotion.trajectory.segments import KinematicState, Profile
+
+if TYPE_CHECKING:
+    from openmotion.axis.kernel import AxisKernel
+    from openmotion.runtime.runtime import Runtime
+
+MAX_BUFFERED = 16  #: commands an axis queues behind the active one (docs/decisions.md D-008)
+_BLEND_SPEED = {
+    BufferMode.BLENDING_LOW: min,
+    BufferMode.BLENDING_HIGH: max,
+    BufferMode.BLENDING_PREVIOUS: lambda previous, _next: previous,
+    BufferMode.BLENDING_NEXT: lambda _previous, following: following,
+}
+
+
+class Axis:
+    """One simulated NC axis. Units: mm (or °) and s."""
+
+    def __init__(self, runtime: Runtime, kernel: AxisKernel, name: str, row: int,
+                 parameters: AxisParameters, drive: DriveModel) -> None:
+        self.name = name
+        self.row = row
+        self.parameters = parameters
+        self.drive = drive
+        self._rt = runtime
+        self._k = kernel
+        self.state = AxisState.DISABLED
+        self.axis_error_id = ErrorId.NO_ERROR  #: the axis error behind ErrorStop
+        self.axis_error_message = ""
+        self.homed = False
+        self.powered = False
+        self.drive_ready = True  #: set False to simulate a drive that is not ready
+        self.enable_positive = True  #: feed enable, positive direction (TcMC §4.1)
+        self.enable_negative = True
+        self.override = 1.0  #: velocity override as a fraction (MC_Power.Override / 100)
+        self.calibration_state = 0  #: homing phase (TcMC §3.14 nCalibrationState)
+        self.cam_input: bool | None = None  #: MC_Home.bCalibrationCam, None = simulated cam
+        self.raw_offset = 0.0  #: shift between displayed and machine coordinates [mm]
+        self._job: Job | None = None
+        self._queue: list[Job] = []
+        self._hold: Command | None = None  #: a finished MC_Stop that still holds the axis
+        self._effective_override = 1.0
+        self.apply_parameters()
+
+    # -- reading -----------------------------------------------------------------------------
+
+    @property
+    def position(self) -> float:
+        """Actual position [mm] (encoder)."""
+        return float(self._k.act_p[self.row])
+
+    @property
+    def velocity(self) -> float:
+        """Actual velocity [mm/s]."""
+        return float(self._k.act_v[self.row])
+
+    @property
+    def set_position(self) -> float:
+        """Setpoint position [mm] (TcMC fPosSoll); all positioning refers to it (§3.5)."""
+        return float(self._k.set_p[self.row])
+
+    @property
+    def set_velocity(self) -> float:
+        return float(self._k.set_v[self.row])
+
+    @property
+    def set_acceleration(self) -> float:
+        return float(self._k.set_a[self.row])
+
+    @property
+    def set_jerk(self) -> float:
+        return float(self._k.set_j[self.row])
+
+    @property
+    def following_error(self) -> float:
+        """Set minus actual position [mm]."""
+        return float(self._k.set_p[self.row] - self._k.act_p[self.row])
+
+    @property
+    def has_job(self) -> bool:
+        """The setpoint generator still works on a job (TcMC §7.1 AxisHasJob)."""
+        return bool(self._k.has_job[self.row])
+
+    @property
+    def error(self) -> bool:
+        return self.state is AxisState.ERROR_STOP
+
+    @property
+    def target_position(self) -> float:
+        job = self._job
+        if job is not None and job.target is not None:
+            return job.target
+        return self.set_position
+
+    @property
+    def remaining_time(self) -> float:
+        if not self.has_job:
+            return 0.0
+        return max(float(self._k.segments.end[self.row]) - self._k.sample_time, 0.0)
+
+    @property
+    def remaining_distance(self) -> float:
+        return abs(self.target_position - self.set_position)
+
+    @property
+    def axis_id(self) -> float:
+        return float(self.row + 1)
+
+    @property
+    def in_position_window(self) -> bool:
+        return abs(self.position - self.target_position) <= self.parameters.position_range_window
+
+    @property
+    def modulo_set_position(self) -> float:
+        period = self.parameters.modulo_period
+        return self.set_position % period
+
+    @property
+    def moving(self) -> bool:
+        return self.set_velocity != 0.0 or self.has_job
+
+    @property
+    def active_command(self) -> Command | None:
+        return self._job.command if self._job else None
+
+    def __repr__(self) -> str:
+        return f"<Axis {self.name} {self.state.name} at {self.set_position:.6g}>"
+
+    # -- parameters --------------------------------------------------------------------------
+
+    def apply_parameters(self) -> None:
+        """Copy monitoring parameters into the kernel arrays (after any write)."""
+        p, k, row = self.parameters, self._k, self.row
+        k.lag_on[row] = p.enable_position_lag_monitoring
+        k.lag_max[row] = p.max_position_lag
+        k.lag_filter[row] = p.position_lag_filter_time
+
+    def read_parameter(self, number: int, kind: type = float) -> float | bool:
+        spec = _parameter_spec(number)
+        if (spec.kind is bool) != (kind is bool):
+            raise CommandRejected(
+                ErrorId.PARAMETER_TYPE_MISMATCH,
+                f"parameter {number} is {spec.kind.__name__}, read as {kind.__name__}",
+            )
+        value = getattr(self, spec.source) if spec.status else getattr(self.parameters,
+                                                                       spec.source)
+        return bool(value) if kind is bool else float(value)
+
+    def write_parameter(self, number: int, value: float | bool, kind: type = float) -> None:
+        spec = _parameter_spec(number)
+        if spec.read_only:
+            raise CommandRejected(ErrorId.PARAMETER_READ_ONLY, f"parameter {number} is read-only")
+        if (spec.kind is bool) != (kind is bool):
+            raise CommandRejected(
+                ErrorId.PARAMETER_TYPE_MISMATCH,
+                f"parameter {number} is {spec.kind.__name__}, written as {kind.__name__}",
+            )
+        if kind is not bool and not (isinstance(value, int | float) and math.isfinite(value)):
+            raise CommandRejected(ErrorId.INVALID_PARAMETER_VALUE,
+                                  f"parameter {number}: {value!r} is not a finite number")
+        old = getattr(self.parameters, spec.source)
+        new = bool(value) if kind is bool else (int(value) if spec.kind is int else float(value))
+        setattr(self.parameters, spec.source, new)
+        try:
+            self.parameters.validate()
+        except ValueError as exc:
+            setattr(self.parameters, spec.source, old)
+            raise CommandRejected(ErrorId.INVALID_PARAMETER_VALUE, str(exc)) from None
+        self.apply_parameters()
+
+    # -- power, reset, override ----------------------------------------------------------------
+
+    def power(self, enable: bool = True, enable_positive: bool = True,
+              enable_negative: bool = True) -> bool:
+        """MC_Power: returns the power status (enable AND drive ready)."""
+        self.enable_positive, self.enable_negative = enable_positive, enable_negative
+        status = enable and self.drive_ready
+        if status and not self.powered:
+            self.powered = True
+            self._k.reset_setpoint_to_actual(self.row)
+            self._install(Profile.hold(KinematicState(self.position)), has_job=False)
+            self._k.monitored[self.row] = self.state is not AxisState.ERROR_STOP
+            if self.state is AxisState.DISABLED:
+                self.state = AxisState.STANDSTILL
+        elif not status and self.powered:
+            self.powered = False
+            self._abort_all("the axis was disabled")
+            self._k.reset_setpoint_to_actual(self.row)
+            self._install(Profile.hold(KinematicState(self.position)), has_job=False)
+            self._k.monitored[self.row] = False
+            self._hold = None
+            if self.state is not AxisState.ERROR_STOP:
+                self.state = AxisState.DISABLED
+        self._update_override()
+        return status
+
+    def reset(self) -> Command:
+        """MC_Reset: leave ErrorStop once the error reaction has stopped the axis."""
+        command = self._new("reset")
+        if self.state is not AxisState.ERROR_STOP:
+            self._finish(command)
+            return command
+        command.status = CommandStatus.ACTIVE
+        self._rt._watch(self, lambda now: self._try_reset(command, now))
+        return command
+
+    def set_override(self, percent: float) -> Command:
+        """MC_SetOverride: velocity override in percent, 0-100, applied without a jump."""
+        command = self._new("override")
+        if isinstance(percent, bool) or not isinstance(percent, int | float) or not (
+            math.isfinite(percent) and 0.0 <= percent <= 100.0
+        ):
+            return self._reject(command, ErrorId.INVALID_OVERRIDE,
+                                f"override must be within 0..100 %, got {percent!r}")
+        self.override = percent / 100.0
+        self._update_override()
+        self._finish(command)
+        return command
+
+    # -- motion commands -----------------------------------------------------------------------
+
+    def move_absolute(self, position: InputValue, velocity: InputValue,
+                      acceleration: InputValue = MC_DEFAULT, deceleration: InputValue = MC_DEFAULT,
+                      jerk: InputValue = MC_DEFAULT,
+                      buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
+        """MC_MoveAbsolute (TcMC §3.1): move the set position to ``position``."""
+        return self._move("move_absolute", lambda start: require_position("position", position),
+                          velocity, acceleration, deceleration, jerk, buffer_mode)
+
+    def move_relative(self, distance: InputValue, velocity: InputValue,
+                      acceleration: InputValue = MC_DEFAULT, deceleration: InputValue = MC_DEFAULT,
+                      jerk: InputValue = MC_DEFAULT,
+                      buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
+        """MC_MoveRelative (TcMC §3.2): ``distance`` from the set position where it starts."""
+        return self._move("move_relative",
+                          lambda start: start + require_position("distance", distance),
+                          velocity, acceleration, deceleration, jerk, buffer_mode)
+
+    def move_modulo(self, position: InputValue, velocity: InputValue,
+                    direction: Direction = Direction.POSITIVE,
+                    acceleration: InputValue = MC_DEFAULT, deceleration: InputValue = MC_DEFAULT,
+                    jerk: InputValue = MC_DEFAULT,
+                    buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
+        """MC_MoveModulo (TcMC §3.4, §3.5): modulo target, extra turns for targets >= period."""
+        p = self.parameters
+
+        def target(start: float) -> float:
+            value = require_position("position", position)
+            try:
+                way = Direction(direction)
+            except ValueError:
+                raise CommandRejected(ErrorId.INVALID_DIRECTION,
+                                      f"direction {direction!r} is not an MC_Direction") from None
+            return modulo_target(start, value, p.modulo_period, p.modulo_tolerance_window, way)
+
+        return self._move("move_modulo", target, velocity, acceleration, deceleration, jerk,
+                          buffer_mode)
+
+    def move_velocity(self, velocity: InputValue, direction: Direction = Direction.POSITIVE,
+                      acceleration: InputValue = MC_DEFAULT, deceleration: InputValue = MC_DEFAULT,
+                      jerk: InputValue = MC_DEFAULT,
+                      buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
+        """MC_MoveVelocity (TcMC §3.3): endless motion; ``in_velocity`` once at speed."""
+        command = self._new("move_velocity")
+        try:
+            admit(self.state, "move")
+            mode = _buffer_mode(buffer_mode)
+            limits = resolve_limits(self.parameters, command.warnings, velocity, acceleration,
+                                    deceleration, jerk)
+            sign = self._direction_sign(direction)
+            job = Job("velocity", command, limits, velocity=sign * limits.velocity,
+                      buffer_mode=mode)
+            limit = jobs.soft_limit_in_direction(self.parameters, sign)
+            if limit is not None:  # stop exactly at the limit instead of running past it
+                job.kind, job.target, job.soft_limit_stop = "position", limit, True
+            self._submit(job)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        return command
+
+    def halt(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT,
+             buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
+        """MC_Halt (PLCopen Part 1): a stop that other commands may abort."""
+        command = self._new("halt")
+        try:
+            admit(self.state, "move")
+            dec = resolve("deceleration", deceleration, self.parameters, command.warnings)
+            j = resolve("jerk", jerk, self.parameters, command.warnings)
+            limits = Limits(self.parameters.max_velocity, dec, dec, j)
+            self._submit(Job("halt", command, limits, buffer_mode=_buffer_mode(buffer_mode)))
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        return command
+
+    def stop(self, deceleration: InputValue = 0.0, jerk: InputValue = 0.0,
+             hold: bool = False) -> Command:
+        """MC_Stop (TcMC §3.15): brake to rest; with ``hold`` the axis stays in Stopping.
+
+        0 keeps the running move's deceleration and jerk; a non-zero value is taken only with a
+        non-zero partner. Softer values than the running ones apply unless one of the manual's
+        four safety cases holds, where the stricter values are kept without an error.
+        """
+        command = self._new("stop")
+        try:
+            admit(self.state, "stop")
+            limits = self._stop_limits(deceleration, jerk, command)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        command.hold = hold
+        self._abort_all("aborted by MC_Stop")
+        self._hold = None
+        job = Job("stop", command, limits)
+        self._start(job, self._stop_profile(limits))
+        self.state = AxisState.STOPPING
+        return command
+
+    def home(self, position: InputValue = DEFAULT_HOME_POSITION) -> Command:
+        """MC_Home (TcMC §3.14): reference the axis with the configured reference mode."""
+        command = self._new("home")
+        try:
+            admit(self.state, "home")
+            home = (self.parameters.calibration_value if position is DEFAULT_HOME_POSITION
+                    else require_position("position", position))
+            sequence = HomingSequence(self, home)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        self._abort_all("aborted by MC_Home")
+        limits = Limits(self.parameters.max_velocity, self.parameters.acceleration,
+                        self.parameters.deceleration, self.parameters.jerk)
+        job = Job("home", command, limits)
+        job.extra["sequence"] = sequence
+        self._job = job
+        command.status = CommandStatus.ACTIVE
+        self.state = AxisState.HOMING
+        self._rt._watch(self, lambda now: sequence.step(now))
+        return command
+
+    def set_actual_position(self, position: InputValue) -> Command:
+        """MC_SetActualPosition (TcMC §4.12): shift the coordinates so actual = position."""
+        command = self._new("set_position")
+        try:
+            admit(self.state, "set_position")
+            if self.has_job or self.set_velocity != 0.0:
+                raise CommandRejected(ErrorId.AXIS_NOT_STANDSTILL, "the axis is still moving")
+            self.shift_coordinates(require_position("position", position) - self.position)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        self._finish(command)
+        return command
+
+    def new_position(self, position: InputValue) -> Command:
+        """MC_NewPos (TcMC §3.7): a new target for the running move; Done = accepted."""
+        return self.new_position_and_velocity(NewPosAndVeloMode.CHANGE_POS, position, 0.0)
+
+    def new_position_and_velocity(self, mode: NewPosAndVeloMode, position: InputValue,
+                                  velocity: InputValue,
+                                  activation_position: float = 0.0) -> Command:
+        """MC_NewPosAndVelo (TcMC §3.8): change target and/or velocity, now or at a position."""
+        command = self._new("new_position")
+        try:
+            admit(self.state, "modify")
+            job = self._job
+            if job is None or job.kind not in ("position", "velocity"):
+                raise CommandRejected(ErrorId.NOTHING_TO_DO, "no running move to modify")
+            try:
+                mode = NewPosAndVeloMode(mode)
+            except ValueError:
+                raise CommandRejected(ErrorId.INVALID_MODE, f"mode {mode!r} is unknown") from None
+            change_pos = mode in (NewPosAndVeloMode.CHANGE_POS,
+                                  NewPosAndVeloMode.CHANGE_POS_AND_VELO,
+                                  NewPosAndVeloMode.CHANGE_POS_AT_SWITCHPOS,
+                                  NewPosAndVeloMode.CHANGE_POS_AND_VELO_AT_SWITCHPOS)
+            change_velo = mode not in (NewPosAndVeloMode.CHANGE_POS,
+                                       NewPosAndVeloMode.CHANGE_POS_AT_SWITCHPOS)
+            target = require_position("position", position) if change_pos else None
+            speed = resolve("velocity", velocity, self.parameters, command.warnings) \
+                if change_velo else None
+            switch = mode >= NewPosAndVeloMode.CHANGE_POS_AT_SWITCHPOS
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        if not switch:
+            try:
+                self._modify(job, target, speed)
+            except CommandRejected as rejected:
+                return self._reject(command, rejected.error_id, rejected.message)
+            self._finish(command)
+            return command
+        switch_at = float(activation_position)
+        if mode is NewPosAndVeloMode.REACH_VELO_AT_POS and speed is not None:
+            switch_at -= self._direction_of(job) * self._distance_to_change_speed(job, speed)
+        self._arm_switch(command, job, switch_at, target, speed)
+        return command
+
+    def change_dynamics(self, acceleration: InputValue = MC_DEFAULT,
+                        deceleration: InputValue = MC_DEFAULT,
+                        jerk: InputValue = MC_DEFAULT) -> Command:
+        """MC_ChangeDynParam (TcMC §4.20): new acc/dec/jerk for the running move."""
+        command = self._new("change_dynamics")
+        try:
+            if self.state is AxisState.STOPPING:
+                raise CommandRejected(ErrorId.DYN_STRICTER_STOP_ACTIVE,
+                                      "a stop with its own dynamics is in progress")
+            admit(self.state, "modify")
+            job = self._job
+            if job is None or job.kind not in ("position", "velocity"):
+                raise CommandRejected(ErrorId.NOTHING_TO_DO, "no running move to modify")
+            w = command.warnings
+            limits = Limits(job.limits.velocity,
+                            resolve("acceleration", acceleration, self.parameters, w),
+                            resolve("deceleration", deceleration, self.parameters, w),
+                            resolve("jerk", jerk, self.parameters, w))
+            trial = Job(job.kind, job.command, limits, job.target, job.velocity,
+                        job.buffer_mode, job.end_velocity, job.soft_limit_stop)
+            profile = self._plan(trial)
+            _check_dynamics_change(job, profile, self._k.state(self.row))
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        job.limits = limits
+        self._install(profile)
+        self._finish(command)
+        return command
+
+    def restart(self, command: Command, position: InputValue, velocity: InputValue) -> bool:
+        """MC_MoveAbsoluteOrRestart (TcMC §3.6): retarget ``command`` if it still runs.
+
+        The start dynamics stay; returns False when ``command`` no longer runs, so that the
+        caller issues a fresh move.
+        """
+        job = self._job
+        if job is None or job.command is not command or job.kind != "position":
+            return False
+        try:
+            target = require_position("position", position)
+            speed = resolve("velocity", velocity, self.parameters, command.warnings)
+            self._modify(job, target, speed)
+        except CommandRejected as rejected:
+            self._fail_job(job, rejected.error_id, rejected.message)
+        return True
+
+    # -- internals: starting, replacing and ending jobs ---------------------------------------
+
+    def _move(self, kind: str, target_of: Callable[[float], float], velocity: InputValue,
+              acceleration: InputValue, deceleration: InputValue, jerk: InputValue,
+              buffer_mode: BufferMode) -> Command:
+        command = self._new(kind)
+        try:
+            admit(self.state, "move")
+            mode = _buffer_mode(buffer_mode)
+            limits = resolve_limits(self.parameters, command.warnings, velocity, acceleration,
+                                    deceleration, jerk)
+            job = Job("position", command, limits, buffer_mode=mode)
+            job.extra["target_of"] = target_of
+            self._submit(job)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        return command
+
+    def _submit(self, job: Job) -> None:
+        """Start ``job`` now (Aborting, or nothing running) or queue it behind the others."""
+        current = self._job
+        if (job.buffer_mode is not BufferMode.ABORTING and current is not None
+                and current.kind == "velocity" and current.command.in_velocity
+                and not self._queue):  # PLCopen: buffered behind MoveVelocity starts InVelocity
+            if job.target is None and "target_of" in job.extra:
+                job.target = job.extra["target_of"](self.set_position)
+            self._queue.append(job)
+            self._start_next(self._k.sample_time)
+            return
+        if job.buffer_mode is BufferMode.ABORTING or current is None or self._idle():
+            if job.target is None and "target_of" in job.extra:
+                job.target = job.extra["target_of"](self.set_position)
+            profile = self._plan(job)
+            jobs.check_soft_limits(self.parameters, profile, job.target)
+            self._abort_all(f"aborted by {job.command.kind}")
+            self._hold = None
+            self._start(job, profile)
+            return
+        if len(self._queue) >= MAX_BUFFERED:
+            raise CommandRejected(ErrorId.BUFFER_FULL, f"{MAX_BUFFERED} commands already queued")
+        previous = self._queue[-1] if self._queue else current
+        if job.target is None and "target_of" in job.extra:
+            job.target = job.extra["target_of"](self._end_position_of(previous))
+        self._queue.append(job)
+        job.command.status = CommandStatus.BUFFERED
+        if job.buffer_mode in _BLEND_SPEED and previous.kind == "position" and \
+                job.kind == "position" and previous.target is not None:
+            self._blend(previous, job)
+
+    def _blend(self, previous: Job, following: Job) -> None:
+        assert following.target is not None
+        magnitude = _BLEND_SPEED[following.buffer_mode](previous.limits.velocity,
+                                                         following.limits.velocity)
+        running = previous is self._job and self.has_job
+        start = self._k.state(self.row) if running else KinematicState(
+            previous.extra.get("start", self.set_position))
+        previous.end_velocity = jobs.blend_velocity(start, previous, following.target,
+                                                    following.limits, magnitude)
+        if running and previous.end_velocity != 0.0:
+            self._install(self._plan(previous))
+
+    def _idle(self) -> bool:
+        """Nothing runs: a finished hold or halt at rest counts as idle."""
+        job = self._job
+        return job is None or (job.command.finished and not self.has_job)
+
+    def _plan(self, job: Job) -> Profile:
+        start = self._k.state(self.row)
+        job.extra["start"] = start.position
+        return jobs.plan_job(job, start, self._effective_override)
+
+    def _start(self, job: Job, profile: Profile, time: float | None = None) -> None:
+        self._job = job
+        job.command.status = CommandStatus.ACTIVE
+        self._install(profile, time=time)
+        self.state = {
+            "position": AxisState.DISCRETE_MOTION, "halt": AxisState.DISCRETE_MOTION,
+            "velocity": AxisState.CONTINUOUS_MOTION, "stop": AxisState.STOPPING,
+        }[job.kind]
+
+    def _install(self, profile: Profile, has_job: bool = True, time: float | None = None) -> None:
+        k = self._k
+        k.segments.install(self.row, profile, k.sample_time if time is None else time)
+        k.has_job[self.row] = has_job
+
+    def _modify(self, job: Job, target: float | None, speed: float | None) -> None:
+        """Retarget or re-speed the running job from where the setpoint is now."""
+        trial = Job(job.kind, job.command, job.limits, job.target, job.velocity, job.buffer_mode,
+                    job.end_velocity, job.soft_limit_stop)
+        if speed is not None:
+            trial.limits = Limits(speed, job.limits.acceleration, job.limits.deceleration,
+                                  job.limits.jerk)
+            if trial.kind == "velocity":
+                trial.velocity = math.copysign(speed, job.velocity)
+        if target is not None:
+            trial.kind, trial.target, trial.soft_limit_stop = "position", target, False
+        profile = self._plan(trial)
+        jobs.check_soft_limits(self.parameters, profile, trial.target)
+        job.kind, job.limits, job.target, job.velocity = (trial.kind, trial.limits, trial.target,
+                                                          trial.velocity)
+        job.soft_limit_stop, job.settle_time, job.settling_for = trial.soft_limit_stop, 0.0, 0.0
+        job.command.in_velocity = False
+        self._install(profile)
+        if job.kind == "position" and self.state is AxisState.CONTINUOUS_MOTION:
+            self.state = AxisState.DISCRETE_MOTION
+
+    def _on_profile_end(self, end_time: float) -> None:
+        """Kernel event: the setpoint reached the end state of the job's profile."""
+        self._k.has_job[self.row] = False
+        job = self._job
+        if job is None or self._effective_override <= 0.0 and job.kind in ("position",
+                                                                           "velocity"):
+            return  # override 0 paused the job; it resumes when the override returns
+        if job.kind == "velocity":
+            job.command.in_velocity = True
+            self._start_next(end_time)
+        elif job.kind == "position":
+            if job.soft_limit_stop:
+                self._fault(ErrorId.SOFT_LIMIT_REACHED,
+                            f"velocity move stopped at the software limit {job.target}")
+            elif self._queue and self._queue[0].buffer_mode in _BLEND_SPEED:
+                self._finish(job.command)
+                self._start_next(end_time)
+            else:
+                self._rt._watch(self, lambda now: self._settle(job, now))
+        elif job.kind in ("halt", "stop"):
+            self._finish(job.command)
+            if job.kind == "stop" and job.command.hold:
+                self._hold = job.command
+                self._rt._watch(self, self._release_stop)
+            else:
+                self._job = None
+                self.state = AxisState.STANDSTILL
+                self._start_next(self._k.sample_time)
+
+    def _settle(self, job: Job, now: float) -> bool:
+        """TcMC §7.1: Done once the monitors enabled by 1022/1024 agree; False = stop watching."""
+        if job is not self._job:
+            return False
+        p = self.parameters
+        cycle = self._rt.cycle_time
+        job.settling_for += cycle
+        error = abs(self.position - job.target)
+        job.settle_time = job.settle_time + cycle if error <= p.target_position_window else 0.0
+        at_target = job.settle_time >= p.target_position_monitoring_time - 1e-9
+        if p.enable_target_position_monitoring:
+            ready = at_target
+        elif p.enable_position_range_monitoring:
+            ready = error <= p.position_range_window
+        else:
+            ready = True
+        if ready:
+            self._finish(job.command)
+            self._job = None
+            self.state = AxisState.STANDSTILL
+            self._start_next(now)
+            return False
+        if p.enable_in_target_timeout and job.settling_for > p.in_target_timeout:
+            self._fault(ErrorId.IN_TARGET_TIMEOUT,
+                        f"not in the target window {p.in_target_timeout} s after the profile")
+            return False
+        return True
+
+    def _release_stop(self, now: float) -> bool:
+        hold = self._hold
+        if hold is None or hold.hold:
+            return hold is not None
+        self._hold = None
+        if self.state is AxisState.STOPPING:
+            self._job = None
+            self.state = AxisState.STANDSTILL
+        return False
+
+    def _start_next(self, time: float) -> None:
+        """Start the first buffered job, exactly where the previous one ended."""
+        if not self._queue:
+            if self._job is not None and self._job.command.finished:
+                self._job = None
+                if self.state in (AxisState.DISCRETE_MOTION, AxisState.CONTINUOUS_MOTION) \
+                        and not self.has_job and self.set_velocity == 0.0:
+                    self.state = AxisState.STANDSTILL
+            return
+        job = self._queue.pop(0)
+        previous = self._job
+        if previous is not None and previous.kind == "velocity":
+            self._finish(previous.command)
+        start = self._k.segments.state(self.row, time)
+        job.extra["start"] = start.position
+        try:
+            profile = jobs.plan_job(job, start, self._effective_override)
+            jobs.check_soft_limits(self.parameters, profile, job.target)
+        except CommandRejected as rejected:
+            job.command._end(CommandStatus.ERROR, time, rejected.error_id, rejected.message)
+            self._job = None
+            self._start_next(time)
+            return
+        self._start(job, profile, time=time)
+
+    def _finish(self, command: Command) -> None:
+        command._end(CommandStatus.DONE, self._rt.now)
+
+    def _reject(self, command: Command, error_id: ErrorId, message: str) -> Command:
+        command._end(CommandStatus.ERROR, self._rt.now, error_id, message)
+        return command
+
+    def _fail_job(self, job: Job, error_id: ErrorId, message: str) -> None:
+        job.command._end(CommandStatus.ERROR, self._rt.now, error_id, message)
+
+    def _abort_all(self, reason: str) -> None:
+        now = self._rt.now
+        if self._job is not None:
+            self._job.command._end(CommandStatus.ABORTED, now, message=reason)
+            if self._job.kind == "home":
+                self.calibration_state = 0
+            self._job = None
+        for job in self._queue:
+            job.command._end(CommandStatus.ABORTED, now, message=reason)
+        self._queue.clear()
+
+    def _fault(self, error_id: ErrorId, message: str) -> None:
+        """An axis error: ErrorStop, the commands are aborted, a controlled stop follows."""
+        if self.state is AxisState.ERROR_STOP:
+            return
+        self._abort_all(f"axis error {error_id.name}: {message}")
+        self._hold = None
+        self.axis_error_id, self.axis_error_message = error_id, message
+        self.state = AxisState.ERROR_STOP
+        self._k.monitored[self.row] = False
+        p = self.parameters
+        self._install(plan_stop(self._k.state(self.row), p.max_deceleration, p.max_jerk),
+                      has_job=False)
+
+    def _try_reset(self, command: Command, now: float) -> bool:
+        if command.finished:
+            return False
+        if self._k.set_v[self.row] != 0.0 or self._k.segments.end[self.row] > now:
+            return True  # the error reaction still brakes: reset once at rest
+        self.axis_error_id, self.axis_error_message = ErrorId.NO_ERROR, ""
+        self._k.reset_setpoint_to_actual(self.row)
+        self._install(Profile.hold(KinematicState(self.position)), has_job=False)
+        self._k.monitored[self.row] = self.powered
+        self.state = AxisState.STANDSTILL if self.powered else AxisState.DISABLED
+        self._finish(command)
+        return False
+
+    def shift_coordinates(self, offset: float) -> None:
+        """Shift set and actual position, profile and targets by ``offset`` (homing, §4.12)."""
+        self._k.shift(self.row, offset)
+        self.raw_offset += offset
+        for job in ([self._job] if self._job else []) + self._queue:
+            if job.target is not None:
+                job.target += offset
+
+    # -- internals: override, switches, stop dynamics ------------------------------------------
+
+    def _update_override(self) -> None:
+        job = self._job
+        direction = self._direction_of(job) if job else 0
+        feed = not ((direction > 0 and not self.enable_positive)
+                    or (direction < 0 and not self.enable_negative))
+        effective = self.override if feed else 0.0
+        if effective == self._effective_override:
+            return
+        self._effective_override = effective
+        if job is None or job.kind not in ("position", "velocity") or job.command.finished:
+            return
+        try:
+            profile = self._plan(job)
+        except CommandRejected as rejected:
+            self._fault(rejected.error_id, rejected.message)
+            return
+        job.command.in_velocity = False
+        self._install(profile)
+
+    def _direction_of(self, job: Job) -> int:
+        if job.kind == "velocity" and not job.soft_limit_stop:
+            return _sign(job.velocity)
+        if job.target is not None:
+            return _sign(job.target - self.set_position) or _sign(self.set_velocity)
+        return _sign(self.set_velocity)
+
+    def _direction_sign(self, direction: Direction) -> int:
+        try:
+            direction = Direction(direction)
+        except ValueError:
+            raise CommandRejected(ErrorId.INVALID_DIRECTION,
+                                  f"direction {direction!r} is not an MC_Direction") from None
+        if direction is Direction.POSITIVE:
+            return 1
+        if direction is Direction.NEGATIVE:
+            return -1
+        if direction is Direction.CURRENT:
+            return -1 if self.set_velocity < 0.0 else 1
+        raise CommandRejected(ErrorId.INVALID_DIRECTION,
+                              "MC_MoveVelocity takes positive, negative or current direction")
+
+    def _distance_to_change_speed(self, job: Job, speed: float) -> float:
+        start = KinematicState(0.0, abs(self.set_velocity))
+        return abs(plan_velocity(start, speed, job.limits).end.position)
+
+    def _arm_switch(self, command: Command, job: Job, switch_at: float, target: float | None,
+                    speed: float | None) -> None:
+        command.status = CommandStatus.ACTIVE
+        direction = self._direction_of(job) or 1
+
+        def check(now: float) -> bool:
+            if command.finished:
+                return False
+            if job is not self._job:
+                command._end(CommandStatus.ABORTED, now, message="the move ended before the "
+                             "switch position")
+                return False
+            if (self.set_position - switch_at) * direction < 0.0:
+                return True
+            try:
+                self._modify(job, target, speed)
+            except CommandRejected as rejected:
+                self._reject(command, rejected.error_id, rejected.message)
+                return False
+            self._finish(command)
+            return False
+
+        self._rt._watch(self, check)
+
+    def _stop_limits(self, deceleration: InputValue, jerk: InputValue,
+                     command: Command) -> Limits:
+        p = self.parameters
+        job = self._job
+        running = job.limits if job is not None and not job.command.finished else None
+        base_dec = running.deceleration if running else p.deceleration
+        base_jerk = running.jerk if running else p.jerk
+        given = not _is_zero(deceleration) and not _is_zero(jerk)
+        if not given:
+            if _is_zero(deceleration) != _is_zero(jerk):
+                command.warnings.append("MC_Stop takes deceleration and jerk only together; "
+                                        "the running move's values are used")
+            return Limits(p.max_velocity, base_dec, base_dec, base_jerk)
+        dec = resolve("deceleration", deceleration, p, command.warnings)
+        j = resolve("jerk", jerk, p, command.warnings)
+        return Limits(p.max_velocity, dec, dec, j)
+
+    def _stop_profile(self, limits: Limits) -> Profile:
+        """Plan the stop; keep stricter dynamics in the safety cases of TcMC §3.15."""
+        start = self._k.state(self.row)
+        profile = plan_stop(start, limits.deceleration, limits.jerk)
+        stricter = self._stricter_stop_limits(limits)
+        if stricter is None:
+            return profile
+        lo, hi = profile.velocity_extrema()
+        direction = _sign(start.velocity) or _sign(start.acceleration)
+        unsafe = (direction > 0 and lo < -1e-9) or (direction < 0 and hi > 1e-9)  # reversal
+        job = self._job
+        if job is not None and job.kind in ("position", "velocity"):
+            peak = max(abs(lo), abs(hi))
+            unsafe |= peak > job.limits.velocity * (1 + 1e-9) and peak > abs(start.velocity)
+            if job.target is not None and job.kind == "position" and direction:
+                end = profile.end.position
+                unsafe |= (end - job.target) * direction > 1e-9  # would overshoot the target
+        if not unsafe:
+            return profile
+        return plan_stop(start, stricter.deceleration, stricter.jerk)
+
+    def _stricter_stop_limits(self, limits: Limits) -> Limits | None:
+        job = self._job
+        if job is None or job.command.finished:
+            return None
+        current = job.limits
+        if current.deceleration <= limits.deceleration and current.jerk <= limits.jerk:
+            return None
+        dec = max(current.deceleration, limits.deceleration)
+        return Limits(limits.velocity, dec, dec, max(current.jerk, limits.jerk))
+
+    def _end_position_of(self, job: Job) -> float:
+        return job.target if job.target is not None else self.set_position
+
+    def _new(self, kind: str) -> Command:
+        return Command(kind, self._rt.now)
+
+
+def _check_dynamics_change(job: Job, profile: Profile, start: KinematicState) -> None:
+    """TcMC §4.20: refuse new dynamics in the manual's four unsafe situations."""
+    lo, hi = profile.velocity_extrema()
+    direction = _sign(start.velocity) or _sign(job.velocity)
+    if job.kind == "position" and job.target is not None:
+        p_lo, p_hi = profile.position_extrema()
+        over = (p_hi - job.target) if direction > 0 else (job.target - p_lo)
+        if over > 1e-9 * max(1.0, abs(job.target)):
+            raise CommandRejected(ErrorId.DYN_TARGET_OVERSHOT, "the target would be overshot")
+    peak = max(abs(lo), abs(hi))
+    if peak > job.limits.velocity * (1 + 1e-9) and peak > abs(start.velocity) * (1 + 1e-9):
+        raise CommandRejected(ErrorId.DYN_VELOCITY_EXCEEDED,
+                              "the travel velocity would be exceeded")
+    if (direction > 0 and lo < -1e-9) or (direction < 0 and hi > 1e-9):
+        raise CommandRejected(ErrorId.DYN_DIRECTION_REVERSAL, "braking would reverse direction")
+
+
+def _parameter_spec(number: int):  # noqa: ANN202 - ParameterSpec
+    try:
+        return PARAMETERS[AxisPara(number)]
+    except ValueError:
+        raise CommandRejected(ErrorId.INVALID_PARAMETER_NUMBER,
+                              f"parameter number {number} does not exist (TcMC §6.1)") from None
+
+
+def _buffer_mode(mode: BufferMode) -> BufferMode:
+    try:
+        return BufferMode(mode)
+    except ValueError:
+        raise CommandRejected(ErrorId.INVALID_BUFFER_MODE,
+                              f"buffer mode {mode!r} is not an MC_BUFFER_MODE") from None
+
+
+def _is_zero(value: object) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool) and value == 0
+
+
+def _sign(value: float) -> int:
+    return (value > 0.0) - (value < 0.0)

@@ -1,0 +1,104 @@
+"""Plan the profile of a job from the axis' current setpoint state.
+
+Kept apart from ``Axis`` so that every way a job can (re)start - new command, override
+change, blend, MC_NewPos, MC_ChangeDynParam - goes through one function.
+"""
+
+from __future__ import annotations
+
+import math
+
+from openmotion.axis.commands import Job
+from openmotion.axis.parameters import AxisParameters
+from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.trajectory.plan import Limits, plan_position, plan_stop, plan_velocity
+from openmotion.trajectory.segments import KinematicState, Profile
+
+BLEND_ITERATIONS = 12  #: bisection steps when a blend velocity cannot be reached
+
+
+def plan_job(job: Job, start: KinematicState, override: float) -> Profile:
+    """The profile that carries out ``job`` from ``start`` under ``override`` (0..1)."""
+    limits = job.limits
+    if job.kind in ("stop", "halt"):
+        return plan_stop(start, limits.deceleration, limits.jerk)
+    if override <= 0.0:  # TcMC §4.23.1: override 0 halts the profile, the job stays
+        return plan_stop(start, limits.deceleration, limits.jerk)
+    if job.kind == "velocity" and not job.soft_limit_stop:
+        return plan_velocity(start, job.velocity * override, limits)
+    assert job.target is not None
+    end_velocity = job.end_velocity * override
+    return plan_position(start, job.target, limits.scaled_velocity(override), end_velocity)
+
+
+def check_soft_limits(parameters: AxisParameters, profile: Profile, target: float | None) -> None:
+    """Reject targets and paths beyond an enabled software end position (TcMC §6.1)."""
+    lo_limit = parameters.min_soft_limit if parameters.enable_min_soft_limit else -math.inf
+    hi_limit = parameters.max_soft_limit if parameters.enable_max_soft_limit else math.inf
+    if math.isinf(lo_limit) and math.isinf(hi_limit):
+        return
+    if target is not None and not lo_limit <= target <= hi_limit:
+        raise CommandRejected(
+            ErrorId.TARGET_BEYOND_SOFT_LIMIT,
+            f"target {target} lies outside the software limits [{lo_limit}, {hi_limit}]",
+        )
+    lo, hi = profile.position_extrema()
+    tolerance = 1e-9 * max(1.0, abs(lo), abs(hi))
+    if lo < lo_limit - tolerance or hi > hi_limit + tolerance:
+        raise CommandRejected(
+            ErrorId.PATH_BEYOND_SOFT_LIMIT,
+            f"the motion would reach [{lo:.6g}, {hi:.6g}], beyond the software limits "
+            f"[{lo_limit}, {hi_limit}]",
+        )
+
+
+def soft_limit_in_direction(parameters: AxisParameters, direction: int) -> float | None:
+    """The enabled software limit a velocity move in ``direction`` would run into."""
+    if direction > 0 and parameters.enable_max_soft_limit:
+        return parameters.max_soft_limit
+    if direction < 0 and parameters.enable_min_soft_limit:
+        return parameters.min_soft_limit
+    return None
+
+
+def blend_velocity(
+    start: KinematicState, first: Job, second_target: float, second_limits: Limits, magnitude: float
+) -> float:
+    """Signed velocity at the first target, lowered until both profiles stay monotonic.
+
+    PLCopen Part 1 blending passes the first target at a velocity set by the buffer mode; a
+    velocity that cannot be reached within the first move, or braked within the second, would
+    make ruckig overshoot, so it is reduced by bisection.
+    """
+    assert first.target is not None
+    direction = _sign(first.target - start.position)
+    if direction == 0 or _sign(second_target - first.target) != direction or magnitude <= 0.0:
+        return 0.0
+
+    def feasible(speed: float) -> bool:
+        v = direction * speed
+        try:
+            a = plan_position(start, first.target, first.limits, v)
+            b = plan_position(KinematicState(first.target, v), second_target, second_limits)
+        except CommandRejected:
+            return False
+        return _monotonic(a, direction) and _monotonic(b, direction)
+
+    speed = min(magnitude, first.limits.velocity, second_limits.velocity)
+    if feasible(speed):
+        return direction * speed
+    lo, hi = 0.0, speed
+    for _ in range(BLEND_ITERATIONS):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if feasible(mid) else (lo, mid)
+    return direction * lo
+
+
+def _monotonic(profile: Profile, direction: int) -> bool:
+    lo, hi = profile.velocity_extrema()
+    tolerance = 1e-9 * max(abs(lo), abs(hi), 1.0)
+    return lo >= -tolerance if direction > 0 else hi <= tolerance
+
+
+def _sign(value: float) -> int:
+    return (value > 0.0) - (value < 0.0)

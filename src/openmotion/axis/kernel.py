@@ -1,0 +1,122 @@
+"""Kinematic state of all axes as arrays; one cycle is a handful of numpy operations.
+
+``Axis`` objects hold a row index and read through it. The kernel evaluates every setpoint,
+simulates every drive and runs the vectorised monitors; the axes only see the rows with an
+event (a profile that ended, a following-error alarm).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from openmotion.trajectory.evaluate import SegmentTable
+from openmotion.trajectory.segments import KinematicState
+
+_FLOAT_FIELDS = ("set_p", "set_v", "set_a", "set_j", "act_p", "act_v", "alpha", "lag_max",
+                 "lag_filter", "lag_timer")
+_BOOL_FIELDS = ("has_job", "lag_on", "monitored")
+_EMPTY = np.zeros(0, dtype=np.int64)
+
+
+class AxisKernel:
+    def __init__(self, cycle_time: float, capacity: int = 16) -> None:
+        self.cycle_time = cycle_time
+        self.segments = SegmentTable(capacity)
+        self.size = 0
+        self.sample_time = 0.0  #: instant of the last evaluated sample [s]
+        self._capacity = 0
+        self.dead = np.zeros(0, dtype=np.int64)
+        self.history = np.zeros((0, 1))
+        self._head = 0
+        self._any_lag = False
+        self._grow(capacity)
+
+    def _grow(self, capacity: int) -> None:
+        def grown(old: np.ndarray, dtype: type) -> np.ndarray:
+            new = np.zeros(capacity, dtype=dtype)
+            new[: self.size] = old[: self.size]
+            return new
+
+        for name in _FLOAT_FIELDS:
+            setattr(self, name, grown(getattr(self, name, np.zeros(0)), float))
+        for name in _BOOL_FIELDS:
+            setattr(self, name, grown(getattr(self, name, np.zeros(0, bool)), bool))
+        self.dead = grown(self.dead, np.int64)
+        history = np.zeros((capacity, self.history.shape[1]))
+        history[: self.size] = self.history[: self.size]
+        self.history = history
+        self._capacity = capacity
+
+    def add(self, position: float, alpha: float, dead_cycles: int) -> int:
+        if self.size == self._capacity:
+            self._grow(2 * self._capacity)
+        row = self.segments.add(KinematicState(position), self.sample_time)
+        assert row == self.size
+        self.size += 1
+        self.set_p[row] = self.act_p[row] = position
+        self.alpha[row] = alpha
+        self.dead[row] = dead_cycles
+        if dead_cycles + 1 > self.history.shape[1]:
+            history = np.zeros((self._capacity, dead_cycles + 1))
+            history[:, : self.history.shape[1]] = self.history
+            self.history = history
+        self.history[row, :] = position
+        self._any_lag = bool(np.any(self.alpha[: self.size] < 1.0) or np.any(self.dead > 0))
+        return row
+
+    # -- the cycle -------------------------------------------------------------------------
+
+    def ended(self, now: float) -> np.ndarray:
+        """Rows whose job profile reaches its end state at or before ``now`` (events)."""
+        n = self.size
+        return np.flatnonzero(self.has_job[:n] & (self.segments.end[:n] <= now))
+
+    def evaluate(self, now: float) -> None:
+        n = self.size
+        p, v, a, j = self.segments.evaluate(now)
+        self.set_p[:n], self.set_v[:n], self.set_a[:n], self.set_j[:n] = p, v, a, j
+        self.sample_time = now
+
+    def simulate_drives(self) -> None:
+        n = self.size
+        previous = self.act_p[:n].copy()
+        if not self._any_lag:
+            self.act_p[:n] = self.set_p[:n]
+        else:
+            width = self.history.shape[1]
+            self._head = (self._head + 1) % width
+            self.history[:n, self._head] = self.set_p[:n]
+            delayed = self.history[np.arange(n), (self._head - self.dead[:n]) % width]
+            self.act_p[:n] += self.alpha[:n] * (delayed - self.act_p[:n])
+        self.act_v[:n] = (self.act_p[:n] - previous) / self.cycle_time
+
+    def lag_alarms(self) -> np.ndarray:
+        """Rows whose following error stayed above the limit longer than the filter time."""
+        n = self.size
+        if not self._any_lag:  # ideal drives: actual == set, no following error
+            return _EMPTY
+        over = self.monitored[:n] & self.lag_on[:n] & (
+            np.abs(self.set_p[:n] - self.act_p[:n]) > self.lag_max[:n]
+        )
+        self.lag_timer[:n] = np.where(over, self.lag_timer[:n] + self.cycle_time, 0.0)
+        return np.flatnonzero(over & (self.lag_timer[:n] > self.lag_filter[:n] + 1e-12))
+
+    # -- per-row operations on events ------------------------------------------------------
+
+    def state(self, row: int) -> KinematicState:
+        """The setpoint state at the last sample: where any new plan starts."""
+        return self.segments.state(row, self.sample_time)
+
+    def shift(self, row: int, offset: float) -> None:
+        """Move the coordinate system of one axis (MC_SetActualPosition, homing)."""
+        self.segments.shift(row, offset)
+        self.set_p[row] += offset
+        self.act_p[row] += offset
+        self.history[row] += offset
+
+    def reset_setpoint_to_actual(self, row: int) -> None:
+        """TcMC §3.5: enabling and MC_Reset take the actual position as set position."""
+        self.history[row] = self.act_p[row]
+        self.set_p[row] = self.act_p[row]
+        self.set_v[row] = self.set_a[row] = self.set_j[row] = 0.0
+        self.lag_timer[row] = 0.0

@@ -1,0 +1,1 @@
+"""Benchmarks for openmotion and the peer implementations it is measured against."""

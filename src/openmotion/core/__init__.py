@@ -1,0 +1,1 @@
+"""Units, special input values, enums, error ids and modulo arithmetic: the innermost layer."""

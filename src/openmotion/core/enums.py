@@ -1,0 +1,66 @@
+"""Enumerations with the manuals' numeric values (TcMC §6, TF5410 §9.4)."""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+
+class AxisState(IntEnum):
+    """PLCopen single-axis states (TcMC §4.4 names, PLCopen Part 1 diagram)."""
+
+    DISABLED = 0
+    STANDSTILL = 1
+    HOMING = 2
+    DISCRETE_MOTION = 3
+    CONTINUOUS_MOTION = 4
+    SYNCHRONIZED_MOTION = 5
+    STOPPING = 6
+    ERROR_STOP = 7
+
+
+class Direction(IntEnum):
+    """MC_Direction (TcMC §6.2)."""
+
+    POSITIVE = 1
+    SHORTEST_WAY = 2
+    NEGATIVE = 3
+    CURRENT = 4
+
+
+class BufferMode(IntEnum):
+    """MC_BUFFER_MODE (TF5410 §9.4.1.1; PLCopen Part 1 semantics)."""
+
+    ABORTING = 0x00
+    BUFFERED = 0x01
+    BLENDING_LOW = 0x12
+    BLENDING_PREVIOUS = 0x13
+    BLENDING_NEXT = 0x14
+    BLENDING_HIGH = 0x15
+
+
+class ReadMode(IntEnum):
+    """E_ReadMode (TcMC §6.4)."""
+
+    ONCE = 1
+    CYCLIC = 2
+
+
+class ReferenceMode(IntEnum):
+    """How MC_Home finds the reference (TcMC §3.14: configured at the encoder, not the FB)."""
+
+    CAM_AND_SYNC_PULSE = 0  #: search the cam, leave it, latch the next encoder sync pulse
+    CAM = 1  #: take the reference at the falling edge of the cam
+    SYNC_PULSE = 2  #: latch the next sync pulse (the PLC simulates the cam, TcMC §3.14 note)
+    DIRECT = 3  #: set the position where the axis stands, no motion
+
+
+class NewPosAndVeloMode(IntEnum):
+    """E_CmdTypeNewTargPosAndVelo (TcMC §3.8; values from the TcNC library)."""
+
+    CHANGE_POS = 1
+    CHANGE_VELO = 2
+    CHANGE_POS_AND_VELO = 3
+    CHANGE_POS_AT_SWITCHPOS = 9
+    CHANGE_VELO_AT_SWITCHPOS = 10
+    CHANGE_POS_AND_VELO_AT_SWITCHPOS = 11
+    REACH_VELO_AT_POS = 14

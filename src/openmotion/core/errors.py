@@ -1,0 +1,76 @@
+"""Error ids and exceptions.
+
+FBs never raise during a cycle: they report ``error_id`` from ``ErrorId``. Vendor numbers are
+used where a manual names one (TcMC §3.9, §4.20, §6.7). Every other id is openmotion's own and
+lives in 0x7000-0x7FFF so that it cannot be mistaken for a TwinCAT NC code (docs/decisions.md,
+D-004).
+"""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+
+class ErrorId(IntEnum):
+    NO_ERROR = 0
+    # vendor numbers named by TcMC
+    SUPERPOSITION_INCOMPLETE = 0x4243  #: TcMC §3.9: compensated only partly
+    DYN_VELOCITY_EXCEEDED = 0x423A  #: TcMC §4.20: would exceed the travel velocity
+    DYN_STRICTER_STOP_ACTIVE = 0x425D  #: TcMC §4.20: a stricter stop is in progress
+    DYN_OPTIMISATION_FAILED = 0x427E  #: TcMC §4.20: internal optimisation not possible
+    DYN_TARGET_OVERSHOT = 0x427F  #: TcMC §4.20: the target would be overshot
+    DYN_DIRECTION_REVERSAL = 0x4289  #: TcMC §4.20: braking would reverse the direction
+    STEPPER_STALL = 0x4636  #: TcMC §6.7: stepper stall
+    # openmotion: bad input values (0x70xx)
+    INVALID_POSITION = 0x7001
+    INVALID_VELOCITY = 0x7002
+    INVALID_ACCELERATION = 0x7003
+    INVALID_DECELERATION = 0x7004
+    INVALID_JERK = 0x7005
+    INVALID_DIRECTION = 0x7006
+    INVALID_BUFFER_MODE = 0x7007
+    INVALID_OVERRIDE = 0x7008
+    INVALID_MODULO_TARGET = 0x7009  #: shortest way with a target outside [0, period)
+    INVALID_MODULO_PERIOD = 0x700A
+    INVALID_PARAMETER_NUMBER = 0x7010
+    PARAMETER_TYPE_MISMATCH = 0x7011
+    PARAMETER_READ_ONLY = 0x7012
+    INVALID_PARAMETER_VALUE = 0x7013
+    INVALID_STOP_DYNAMICS = 0x7014
+    INVALID_MODE = 0x7015
+    # openmotion: state and command rejections (0x71xx)
+    AXIS_DISABLED = 0x7101  #: the axis is not powered (MC_Power.Status FALSE)
+    AXIS_IN_ERROR_STOP = 0x7102  #: the axis is in ErrorStop: MC_Reset first
+    AXIS_STOPPING = 0x7103  #: MC_Stop holds the axis (PLCopen Stopping state)
+    AXIS_HOMING = 0x7104  #: homing in progress
+    AXIS_NOT_MOVING = 0x7105  #: the command needs a moving axis (MC_NewPos)
+    AXIS_NOT_STANDSTILL = 0x7106  #: the command needs a standing axis
+    TARGET_BEYOND_SOFT_LIMIT = 0x7107  #: the target lies beyond an enabled software limit
+    PATH_BEYOND_SOFT_LIMIT = 0x7108  #: the profile would pass a software limit on the way
+    NO_PROFILE = 0x7109  #: no trajectory exists for these inputs
+    BUFFER_FULL = 0x710A
+    AXIS_NOT_HOMED = 0x710B
+    NOTHING_TO_DO = 0x710C  #: a modifying command without a running job to modify
+    # openmotion: axis errors raised by monitoring (0x72xx), these take the axis to ErrorStop
+    FOLLOWING_ERROR = 0x7201
+    SOFT_LIMIT_REACHED = 0x7202
+    IN_TARGET_TIMEOUT = 0x7203
+    DRIVE_NOT_READY = 0x7204
+    HOMING_FAILED = 0x7205
+
+
+class ConfigError(ValueError):
+    """A configuration (scenario file, object construction) is invalid; names the field."""
+
+
+class CommandRejected(Exception):
+    """Raised inside the kernel when a command cannot start; carries the FB error id.
+
+    Caught at the command boundary and turned into ``error``/``error_id``: it never leaves a
+    cycle.
+    """
+
+    def __init__(self, error_id: ErrorId, message: str) -> None:
+        super().__init__(message)
+        self.error_id = error_id
+        self.message = message

@@ -1,0 +1,70 @@
+"""Modulo positioning on the set position with a tolerance window (TcMC §3.4, §3.5).
+
+The manual gives two tables, not a formula; ``modulo_target`` reproduces all 37 rows
+(tests/core/test_modulo.py). The window lets the axis move a little against the commanded
+direction instead of a whole extra turn when the set position is just past the target.
+"""
+
+from __future__ import annotations
+
+import math
+
+from openmotion.core.enums import Direction
+from openmotion.core.errors import CommandRejected, ErrorId
+
+
+def modulo_position(position: float, period: float) -> float:
+    """The modulo view of an absolute position, in [0, period) (TcMath MODABS)."""
+    value = math.fmod(position, period)
+    if value < 0.0:
+        value += period
+    return 0.0 if value >= period else value
+
+
+def modulo_turns(position: float, period: float) -> int:
+    """Whole turns of an absolute position (TcMath MODTURNS)."""
+    return math.floor(position / period)
+
+
+def modulo_target(
+    start: float, target: float, period: float, tolerance: float, direction: Direction
+) -> float:
+    """Absolute end position of MC_MoveModulo from set position ``start``.
+
+    ``target`` >= period adds whole turns (TcMC §3.5: 450 on 360 is 90 plus one turn);
+    ``tolerance`` is the half-width of the window around the set position.
+    """
+    if not period > 0.0 or not math.isfinite(period):
+        raise CommandRejected(ErrorId.INVALID_MODULO_PERIOD, f"modulo period {period} must be > 0")
+    if not math.isfinite(target) or target < 0.0:
+        raise CommandRejected(
+            ErrorId.INVALID_MODULO_TARGET, f"modulo target {target} must be finite and >= 0"
+        )
+    turns = math.floor(target / period)
+    base = target - turns * period
+    if direction == Direction.SHORTEST_WAY:
+        if turns:
+            raise CommandRejected(
+                ErrorId.INVALID_MODULO_TARGET,
+                f"shortest way needs a target in [0, {period}), got {target}",
+            )
+        delta = (base - start) % period
+        if delta > period / 2.0:
+            delta -= period
+        return _snap(start + delta, base, period)
+    if direction == Direction.POSITIVE:
+        delta = (base - start) % period
+        if delta > period - tolerance:
+            delta -= period
+        return _snap(start + delta + turns * period, base, period)
+    if direction == Direction.NEGATIVE:
+        back = (start - base) % period
+        if back > period - tolerance:
+            back -= period
+        return _snap(start - back - turns * period, base, period)
+    raise CommandRejected(ErrorId.INVALID_DIRECTION, f"direction {direction!r} is not allowed here")
+
+
+def _snap(approximate_end: float, base: float, period: float) -> float:
+    """The exact absolute position base + n*period nearest to the computed end."""
+    return base + period * round((approximate_end - base) / period)

@@ -1,0 +1,57 @@
+"""PLCopen single-axis function blocks of the TcMC library, with their manual names."""
+
+from openmotion.plcopen.admin import (
+    MC_ChangeDynParam,
+    MC_Reset,
+    MC_SetActualPosition,
+    MC_SetOverride,
+)
+from openmotion.plcopen.handshake import EnableBlock, ExecuteBlock, FunctionBlock
+from openmotion.plcopen.home import MC_Home
+from openmotion.plcopen.move import (
+    MC_MoveAbsolute,
+    MC_MoveAbsoluteOrRestart,
+    MC_MoveModulo,
+    MC_MoveRelative,
+    MC_MoveVelocity,
+)
+from openmotion.plcopen.newpos import MC_NewPos, MC_NewPosAndVelo
+from openmotion.plcopen.parameters import (
+    MC_ReadBoolParameter,
+    MC_ReadParameter,
+    MC_ReadParameterSet,
+    MC_WriteBoolParameter,
+    MC_WriteParameter,
+)
+from openmotion.plcopen.power import MC_Power
+from openmotion.plcopen.read import MC_ReadActualPosition, MC_ReadAxisError, MC_ReadStatus
+from openmotion.plcopen.stop import MC_Halt, MC_Stop
+
+__all__ = [
+    "EnableBlock",
+    "ExecuteBlock",
+    "FunctionBlock",
+    "MC_ChangeDynParam",
+    "MC_Halt",
+    "MC_Home",
+    "MC_MoveAbsolute",
+    "MC_MoveAbsoluteOrRestart",
+    "MC_MoveModulo",
+    "MC_MoveRelative",
+    "MC_MoveVelocity",
+    "MC_NewPos",
+    "MC_NewPosAndVelo",
+    "MC_Power",
+    "MC_ReadActualPosition",
+    "MC_ReadAxisError",
+    "MC_ReadBoolParameter",
+    "MC_ReadParameter",
+    "MC_ReadParameterSet",
+    "MC_ReadStatus",
+    "MC_Reset",
+    "MC_SetActualPosition",
+    "MC_SetOverride",
+    "MC_Stop",
+    "MC_WriteBoolParameter",
+    "MC_WriteParameter",
+]

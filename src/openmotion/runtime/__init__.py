@@ -1,0 +1,1 @@
+"""The cyclic task with virtual time."""

@@ -1,0 +1,1 @@
+"""Time-optimal jerk-limited planning (ruckig) and bulk evaluation of stored segments."""

@@ -1,0 +1,177 @@
+"""Planning with ruckig: position moves, velocity moves and stops from any kinematic state.
+
+PLCopen has distinct acceleration and deceleration limits; ruckig has one signed pair
+(``max_acceleration`` / ``min_acceleration``). For motion in one direction the pair maps
+exactly: speeding up in +x is bounded by ``acceleration``, slowing down by ``deceleration``,
+and mirrored for -x. A profile that reverses direction cannot be mapped (each half would need
+the other bound), so it is planned as brake-to-rest followed by a fresh move from rest
+(docs/decisions.md, D-002). With equal limits one ruckig call is exact and time-optimal.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from ruckig import ControlInterface, InputParameter, Result, Ruckig, RuckigError, Trajectory
+
+from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.trajectory.segments import KinematicState, Profile
+
+_MIN_SEGMENT = 1e-12  #: [s] ruckig reports empty phases as ~1e-14 s: drop them
+
+_otg = Ruckig(1)
+_input = InputParameter(1)
+_trajectory = Trajectory(1)
+
+
+@dataclass(frozen=True, slots=True)
+class Limits:
+    velocity: float  #: maximum velocity magnitude [mm/s]
+    acceleration: float  #: speeding up [mm/s²]
+    deceleration: float  #: slowing down [mm/s²]
+    jerk: float  #: [mm/s³]
+
+    def scaled_velocity(self, factor: float) -> Limits:
+        return Limits(self.velocity * factor, self.acceleration, self.deceleration, self.jerk)
+
+
+def plan_position(
+    start: KinematicState, target: float, limits: Limits, target_velocity: float = 0.0
+) -> Profile:
+    """Time-optimal move to ``target``, arriving with ``target_velocity`` (blending)."""
+    sign = _sign(target - start.position) or _sign(target_velocity) or _sign(start.velocity)
+    try:
+        profile = _ruckig_position(start, target, target_velocity, limits, sign)
+    except CommandRejected:
+        if start.velocity == 0.0 and start.acceleration == 0.0:
+            raise
+        profile = None  # a rare numerical failure of ruckig's step 1: brake, then move
+    if profile is not None and (
+        limits.acceleration == limits.deceleration or not _reverses(profile, sign)
+    ):
+        return profile
+    brake = plan_velocity(start, 0.0, limits)
+    rest = KinematicState(brake.end.position, 0.0, 0.0)
+    sign = _sign(target - rest.position) or _sign(target_velocity)
+    return Profile.concatenate(
+        brake, _ruckig_position(rest, target, target_velocity, limits, sign)
+    )
+
+
+def plan_velocity(start: KinematicState, velocity: float, limits: Limits) -> Profile:
+    """Time-optimal change to the signed ``velocity``, then cruise at it forever."""
+    if start.velocity * velocity < 0.0 and limits.acceleration != limits.deceleration:
+        brake = plan_velocity(start, 0.0, limits)
+        return Profile.concatenate(
+            brake, _ruckig_velocity(KinematicState(brake.end.position), velocity, limits)
+        )
+    return _ruckig_velocity(start, velocity, limits)
+
+
+def plan_stop(start: KinematicState, deceleration: float, jerk: float) -> Profile:
+    """Brake to rest with ``deceleration`` and ``jerk`` (MC_Stop, MC_Halt, error reactions)."""
+    return _ruckig_velocity(start, 0.0, Limits(math.inf, deceleration, deceleration, jerk))
+
+
+def _ruckig_position(
+    start: KinematicState, target: float, target_velocity: float, limits: Limits, sign: int
+) -> Profile:
+    _load_state(start, limits, sign)
+    _input.control_interface = ControlInterface.Position
+    _input.max_velocity = [limits.velocity]
+    _input.target_position = [target]
+    _input.target_velocity = [target_velocity]
+    profile = _calculate()
+    return _with_exact_end(profile, target, target_velocity)
+
+
+def _ruckig_velocity(start: KinematicState, velocity: float, limits: Limits) -> Profile:
+    sign = _sign(velocity) or _sign(start.velocity)
+    _load_state(start, limits, sign)
+    _input.control_interface = ControlInterface.Velocity
+    _input.target_velocity = [velocity]
+    profile = _calculate()
+    return _with_exact_end(profile, float(profile.p[-1]), velocity)
+
+
+def _load_state(start: KinematicState, limits: Limits, sign: int) -> None:
+    _input.current_position = [start.position]
+    _input.current_velocity = [start.velocity]
+    _input.current_acceleration = [start.acceleration]
+    _input.target_acceleration = [0.0]
+    if sign >= 0:
+        _input.max_acceleration = [limits.acceleration]
+        _input.min_acceleration = [-limits.deceleration]
+    else:
+        _input.max_acceleration = [limits.deceleration]
+        _input.min_acceleration = [-limits.acceleration]
+    _input.max_jerk = [limits.jerk]
+
+
+def _calculate() -> Profile:
+    try:
+        result = _otg.calculate(_input, _trajectory)
+    except (RuckigError, RuntimeError) as exc:  # ruckig raises on inputs it cannot plan
+        raise CommandRejected(ErrorId.NO_PROFILE, f"no trajectory: {exc}") from exc
+    if result not in (Result.Working, Result.Finished):
+        raise CommandRejected(ErrorId.NO_PROFILE, f"no trajectory (ruckig: {result.name})")
+    return _segments(_trajectory.profiles[0][0])
+
+
+def _segments(profile) -> Profile:  # noqa: ANN001 - ruckig.Profile has no public type
+    """Flatten ruckig's brake, main and accel (post) phases into non-empty segments."""
+    t: list[float] = []
+    p: list[float] = []
+    v: list[float] = []
+    a: list[float] = []
+    j: list[float] = []
+    clock = 0.0
+    main_p, main_v, main_a = profile.p, profile.v, profile.a
+    pieces = []
+    brake = profile.brake
+    if brake.duration > 0.0:
+        pieces.append((brake.t, brake.j, brake.p, brake.v, brake.a))
+    pieces.append((profile.t, profile.j, main_p, main_v, main_a))
+    post = profile.accel
+    if post.duration > 0.0:
+        pieces.append((post.t, post.j, post.p, post.v, post.a))
+    for durations, jerks, ps, vs, accs in pieces:
+        for k, duration in enumerate(durations):
+            if duration > _MIN_SEGMENT:
+                t.append(clock)
+                p.append(ps[k])
+                v.append(vs[k])
+                a.append(accs[k])
+                j.append(jerks[k])
+                clock += duration
+    if t:
+        dt = clock - t[-1]
+        end_p = p[-1] + dt * (v[-1] + dt * (a[-1] / 2.0 + dt * j[-1] / 6.0))
+        end_v = v[-1] + dt * (a[-1] + dt * j[-1] / 2.0)
+    else:
+        end_p, end_v = main_p[0], main_v[0]
+    t.append(clock)
+    p.append(end_p)
+    v.append(end_v)
+    a.append(0.0)
+    j.append(0.0)
+    return Profile(np.array(t), np.array(p), np.array(v), np.array(a), np.array(j))
+
+
+def _with_exact_end(profile: Profile, position: float, velocity: float) -> Profile:
+    """Pin the open segment to the commanded end state, so targets are reached exactly."""
+    profile.p[-1] = position
+    profile.v[-1] = velocity
+    return profile
+
+
+def _reverses(profile: Profile, sign: int) -> bool:
+    lo, hi = profile.velocity_extrema()
+    tolerance = 1e-9 * max(abs(lo), abs(hi), 1.0)
+    return hi > tolerance if sign < 0 else lo < -tolerance
+
+
+def _sign(value: float) -> int:
+    return (value > 0.0) - (value < 0.0)

@@ -1,0 +1,116 @@
+"""A planned setpoint as stored pieces: constant jerk per segment, open-ended last segment.
+
+Ruckig plans; we keep its segment boundaries (time offset, position, velocity, acceleration,
+jerk) and evaluate the cubic ourselves, for all axes at once (evaluate.py). The last segment has
+zero acceleration and jerk and lasts forever: standstill at the target, or cruising at the
+target velocity.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True, slots=True)
+class KinematicState:
+    position: float  #: [mm]
+    velocity: float = 0.0  #: [mm/s]
+    acceleration: float = 0.0  #: [mm/s²]
+
+
+@dataclass(frozen=True, slots=True)
+class Profile:
+    """Segments k = 0..n-1 start at offset ``t[k]`` [s] with state ``p, v, a`` and jerk ``j``."""
+
+    t: np.ndarray
+    p: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    j: np.ndarray
+
+    @property
+    def duration(self) -> float:
+        """Start of the open-ended last segment: when the motion has reached its end state."""
+        return float(self.t[-1])
+
+    @property
+    def end(self) -> KinematicState:
+        return KinematicState(float(self.p[-1]), float(self.v[-1]), 0.0)
+
+    def at(self, time: float) -> tuple[float, float, float, float]:
+        """Position, velocity, acceleration and jerk at ``time`` after the start."""
+        k = max(int(np.searchsorted(self.t, time, side="right")) - 1, 0)
+        dt = time - self.t[k]
+        p0, v0, a0, j = self.p[k], self.v[k], self.a[k], self.j[k]
+        return (
+            float(p0 + dt * (v0 + dt * (a0 / 2.0 + dt * j / 6.0))),
+            float(v0 + dt * (a0 + dt * j / 2.0)),
+            float(a0 + dt * j),
+            float(j),
+        )
+
+    def velocity_extrema(self) -> tuple[float, float]:
+        """Lowest and highest velocity over the whole profile (segment ends and interior)."""
+        lo = hi = float(self.v[0])
+        for k in range(len(self.t) - 1):
+            dt = self.t[k + 1] - self.t[k]
+            v0, a0, j = self.v[k], self.a[k], self.j[k]
+            candidates = [v0 + dt * (a0 + dt * j / 2.0)]
+            if j != 0.0:
+                tm = -a0 / j
+                if 0.0 < tm < dt:
+                    candidates.append(v0 + tm * (a0 + tm * j / 2.0))
+            lo = min(lo, *candidates)
+            hi = max(hi, *candidates)
+        return lo, hi
+
+    def position_extrema(self) -> tuple[float, float]:
+        """Lowest and highest position over the whole profile (where velocity is zero)."""
+        lo = hi = float(self.p[0])
+        for k in range(len(self.t) - 1):
+            dt = self.t[k + 1] - self.t[k]
+            p0, v0, a0, j = self.p[k], self.v[k], self.a[k], self.j[k]
+            candidates = [self.p[k + 1]]
+            for tm in _roots_of_velocity(v0, a0, j):
+                if 0.0 < tm < dt:
+                    candidates.append(p0 + tm * (v0 + tm * (a0 / 2.0 + tm * j / 6.0)))
+            lo = min(lo, *candidates)
+            hi = max(hi, *candidates)
+        return lo, hi
+
+    def shifted(self, offset: float) -> Profile:
+        """The same motion with every position moved by ``offset`` (coordinate shifts)."""
+        return Profile(self.t, self.p + offset, self.v, self.a, self.j)
+
+    @staticmethod
+    def hold(state: KinematicState) -> Profile:
+        """Stay at ``state.position`` (or cruise at ``state.velocity``) forever."""
+        return Profile(
+            np.zeros(1), np.array([state.position]), np.array([state.velocity]),
+            np.zeros(1), np.zeros(1),
+        )
+
+    @staticmethod
+    def concatenate(first: Profile, second: Profile) -> Profile:
+        """``second`` starts where ``first`` ends (its open segment is dropped)."""
+        offset = first.duration
+        return Profile(
+            np.concatenate([first.t[:-1], second.t + offset]),
+            np.concatenate([first.p[:-1], second.p]),
+            np.concatenate([first.v[:-1], second.v]),
+            np.concatenate([first.a[:-1], second.a]),
+            np.concatenate([first.j[:-1], second.j]),
+        )
+
+
+def _roots_of_velocity(v0: float, a0: float, j: float) -> list[float]:
+    """Times where v0 + a0 t + j t²/2 = 0."""
+    if j == 0.0:
+        return [-v0 / a0] if a0 != 0.0 else []
+    disc = a0 * a0 - 2.0 * j * v0
+    if disc < 0.0:
+        return []
+    root = disc ** 0.5
+    return [(-a0 - root) / j, (-a0 + root) / j]
