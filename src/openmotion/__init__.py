@@ -20,6 +20,7 @@ from openmotion.core.special_values import (
     MC_INVALID,
     MC_MAXIMUM,
 )
+from openmotion.runtime.paced import FallingBehindError, PacedRuntime
 from openmotion.runtime.runtime import Runtime
 
 __version__ = "0.1.0"
@@ -41,7 +42,9 @@ __all__ = [
     "Direction",
     "DriveModel",
     "ErrorId",
+    "FallingBehindError",
     "NewPosAndVeloMode",
+    "PacedRuntime",
     "ReadMode",
     "ReferenceMode",
     "Runtime",

@@ -70,9 +70,7 @@ def resolve_limits(
 
 def require_position(name: str, value: float | SpecialValue) -> float:
     """A position input: any finite number; MC_INVALID and other sentinels are rejected."""
-    if isinstance(value, SpecialValue) or isinstance(value, bool) or not isinstance(
-        value, int | float
-    ):
+    if isinstance(value, SpecialValue | bool) or not isinstance(value, int | float):
         raise CommandRejected(ErrorId.INVALID_POSITION, f"{name}: must be set, got {value!r}")
     if not math.isfinite(value):
         raise CommandRejected(ErrorId.INVALID_POSITION, f"{name}: must be finite, got {value}")

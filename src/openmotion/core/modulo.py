@@ -54,12 +54,12 @@ def modulo_target(
         return _snap(start + delta, base, period)
     if direction == Direction.POSITIVE:
         delta = (base - start) % period
-        if delta > period - tolerance:
+        if tolerance > 0.0 and delta >= period - tolerance:
             delta -= period
         return _snap(start + delta + turns * period, base, period)
     if direction == Direction.NEGATIVE:
         back = (start - base) % period
-        if back > period - tolerance:
+        if tolerance > 0.0 and back >= period - tolerance:
             back -= period
         return _snap(start - back - turns * period, base, period)
     raise CommandRejected(ErrorId.INVALID_DIRECTION, f"direction {direction!r} is not allowed here")

@@ -33,6 +33,8 @@ MC_INVALID: Final = SpecialValue("MC_INVALID")  #: must be set by the user; no d
 #: MC_Home.Position: use the configured calibration value (TcMC §3.14)
 DEFAULT_HOME_POSITION: Final = SpecialValue("DEFAULT_HOME_POSITION")
 
-SPECIAL_VALUES: Final = {v.name: v for v in (MC_DEFAULT, MC_MAXIMUM, MC_IGNORE, MC_INVALID, DEFAULT_HOME_POSITION)}
+SPECIAL_VALUES: Final = {
+    v.name: v for v in (MC_DEFAULT, MC_MAXIMUM, MC_IGNORE, MC_INVALID, DEFAULT_HOME_POSITION)
+}
 
 InputValue = float | SpecialValue

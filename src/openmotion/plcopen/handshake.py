@@ -102,9 +102,9 @@ class ExecuteBlock(FunctionBlock):
 
     def _rising_edge(self) -> None:
         command = self._command
-        if self.retriggerable and command is not None and command.busy:
-            if self._retrigger(command):
-                return
+        if (self.retriggerable and command is not None and command.busy
+                and self._retrigger(command)):
+            return
         self._clear()
         try:
             self._command = self._issue(self._axis())
