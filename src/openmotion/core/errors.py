@@ -22,22 +22,22 @@ class ErrorId(IntEnum):
     DYN_DIRECTION_REVERSAL = 0x4289  #: TcMC §4.20: braking would reverse the direction
     STEPPER_STALL = 0x4636  #: TcMC §6.7: stepper stall
     # openmotion: bad input values (0x70xx)
-    INVALID_POSITION = 0x7001
-    INVALID_VELOCITY = 0x7002
-    INVALID_ACCELERATION = 0x7003
-    INVALID_DECELERATION = 0x7004
-    INVALID_JERK = 0x7005
-    INVALID_DIRECTION = 0x7006
-    INVALID_BUFFER_MODE = 0x7007
-    INVALID_OVERRIDE = 0x7008
+    INVALID_POSITION = 0x7001  #: a position or distance input is missing or not finite
+    INVALID_VELOCITY = 0x7002  #: velocity missing, not > 0, or MC_DEFAULT (has no default)
+    INVALID_ACCELERATION = 0x7003  #: acceleration not > 0 (0 means default)
+    INVALID_DECELERATION = 0x7004  #: deceleration not > 0 (0 means default)
+    INVALID_JERK = 0x7005  #: jerk not > 0, or above the axis max_jerk
+    INVALID_DIRECTION = 0x7006  #: not an MC_Direction, or not allowed for this block
+    INVALID_BUFFER_MODE = 0x7007  #: not an MC_BUFFER_MODE
+    INVALID_OVERRIDE = 0x7008  #: override outside 0..100 %
     INVALID_MODULO_TARGET = 0x7009  #: shortest way with a target outside [0, period)
-    INVALID_MODULO_PERIOD = 0x700A
-    INVALID_PARAMETER_NUMBER = 0x7010
-    PARAMETER_TYPE_MISMATCH = 0x7011
-    PARAMETER_READ_ONLY = 0x7012
-    INVALID_PARAMETER_VALUE = 0x7013
-    INVALID_STOP_DYNAMICS = 0x7014
-    INVALID_MODE = 0x7015
+    INVALID_MODULO_PERIOD = 0x700A  #: modulo period not > 0
+    INVALID_PARAMETER_NUMBER = 0x7010  #: no such MC_AxisPara number (TcMC §6.1)
+    PARAMETER_TYPE_MISMATCH = 0x7011  #: a bool parameter read or written as a number, or back
+    PARAMETER_READ_ONLY = 0x7012  #: a status parameter (1, 10, 11, 1000, 2000-2002)
+    INVALID_PARAMETER_VALUE = 0x7013  #: the value would make the parameter set invalid
+    INVALID_STOP_DYNAMICS = 0x7014  #: reserved for stop inputs
+    INVALID_MODE = 0x7015  #: an unknown mode enum value
     # openmotion: state and command rejections (0x71xx)
     AXIS_DISABLED = 0x7101  #: the axis is not powered (MC_Power.Status FALSE)
     AXIS_IN_ERROR_STOP = 0x7102  #: the axis is in ErrorStop: MC_Reset first
@@ -48,15 +48,15 @@ class ErrorId(IntEnum):
     TARGET_BEYOND_SOFT_LIMIT = 0x7107  #: the target lies beyond an enabled software limit
     PATH_BEYOND_SOFT_LIMIT = 0x7108  #: the profile would pass a software limit on the way
     NO_PROFILE = 0x7109  #: no trajectory exists for these inputs
-    BUFFER_FULL = 0x710A
-    AXIS_NOT_HOMED = 0x710B
+    BUFFER_FULL = 0x710A  #: 16 commands wait already (D-008)
+    AXIS_NOT_HOMED = 0x710B  #: reserved: the command needs a homed axis
     NOTHING_TO_DO = 0x710C  #: a modifying command without a running job to modify
     # openmotion: axis errors raised by monitoring (0x72xx), these take the axis to ErrorStop
-    FOLLOWING_ERROR = 0x7201
-    SOFT_LIMIT_REACHED = 0x7202
-    IN_TARGET_TIMEOUT = 0x7203
-    DRIVE_NOT_READY = 0x7204
-    HOMING_FAILED = 0x7205
+    FOLLOWING_ERROR = 0x7201  #: following error above 1020 for longer than 1021
+    SOFT_LIMIT_REACHED = 0x7202  #: a velocity move stopped at an enabled software limit
+    IN_TARGET_TIMEOUT = 0x7203  #: not in the target window within 1028 after the profile
+    DRIVE_NOT_READY = 0x7204  #: MC_Power enabled while the drive reports not ready
+    HOMING_FAILED = 0x7205  #: no reference cam to search
 
 
 class ConfigError(ValueError):
