@@ -332,11 +332,10 @@ class Axis:
         except CommandRejected as rejected:
             return self._reject(command, rejected.error_id, rejected.message)
         command.hold = hold
+        profile = self._stop_profile(limits)  # needs the running job for the safety cases
         self._abort_all("aborted by MC_Stop")
         self._hold = None
-        job = Job("stop", command, limits)
-        self._start(job, self._stop_profile(limits))
-        self.state = AxisState.STOPPING
+        self._start(Job("stop", command, limits), profile)
         return command
 
     def home(self, position: InputValue = DEFAULT_HOME_POSITION) -> Command:
@@ -581,11 +580,13 @@ class Axis:
         elif job.kind == "position":
             if job.soft_limit_stop:
                 self._fault(ErrorId.SOFT_LIMIT_REACHED,
-                            f"velocity move stopped at the software limit {job.target}")
+                            f"velocity move stopped at the software limit {job.target}",
+                            time=end_time)
             elif self._queue and self._queue[0].buffer_mode in _BLEND_SPEED:
                 self._finish(job.command)
                 self._start_next(end_time)
-            else:
+            elif not job.extra.get("settling"):
+                job.extra["settling"] = True
                 self._rt._watch(self, lambda now: self._settle(job, now))
         elif job.kind in ("halt", "stop"):
             self._finish(job.command)
@@ -599,8 +600,11 @@ class Axis:
 
     def _settle(self, job: Job, now: float) -> bool:
         """TcMC §7.1: Done once the monitors enabled by 1022/1024 agree; False = stop watching."""
-        if job is not self._job:
+        if job is not self._job or job.command.finished:
             return False
+        if self.has_job:  # re-planned (override, MC_NewPos): settle after the new profile
+            job.settle_time = job.settling_for = 0.0
+            return True
         p = self.parameters
         cycle = self._rt.cycle_time
         job.settling_for += cycle
@@ -681,8 +685,11 @@ class Axis:
             job.command._end(CommandStatus.ABORTED, now, message=reason)
         self._queue.clear()
 
-    def _fault(self, error_id: ErrorId, message: str) -> None:
-        """An axis error: ErrorStop, the commands are aborted, a controlled stop follows."""
+    def _fault(self, error_id: ErrorId, message: str, time: float | None = None) -> None:
+        """An axis error: ErrorStop, the commands are aborted, a controlled stop follows.
+
+        The stop is planned from the setpoint at ``time`` (default: the last sample).
+        """
         if self.state is AxisState.ERROR_STOP:
             return
         self._abort_all(f"axis error {error_id.name}: {message}")
@@ -691,8 +698,10 @@ class Axis:
         self.state = AxisState.ERROR_STOP
         self._k.monitored[self.row] = False
         p = self.parameters
-        self._install(plan_stop(self._k.state(self.row), p.max_deceleration, p.max_jerk),
-                      has_job=False)
+        time = self._k.sample_time if time is None else time
+        start = self._k.segments.state(self.row, time)
+        self._install(plan_stop(start, p.max_deceleration, p.max_jerk), has_job=False,
+                      time=time)
 
     def _try_reset(self, command: Command, now: float) -> bool:
         if command.finished:
@@ -725,9 +734,12 @@ class Axis:
         effective = self.override if feed else 0.0
         if effective == self._effective_override:
             return
+        was_paused = self._effective_override <= 0.0
         self._effective_override = effective
         if job is None or job.kind not in ("position", "velocity") or job.command.finished:
             return
+        if job.kind == "position" and not self.has_job and not was_paused:
+            return  # the profile has ended: the job is settling at its target
         try:
             profile = self._plan(job)
         except CommandRejected as rejected:
@@ -814,6 +826,7 @@ class Axis:
         direction = _sign(start.velocity) or _sign(start.acceleration)
         unsafe = (direction > 0 and lo < -1e-9) or (direction < 0 and hi > 1e-9)  # reversal
         job = self._job
+        unsafe |= job is not None and job.kind == "stop"  # a stricter stop runs already
         if job is not None and job.kind in ("position", "velocity"):
             peak = max(abs(lo), abs(hi))
             unsafe |= peak > job.limits.velocity * (1 + 1e-9) and peak > abs(start.velocity)
