@@ -530,7 +530,7 @@ class Axis:
     def _plan(self, job: Job) -> Profile:
         start = self._k.state(self.row)
         job.extra["start"] = start.position
-        return jobs.plan_job(job, start, self._effective_override)
+        return jobs.plan_job(job, start, self._effective_override, self.parameters)
 
     def _start(self, job: Job, profile: Profile, time: float | None = None) -> None:
         self._job = job
@@ -540,6 +540,20 @@ class Axis:
             "position": AxisState.DISCRETE_MOTION, "halt": AxisState.DISCRETE_MOTION,
             "velocity": AxisState.CONTINUOUS_MOTION, "stop": AxisState.STOPPING,
         }[job.kind]
+        if job.soft_limit_stop:  # a MoveVelocity that will stop at a software limit
+            self.state = AxisState.CONTINUOUS_MOTION
+            self._rt._watch(self, lambda now: self._cruise_check(job))
+
+    def _cruise_check(self, job: Job) -> bool:
+        """InVelocity for a velocity job planned as a stop at a software limit (D-016)."""
+        if job is not self._job or job.command.finished or not job.soft_limit_stop:
+            return False
+        commanded = job.velocity * self._effective_override
+        k, row = self._k, self.row
+        job.command.in_velocity = bool(
+            k.set_a[row] == 0.0 and abs(k.set_v[row] - commanded) <= 1e-9 * abs(commanded)
+        )
+        return True
 
     def _install(self, profile: Profile, has_job: bool = True, time: float | None = None) -> None:
         k = self._k
@@ -571,8 +585,8 @@ class Axis:
         """Kernel event: the setpoint reached the end state of the job's profile."""
         self._k.has_job[self.row] = False
         job = self._job
-        if job is None or self._effective_override <= 0.0 and job.kind in ("position",
-                                                                           "velocity"):
+        if job is None or self._effective_override < jobs.MIN_OVERRIDE and job.kind in (
+                "position", "velocity"):
             return  # override 0 paused the job; it resumes when the override returns
         if job.kind == "velocity":
             job.command.in_velocity = True
@@ -655,7 +669,7 @@ class Axis:
         start = self._k.segments.state(self.row, time)
         job.extra["start"] = start.position
         try:
-            profile = jobs.plan_job(job, start, self._effective_override)
+            profile = jobs.plan_job(job, start, self._effective_override, self.parameters)
             jobs.check_soft_limits(self.parameters, profile, job.target)
         except CommandRejected as rejected:
             job.command._end(CommandStatus.ERROR, time, rejected.error_id, rejected.message)
@@ -734,7 +748,7 @@ class Axis:
         effective = self.override if feed else 0.0
         if effective == self._effective_override:
             return
-        was_paused = self._effective_override <= 0.0
+        was_paused = self._effective_override < jobs.MIN_OVERRIDE
         self._effective_override = effective
         if job is None or job.kind not in ("position", "velocity") or job.command.finished:
             return

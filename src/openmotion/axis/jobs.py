@@ -14,21 +14,50 @@ from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.trajectory.plan import Limits, plan_position, plan_stop, plan_velocity
 from openmotion.trajectory.segments import KinematicState, Profile
 
-BLEND_ITERATIONS = 12  #: bisection steps when a blend velocity cannot be reached
+BLEND_ITERATIONS = 12
+MIN_OVERRIDE = 1e-8  #: below 1e-6 % the override counts as 0: the job pauses (D-007)  #: bisection steps when a blend velocity cannot be reached
 
 
-def plan_job(job: Job, start: KinematicState, override: float) -> Profile:
-    """The profile that carries out ``job`` from ``start`` under ``override`` (0..1)."""
+def plan_job(job: Job, start: KinematicState, override: float,
+             parameters: AxisParameters | None = None) -> Profile:
+    """The profile that carries out ``job`` from ``start`` under ``override`` (0..1).
+
+    With ``parameters``, the axis maximum velocity is a hard limit: a command whose jerk is too
+    low to release the running acceleration before it is exceeded gets the jerk it needs, up
+    to ``max_jerk`` (D-020).
+    """
+    profile = _plan_job(job, start, override)
+    if parameters is None or start.acceleration * start.velocity <= 0.0:
+        return profile
+    lo, hi = profile.velocity_extrema()
+    v_max = parameters.max_velocity
+    if max(-lo, hi) <= v_max * (1.0 + 1e-9) or abs(start.velocity) >= v_max:
+        return profile
+    needed = start.acceleration**2 / (2.0 * (v_max - abs(start.velocity)))
+    jerk = min(max(job.limits.jerk, needed * (1.0 + 1e-6)), parameters.max_jerk)
+    if jerk <= job.limits.jerk:
+        return profile
+    old = job.limits
+    harder = Job(job.kind, job.command,
+                 Limits(old.velocity, old.acceleration, old.deceleration, jerk),
+                 job.target, job.velocity, job.buffer_mode, job.end_velocity, job.soft_limit_stop)
+    return _plan_job(harder, start, override)
+
+
+def _plan_job(job: Job, start: KinematicState, override: float) -> Profile:
     limits = job.limits
     if job.kind in ("stop", "halt"):
         return plan_stop(start, limits.deceleration, limits.jerk)
-    if override <= 0.0:  # TcMC §4.23.1: override 0 halts the profile, the job stays
+    if override < MIN_OVERRIDE:  # TcMC §4.23.1: override 0 halts the profile, the job stays
         return plan_stop(start, limits.deceleration, limits.jerk)
     if job.kind == "velocity" and not job.soft_limit_stop:
         return plan_velocity(start, job.velocity * override, limits)
     assert job.target is not None
     end_velocity = job.end_velocity * override
-    return plan_position(start, job.target, limits.scaled_velocity(override), end_velocity)
+    limits = limits.scaled_velocity(override)
+    if abs(end_velocity) > limits.velocity:  # BlendingNext/High: speed up towards the blend
+        limits = Limits(abs(end_velocity), limits.acceleration, limits.deceleration, limits.jerk)
+    return plan_position(start, job.target, limits, end_velocity)
 
 
 def check_soft_limits(parameters: AxisParameters, profile: Profile, target: float | None) -> None:
@@ -77,14 +106,17 @@ def blend_velocity(
 
     def feasible(speed: float) -> bool:
         v = direction * speed
+        reach = first.limits
+        if speed > reach.velocity:
+            reach = Limits(speed, reach.acceleration, reach.deceleration, reach.jerk)
         try:
-            a = plan_position(start, first.target, first.limits, v)
+            a = plan_position(start, first.target, reach, v)
             b = plan_position(KinematicState(first.target, v), second_target, second_limits)
         except CommandRejected:
             return False
         return _monotonic(a, direction) and _monotonic(b, direction)
 
-    speed = min(magnitude, first.limits.velocity, second_limits.velocity)
+    speed = magnitude  # PLCopen: the next move brakes or speeds up from there
     if feasible(speed):
         return direction * speed
     lo, hi = 0.0, speed

@@ -18,6 +18,7 @@ from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 import numpy as np
+import ruckig
 
 import openmotion as om
 from openmotion.bench import peers
@@ -28,6 +29,7 @@ WORK = 4_000_000  #: axis-cycles per N for the timed runs (before the clamps bel
 MIN_CYCLES = 200
 MAX_CYCLES = 20_000
 RELATIVE_TOLERANCE = 1e-9
+REPEATS = 3  #: timed runs per implementation and N; the median is reported
 
 #: Axis maxima = the stream's upper bounds, so no command is clamped and none is rejected.
 AXIS_LIMITS = {
@@ -76,57 +78,92 @@ def issue_plan(axes: Sequence[om.Axis], stream: list[StreamCommand],
     return plan
 
 
-def _program(plan: list[list[Issue]], issued: list[om.Command] | None) -> Callable[[], None]:
+def _program(plan: list[list[Issue]]) -> Callable[[], None]:
     """The PLC task body: issue this cycle's commands (one slot of the plan per cycle)."""
     slots: Iterator[list[Issue]] = iter(plan)
-    if issued is None:
-        def program() -> None:
-            for method, args in next(slots):
-                method(*args)
-    else:
-        def program() -> None:
-            for method, args in next(slots):
-                issued.append(method(*args))
+
+    def program() -> None:
+        for method, args in next(slots):
+            method(*args)
+
     return program
+
+
+def forced_speed(velocity: np.ndarray | float, acceleration: np.ndarray | float,
+                 jerk: np.ndarray | float) -> np.ndarray | float:
+    """Highest |v| any profile must reach from (v, a) when |jerk| is limited to ``jerk``.
+
+    Bringing ``a`` to zero at full jerk changes v monotonically by a*|a|/(2j); a command whose
+    jerk cannot absorb the current acceleration therefore overshoots the velocity limit
+    whatever the planner does (pyplcopen rejects such commands, ruckig and we take them).
+    """
+    return np.maximum(np.abs(velocity),
+                      np.abs(velocity + acceleration * np.abs(acceleration) / (2.0 * jerk)))
 
 
 def check_run(n_axes: int, stream: list[StreamCommand], cycles: int) -> dict[str, Any]:
     """Untimed run (doubles as warm-up): setpoint limit violations and rejected commands.
 
-    Checks every cycle, vectorised over the kernel arrays: |v| <= max_velocity,
-    |a| <= max(max_acceleration, max_deceleration), |j| <= max_jerk, each within 1e-9 relative.
+    Every command aborts the one before, so from its issue on an axis' setpoint must keep to
+    that command's limits, within 1e-9 relative: |v| <= max(velocity, the speed forced by the
+    state at issue; see ``forced_speed``), |a| <= max(acceleration, deceleration, |a| at
+    issue), |j| <= jerk. Checked every cycle, vectorised over the kernel arrays. Forced
+    overshoots beyond the axis' max_velocity are counted apart: they are a property of the
+    stream (jerk lowered mid-motion), not of the kernel.
     """
     rt, axes = build_runtime(n_axes)
+    kernel = rt._kernel
+    plan = issue_plan(axes, stream, cycles)
+    commands: list[list[StreamCommand]] = [[] for _ in range(cycles)]
+    for c in stream:
+        if 0 <= c.cycle < cycles:
+            commands[c.cycle].append(c)
+    v_max = AXIS_LIMITS["max_velocity"]
+    tolerance = 1 + RELATIVE_TOLERANCE
+    limit = {  # per axis, set at each command; before any command the axis must rest
+        "velocity": np.zeros(n_axes), "acceleration": np.zeros(n_axes), "jerk": np.zeros(n_axes),
+    }
     issued: list[om.Command] = []
-    rt.add_program(_program(issue_plan(axes, stream, cycles), issued))
-    v_lim = AXIS_LIMITS["max_velocity"] * (1 + RELATIVE_TOLERANCE)
-    a_lim = max(AXIS_LIMITS["max_acceleration"], AXIS_LIMITS["max_deceleration"]) * (
-        1 + RELATIVE_TOLERANCE)
-    j_lim = AXIS_LIMITS["max_jerk"] * (1 + RELATIVE_TOLERANCE)
+    slots = iter(zip(plan, commands, strict=True))
+
+    def program() -> None:
+        issues, stream_commands = next(slots)
+        for (method, args), c in zip(issues, stream_commands, strict=True):
+            v, a = float(kernel.set_v[c.axis]), float(kernel.set_a[c.axis])
+            limit["velocity"][c.axis] = max(c.velocity, float(forced_speed(v, a, c.jerk)))
+            limit["acceleration"][c.axis] = max(c.acceleration, c.deceleration, abs(a))
+            limit["jerk"][c.axis] = c.jerk
+            issued.append(method(*args))
+
     counts = {"velocity": 0, "acceleration": 0, "jerk": 0}
     peak = {"velocity": 0.0, "acceleration": 0.0, "jerk": 0.0}
+    forced = {"axis_cycles": 0, "peak_velocity": 0.0}
     first: list[dict[str, Any]] = []
 
     def check(runtime: om.Runtime) -> None:
-        kernel = runtime._kernel
-        for name, values, limit in (("velocity", kernel.set_v[:n_axes], v_lim),
-                                    ("acceleration", kernel.set_a[:n_axes], a_lim),
-                                    ("jerk", kernel.set_j[:n_axes], j_lim)):
-            magnitude = np.abs(values)
+        values = {"velocity": kernel.set_v[:n_axes], "acceleration": kernel.set_a[:n_axes],
+                  "jerk": kernel.set_j[:n_axes]}
+        for name, value in values.items():
+            magnitude = np.abs(value)
             top = float(magnitude.max())
             peak[name] = max(peak[name], top)
-            if top > limit:
-                rows = np.flatnonzero(magnitude > limit)
+            if name == "velocity" and top > v_max * tolerance:
+                forced["axis_cycles"] += int(np.count_nonzero(magnitude > v_max * tolerance))
+                forced["peak_velocity"] = max(forced["peak_velocity"], top)
+            over = magnitude > limit[name] * tolerance
+            if over.any():
+                rows = np.flatnonzero(over)
                 counts[name] += int(rows.size)
                 if len(first) < 5:
-                    first.append({"cycle": runtime.cycle, "axis": int(rows[0]), "what": name,
-                                  "value": float(values[rows[0]])})
+                    row = int(rows[0])
+                    first.append({"cycle": runtime.cycle, "axis": row, "what": name,
+                                  "value": float(value[row]), "limit": float(limit[name][row])})
 
+    rt.add_program(program)
     rt.add_observer(check)
     for _ in range(cycles):
         rt.step()
     errors = [c for c in issued if c.error]
-    moving = int(np.count_nonzero(rt._kernel.set_v[:n_axes]))
     return {
         "commands": len(issued),
         "rejected": len(errors),
@@ -135,23 +172,25 @@ def check_run(n_axes: int, stream: list[StreamCommand], cycles: int) -> dict[str
         "violations": sum(counts.values()),
         "violations_by_kind": counts,
         "first_violations": first,
+        "forced_overshoot": forced,
         "peak": peak,
-        "moving_at_end": moving,
-        "final_positions_checksum": float(np.sum(rt._kernel.set_p[:n_axes])),
+        "moving_at_end": int(np.count_nonzero(kernel.set_v[:n_axes])),
     }
 
 
 def timed_run(n_axes: int, stream: list[StreamCommand], cycles: int,
-              trace: bool = False) -> dict[str, float]:
-    """Wall time of the stepped loop (setup excluded), plus per-cycle p50/p99.
+              trace: bool = False) -> tuple[float, np.ndarray]:
+    """Wall seconds of the stepped loop (setup excluded) and each cycle's duration in µs.
 
-    One ``perf_counter`` stamp per cycle (~0.1 us) gives the cycle-time distribution; the
-    headline figure is the whole loop divided by axis-cycles, like the peers'.
+    One ``perf_counter`` stamp per cycle (~0.1 us) gives the cycle-time distribution. The
+    trace buffer is allocated and touched before the loop, as a real-time recorder would,
+    so page faults of a fresh allocation are not counted as the trace's cost.
     """
     rt, axes = build_runtime(n_axes)
-    rt.add_program(_program(issue_plan(axes, stream, cycles), None))
+    rt.add_program(_program(issue_plan(axes, stream, cycles)))
     if trace:
-        buffer = np.empty((cycles, 2, n_axes))
+        buffer = np.zeros((cycles, 2, n_axes))
+        buffer.fill(1.0)
         kernel = rt._kernel
 
         def record(runtime: om.Runtime) -> None:
@@ -166,53 +205,88 @@ def timed_run(n_axes: int, stream: list[StreamCommand], cycles: int,
     for c in range(1, cycles + 1):
         step()
         stamps[c] = clock()
-    seconds = stamps[-1] - stamps[0]
-    per_cycle = np.diff(np.array(stamps)) * 1e6
-    return {
-        "seconds": seconds,
-        "us_per_axis_cycle": seconds / (n_axes * cycles) * 1e6,
-        "cycle_us_p50": float(np.percentile(per_cycle, 50)),
-        "cycle_us_p99": float(np.percentile(per_cycle, 99)),
-        "cycle_us_max": float(per_cycle.max()),
-    }
+    return stamps[-1] - stamps[0], np.diff(np.array(stamps)) * 1e6
 
 
 def warm_up(seed: int = 0) -> None:
-    """Import, allocate and JIT-free first calls for all three implementations, untimed."""
+    """First calls of all three implementations (imports, allocations, caches), untimed."""
     n, cycles = 10, 300
     stream = peers.random_command_stream(n, cycles, seed + 10_000)
     timed_run(n, stream, cycles)
     peers.run_pyplcopen(n, stream, cycles)
-    peers.run_ruckig_loop(n, stream, cycles)
+    _ruckig_seconds(n, stream, cycles)
 
 
-def run_one(n_axes: int, cycles: int, seed: int = 0, trace: bool = False) -> dict[str, Any]:
-    """All figures for one N from one stream."""
+def _ruckig_seconds(n_axes: int, stream: list[StreamCommand], cycles: int) -> float | str:
+    """The ruckig peer's seconds, or its error text (it has no fallback for step-1 failures)."""
+    try:
+        return peers.run_ruckig_loop(n_axes, stream, cycles)
+    except ruckig.RuckigError as exc:
+        return " ".join(str(exc).split())
+
+
+def _cycle_stats(per_cycle: list[np.ndarray]) -> dict[str, float]:
+    joined = np.concatenate(per_cycle)
+    return {"cycle_us_p50": float(np.percentile(joined, 50)),
+            "cycle_us_p99": float(np.percentile(joined, 99)),
+            "cycle_us_max": float(joined.max())}
+
+
+def run_one(n_axes: int, cycles: int, seed: int = 0, trace: bool = False,
+            repeats: int = REPEATS) -> dict[str, Any]:
+    """All figures for one N from one stream.
+
+    The implementations take turns within each repeat, so drift on a shared machine hits all
+    of them alike; figures are medians over the repeats (``*_best_us``: the fastest repeat,
+    least disturbed by other load), spreads are (max - min) / median.
+    """
     stream = peers.random_command_stream(n_axes, cycles, seed)
-    result: dict[str, Any] = {"axes": n_axes, "cycles": cycles, "commands": len(stream)}
+    result: dict[str, Any] = {"axes": n_axes, "cycles": cycles, "commands": len(stream),
+                              "repeats": repeats}
     result["check"] = check_run(n_axes, stream, cycles)
-    off = timed_run(n_axes, stream, cycles)
-    result["ours"] = off
-    result["ours_us"] = off["us_per_axis_cycle"]
-    if trace:
-        on = timed_run(n_axes, stream, cycles, trace=True)
-        result["ours_trace"] = on
-        result["ours_trace_us"] = on["us_per_axis_cycle"]
+    seconds: dict[str, list[float]] = {"ours": [], "ours_trace": [], "pyplcopen": [],
+                                       "ruckig": []}
+    per_cycle: dict[str, list[np.ndarray]] = {"ours": [], "ours_trace": []}
+    ruckig_error = ""
+    for _ in range(repeats):
+        for name, with_trace in (("ours", False), ("ours_trace", True))[: 1 + trace]:
+            elapsed, cycle_us = timed_run(n_axes, stream, cycles, with_trace)
+            seconds[name].append(elapsed)
+            per_cycle[name].append(cycle_us)
+        plc = peers.run_pyplcopen(n_axes, stream, cycles)
+        if plc is not None:
+            seconds["pyplcopen"].append(plc)
+        if not ruckig_error:
+            outcome = _ruckig_seconds(n_axes, stream, cycles)
+            if isinstance(outcome, str):
+                ruckig_error = outcome
+            else:
+                seconds["ruckig"].append(outcome)
     scale = 1e6 / (n_axes * cycles)
-    plc = peers.run_pyplcopen(n_axes, stream, cycles)
-    result["pyplcopen_us"] = None if plc is None else plc * scale
-    result["ruckig_us"] = peers.run_ruckig_loop(n_axes, stream, cycles) * scale
+    for name, values in seconds.items():
+        if values and (name != "ruckig" or not ruckig_error):
+            result[f"{name}_us"] = float(np.median(values)) * scale
+            result[f"{name}_best_us"] = min(values) * scale  # least disturbed by other load
+            result[f"{name}_spread"] = (max(values) - min(values)) / float(np.median(values))
+        else:
+            result[f"{name}_us"] = result[f"{name}_best_us"] = None
+    result["ours"] = _cycle_stats(per_cycle["ours"])
+    if trace:
+        result["ours_trace"] = _cycle_stats(per_cycle["ours_trace"])
+    if ruckig_error:
+        result["ruckig_error"] = ruckig_error
     for peer in ("pyplcopen", "ruckig"):
-        figure = result[f"{peer}_us"]
-        result[f"ratio_{peer}"] = None if not figure else result["ours_us"] / figure
-        if trace:
-            result[f"ratio_{peer}_trace"] = None if not figure else result["ours_trace_us"] / figure
+        for stat in ("", "best_"):
+            figure = result[f"{peer}_{stat}us"]
+            for ours in ("ours", "ours_trace")[: 1 + trace]:
+                key = f"ratio_{stat}{peer}{'_trace' if ours == 'ours_trace' else ''}"
+                result[key] = None if not figure else result[f"{ours}_{stat}us"] / figure
     result["violations"] = result["check"]["violations"]
     return result
 
 
 def run_axes(counts: Sequence[int] = DEFAULT_COUNTS, cycles: int | None = None, seed: int = 0,
-             trace: bool = False,
+             trace: bool = False, repeats: int = REPEATS,
              progress: Callable[[str], None] | None = None) -> dict[str, Any]:
     """Figures per N (keys are str(N) so the dict stays JSON-shaped).
 
@@ -224,5 +298,5 @@ def run_axes(counts: Sequence[int] = DEFAULT_COUNTS, cycles: int | None = None, 
         c = cycles if cycles is not None else cycles_for(n)
         if progress is not None:
             progress(f"axes: N={n}, {c} cycles")
-        by_n[str(n)] = run_one(n, c, seed, trace)
-    return {"trace": trace, "seed": seed, "by_n": by_n}
+        by_n[str(n)] = run_one(n, c, seed, trace, repeats)
+    return {"trace": trace, "seed": seed, "repeats": repeats, "by_n": by_n}

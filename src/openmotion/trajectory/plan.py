@@ -42,6 +42,10 @@ def plan_position(
 ) -> Profile:
     """Time-optimal move to ``target``, arriving with ``target_velocity`` (blending)."""
     sign = _sign(target - start.position) or _sign(target_velocity) or _sign(start.velocity)
+    if abs(start.velocity) > limits.velocity and _sign(start.velocity) == sign:
+        ramped = _ramp_down_then_position(start, target, target_velocity, limits, sign)
+        if ramped is not None:
+            return ramped
     try:
         profile = _ruckig_position(start, target, target_velocity, limits, sign)
     except CommandRejected:
@@ -60,9 +64,28 @@ def plan_position(
     )
 
 
+def _ramp_down_then_position(
+    start: KinematicState, target: float, target_velocity: float, limits: Limits, sign: int
+) -> Profile | None:
+    """Too fast for the (new) velocity limit: ramp down to it first, as a controller does.
+
+    Ruckig's own brake pre-phase ends with the acceleration still braking, so the velocity
+    would dip below the limit and climb back (an override step would show it). None when
+    the target comes too soon for the ramp; ruckig's profile is used then.
+    """
+    slow = plan_velocity(start, sign * limits.velocity, limits)
+    if (target - slow.end.position) * sign <= 0.0:
+        return None
+    rest = _ruckig_position(slow.end, target, target_velocity, limits, sign)
+    if _reverses(rest, sign):
+        return None
+    return Profile.concatenate(slow, rest)
+
+
 def plan_velocity(start: KinematicState, velocity: float, limits: Limits) -> Profile:
     """Time-optimal change to the signed ``velocity``, then cruise at it forever."""
-    if start.velocity * velocity < 0.0 and limits.acceleration != limits.deceleration:
+    heading = _sign(start.velocity) or _sign(start.acceleration)
+    if heading * velocity < 0.0 and limits.acceleration != limits.deceleration:
         brake = plan_velocity(start, 0.0, limits)
         return Profile.concatenate(
             brake, _ruckig_velocity(KinematicState(brake.end.position), velocity, limits)
@@ -88,12 +111,31 @@ def _ruckig_position(
 
 
 def _ruckig_velocity(start: KinematicState, velocity: float, limits: Limits) -> Profile:
-    sign = _sign(velocity) or _sign(start.velocity)
+    sign = _sign(velocity) or _sign(start.velocity) or _sign(start.acceleration)
     _load_state(start, limits, sign)
     _input.control_interface = ControlInterface.Velocity
     _input.target_velocity = [velocity]
-    profile = _calculate()
+    try:
+        profile = _calculate()
+    except CommandRejected:
+        if start.acceleration == 0.0:
+            raise
+        return _release_then_velocity(start, velocity, limits)
     return _with_exact_end(profile, float(profile.p[-1]), velocity)
+
+
+def _release_then_velocity(start: KinematicState, velocity: float, limits: Limits) -> Profile:
+    """Fallback where ruckig fails (huge start acceleration against the jerk): ramp the
+    acceleration to zero with full jerk - |a| only shrinks - then plan from there."""
+    a0, j = start.acceleration, -math.copysign(limits.jerk, start.acceleration)
+    dt = abs(a0) / limits.jerk
+    p1 = start.position + dt * (start.velocity + dt * (a0 / 2.0 + dt * j / 6.0))
+    v1 = start.velocity + dt * (a0 + dt * j / 2.0)
+    release = Profile(
+        np.array([0.0, dt]), np.array([start.position, p1]), np.array([start.velocity, v1]),
+        np.array([a0, 0.0]), np.array([j, 0.0]),
+    )
+    return Profile.concatenate(release, _ruckig_velocity(KinematicState(p1, v1), velocity, limits))
 
 
 def _load_state(start: KinematicState, limits: Limits, sign: int) -> None:
@@ -110,14 +152,31 @@ def _load_state(start: KinematicState, limits: Limits, sign: int) -> None:
     _input.max_jerk = [limits.jerk]
 
 
+#: ruckig's community build fails on a few inputs in its numerical step 1; the same problem
+#: with every limit lowered a hair solves. Lower limits cannot be exceeded, and the duration
+#: grows by at most ~1e-6 relative: far below one cycle.
+_RETRY_FACTORS = (1.0, 1.0 - 1e-12, 1.0 - 1e-10, 1.0 - 1e-8, 1.0 - 1e-6)
+
+
 def _calculate() -> Profile:
-    try:
-        result = _otg.calculate(_input, _trajectory)
-    except (RuckigError, RuntimeError) as exc:  # ruckig raises on inputs it cannot plan
-        raise CommandRejected(ErrorId.NO_PROFILE, f"no trajectory: {exc}") from exc
-    if result not in (Result.Working, Result.Finished):
-        raise CommandRejected(ErrorId.NO_PROFILE, f"no trajectory (ruckig: {result.name})")
-    return _segments(_trajectory.profiles[0][0])
+    limits = (_input.max_velocity, _input.max_acceleration, _input.min_acceleration,
+              _input.max_jerk)
+    failure = ""
+    for factor in _RETRY_FACTORS:
+        if factor != 1.0:
+            _input.max_velocity = [limits[0][0] * factor]
+            _input.max_acceleration = [limits[1][0] * factor]
+            _input.min_acceleration = [limits[2][0] * factor]
+            _input.max_jerk = [limits[3][0] * factor]
+        try:
+            result = _otg.calculate(_input, _trajectory)
+        except (RuckigError, RuntimeError) as exc:  # ruckig raises on inputs it cannot plan
+            failure = str(exc).strip().splitlines()[0] if str(exc).strip() else "error"
+            continue
+        if result in (Result.Working, Result.Finished):
+            return _segments(_trajectory.profiles[0][0])
+        failure = result.name
+    raise CommandRejected(ErrorId.NO_PROFILE, f"no trajectory (ruckig: {failure})")
 
 
 def _segments(profile) -> Profile:  # noqa: ANN001 - ruckig.Profile has no public type

@@ -1,0 +1,269 @@
+"""Run a benchmark by name, judge it against the goals of performance.md, render a table.
+
+The CLI (``openmotion bench NAME [--json]``) calls ``run_benchmark`` and ``render`` and holds
+no logic of its own. Every result is one JSON-serialisable dict: the figures, the machine,
+the goals with their verdicts, and ``passed``.
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+import math
+import os
+import platform
+import sys
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import ruckig
+
+from openmotion.bench.axes import run_axes
+from openmotion.bench.fbcall import run_fbcall
+from openmotion.bench.otg import run_otg
+
+Progress = Callable[[str], None] | None
+
+#: performance.md goals
+AXES_GOAL_N = 1000
+AXES_GOAL_US = 0.5
+FBCALL_GOAL_US = 2.0
+
+
+def _axes(quick: bool, progress: Progress) -> dict[str, Any]:
+    if quick:
+        return run_axes(counts=(1, 10, 100), cycles=200, trace=True, repeats=1,
+                        progress=progress)
+    return run_axes(trace=True, progress=progress)
+
+
+def _otg(quick: bool, progress: Progress) -> dict[str, Any]:
+    return run_otg(samples=25 if quick else 2000, progress=progress)
+
+
+def _fbcall(quick: bool, progress: Progress) -> dict[str, Any]:
+    if progress is not None:
+        progress("fbcall: timing MC_MoveAbsolute and Runtime.step")
+    return run_fbcall(calls=2000 if quick else 200_000)
+
+
+BENCHMARKS: dict[str, Callable[[bool, Progress], dict[str, Any]]] = {
+    "axes": _axes,
+    "otg": _otg,
+    "fbcall": _fbcall,
+}
+
+
+def machine() -> dict[str, Any]:
+    """What the figures were measured on (absolute times drift between machines)."""
+    try:
+        plc: str | None = importlib.metadata.version("pyplcopen")
+    except importlib.metadata.PackageNotFoundError:
+        plc = None
+    return {
+        "cpu_count": os.cpu_count(),
+        "python": sys.version.split()[0],
+        "platform": platform.platform(),
+        "numpy": np.__version__,
+        "ruckig": ruckig.__version__,
+        "pyplcopen": plc,
+    }
+
+
+def _goal(goal: str, value: Any, passed: bool | None) -> dict[str, Any]:
+    """One goal line; ``passed`` None means it could not be judged (shown, not passed)."""
+    return {"goal": goal, "value": value, "passed": passed}
+
+
+def goals_axes(results: dict[str, Any]) -> dict[str, Any]:
+    by_n = results["by_n"]
+    row = by_n.get(str(AXES_GOAL_N))
+    violations = sum(r["violations"] for r in by_n.values())
+    rejected = sum(r["check"]["rejected"] for r in by_n.values())
+    goals = {
+        "violations": _goal("no setpoint beyond the command's limits (all N)", violations,
+                            violations == 0),
+        "rejected": _goal("no command rejected (all N)", rejected, rejected == 0),
+    }
+    if row is None:
+        return goals
+    ours, plc = row["ours_us"], row["pyplcopen_us"]
+    goals["us_per_axis_cycle"] = _goal(
+        f"N={AXES_GOAL_N}: <= {AXES_GOAL_US} us/axis-cycle (trace off)", ours,
+        ours <= AXES_GOAL_US)
+    goals["ratio_pyplcopen"] = _goal(
+        f"N={AXES_GOAL_N}: below pyplcopen (ratio < 1, trace off)", row["ratio_pyplcopen"],
+        None if plc is None else ours < plc)
+    return goals
+
+
+def goals_otg(results: dict[str, Any]) -> dict[str, Any]:
+    n = results["samples"]
+    return {
+        "reached": _goal("every sample reaches its target bit-exactly", results["reached"],
+                         results["reached"] == n),
+        "time_ok": _goal("acc == dec: cycles <= ceil(ruckig duration) + 1",
+                         f"{results['time_ok']}/{results['time_judged']}",
+                         results["time_ok"] == results["time_judged"]),
+        "violations": _goal("no |v|, |a|, |j| beyond the limits (1e-9 rel.)",
+                            results["violations"], results["violations"] == 0),
+        "command_errors": _goal("no target move rejected", results["command_errors"],
+                                results["command_errors"] == 0),
+    }
+
+
+def goals_fbcall(results: dict[str, Any]) -> dict[str, Any]:
+    value = results["fb_call_us"]
+    return {"fb_call_us": _goal(f"MC_MoveAbsolute, unchanged inputs: <= {FBCALL_GOAL_US} us",
+                                value, value <= FBCALL_GOAL_US)}
+
+
+GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
+    "axes": goals_axes,
+    "otg": goals_otg,
+    "fbcall": goals_fbcall,
+}
+
+
+def run_benchmark(name: str, quick: bool = False, progress: Progress = None) -> dict[str, Any]:
+    """Run benchmark ``name``; ``quick`` uses tiny sizes (a smoke test of a few seconds)."""
+    if name not in BENCHMARKS:
+        raise KeyError(f"unknown benchmark {name!r}; choose one of {sorted(BENCHMARKS)}")
+    results = BENCHMARKS[name](quick, progress)
+    goals = GOALS[name](results)
+    return {
+        "benchmark": name,
+        "quick": quick,
+        "machine": machine(),
+        "results": results,
+        "goals": goals,
+        "passed": all(g["passed"] is True for g in goals.values()),
+    }
+
+
+# -- rendering -------------------------------------------------------------------------------
+
+
+def _fmt(value: Any, digits: int = 3) -> str:
+    if value is None:
+        return "-"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "nan"
+        if value.is_integer() and abs(value) < 1e9:
+            return str(int(value))
+        return f"{value:.{digits}g}" if abs(value) >= 1e4 or 0 < abs(value) < 1e-3 \
+            else f"{value:.{digits}f}"
+    return str(value)
+
+
+def _table(header: list[str], rows: list[list[Any]]) -> list[str]:
+    cells = [header] + [[_fmt(c) for c in row] for row in rows]
+    widths = [max(len(r[i]) for r in cells) for i in range(len(header))]
+    lines = ["  ".join(c.ljust(w) if i == 0 and not c.lstrip("-").isdigit() else c.rjust(w)
+                       for i, (c, w) in enumerate(zip(r, widths, strict=True))).rstrip()
+             for r in cells]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    return lines
+
+
+def _render_axes(results: dict[str, Any]) -> list[str]:
+    trace = results["trace"]
+    header = ["N", "cycles", "commands", "ours", *(["ours+trace"] if trace else []),
+              "pyplcopen", "ruckig", "ours/plc", "ours/ruckig", "cycle p50", "cycle p99",
+              "violations", "rejected"]
+    rows = []
+    for n, r in results["by_n"].items():
+        rows.append([int(n), r["cycles"], r["commands"], r["ours_us"],
+                     *([r["ours_trace_us"]] if trace else []),
+                     r["pyplcopen_us"], r["ruckig_us"], r["ratio_pyplcopen"],
+                     r["ratio_ruckig"], r["ours"]["cycle_us_p50"], r["ours"]["cycle_us_p99"],
+                     r["violations"], r["check"]["rejected"]])
+    lines = [f"us per axis-cycle (wall loop time / (N * cycles)), median of "
+             f"{results.get('repeats', 1)} repeats; cycle p50/p99 in us (ours, trace off)"]
+    lines += _table(header, rows)
+    best = [[int(n), r["ours_spread"], r["ours_best_us"],
+             *([r["ours_trace_best_us"]] if trace else []), r["pyplcopen_best_us"],
+             r["ruckig_best_us"], r["ratio_best_pyplcopen"], r["ratio_best_ruckig"]]
+            for n, r in results["by_n"].items()]
+    lines += ["", "fastest repeat (least disturbed by other load); spread = (max - min) / median"]
+    lines += _table(["N", "ours spread", "ours", *(["ours+trace"] if trace else []),
+                     "pyplcopen", "ruckig", "ours/plc", "ours/ruckig"], best)
+    for n, r in results["by_n"].items():
+        forced = r["check"]["forced_overshoot"]
+        if forced["axis_cycles"]:
+            lines.append(f"N={n}: {forced['axis_cycles']} axis-cycles above max_velocity, all "
+                         f"forced by a lower jerk at issue (peak {forced['peak_velocity']:.1f})")
+        if r.get("ruckig_error"):
+            lines.append(f"N={n}: ruckig peer failed: {r['ruckig_error'][:160]}")
+    return lines
+
+
+def _render_otg(results: dict[str, Any]) -> list[str]:
+    r = results
+    rows = [
+        ["samples (1-DoF)", r["samples"]],
+        ["reached exactly", r["reached"]],
+        ["acc == dec, time judged", r["time_judged"]],
+        ["  within ceil(ruckig) + 1 cycle", r["time_ok"]],
+        ["  worst excess over ceil(ruckig) [cycles]", r["worst_excess_cycles"]],
+        ["  worst plan duration vs ruckig (relative)", r["worst_duration_excess_relative"]],
+        ["acc != dec samples (limits and reach only)", r["asymmetric"]],
+        ["  reached", r["asymmetric_reached"]],
+        ["  duration / ruckig mapped, median", r["asymmetric_duration_ratio_median"]],
+        ["  duration / ruckig mapped, max", r["asymmetric_duration_ratio_max"]],
+        ["samples with a limit violation", r["violations"]],
+        ["target moves rejected", r["command_errors"]],
+        ["pre-moves rejected (start from rest)", r["pre_move_errors"]],
+        ["ruckig needed limits lowered by <= 1e-8 rel.", r["oracle_retried"]],
+        ["ruckig failed on the start state (not judged)", r["oracle_errors"]],
+        ["move cycles median / max", f"{_fmt(r['move_cycles_median'])} / "
+                                     f"{_fmt(r['move_cycles_max'])}"],
+        ["plan us: ruckig calculate (in situ / warm)", f"{_fmt(r['ruckig_plan_us_median'])} / "
+                                                        f"{_fmt(r['ruckig_plan_us_warm_median'])}"],
+        ["plan us: our move_absolute (in situ)", r["our_plan_us_median"]],
+        ["3-DoF", r["three_dof"]],
+    ]
+    lines = _table(["figure", "value"], rows)
+    for f in r["failures"]:
+        lines.append(f"FAIL sample {f['sample']['index']}: reached={f['reached']} "
+                     f"cycles={f['cycles']} bound={f['bound_cycles']} "
+                     f"violations={f['violations']} start={f['start']} "
+                     f"target={f['sample']['target']!r} error={f['command_error'][:80]}")
+    return lines
+
+
+def _render_fbcall(results: dict[str, Any]) -> list[str]:
+    r = results
+    rows = [
+        ["MC_MoveAbsolute(axis, execute=True, ...) us/call", r["fb_call_us"]],
+        ["MC_MoveAbsolute() on stored inputs us/call", r["fb_call_bare_us"]],
+        ["empty Python call us (loop floor)", r["empty_call_us"]],
+        ["Runtime.step(), 1 moving axis, us", r["step_1_axis_us"]],
+    ]
+    return _table(["figure", "value"], rows)
+
+
+_RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall}
+
+
+def render(result: dict[str, Any]) -> str:
+    """Plain-text report: machine, figures, goals and the verdict."""
+    name = result["benchmark"]
+    m = result["machine"]
+    lines = [
+        f"openmotion bench {name}{' (quick)' if result.get('quick') else ''}",
+        f"machine: {m['cpu_count']} cpu, python {m['python']}, {m['platform']}",
+        f"numpy {m['numpy']}, ruckig {m['ruckig']}, pyplcopen {m['pyplcopen'] or 'missing'}",
+        "",
+        *_RENDER[name](result["results"]),
+        "",
+        "goals (performance.md):",
+    ]
+    for g in result["goals"].values():
+        verdict = {True: "ok  ", False: "FAIL", None: "n/a "}[g["passed"]]
+        lines.append(f"  [{verdict}] {g['goal']}: {_fmt(g['value'])}")
+    lines.append(f"passed: {'yes' if result['passed'] else 'no'}")
+    return "\n".join(lines)

@@ -1,0 +1,394 @@
+"""Run a scenario in virtual time: build the runtime, fire the timeline, record, check.
+
+The timeline is a runtime program (phase 1 of the cycle): entries are looked at in file order,
+each sees the effects of the ones before it, and every command goes through the public Axis
+methods, as a user's script would. Recording and checks are observers (phase 4). Nothing here
+reads the wall clock, so two runs of one scenario give bit-identical traces and summaries.
+"""
+
+from __future__ import annotations
+
+import math
+import operator
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from openmotion.axis.commands import Command, CommandStatus
+from openmotion.core.enums import AxisState
+from openmotion.core.errors import ErrorId
+from openmotion.runtime.runtime import Runtime
+from openmotion.scenario.load import load_scenario
+from openmotion.scenario.schema import (
+    CommandCheck,
+    Condition,
+    Entry,
+    Power,
+    PowerOff,
+    Scenario,
+    SignalCheck,
+)
+from openmotion.trace.record import Trace, TraceRecorder, read_signal, split_signal
+
+if TYPE_CHECKING:
+    from rich.console import RenderableType
+
+#: ``progress(now, total)``: simulated seconds so far and in all (None while unknown).
+Progress = Callable[[float, float | None], Any]
+SUMMARY_WIDTH = 100  #: columns of the plain-text summary (and of the golden .out files)
+PROGRESS_EVERY = 250  #: cycles between two progress calls
+_OPERATORS = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge,
+              "==": operator.eq}
+_RESULT_STYLE = {"DONE": "green", "ABORTED": "yellow", "ERROR": "red", "BUSY": "cyan"}
+
+
+@dataclass(frozen=True)
+class CommandRow:
+    """The outcome of one timeline entry."""
+
+    id: str  #: the entry's id, or ``#<number>`` in timeline order
+    axis: str
+    command: str
+    issued_at: float | None  #: [s]; None when the entry never fired
+    ended_at: float | None  #: [s]; None while busy
+    result: str  #: DONE, ABORTED, ERROR, BUSY or NOT ISSUED
+    error: str  #: ErrorId name of an error, else ""
+    message: str  #: error or abort reason, and any warnings
+
+
+@dataclass(frozen=True)
+class CheckRow:
+    name: str
+    passed: bool
+    detail: str  #: the value seen, or why the check failed
+
+
+@dataclass
+class ScenarioResult:
+    """Everything a run produced; nothing in it depends on the wall clock."""
+
+    scenario: Scenario
+    commands: list[CommandRow]
+    checks: list[CheckRow]
+    trace: Trace
+    cycles: int
+    end_time: float  #: simulated seconds
+
+    @property
+    def passed(self) -> bool:
+        """True when every check passed (a scenario without checks passes)."""
+        return all(check.passed for check in self.checks)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for JSON output; times rounded to 1e-9 s."""
+        def clean(row: Any) -> dict[str, Any]:
+            return {k: round(v, 9) if isinstance(v, float) else v for k, v in asdict(row).items()}
+
+        return {"scenario": self.scenario.name, "passed": self.passed, "cycles": self.cycles,
+                "cycle_time": self.scenario.cycle_time, "end_time": round(self.end_time, 9),
+                "commands": [clean(row) for row in self.commands],
+                "checks": [clean(row) for row in self.checks],
+                "trace": {"rows": len(self.trace), "columns": list(self.trace.columns)}}
+
+    def renderable(self) -> RenderableType:
+        """The summary as rich renderables: a header, the commands table, the checks table."""
+        from rich import box
+        from rich.console import Group
+        from rich.table import Table
+        from rich.text import Text
+
+        digits = _time_digits(self.scenario.cycle_time)
+        axes = len(self.scenario.axes)
+        header = Text(f"{self.scenario.name}: {axes} {'axis' if axes == 1 else 'axes'}, "
+                      f"{self.cycles} "
+                      f"cycles of {self.scenario.cycle_time * 1000:g} ms = "
+                      f"{self.end_time:.{digits}f} s simulated")
+        commands = Table(box=box.SIMPLE, title_justify="left", title="Commands")
+        for name, justify in (("id", "left"), ("axis", "left"), ("command", "left"),
+                              ("issued [s]", "right"), ("ended [s]", "right"),
+                              ("result", "left"), ("detail", "left")):
+            commands.add_column(Text(name), justify=justify,  # type: ignore[arg-type]
+                                no_wrap=name != "detail", overflow="fold")
+        for row in self.commands:
+            detail = ": ".join(part for part in (row.error, row.message) if part)
+            commands.add_row(*map(Text, (row.id, row.axis, row.command,
+                                         _time(row.issued_at, digits),
+                                         _time(row.ended_at, digits))),
+                             Text(row.result, style=_RESULT_STYLE.get(row.result, "")),
+                             Text(detail))
+        parts: list[RenderableType] = [header, commands]
+        if self.checks:
+            checks = Table(box=box.SIMPLE, title_justify="left", title="Checks")
+            for name in ("check", "result", "detail"):
+                checks.add_column(Text(name), overflow="fold")
+            for check in self.checks:
+                checks.add_row(Text(check.name), Text("PASS", style="green") if check.passed
+                               else Text("FAIL", style="bold red"), Text(check.detail))
+            parts.append(checks)
+        failed = sum(not check.passed for check in self.checks)
+        parts.append(Text("no checks" if not self.checks else
+                          f"{len(self.checks) - failed} of {len(self.checks)} checks passed"
+                          + ("" if self.passed else f", {failed} FAILED")))
+        return Group(*parts)
+
+    def summary(self, width: int = SUMMARY_WIDTH) -> str:
+        """The summary as plain text, as ``openmotion run`` prints it and the .out files hold."""
+        from io import StringIO
+
+        from rich.console import Console
+
+        buffer = StringIO()
+        console = Console(file=buffer, width=width, color_system=None, force_terminal=False,
+                          highlight=False, emoji=False, legacy_windows=False)
+        console.print(self.renderable())
+        return "\n".join(line.rstrip() for line in buffer.getvalue().splitlines()) + "\n"
+
+
+def run_scenario(source: str | Path | Scenario, progress: Progress | None = None) \
+        -> ScenarioResult:
+    """Run a scenario file (or model) to its end; ``progress`` is called now and then."""
+    scenario = source if isinstance(source, Scenario) else load_scenario(source)
+    return _Run(scenario).run(progress)
+
+
+def _time_digits(cycle_time: float) -> int:
+    return max(3, -math.floor(math.log10(cycle_time) + 1e-9))
+
+
+def _time(value: float | None, digits: int) -> str:
+    return "-" if value is None else f"{value:.{digits}f}"
+
+
+def _number(value: float) -> str:
+    """A value for the summary: 6 decimals at most, so that golden files survive libm noise."""
+    text = f"{value:.6f}".rstrip("0").rstrip(".")
+    return "0" if text == "-0" else text
+
+
+def _cycle_of(seconds: float, cycle_time: float) -> int:
+    """The first cycle whose time is at or after ``seconds``."""
+    return math.ceil(round(seconds / cycle_time, 6))
+
+
+def _result_of(command: Command | None) -> str:
+    if command is None:
+        return "NOT ISSUED"
+    return "BUSY" if command.status <= CommandStatus.ACTIVE else command.status.name
+
+
+class _Run:
+    def __init__(self, scenario: Scenario) -> None:
+        self.scenario = scenario
+        self.rt = rt = Runtime(scenario.cycle_time)
+        for spec in scenario.axes:
+            rt.add_axis(spec.name, parameters=spec.parameters.build(), drive=spec.drive.build(),
+                        position=spec.position)
+        self.entries = list(scenario.entries())
+        self.fire_cycle = [None if entry.at is None else _cycle_of(entry.at, rt.cycle_time)
+                           for _, entry in self.entries]
+        self.pending = list(range(len(self.entries)))
+        self.issued: dict[int, Command] = {}
+        self.by_id: dict[str, Command] = {}
+        self.recorder = TraceRecorder(rt, scenario.signals, scenario.record.every)
+        self.checks = [_CheckState(check, self) for check in scenario.checks]
+        self.quiet_since: int | None = None  #: first cycle of the current rest
+
+    # -- the cycle ---------------------------------------------------------------------------
+
+    def fire_due(self) -> None:
+        """Runtime program: issue every entry that is due, in timeline order."""
+        for index in list(self.pending):
+            _, entry = self.entries[index]
+            due = self.fire_cycle[index]
+            if (self.rt.cycle >= due) if due is not None else self.holds(entry.when):
+                self.pending.remove(index)
+                self.issue(index, entry)
+
+    def issue(self, index: int, entry: Entry) -> None:
+        axis = self.rt.axes[entry.axis]
+        arguments = entry.arguments()
+        if isinstance(entry, Power | PowerOff):
+            command = Command(entry.command, self.rt.now)
+            on = axis.power(**arguments)
+            if on == arguments.get("enable", True):
+                command.status = CommandStatus.DONE
+            else:
+                command.status, command.error_id = CommandStatus.ERROR, ErrorId.DRIVE_NOT_READY
+                command.message = "the drive is not ready"
+            command.ended_at = self.rt.now
+        else:
+            command = getattr(axis, entry.method)(**arguments)
+        self.issued[index] = command
+        if entry.id is not None:
+            self.by_id[entry.id] = command
+
+    def holds(self, condition: Condition | None) -> bool:
+        if condition is None:
+            return False
+        if condition.operator is None:
+            command = self.by_id.get(condition.subject)
+            return command is not None and bool(getattr(command, condition.attribute))
+        value = read_signal(self.rt.axes[condition.subject], condition.attribute)
+        return _OPERATORS[condition.operator](value, condition.value)
+
+    def observe(self, runtime: Runtime) -> None:
+        for check in self.checks:
+            check.observe()
+
+    # -- running -----------------------------------------------------------------------------
+
+    def run(self, progress: Progress | None) -> ScenarioResult:
+        rt, scenario = self.rt, self.scenario
+        self.fire_due()  # entries at t = 0 act before the first cycle, like a script would
+        self.recorder.sample(rt)
+        self.observe(rt)
+        rt.add_program(self.fire_due)
+        rt.add_observer(self.recorder)
+        rt.add_observer(self.observe)
+        total = scenario.duration  # None: open-ended, ends once everything is at rest
+        while not self.finished():
+            rt.step()
+            if progress is not None and rt.cycle % PROGRESS_EVERY == 0:
+                progress(rt.now, total)
+        if progress is not None:
+            progress(rt.now, rt.now)
+        for check in self.checks:
+            check.finish()
+        return ScenarioResult(scenario, self.rows(), [c.row() for c in self.checks],
+                              self.recorder.trace, rt.cycle, rt.now)
+
+    def finished(self) -> bool:
+        """``duration`` is over; or ``settle_time`` after all came to rest, or the cap."""
+        scenario, cycle = self.scenario, self.rt.cycle
+        if scenario.duration is not None:
+            return cycle >= _cycle_of(scenario.duration, scenario.cycle_time)
+        if not self.at_rest():
+            self.quiet_since = None
+        elif self.quiet_since is None:
+            self.quiet_since = cycle
+        settled = self.quiet_since is not None and \
+            cycle - self.quiet_since >= _cycle_of(scenario.settle_time, scenario.cycle_time)
+        return settled or cycle >= _cycle_of(scenario.max_duration, scenario.cycle_time)
+
+    def at_rest(self) -> bool:
+        """No ``at`` is still ahead, every command ended (or is at speed), no axis moves."""
+        cycle = self.rt.cycle
+        if any(self.fire_cycle[i] is not None and self.fire_cycle[i] > cycle
+               for i in self.pending) or any(c.waiting(cycle) for c in self.checks):
+            return False
+        if any(not (c.finished or c.in_velocity) for c in self.issued.values()):
+            return False
+        for axis in self.rt.axes.values():
+            active = axis.active_command
+            if axis.moving and not (active is not None and active.in_velocity):
+                return False
+        return True
+
+    def rows(self) -> list[CommandRow]:
+        rows = []
+        for index, (label, entry) in enumerate(self.entries):
+            command = self.issued.get(index)
+            result = _result_of(command)
+            error, message, warnings = "", "", []
+            if command is not None:
+                if command.error:
+                    error = command.error_id.name
+                message, warnings = command.message, list(command.warnings)
+            text = "; ".join(part for part in [message, *warnings] if part)
+            rows.append(CommandRow(label, entry.axis, entry.command,
+                                   command.issued_at if command else None,
+                                   command.ended_at if command else None, result, error, text))
+        return rows
+
+
+class _CheckState:
+    """One check while the run goes on: when to evaluate it and what it found."""
+
+    def __init__(self, check: SignalCheck | CommandCheck, run: _Run) -> None:
+        self.check, self.run = check, run
+        self.cycle = _cycle_of(check.at, run.rt.cycle_time) \
+            if isinstance(check.at, float) and check.when is None else None
+        self.passed: bool | None = None
+        self.detail = ""
+
+    def waiting(self, cycle: int) -> bool:
+        return self.cycle is not None and self.passed is None and cycle < self.cycle
+
+    def observe(self) -> None:
+        check, rt = self.check, self.run.rt
+        if check.when is not None:
+            if self.passed is None and self.run.holds(check.when):
+                self.evaluate()
+        elif check.at == "always":
+            if self.passed is not False:
+                self.evaluate()
+        elif self.cycle is not None and self.passed is None and rt.cycle >= self.cycle:
+            self.evaluate()
+
+    def finish(self) -> None:
+        check, now = self.check, self.run.rt.now
+        if check.when is not None:
+            if self.passed is None:
+                self.passed, self.detail = False, f"'{check.when}' never held"
+        elif check.at == "end":
+            self.evaluate()
+        elif self.passed is None:
+            self.passed = False
+            self.detail = f"the run ended at {now:.6g} s, before {check.at:.15g} s"
+
+    def evaluate(self) -> None:
+        now = f"t={self.run.rt.now:.6g} s: " if self.check.at == "always" else ""
+        if isinstance(self.check, SignalCheck):
+            self.passed, detail = self._signal(self.check)
+        else:
+            self.passed, detail = self._command(self.check)
+        self.detail = now + detail if not self.passed else detail
+
+    def _signal(self, check: SignalCheck) -> tuple[bool, str]:
+        axis, prop = split_signal(check.signal)
+        value = read_signal(self.run.rt.axes[axis], prop)
+        shown = AxisState(int(value)).name.lower() if prop == "state" else _number(value)
+        expected = check.expected
+        if expected is not None and not abs(value - expected) <= check.tolerance:
+            return False, shown if prop == "state" else f"{shown}, off by " \
+                f"{_number(value - expected)}"
+        if check.min is not None and not value >= check.min:
+            return False, f"{shown} < min {_number(check.min)}"
+        if check.max is not None and not value <= check.max:
+            return False, f"{shown} > max {_number(check.max)}"
+        return True, f"{shown}" if check.at != "always" else "held every cycle"
+
+    def _command(self, check: CommandCheck) -> tuple[bool, str]:
+        command = self.run.by_id.get(check.command)
+        result = _result_of(command)
+        detail = result + (f" {command.error_id.name}" if command and command.error else "")
+        ok = result == check.result.upper()
+        if ok and check.error_id is not None:
+            ok = command is not None and command.error_id == check.error_id
+        return ok, detail
+
+    def row(self) -> CheckRow:
+        return CheckRow(self.check.name or self._describe(), bool(self.passed), self.detail)
+
+    def _describe(self) -> str:
+        check = self.check
+        if check.when is not None:
+            when = f"when {check.when}"
+        else:
+            when = f"at {check.at:.15g} s" if isinstance(check.at, float) else \
+                {"end": "at end", "always": "always"}[check.at]
+        if isinstance(check, CommandCheck):
+            error = f" {check.error_id.name}" if check.error_id is not None else ""
+            return f"{check.command} {check.result}{error} {when}"
+        parts = []
+        if isinstance(check.expect, str):
+            parts.append(f"{check.signal} == {check.expect}")
+        elif check.expect is not None:
+            tolerance = f" ± {check.tolerance:.15g}" if check.tolerance else ""
+            parts.append(f"{check.signal} == {check.expect:.15g}{tolerance}")
+        low = "" if check.min is None else f"{check.min:.15g} <= "
+        high = "" if check.max is None else f" <= {check.max:.15g}"
+        if low or high:
+            parts.append(f"{low}{check.signal}{high}")
+        return f"{', '.join(parts)} {when}"

@@ -1,0 +1,688 @@
+"""The scenario file format: one pydantic model per YAML mapping, unknown keys rejected.
+
+Names are the Python API's names (style §2): a timeline entry's keys are the arguments of the
+axis method it calls, enum values are the members' names in lower case and the MC special
+values are written ``MC_DEFAULT``, ``MC_MAXIMUM``, ``MC_INVALID``. Wrong types and unknown
+keys are configuration errors; a wrong *value* for a command (a negative velocity) is not: the
+command is issued and fails with its error id, as an FB would.
+
+Cross references (the axis of an entry, the ids and signals in conditions and checks) are
+checked in the same pass as the types, so that ``openmotion check`` lists every problem at
+once: ``Scenario`` publishes the axis names and entry ids of its raw input in a context
+variable that the nested validators read.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from collections import Counter
+from collections.abc import Iterator
+from contextvars import ContextVar
+from enum import Enum
+from typing import Annotated, Any, ClassVar, Literal, get_args, get_type_hints
+
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Discriminator,
+    Field,
+    PlainSerializer,
+    PlainValidator,
+    StrictBool,
+    StrictFloat,
+    StrictInt,
+    StrictStr,
+    Tag,
+    create_model,
+    model_validator,
+)
+
+from openmotion.axis.drive import DriveModel
+from openmotion.axis.parameters import AxisParameters
+from openmotion.core.enums import AxisState, BufferMode, Direction, NewPosAndVeloMode
+from openmotion.core.errors import ErrorId
+from openmotion.core.special_values import (
+    DEFAULT_HOME_POSITION,
+    MC_DEFAULT,
+    MC_INVALID,
+    SPECIAL_VALUES,
+    SpecialValue,
+)
+from openmotion.trace.record import AXIS_SIGNALS, default_signals, split_signal
+
+# -- names known while one Scenario validates ----------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class _Names:
+    axes: Counter[str]
+    ids: Counter[str]
+
+    @classmethod
+    def of(cls, data: object) -> _Names:
+        """The names in raw input, however malformed the rest of it is."""
+        def names(key: str, field: str) -> Counter[str]:
+            items = data.get(key) if isinstance(data, dict) else None
+            if not isinstance(items, list):
+                return Counter()
+            return Counter(item[field] for item in items
+                           if isinstance(item, dict) and isinstance(item.get(field), str))
+
+        return cls(names("axes", "name"), names("timeline", "id"))
+
+
+_NAMES: ContextVar[_Names | None] = ContextVar("openmotion_scenario_names", default=None)
+
+
+def _check_axis(name: str) -> str:
+    names = _NAMES.get()
+    if names is not None and name not in names.axes:
+        known = ", ".join(sorted(names.axes)) or "none"
+        raise ValueError(f"unknown axis {name!r} (axes: {known})")
+    return name
+
+
+def _check_id(name: str) -> str:
+    names = _NAMES.get()
+    if names is not None and name not in names.ids:
+        known = ", ".join(sorted(names.ids)) or "none"
+        raise ValueError(f"{name!r} is not the id of a timeline entry (ids: {known})")
+    return name
+
+
+# -- value types ---------------------------------------------------------------------------
+
+_IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+
+def _identifier(value: str) -> str:
+    if not _IDENTIFIER.match(value):
+        raise ValueError(f"{value!r} must be letters, digits and _, not starting with a digit")
+    return value
+
+
+def _input_value(value: object) -> float | SpecialValue:
+    if isinstance(value, SpecialValue):
+        return value
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        return float(value)
+    if isinstance(value, str) and value in SPECIAL_VALUES:
+        return SPECIAL_VALUES[value]
+    raise ValueError(f"must be a number or one of {', '.join(SPECIAL_VALUES)}, got {value!r}")
+
+
+def _enum_by_name(enum: type[Enum]) -> Any:
+    """An enum written as its member's name in lower case (``blending_low``)."""
+    names = [member.name.lower() for member in enum]
+
+    def parse(value: object) -> Enum:
+        if isinstance(value, enum):
+            return value
+        if isinstance(value, str) and value in names:
+            return enum[value.upper()]
+        raise ValueError(f"must be one of {', '.join(names)}, got {value!r}")
+
+    return Annotated[enum, PlainValidator(parse),
+                     PlainSerializer(lambda member: member.name.lower(), when_used="json")]
+
+
+def _signal(name: str) -> str:
+    axis, _ = split_signal(name)
+    _check_axis(axis)
+    return name
+
+
+def _unique(kind: str) -> Any:
+    def check(name: str) -> str:
+        names = _NAMES.get()
+        count = getattr(names, kind)[name] if names is not None else 0
+        if count > 1:
+            raise ValueError(f"{name!r} is used {count} times; it must be unique")
+        return name
+
+    return AfterValidator(check)
+
+
+def _error_id(value: object) -> ErrorId:
+    if isinstance(value, ErrorId):
+        return value
+    if isinstance(value, str) and value in ErrorId.__members__:
+        return ErrorId[value]
+    raise ValueError(f"{value!r} is not an ErrorId name such as INVALID_VELOCITY")
+
+
+def _expect_value(value: object) -> float | str:
+    if isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value):
+        return float(value)
+    if isinstance(value, str):
+        return value
+    raise ValueError(f"must be a finite number (or a state name), got {value!r}")
+
+
+Identifier = Annotated[StrictStr, AfterValidator(_identifier)]
+Number = Annotated[StrictFloat, Field(allow_inf_nan=False)]
+Seconds = Annotated[StrictFloat, Field(ge=0.0, allow_inf_nan=False)]
+PositiveSeconds = Annotated[StrictFloat, Field(gt=0.0, allow_inf_nan=False)]
+InputValue = Annotated[float | SpecialValue, PlainValidator(_input_value),
+                       PlainSerializer(lambda v: v.name if isinstance(v, SpecialValue) else v,
+                                       when_used="json")]
+SignalName = Annotated[StrictStr, AfterValidator(_signal)]
+DirectionName = _enum_by_name(Direction)
+BufferModeName = _enum_by_name(BufferMode)
+ErrorIdName = Annotated[ErrorId, PlainValidator(_error_id),
+                        PlainSerializer(lambda member: member.name, when_used="json")]
+
+
+# -- conditions ----------------------------------------------------------------------------
+
+COMMAND_FLAGS = ("done", "error", "aborted", "busy", "active", "in_velocity", "finished")
+OPERATORS = ("<=", ">=", "==", "<", ">")
+_CONDITION = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\.([a-z_]+)\s*"
+                        r"(?:(<=|>=|==|<|>)\s*(\S+))?\s*$")
+
+
+@dataclasses.dataclass(frozen=True)
+class Condition:
+    """``<id>.<flag>`` (a command's output) or ``<axis>.<signal> <op> <number>``."""
+
+    text: str
+    subject: str  #: entry id or axis name
+    attribute: str  #: command flag or axis signal
+    operator: str | None = None
+    value: float | None = None
+
+    def __str__(self) -> str:
+        return self.text
+
+
+def parse_condition(text: object) -> Condition:
+    """Parse and check one condition; ValueError says what is wrong with it."""
+    if isinstance(text, Condition):
+        return text
+    if not isinstance(text, str):
+        raise ValueError(f"a condition is a string, got {text!r}")
+    match = _CONDITION.match(text)
+    if match is None:
+        raise ValueError(f"{text!r} is neither '<id>.<flag>' nor '<axis>.<signal> <op> "
+                         f"<number>' (op: {' '.join(OPERATORS)})")
+    subject, attribute, operator, raw = match.groups()
+    if operator is None:
+        if attribute not in COMMAND_FLAGS:
+            hint = (" needs a comparison, e.g. 'x.position >= 50'" if attribute in AXIS_SIGNALS
+                    else f": the flag must be one of {', '.join(COMMAND_FLAGS)}")
+            raise ValueError(f"{text!r}{hint}")
+        _check_id(subject)
+        return Condition(text.strip(), subject, attribute)
+    if attribute not in AXIS_SIGNALS:
+        raise ValueError(f"{text!r}: the signal must be one of {', '.join(AXIS_SIGNALS)}")
+    _check_axis(subject)
+    return Condition(text.strip(), subject, attribute, operator,
+                     _signal_value(attribute, raw, text))
+
+
+def _signal_value(signal: str, raw: str, text: str) -> float:
+    if signal == "state" and raw.upper() in AxisState.__members__:
+        return float(AxisState[raw.upper()])
+    try:
+        value = float(raw)
+    except ValueError:
+        raise ValueError(f"{text!r}: {raw!r} is not a number") from None
+    if not math.isfinite(value):
+        raise ValueError(f"{text!r}: {raw!r} is not finite")
+    return value
+
+
+ConditionText = Annotated[Condition, PlainValidator(parse_condition),
+                          PlainSerializer(str, when_used="json")]
+
+
+# -- axes ----------------------------------------------------------------------------------
+
+
+class _Model(BaseModel):
+    """Unknown keys are errors; attribute docstrings become the field descriptions."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, use_attribute_docstrings=True,
+                              arbitrary_types_allowed=True)
+
+
+class _ParametersBase(_Model):
+    @model_validator(mode="after")
+    def _in_range(self) -> _ParametersBase:
+        self.build()  # AxisParameters.validate names the field: "max_velocity: must be > 0"
+        return self
+
+    def build(self) -> AxisParameters:
+        return AxisParameters(**{name: getattr(self, name) for name in self.model_fields_set})
+
+
+_PARAMETER_TYPES: dict[Any, Any] = {float: Number, bool: StrictBool, int: StrictInt,
+                                    tuple[float, float] | None: tuple[Number, Number] | None}
+
+
+def _parameter_type(annotation: Any) -> Any:
+    if isinstance(annotation, type) and issubclass(annotation, Enum):
+        return _enum_by_name(annotation)
+    return _PARAMETER_TYPES.get(annotation, annotation)
+
+
+_HINTS = get_type_hints(AxisParameters)
+AxisParametersSpec = create_model(
+    "AxisParametersSpec",
+    __base__=_ParametersBase,
+    __doc__="Any field of AxisParameters (axis/parameters.py, TcMC §6.1), same name and unit; "
+            "unset fields keep the AxisParameters default.",
+    **{f.name: (_parameter_type(_HINTS[f.name]), f.default)
+       for f in dataclasses.fields(AxisParameters)},
+)
+
+
+class DriveSpec(_Model):
+    """The drive and encoder model (axis/drive.py): ideal, or a lag behind a dead time."""
+
+    model: Literal["ideal", "lag"] = "ideal"
+    """ideal: actual = set position; lag: first-order lag behind a dead time."""
+    time_constant: Seconds = 0.0
+    """Lag of the closed position loop [s]."""
+    dead_time: Seconds = 0.0
+    """Transport delay [s], rounded to whole cycles."""
+
+    def build(self) -> DriveModel:
+        return DriveModel(self.model, self.time_constant, self.dead_time)
+
+
+class AxisSpec(_Model):
+    """One axis of the runtime."""
+
+    name: Annotated[Identifier, _unique("axes")]
+    """Unique name; signals and timeline entries refer to it."""
+    parameters: AxisParametersSpec = AxisParametersSpec()  # type: ignore[valid-type]
+    """AxisParameters fields to set (the rest keep their defaults)."""
+    drive: DriveSpec = DriveSpec()
+    """Drive and encoder model."""
+    position: Number = 0.0
+    """Initial position [mm or °]."""
+
+
+# -- timeline ------------------------------------------------------------------------------
+
+
+class Entry(_Model):
+    """One timeline entry: a command for one axis, issued once at a time or on a condition.
+
+    Entries are looked at in file order at the start of every cycle (before motion), so a
+    condition sees the state after the previous cycle; ``at`` fires in the first cycle whose
+    time is >= ``at`` (``at: 0`` before the first cycle).
+    """
+
+    method: ClassVar[str]  #: the Axis method the entry calls
+    id: Annotated[Identifier, _unique("ids")] | None = None
+    """Name for conditions and checks; unique."""
+    at: Seconds | None = None
+    """Issue time [s]; give ``at`` or ``when``."""
+    when: ConditionText | None = None
+    """Issue once, in the first cycle this condition holds."""
+    axis: Annotated[StrictStr, AfterValidator(_check_axis)]
+    """Name of the axis the command is for."""
+
+    @model_validator(mode="after")
+    def _trigger(self) -> Entry:
+        if (self.at is None) == (self.when is None):
+            raise ValueError("give exactly one of 'at' (seconds) or 'when' (a condition)")
+        return self
+
+    def arguments(self) -> dict[str, Any]:
+        """Keyword arguments of the Axis method, by the method's parameter names."""
+        skip = {"id", "at", "when", "axis", "command"}
+        return {name: getattr(self, name) for name in type(self).model_fields
+                if name not in skip}
+
+
+class _Move(Entry):
+    acceleration: InputValue = MC_DEFAULT
+    """[mm/s²]; 0 or MC_DEFAULT = axis default, MC_MAXIMUM = axis maximum."""
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]; 0 or MC_DEFAULT = axis default, MC_MAXIMUM = axis maximum."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³]; 0 or MC_DEFAULT = axis default, MC_MAXIMUM = axis maximum."""
+    buffer_mode: BufferModeName = BufferMode.ABORTING
+    """aborting, buffered, blending_low, blending_previous, blending_next, blending_high."""
+
+
+class Power(Entry):
+    """MC_Power with Enable TRUE: the axis goes from Disabled to Standstill."""
+
+    method = "power"
+    command: Literal["power"]
+    enable_positive: StrictBool = True
+    """Feed enable in positive direction."""
+    enable_negative: StrictBool = True
+    """Feed enable in negative direction."""
+
+
+class PowerOff(Entry):
+    """MC_Power with Enable FALSE: running commands are aborted, the axis is Disabled."""
+
+    method = "power"
+    command: Literal["power_off"]
+
+    def arguments(self) -> dict[str, Any]:
+        return {"enable": False}
+
+
+class Reset(Entry):
+    """MC_Reset: leave ErrorStop once the error reaction has stopped the axis."""
+
+    method = "reset"
+    command: Literal["reset"]
+
+
+class SetOverride(Entry):
+    """MC_SetOverride: velocity override in percent."""
+
+    method = "set_override"
+    command: Literal["set_override"]
+    override: Number
+    """Velocity override [%], 0-100."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"percent": self.override}
+
+
+class MoveAbsolute(_Move):
+    """MC_MoveAbsolute (TcMC §3.1)."""
+
+    method = "move_absolute"
+    command: Literal["move_absolute"]
+    position: InputValue
+    """Target position [mm or °]."""
+    velocity: InputValue
+    """[mm/s]; MC_MAXIMUM = axis maximum."""
+
+
+class MoveRelative(_Move):
+    """MC_MoveRelative (TcMC §3.2)."""
+
+    method = "move_relative"
+    command: Literal["move_relative"]
+    distance: InputValue
+    """Distance from the set position where the move starts [mm or °]."""
+    velocity: InputValue
+    """[mm/s]; MC_MAXIMUM = axis maximum."""
+
+
+class MoveModulo(_Move):
+    """MC_MoveModulo (TcMC §3.4, §3.5)."""
+
+    method = "move_modulo"
+    command: Literal["move_modulo"]
+    position: InputValue
+    """Modulo target; a target >= the period adds whole turns."""
+    velocity: InputValue
+    """[mm/s]; MC_MAXIMUM = axis maximum."""
+    direction: DirectionName = Direction.POSITIVE
+    """positive, negative or shortest_way."""
+
+
+class MoveVelocity(_Move):
+    """MC_MoveVelocity (TcMC §3.3)."""
+
+    method = "move_velocity"
+    command: Literal["move_velocity"]
+    velocity: InputValue
+    """Speed [mm/s], > 0."""
+    direction: DirectionName = Direction.POSITIVE
+    """positive, negative or current."""
+
+
+class Halt(Entry):
+    """MC_Halt: a stop that other commands may abort."""
+
+    method = "halt"
+    command: Literal["halt"]
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]; 0 or MC_DEFAULT = axis default."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³]; 0 or MC_DEFAULT = axis default."""
+    buffer_mode: BufferModeName = BufferMode.ABORTING
+    """As for moves."""
+
+
+class Stop(Entry):
+    """MC_Stop (TcMC §3.15): brake to rest; the axis refuses motion commands meanwhile."""
+
+    method = "stop"
+    command: Literal["stop"]
+    deceleration: InputValue = 0.0
+    """[mm/s²]; 0 keeps the running move's deceleration."""
+    jerk: InputValue = 0.0
+    """[mm/s³]; 0 keeps the running move's jerk."""
+
+
+class ChangeDynamics(Entry):
+    """MC_ChangeDynParam (TcMC §4.20): new dynamics for the running move."""
+
+    method = "change_dynamics"
+    command: Literal["change_dynamics"]
+    acceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³]."""
+
+
+class NewPosition(Entry):
+    """MC_NewPos (TcMC §3.7): a new target for the running move."""
+
+    method = "new_position"
+    command: Literal["new_position"]
+    position: InputValue
+    """New target position [mm or °]."""
+
+
+class NewPositionAndVelocity(Entry):
+    """MC_NewPosAndVelo (TcMC §3.8): new target and/or velocity, now or at a position."""
+
+    method = "new_position_and_velocity"
+    command: Literal["new_position_and_velocity"]
+    mode: _enum_by_name(NewPosAndVeloMode)  # type: ignore[valid-type]
+    """change_pos, change_velo, change_pos_and_velo, ..._at_switchpos, reach_velo_at_pos."""
+    position: InputValue = MC_INVALID
+    """New target position [mm or °], for the modes that change it."""
+    velocity: InputValue = MC_INVALID
+    """New velocity [mm/s], for the modes that change it."""
+    activation_position: Number = 0.0
+    """Switch position [mm or °] of the *_at_switchpos and reach_velo_at_pos modes."""
+
+
+class SetActualPosition(Entry):
+    """MC_SetActualPosition (TcMC §4.12): shift the coordinates so actual = position."""
+
+    method = "set_actual_position"
+    command: Literal["set_actual_position"]
+    position: InputValue
+    """New actual position [mm or °]."""
+
+
+class Home(Entry):
+    """MC_Home (TcMC §3.14) with the axis' configured reference mode."""
+
+    method = "home"
+    command: Literal["home"]
+    position: InputValue = DEFAULT_HOME_POSITION
+    """Reference position; default: the axis' calibration_value."""
+
+
+COMMANDS: dict[str, type[Entry]] = {
+    get_args(model.model_fields["command"].annotation)[0]: model
+    for model in (Power, PowerOff, Reset, SetOverride, MoveAbsolute, MoveRelative, MoveModulo,
+                  MoveVelocity, Halt, Stop, ChangeDynamics, NewPosition, NewPositionAndVelocity,
+                  SetActualPosition, Home)
+}
+TimelineEntry = Annotated[
+    Annotated[Power, Tag("power")] | Annotated[PowerOff, Tag("power_off")]
+    | Annotated[Reset, Tag("reset")] | Annotated[SetOverride, Tag("set_override")]
+    | Annotated[MoveAbsolute, Tag("move_absolute")]
+    | Annotated[MoveRelative, Tag("move_relative")] | Annotated[MoveModulo, Tag("move_modulo")]
+    | Annotated[MoveVelocity, Tag("move_velocity")] | Annotated[Halt, Tag("halt")]
+    | Annotated[Stop, Tag("stop")] | Annotated[ChangeDynamics, Tag("change_dynamics")]
+    | Annotated[NewPosition, Tag("new_position")]
+    | Annotated[NewPositionAndVelocity, Tag("new_position_and_velocity")]
+    | Annotated[SetActualPosition, Tag("set_actual_position")] | Annotated[Home, Tag("home")],
+    Discriminator("command"),
+]
+
+
+# -- recording and checks ------------------------------------------------------------------
+
+
+class RecordSpec(_Model):
+    """What the trace holds."""
+
+    signals: list[SignalName] | None = None
+    """``<axis>.<signal>`` names; default: set_position, set_velocity, set_acceleration and
+    position of every axis."""
+    every: Annotated[StrictInt, Field(ge=1)] = 1
+    """Record every N-th cycle."""
+
+
+def _check_time(value: object) -> float | str:
+    if value in ("end", "always"):
+        return value  # type: ignore[return-value]
+    if isinstance(value, int | float) and not isinstance(value, bool) \
+            and math.isfinite(value) and value >= 0:
+        return float(value)
+    raise ValueError(f"must be 'end', 'always' or a time in seconds >= 0, got {value!r}")
+
+
+CheckTime = Annotated[float | str, PlainValidator(_check_time)]
+
+
+class _Check(_Model):
+    name: StrictStr | None = None
+    """Label in the summary (default: generated from the check)."""
+    at: CheckTime = "end"
+    """end (default), a time [s] (the first cycle at or after it), or always (every cycle)."""
+    when: ConditionText | None = None
+    """Instead of ``at``: check once, in the first cycle this condition holds."""
+
+    @model_validator(mode="after")
+    def _one_trigger(self) -> _Check:
+        if self.when is not None and "at" in self.model_fields_set:
+            raise ValueError("give 'at' or 'when', not both")
+        return self
+
+
+class SignalCheck(_Check):
+    """An axis signal must equal ``expect`` (± ``tolerance``) and/or lie in [min, max]."""
+
+    signal: SignalName
+    """``<axis>.<signal>``."""
+    expect: Annotated[float | str, PlainValidator(_expect_value)] | None = None
+    """Expected value; for ``.state`` also a state name such as standstill."""
+    tolerance: Annotated[StrictFloat, Field(ge=0.0)] = 1e-9
+    """Allowed |actual - expect|."""
+    min: Number | None = None
+    """Lower bound."""
+    max: Number | None = None
+    """Upper bound."""
+
+    @model_validator(mode="after")
+    def _something_to_check(self) -> SignalCheck:
+        if self.expect is None and self.min is None and self.max is None:
+            raise ValueError("give 'expect', 'min' or 'max'")
+        state = self.signal.endswith(".state")
+        if isinstance(self.expect, str) and not (state and self.expect.upper() in
+                                                 AxisState.__members__):
+            raise ValueError(f"expect: {self.expect!r} is not a number"
+                             + (" or a state name" if state else ""))
+        return self
+
+    @property
+    def expected(self) -> float | None:
+        if isinstance(self.expect, str):
+            return float(AxisState[self.expect.upper()])
+        return self.expect
+
+
+class CommandCheck(_Check):
+    """A timeline entry's command must have ended with ``result``."""
+
+    command: Annotated[StrictStr, AfterValidator(_check_id)]
+    """The id of a timeline entry."""
+    result: Literal["done", "aborted", "error", "busy"]
+    """Expected outcome."""
+    error_id: ErrorIdName | None = None
+    """Expected ErrorId name, e.g. AXIS_STOPPING (with result: error)."""
+
+
+CHECKS: dict[str, type[_Check]] = {"signal": SignalCheck, "command": CommandCheck}
+
+
+def _check_kind(value: object) -> str | None:
+    """The key that tells a check's kind: ``signal`` or ``command``."""
+    for kind, model in CHECKS.items():
+        if isinstance(value, model) or isinstance(value, dict) and kind in value:
+            return kind
+    return None
+
+Check = Annotated[
+    Annotated[SignalCheck, Tag("signal")] | Annotated[CommandCheck, Tag("command")],
+    Discriminator(_check_kind, custom_error_type="check_kind",
+                  custom_error_message="a check needs 'signal' or 'command'"),
+]
+
+
+# -- the scenario --------------------------------------------------------------------------
+
+
+class Scenario(_Model):
+    """A scenario file: axes, a timeline of commands, what to record and what to check."""
+
+    name: StrictStr
+    """Title shown in the summary."""
+    description: StrictStr = ""
+    """Free text."""
+    cycle_time: PositiveSeconds = 0.001
+    """Runtime cycle [s]."""
+    duration: PositiveSeconds | None = None
+    """Simulated time [s]. Default: until no ``at`` of an entry or check lies ahead, every
+    issued command has ended (a MoveVelocity counts once at speed) and no axis moves, then
+    ``settle_time`` more. An entry whose ``when`` never holds does not keep the run going."""
+    settle_time: Seconds = 0.1
+    """Extra time [s] after everything came to rest, when ``duration`` is not given."""
+    max_duration: PositiveSeconds = 60.0
+    """Hard cap [s] on simulated time when ``duration`` is not given."""
+    axes: Annotated[list[AxisSpec], Field(min_length=1)]
+    """The axes, created in this order."""
+    timeline: list[TimelineEntry] = []
+    """Commands, looked at in this order every cycle."""
+    record: RecordSpec = RecordSpec()
+    """Trace signals."""
+    checks: list[Check] = []
+    """Assertions; the run fails when one fails."""
+
+    @model_validator(mode="wrap")
+    @classmethod
+    def _publish_names(cls, data: Any, handler: Any) -> Scenario:
+        token = _NAMES.set(_Names.of(data))
+        try:
+            return handler(data)
+        finally:
+            _NAMES.reset(token)
+
+    @property
+    def signals(self) -> list[str]:
+        """The recorded signals (the default set when ``record.signals`` is not given)."""
+        if self.record.signals is not None:
+            return list(self.record.signals)
+        return default_signals(axis.name for axis in self.axes)
+
+    def entries(self) -> Iterator[tuple[str, Entry]]:
+        """(label, entry) in timeline order; the label is the id or ``#<number>``."""
+        for number, entry in enumerate(self.timeline, start=1):
+            yield entry.id or f"#{number}", entry

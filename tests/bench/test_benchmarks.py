@@ -1,0 +1,94 @@
+"""Smoke tests of ``openmotion bench``: tiny sizes, structure and correctness, never timings."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from openmotion.bench import axes, otg
+from openmotion.bench.runner import BENCHMARKS, render, run_benchmark
+
+MACHINE_KEYS = {"cpu_count", "python", "platform", "numpy", "ruckig", "pyplcopen"}
+
+
+@pytest.fixture(scope="module")
+def results() -> dict[str, dict]:
+    """Each benchmark once (quick), shared by the tests below."""
+    seen: list[str] = []
+    out = {name: run_benchmark(name, quick=True, progress=seen.append) for name in BENCHMARKS}
+    assert seen, "progress was never called"
+    return out
+
+
+@pytest.mark.parametrize("name", ["axes", "otg", "fbcall"])
+def test_result_shape_is_json_and_renders(results: dict[str, dict], name: str) -> None:
+    result = results[name]
+    assert result["benchmark"] == name
+    assert set(result["machine"]) == MACHINE_KEYS
+    assert isinstance(result["passed"], bool)
+    assert result["goals"] and all({"goal", "value", "passed"} <= set(g)
+                                   for g in result["goals"].values())
+    json.loads(json.dumps(result, allow_nan=False))  # strict JSON: no NaN or inf
+    text = render(result)
+    assert f"bench {name}" in text and "passed:" in text
+
+
+def test_unknown_benchmark_names_the_choices() -> None:
+    with pytest.raises(KeyError, match="axes.*fbcall.*otg"):
+        run_benchmark("nope", quick=True)
+
+
+def test_axes_keyed_by_n_without_violations(results: dict[str, dict]) -> None:
+    by_n = results["axes"]["results"]["by_n"]
+    assert list(by_n) == ["1", "10", "100"]
+    for n, row in by_n.items():
+        assert row["axes"] == int(n)
+        assert row["violations"] == 0, row["check"]["first_violations"]
+        assert row["check"]["rejected"] == 0, row["check"]["rejections"]
+        for key in ("ours_us", "ours_trace_us", "ruckig_us"):
+            assert row[key] > 0.0
+        assert row["pyplcopen_us"] is None or row["pyplcopen_us"] > 0.0
+    assert results["axes"]["goals"]["violations"]["passed"] is True
+
+
+def test_axes_cycles_stay_in_bounds() -> None:
+    assert axes.cycles_for(1) >= 2000
+    assert axes.cycles_for(10_000) >= 200
+    assert axes.cycles_for(10_000) * 10_000 <= axes.WORK
+
+
+def test_forced_speed_is_the_overshoot_of_a_full_jerk_ramp() -> None:
+    assert axes.forced_speed(100.0, 0.0, 1e4) == 100.0
+    assert axes.forced_speed(100.0, 1000.0, 1e4) == pytest.approx(150.0)
+    assert axes.forced_speed(100.0, -1000.0, 1e4) == 100.0  # slows down first
+    assert axes.forced_speed(10.0, -1000.0, 1e4) == pytest.approx(40.0)  # through zero
+
+
+def test_otg_reaches_in_time_within_limits(results: dict[str, dict]) -> None:
+    r = results["otg"]["results"]
+    assert r["samples"] > 0
+    assert r["reached"] == r["samples"], r["failures"]
+    assert r["time_ok"] == r["time_judged"] > 0, r["failures"]
+    assert r["violations"] == 0, r["failures"]
+    assert r["command_errors"] == 0
+    assert r["three_dof"].startswith("not yet")
+    assert results["otg"]["passed"] is True
+
+
+def test_otg_samples_are_deterministic_and_produce_moving_starts() -> None:
+    first = otg.draw_samples(20, seed=3)
+    assert first == otg.draw_samples(20, seed=3)
+    runs = [otg.run_sample(s) for s in first]
+    assert any(r["start"]["velocity"] != 0.0 for r in runs)
+    assert any(r["start"]["acceleration"] != 0.0 for r in runs)
+    for r in runs:
+        assert r["reached"], r
+        assert r["bound_cycles"] is None or math.isfinite(r["ruckig_duration"])
+
+
+def test_fbcall_measures_a_busy_block(results: dict[str, dict]) -> None:
+    r = results["fbcall"]["results"]
+    assert r["still_busy"] and r["step_axis_moving"]
+    assert r["fb_call_us"] > 0.0 and r["step_1_axis_us"] > 0.0
