@@ -14,8 +14,8 @@ from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.trajectory.plan import Limits, plan_position, plan_stop, plan_velocity
 from openmotion.trajectory.segments import KinematicState, Profile
 
-BLEND_ITERATIONS = 12
-MIN_OVERRIDE = 1e-8  #: below 1e-6 % the override counts as 0: the job pauses (D-007)  #: bisection steps when a blend velocity cannot be reached
+BLEND_ITERATIONS = 12  #: bisection steps when a blend velocity cannot be reached
+MIN_OVERRIDE = 1e-8  #: below 1e-6 % the override counts as 0: the job pauses (D-007)
 
 
 def plan_job(job: Job, start: KinematicState, override: float,
