@@ -48,6 +48,7 @@ from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 
 __all__ = [
+    "RUCKIG_PRECISION",
     "MoveCase",
     "SetpointRecorder",
     "SetpointTrace",
@@ -72,6 +73,8 @@ MoveKind = Literal["position", "velocity", "stop"]
 SIGNALS = ("position", "velocity", "acceleration", "jerk", "actual")
 REL = 1e-9  #: relative tolerance of every limit check (performance.md: 1e-9 relative)
 _REVERSAL_TOLERANCE = 1e-9  #: relative, as trajectory/plan.py decides a reversal
+#: ruckig's absolute end-state precision (Profile::p_precision, v_precision, a_precision)
+RUCKIG_PRECISION = (1e-8, 1e-8, 1e-10)
 _PLACE_HORIZON = 1.0  #: [s] the placed state is continued this long (until the next command)
 
 
@@ -521,24 +524,26 @@ def assert_within_limits(trace: SetpointTrace, limits: Limits, rel: float = REL)
 
 
 def assert_continuous(trace: SetpointTrace, acceleration: float, jerk: float,
-                      rel: float = REL, tiny: float = 1e-10) -> None:
+                      rel: float = REL, tiny: float = 1e-12) -> None:
     """No jump between consecutive samples, switch cycles included.
 
     With ``dt`` the cycle time: |Δp - (v₀+v₁)·dt/2| <= jerk·dt³/12 (the trapezoid error of a
     C¹ velocity whose second derivative is bounded by ``jerk``), |Δv| <= acceleration·dt and
-    |Δa| <= jerk·dt, each times (1 + ``rel``) plus ``tiny`` times the signal's scale
-    (rounding).
+    |Δa| <= jerk·dt, each times (1 + ``rel``), plus ``tiny`` times the signal's scale
+    (rounding) plus ruckig's absolute precision (``RUCKIG_PRECISION``): a profile's end is
+    pinned to the commanded state, which ruckig reaches only to that precision.
     """
     dt = trace.cycle_time
     p, v, a = trace.position, trace.velocity, trace.acceleration
     scale_p = float(np.max(np.abs(p))) + trace.peak("velocity") * dt
     scale_v = trace.peak("velocity")
     scale_a = trace.peak("acceleration")
+    eps_p, eps_v, eps_a = RUCKIG_PRECISION
     checks = (
         ("position", np.abs(np.diff(p) - (v[1:] + v[:-1]) * dt / 2.0),
-         jerk * dt**3 / 12.0 * (1 + rel) + tiny * scale_p),
-        ("velocity", np.abs(np.diff(v)), acceleration * dt * (1 + rel) + tiny * scale_v),
-        ("acceleration", np.abs(np.diff(a)), jerk * dt * (1 + rel) + tiny * scale_a),
+         jerk * dt**3 / 12.0 * (1 + rel) + tiny * scale_p + eps_p),
+        ("velocity", np.abs(np.diff(v)), acceleration * dt * (1 + rel) + tiny * scale_v + eps_v),
+        ("acceleration", np.abs(np.diff(a)), jerk * dt * (1 + rel) + tiny * scale_a + eps_a),
     )
     for name, step, bound in checks:
         over = np.flatnonzero(step > bound)

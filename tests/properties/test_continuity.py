@@ -56,6 +56,24 @@ def first_moves(draw: st.DrawFn) -> tuple[Limits, float]:
     return lim, travel * lim.velocity
 
 
+@st.composite
+def related_limits(draw: st.DrawFn, base: Limits) -> Limits:
+    """Each limit of ``base`` times 0.5 to 2: interrupting commands with other dynamics, on
+    the same time scale (a 100x slower second move would only make the test slow)."""
+    factor = st.floats(-0.3, 0.3).map(lambda exponent: 10.0**exponent)
+    return Limits(*(float(f"{getattr(base, name) * draw(factor):.3g}")
+                    for name in ("velocity", "acceleration", "deceleration", "jerk")))
+
+
+@st.composite
+def move_pairs(draw: st.DrawFn) -> tuple[tuple[Limits, float], tuple[Limits, float]]:
+    """A first move from 0 and a second one (limits related to the first, travel up to one
+    second at its velocity limit from the first target)."""
+    lim1, target1 = draw(first_moves())
+    lim2 = draw(related_limits(lim1))
+    return (lim1, target1), (lim2, draw(st.floats(-1.0, 1.0)) * lim2.velocity)
+
+
 def _interrupt_cycle(axis, fraction: float) -> int:  # noqa: ANN001
     """A cycle from the start to a little past the end of the running profile."""
     return round(fraction * math.ceil(axis.remaining_time / CYCLE))
@@ -64,9 +82,9 @@ def _interrupt_cycle(axis, fraction: float) -> int:  # noqa: ANN001
 _fractions = st.floats(0.0, 1.1)
 
 
-@given(first=first_moves(), second=first_moves(), fraction=_fractions)
-def test_abort_by_move_is_continuous(first, second, fraction):
-    (lim1, target1), (lim2, travel2) = first, second
+@given(pair=move_pairs(), fraction=_fractions)
+def test_abort_by_move_is_continuous(pair, fraction):
+    (lim1, target1), (lim2, travel2) = pair
     rt, axis = single_axis(_envelope(lim1, lim2), CYCLE)
     _move(axis, target1, lim1)
     k = _interrupt_cycle(axis, fraction)
@@ -74,10 +92,10 @@ def test_abort_by_move_is_continuous(first, second, fraction):
     assert_continuous(trace, *_bounds(lim1, lim2))
 
 
-@given(first=first_moves(), second=limits(), speed=st.floats(0.01, 1.0),
-       negative=st.booleans(), fraction=_fractions)
-def test_abort_by_move_velocity_is_continuous(first, second, speed, negative, fraction):
-    lim1, target1 = first
+@given(pair=move_pairs(), speed=st.floats(0.01, 1.0), negative=st.booleans(),
+       fraction=_fractions)
+def test_abort_by_move_velocity_is_continuous(pair, speed, negative, fraction):
+    (lim1, target1), (second, _) = pair
     rt, axis = single_axis(_envelope(lim1, second), CYCLE)
     _move(axis, target1, lim1)
     k = _interrupt_cycle(axis, fraction)
@@ -91,10 +109,10 @@ def test_abort_by_move_velocity_is_continuous(first, second, speed, negative, fr
     assert_continuous(trace, *_bounds(lim1, second))
 
 
-@given(first=first_moves(), stop=limits(), own_dynamics=st.booleans(), fraction=_fractions)
-def test_abort_by_stop_is_continuous(first, stop, own_dynamics, fraction):
+@given(pair=move_pairs(), own_dynamics=st.booleans(), fraction=_fractions)
+def test_abort_by_stop_is_continuous(pair, own_dynamics, fraction):
     """MC_Stop with its own deceleration and jerk, or with 0 (the running move's)."""
-    lim1, target1 = first
+    (lim1, target1), (stop, _) = pair
     rt, axis = single_axis(_envelope(lim1, stop), CYCLE)
     _move(axis, target1, lim1)
     k = _interrupt_cycle(axis, fraction)

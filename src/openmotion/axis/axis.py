@@ -877,12 +877,12 @@ def _check_dynamics_change(job: Job, profile: Profile, start: KinematicState) ->
         over = (p_hi - job.target) if direction > 0 else (job.target - p_lo)
         if over > 1e-9 * max(1.0, abs(job.target)):
             raise CommandRejected(ErrorId.DYN_TARGET_OVERSHOT, "the target would be overshot")
+    if (direction > 0 and lo < -1e-9) or (direction < 0 and hi > 1e-9):
+        raise CommandRejected(ErrorId.DYN_DIRECTION_REVERSAL, "braking would reverse direction")
     peak = max(abs(lo), abs(hi))
     if peak > job.limits.velocity * (1 + 1e-9) and peak > abs(start.velocity) * (1 + 1e-9):
         raise CommandRejected(ErrorId.DYN_VELOCITY_EXCEEDED,
                               "the travel velocity would be exceeded")
-    if (direction > 0 and lo < -1e-9) or (direction < 0 and hi > 1e-9):
-        raise CommandRejected(ErrorId.DYN_DIRECTION_REVERSAL, "braking would reverse direction")
 
 
 def _parameter_spec(number: int):  # noqa: ANN202 - ParameterSpec

@@ -184,12 +184,13 @@ def _render_axes(results: dict[str, Any]) -> list[str]:
     lines = [f"us per axis-cycle (wall loop time / (N * cycles)), median of "
              f"{results.get('repeats', 1)} repeats; cycle p50/p99 in us (ours, trace off)"]
     lines += _table(header, rows)
-    best = [[int(n), r["ours_spread"], r["ours_best_us"],
+    best = [[int(n), r["ours_spread"], r["ours_cpu_us"], r["ours_best_us"],
              *([r["ours_trace_best_us"]] if trace else []), r["pyplcopen_best_us"],
              r["ruckig_best_us"], r["ratio_best_pyplcopen"], r["ratio_best_ruckig"]]
             for n, r in results["by_n"].items()]
-    lines += ["", "fastest repeat (least disturbed by other load); spread = (max - min) / median"]
-    lines += _table(["N", "ours spread", "ours", *(["ours+trace"] if trace else []),
+    lines += ["", "fastest repeat (least disturbed by other load); spread = (max - min) / median; "
+              "ours cpu = thread CPU time, median"]
+    lines += _table(["N", "ours spread", "ours cpu", "ours", *(["ours+trace"] if trace else []),
                      "pyplcopen", "ruckig", "ours/plc", "ours/ruckig"], best)
     for n, r in results["by_n"].items():
         forced = r["check"]["forced_overshoot"]

@@ -84,7 +84,8 @@ def _ramp_down_then_position(
 
 def plan_velocity(start: KinematicState, velocity: float, limits: Limits) -> Profile:
     """Time-optimal change to the signed ``velocity``, then cruise at it forever."""
-    heading = _sign(start.velocity) or _sign(start.acceleration)
+    moving = abs(start.velocity) > 1e-12 * max(limits.velocity, abs(velocity), 1e-300)
+    heading = _sign(start.velocity) if moving else _sign(start.acceleration)
     if heading * velocity < 0.0 and limits.acceleration != limits.deceleration:
         brake = plan_velocity(start, 0.0, limits)
         return Profile.concatenate(
@@ -139,9 +140,18 @@ def _release_then_velocity(start: KinematicState, velocity: float, limits: Limit
 
 
 def _load_state(start: KinematicState, limits: Limits, sign: int) -> None:
+    velocity, acceleration = start.velocity, start.acceleration
+    # Float residue of the evaluation (a ~1e-13 acceleration at v == v_max) can flip ruckig
+    # to a valid but far slower profile type; such residue is no physical state: drop it.
+    if abs(acceleration) <= 1e-10 * max(limits.acceleration, limits.deceleration):
+        acceleration = 0.0
+    if math.isfinite(limits.velocity) and abs(abs(velocity) - limits.velocity) <= (
+        1e-12 * limits.velocity
+    ):
+        velocity = math.copysign(limits.velocity, velocity)
     _input.current_position = [start.position]
-    _input.current_velocity = [start.velocity]
-    _input.current_acceleration = [start.acceleration]
+    _input.current_velocity = [velocity]
+    _input.current_acceleration = [acceleration]
     _input.target_acceleration = [0.0]
     if sign >= 0:
         _input.max_acceleration = [limits.acceleration]
