@@ -324,7 +324,7 @@ def ceil_to_cycle(duration: float, cycle_time: float = 0.001) -> float:
 # -- running ----------------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SetpointTrace:
     """Setpoints of one axis, one sample per cycle; sample 0 is the state a command was
     planned from (the last sample before it), so ``time[k] = k * cycle_time`` after issue."""

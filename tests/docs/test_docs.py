@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import contextlib
+import io
 import re
 from pathlib import Path
+
+import pytest
 
 import openmotion as om
 
@@ -33,11 +37,17 @@ def test_relative_links_in_markdown_resolve():
             assert (page.parent / target).exists(), f"{page.name}: broken link {target}"
 
 
-def test_readme_python_session_runs_as_written():
-    text = (ROOT / "README.md").read_text()
+@pytest.mark.parametrize("page", ["README.md", "docs/tutorial.md"])
+def test_python_sessions_print_what_their_comments_say(page: str):
+    """Each ``print(...)  # expected`` line of the page's code prints exactly that."""
+    text = (ROOT / page).read_text()
     blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
-    assert blocks, "README shows a Python session"
+    assert blocks, f"{page} shows a Python session"
     namespace: dict = {}
-    for block in blocks:
-        exec(compile(block, "README.md", "exec"), namespace)  # noqa: S102 - docs must run
-    assert namespace["x"].set_position == 0.0  # the FB example moved it back
+    expected: list[str] = []
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        for block in blocks:
+            expected += re.findall(r"^print\(.*\)\s+# (.*?)(?::.*)?$", block, flags=re.M)
+            exec(compile(block, page, "exec"), namespace)  # noqa: S102 - docs must run
+    assert out.getvalue().splitlines() == expected

@@ -511,7 +511,7 @@ def test_move_velocity_toward_a_limit_is_continuous_motion_throughout() -> None:
     states = set()
     run(rt, axis, lambda: (move(execute=True), states.add(axis.state)),
         lambda: axis.state is S.ERROR_STOP, max_cycles=5000)
-    assert states == {S.CONTINUOUS_MOTION}
+    assert states == {S.CONTINUOUS_MOTION, S.ERROR_STOP}  # the last call sees the fault
 
 
 def test_move_velocity_with_a_limit_far_ahead_reports_in_velocity() -> None:
@@ -530,3 +530,34 @@ def test_move_velocity_away_from_the_limit_is_not_affected() -> None:
     run(rt, axis, lambda: move(execute=True, velocity=100.0, direction=NEG),
         lambda: move.in_velocity)
     assert axis.set_velocity == -100.0 and axis.state is S.CONTINUOUS_MOTION
+
+
+def test_buffered_behind_move_velocity_starts_at_in_velocity() -> None:
+    """PLCopen Part 1 (D-008): a command buffered behind MC_MoveVelocity starts when the
+    velocity is reached (InVelocity), which ends the velocity command."""
+    rt, axis = powered_axis()
+    velocity, buffered = MC_MoveVelocity(axis), MC_MoveAbsolute(axis)
+    velocity(execute=True, velocity=100.0)
+    buffered(execute=True, position=50.0, velocity=100.0, buffer_mode=B.BUFFERED)
+    assert buffered.busy and not buffered.active
+    run(rt, axis, lambda: (velocity(execute=True), buffered(execute=True)),
+        lambda: buffered.active)
+    assert axis.set_velocity == pytest.approx(100.0, abs=1e-9)
+    assert not velocity.busy and not velocity.command_aborted
+    run(rt, axis, lambda: buffered(execute=True), lambda: buffered.done)
+    assert axis.set_position == 50.0
+
+
+def test_buffer_holds_sixteen_commands() -> None:
+    """D-008: 16 commands wait behind the active one; the 17th gets BUFFER_FULL."""
+    rt, axis = powered_axis()
+    active = MC_MoveAbsolute(axis)
+    active(execute=True, position=10.0, velocity=100.0)
+    queued = [MC_MoveAbsolute(axis) for _ in range(17)]
+    for k, fb in enumerate(queued):
+        fb(execute=True, position=10.0 + k, velocity=100.0, buffer_mode=B.BUFFERED)
+    assert all(fb.busy and not fb.error for fb in queued[:16])
+    assert queued[16].error and queued[16].error_id == ErrorId.BUFFER_FULL
+    run(rt, axis, lambda: [fb(execute=True) for fb in [active, *queued[:16]]],
+        lambda: queued[15].done, max_cycles=60000)
+    assert axis.set_position == 25.0

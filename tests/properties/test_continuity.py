@@ -113,7 +113,7 @@ def test_abort_by_move_velocity_is_continuous(pair, speed, negative, fraction):
 def test_abort_by_stop_is_continuous(pair, own_dynamics, fraction):
     """MC_Stop with its own deceleration and jerk, or with 0 (the running move's)."""
     (lim1, target1), (stop, _) = pair
-    rt, axis = single_axis(_envelope(lim1, stop), CYCLE)
+    rt, axis = single_axis(_envelope(lim1, stop) if own_dynamics else lim1, CYCLE)
     _move(axis, target1, lim1)
     k = _interrupt_cycle(axis, fraction)
     dec, jerk = (stop.deceleration, stop.jerk) if own_dynamics else (0.0, 0.0)

@@ -16,11 +16,11 @@ if TYPE_CHECKING:
 
 #: One panel per quantity: (title, [(signal, line style, label)]).
 PANELS = (
-    ("position", (("set_position", "-", "set"), ("position", "--", "actual"))),
-    ("velocity", (("set_velocity", "-", "set"), ("velocity", "--", "actual"))),
-    ("acceleration", (("set_acceleration", "-", "set"),)),
-    ("jerk", (("set_jerk", "-", "set"),)),
-    ("following error", (("following_error", "-", "set - actual"),)),
+    ("position [mm]", (("set_position", "-", "set"), ("position", "--", "actual"))),
+    ("velocity [mm/s]", (("set_velocity", "-", "set"), ("velocity", "--", "actual"))),
+    ("acceleration [mm/s²]", (("set_acceleration", "-", "set"),)),
+    ("jerk [mm/s³]", (("set_jerk", "-", "set"),)),
+    ("following error [mm]", (("following_error", "-", "set - actual"),)),
 )
 
 
