@@ -8,6 +8,7 @@ import math
 import pytest
 
 from openmotion.bench import axes, otg
+from openmotion.bench.peers import StreamCommand
 from openmotion.bench.runner import BENCHMARKS, render, run_benchmark
 
 MACHINE_KEYS = {"cpu_count", "python", "platform", "numpy", "ruckig", "pyplcopen"}
@@ -64,6 +65,17 @@ def test_forced_speed_is_the_overshoot_of_a_full_jerk_ramp() -> None:
     assert axes.forced_speed(100.0, 1000.0, 1e4) == pytest.approx(150.0)
     assert axes.forced_speed(100.0, -1000.0, 1e4) == 100.0  # slows down first
     assert axes.forced_speed(10.0, -1000.0, 1e4) == pytest.approx(40.0)  # through zero
+
+
+def test_command_limits_follow_d020() -> None:
+    c = StreamCommand(cycle=0, axis=0, kind="absolute", value=0.0, velocity=100.0,
+                      acceleration=1000.0, deceleration=2000.0, jerk=5000.0)
+    assert axes.command_limits(c, 0.0, 0.0) == (100.0, 2000.0, 5000.0)
+    # 450 mm/s, +1000 mm/s^2: jerk 5000 would reach 550 mm/s > max_velocity 500, so the
+    # smallest jerk that keeps 500 is allowed: 1000^2 / (2 * 50) = 10000.
+    assert axes.command_limits(c, 450.0, 1000.0) == pytest.approx((500.0, 2000.0, 10000.01))
+    # +3000 mm/s^2 needs 90000 > max_jerk 50000: max_jerk, and 450 + 3000^2/1e5 is forced.
+    assert axes.command_limits(c, 450.0, 3000.0) == pytest.approx((540.0, 3000.0, 50000.0))
 
 
 def test_otg_reaches_in_time_within_limits(results: dict[str, dict]) -> None:

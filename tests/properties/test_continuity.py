@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 
 from openmotion.core.enums import BufferMode, Direction
@@ -52,7 +52,7 @@ def _move(axis, target: float, lim: Limits, mode: BufferMode = BufferMode.ABORTI
 def first_moves(draw: st.DrawFn) -> tuple[Limits, float]:
     """Limits and a target from 0: up to one second of travel at the velocity limit."""
     lim = draw(limits())
-    travel = draw(st.floats(-1.0, 1.0).filter(lambda x: x != 0.0))
+    travel = draw(st.floats(-1.0, 1.0))
     return lim, travel * lim.velocity
 
 
@@ -94,6 +94,9 @@ def test_abort_by_move_is_continuous(pair, fraction):
 
 @given(pair=move_pairs(), speed=st.floats(0.01, 1.0), negative=st.booleans(),
        fraction=_fractions)
+@example(  # a 1e-12 mm move ends at once, pinned to its target: a step within ruckig's precision
+    pair=((Limits(1.0, 100.0, 100.0, 1e5), 1e-12), (Limits(1.0, 1000.0, 1000.0, 1e5), 0.0)),
+    speed=1.0, negative=True, fraction=0.0)
 def test_abort_by_move_velocity_is_continuous(pair, speed, negative, fraction):
     (lim1, target1), (second, _) = pair
     rt, axis = single_axis(_envelope(lim1, second), CYCLE)
@@ -123,6 +126,9 @@ def test_abort_by_stop_is_continuous(pair, own_dynamics, fraction):
 
 @given(first=first_moves(), overrides=st.lists(st.floats(0.0, 100.0), min_size=1, max_size=3),
        fractions=st.lists(_fractions, min_size=3, max_size=3), by_block=st.booleans())
+@example(  # ruckig could not plan a cruise at 4e-214 mm/s: ErrorStop (fixed, D-022)
+    first=(Limits(1.0, 10.0, 10.0, 100.0), 1.0), overrides=[3.9411104200116837e-212],
+    fractions=[0.0, 0.0, 0.0], by_block=False)
 def test_override_change_is_continuous(first, overrides, fractions, by_block):
     """Up to three override changes (0-100 %) at random cycles, through axis.set_override or
     the MC_SetOverride block called in a program (planned in the cycle it is called)."""
@@ -154,6 +160,14 @@ def test_override_change_is_continuous(first, overrides, fractions, by_block):
        modes=st.lists(st.sampled_from([BufferMode.BLENDING_LOW, BufferMode.BLENDING_PREVIOUS,
                                        BufferMode.BLENDING_NEXT, BufferMode.BLENDING_HIGH,
                                        BufferMode.BUFFERED]), min_size=2, max_size=2))
+@example(  # zero-length moves end in the cycle they start: the next starts a cycle late
+    moves=[(Limits(1.0, 10.0, 10.0, 100.0), 0.0), (Limits(1.0, 10.0, 10.0, 100.0), 0.0),
+           (Limits(1.0, 10.0, 10.0, 100.0), 1.0)],
+    modes=[BufferMode.BLENDING_LOW, BufferMode.BLENDING_LOW])
+@example(  # sub-cycle moves blended at speed: the middle one fails to plan (NO_PROFILE)
+    moves=[(Limits(100.0, 1e6, 1e6, 1e9), 1e-4), (Limits(100.0, 1e6, 1e6, 1e9), 1e-4),
+           (Limits(100.0, 1e6, 1e6, 1e9), 1.0)],
+    modes=[BufferMode.BLENDING_NEXT, BufferMode.BLENDING_NEXT])
 def test_blending_sequence_is_continuous(moves, modes):
     """2-3 moves issued together; each later one blends (or buffers) onto the one before.
     Travels are relative to the previous target, so both same-direction (blended at speed)

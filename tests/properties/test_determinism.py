@@ -11,6 +11,12 @@ would expose state leaking through module-level planner objects.
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -18,7 +24,13 @@ from hypothesis import strategies as st
 from openmotion.axis.drive import DriveModel
 from openmotion.core.enums import BufferMode, Direction
 from openmotion.runtime.runtime import Runtime
-from openmotion.testing import SetpointRecorder, SetpointTrace, assert_traces_equal, limits
+from openmotion.testing import (
+    SIGNALS,
+    SetpointRecorder,
+    SetpointTrace,
+    assert_traces_equal,
+    limits,
+)
 from openmotion.trajectory.plan import Limits
 
 CYCLE = 0.001
@@ -107,3 +119,44 @@ def test_same_commands_give_bit_identical_traces(stream, other, from_program):
     second = _run(stream, from_program)
     for a, b in zip(first, second, strict=True):
         assert_traces_equal(a, b)
+
+
+#: a fixed stream touching every command kind, both axes, blending and the lag monitor
+FIXED_STREAM = (Limits(200.0, 2000.0, 1500.0, 50000.0), [
+    (0, 0, ("absolute", 0.9, 1.0, BufferMode.ABORTING)),
+    (0, 1, ("velocity", 0.7, Direction.NEGATIVE)),
+    (5, 0, ("relative", 0.3, 0.5, BufferMode.BLENDING_HIGH)),
+    (120, 1, ("override", 37.5)),
+    (200, 0, ("absolute", -0.4, 0.8, BufferMode.BLENDING_LOW)),
+    (260, 1, ("stop",)),
+    (300, 0, ("halt",)),
+    (320, 1, ("reset",)),
+    (330, 0, ("relative", -0.2, 1.0, BufferMode.BUFFERED)),
+    (400, 1, ("absolute", 0.5, 0.3, BufferMode.ABORTING)),
+])
+
+_CHILD = """
+import importlib.util, sys
+import numpy as np
+spec = importlib.util.spec_from_file_location("determinism", sys.argv[1])
+module = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(module)
+traces = module._run(module.FIXED_STREAM, from_program=True)
+np.savez(sys.argv[2], **{f"{i}_{name}": getattr(trace, name)
+                         for i, trace in enumerate(traces) for name in module.SIGNALS})
+"""
+
+
+def test_trace_is_identical_across_processes(tmp_path: Path):
+    """Two interpreters with different hash seeds (set and dict-of-str order) give the same
+    bits as this process."""
+    here = _run(FIXED_STREAM, from_program=True)
+    for seed in ("1", "2"):
+        out = tmp_path / f"trace_{seed}.npz"
+        env = {**os.environ, "PYTHONHASHSEED": seed}
+        subprocess.run([sys.executable, "-c", _CHILD, __file__, str(out)], env=env, check=True)
+        with np.load(out) as data:
+            there = [SetpointTrace(CYCLE, *(data[f"{i}_{name}"] for name in SIGNALS))
+                     for i in range(len(here))]
+        for a, b in zip(here, there, strict=True):
+            assert_traces_equal(a, b)

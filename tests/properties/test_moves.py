@@ -17,10 +17,11 @@ from __future__ import annotations
 import math
 
 import pytest
-from hypothesis import assume, given, reject
+from hypothesis import assume, example, given, reject
 from ruckig import RuckigError
 
 from openmotion.testing import (
+    MoveCase,
     assert_within_limits,
     ceil_to_cycle,
     moves,
@@ -29,6 +30,8 @@ from openmotion.testing import (
     run_single_move,
     within_limits,
 )
+from openmotion.trajectory.plan import Limits
+from openmotion.trajectory.segments import KinematicState
 
 CYCLE = 0.001
 
@@ -61,6 +64,9 @@ def _assert_time_optimal(trace, case) -> None:  # noqa: ANN001
 
 
 @given(case=moves())
+@example(case=MoveCase(  # at rest with an acceleration: its sign is the heading (fixed)
+    KinematicState(760.3888364049114, 0.0, -1009.9899), 760.3888364049114,
+    Limits(161.0, 1010.0, 682.0, 50800.0)))
 def test_move_keeps_limits(case):
     """Every sample keeps velocity, jerk, and acceleration/deceleration (acc != dec drawn in
     80 % of the cases, reversals included: brake-then-move must keep both limits)."""
@@ -69,6 +75,8 @@ def test_move_keeps_limits(case):
 
 
 @given(case=moves())
+@example(case=MoveCase(  # ruckig's step 1 failed from rest: NO_PROFILE (fixed, D-021)
+    KinematicState(0.0), 93.1, Limits(93.1, 93100.0, 181000.0, 181000000.0)))
 def test_move_reaches_target_exactly_and_stays(case):
     assume(within_limits(case.start, case.limits))
     trace = run_single_move(case, CYCLE)
@@ -120,12 +128,16 @@ def test_high_limit_move_keeps_limits_reaches_target_in_time(case):
 
 
 @given(case=moves(kind="velocity"))
+@example(case=MoveCase(  # reversal caused by the start acceleration (fixed)
+    KinematicState(0.0, 0.0, 10.0), -1.0, Limits(1.0, 10.0, 3.16, 100.0), "velocity"))
 def test_velocity_move_keeps_limits(case):
     assume(within_limits(case.start, case.limits))
     assert_within_limits(run_single_move(case, CYCLE), case.limits)
 
 
 @given(case=moves(kind="velocity"))
+@example(case=MoveCase(  # ruckig's step 1 failed: NO_PROFILE (fixed, D-021)
+    KinematicState(0.0, 0.0, 3125000.0), -10000.0, Limits(1e4, 1e7, 1e7, 1e9), "velocity"))
 def test_velocity_move_reaches_signed_velocity_exactly(case):
     assume(within_limits(case.start, case.limits))
     trace = run_single_move(case, CYCLE)
@@ -134,6 +146,9 @@ def test_velocity_move_reaches_signed_velocity_exactly(case):
 
 
 @given(case=moves(kind="velocity"))
+@example(case=MoveCase(  # a 2e-153 mm/s start velocity was taken as a reversal (fixed)
+    KinematicState(0.0, 1.9739260268538742e-153, -8.9), -1.0, Limits(1.0, 10.0, 17.8, 178.0),
+    "velocity"))
 def test_velocity_move_without_reversal_is_time_optimal(case):
     """Symmetric limits, or asymmetric ones where the mapped profile keeps its direction
     (see ``test_asymmetric_move_without_reversal_is_time_optimal``)."""

@@ -56,9 +56,14 @@ def _plan(case: MoveCase) -> Profile:
 
 
 def _single_call(case: MoveCase):  # noqa: ANN202 - ruckig.Trajectory
-    """ruckig's trajectory for ``case`` when plan.py used exactly that one call: always with
-    acc == dec; with acc != dec unless the profile reverses (plan_position) or the start
-    velocity points against the target velocity (plan_velocity)."""
+    """ruckig's trajectory for ``case`` when plan.py used exactly that one call: not for a
+    position move that starts above the velocity limit towards its target (ramped down to
+    the limit first, D-021); with acc != dec not where the profile reverses (plan_position)
+    or the start velocity points against the target velocity (plan_velocity, D-002)."""
+    start, lim = case.start, case.limits
+    if case.kind == "position":
+        heading = np.sign(case.target - start.position) or np.sign(start.velocity)
+        assume(not (abs(start.velocity) > lim.velocity and np.sign(start.velocity) == heading))
     try:
         trajectory = ruckig_trajectory(case)
         reverses = ruckig_reverses(case)

@@ -328,14 +328,21 @@ class Axis:
         command = self._new("stop")
         try:
             admit(self.state, "stop")
-            limits = self._stop_limits(deceleration, jerk, command)
         except CommandRejected as rejected:
             return self._reject(command, rejected.error_id, rejected.message)
+        bad: CommandRejected | None = None
+        try:
+            limits = self._stop_limits(deceleration, jerk, command)
+        except CommandRejected as rejected:  # a stop always stops (D-023)
+            bad, limits = rejected, self._stop_limits(0.0, 0.0, command)
         command.hold = hold
         profile = self._stop_profile(limits)  # needs the running job for the safety cases
         self._abort_all("aborted by MC_Stop")
         self._hold = None
         self._start(Job("stop", command, limits), profile)
+        if bad is not None:
+            self._reject(command, bad.error_id, bad.message + "; stopped with the running "
+                         "move's dynamics")
         return command
 
     def home(self, position: InputValue = DEFAULT_HOME_POSITION) -> Command:

@@ -105,15 +105,38 @@ def forced_speed(velocity: np.ndarray | float, acceleration: np.ndarray | float,
                       np.abs(velocity + acceleration * np.abs(acceleration) / (2.0 * jerk)))
 
 
+def command_limits(c: StreamCommand, velocity: float,
+                   acceleration: float) -> tuple[float, float, float]:
+    """|v|, |a|, |j| bounds for an axis after command ``c``, issued at (velocity, acceleration).
+
+    Every command aborts the one before, so from its issue on the setpoint keeps to that
+    command's limits, except where the start state forces more:
+
+    * |v| <= max(velocity, ``forced_speed`` with the command's jerk), and, the axis maximum
+      being a hard limit (docs/decisions.md D-020), <= max(max_velocity, ``forced_speed``
+      with max_jerk);
+    * |a| <= max(acceleration, deceleration, |a| at issue);
+    * |j| <= jerk, or, where that jerk would let the velocity pass max_velocity, the smallest
+      jerk that does not, up to max_jerk (D-020; the kernel adds 1e-6 relative, so do we).
+    """
+    v_max, j_max = AXIS_LIMITS["max_velocity"], AXIS_LIMITS["max_jerk"]
+    speed = min(max(c.velocity, float(forced_speed(velocity, acceleration, c.jerk))),
+                max(v_max, float(forced_speed(velocity, acceleration, j_max))))
+    jerk = c.jerk
+    if velocity * acceleration > 0.0 and forced_speed(velocity, acceleration, c.jerk) > v_max:
+        room = v_max - abs(velocity)
+        needed = acceleration**2 / (2.0 * room) * (1.0 + 1e-6) if room > 0.0 else j_max
+        jerk = max(c.jerk, min(needed, j_max))
+    return speed, max(c.acceleration, c.deceleration, abs(acceleration)), jerk
+
+
 def check_run(n_axes: int, stream: list[StreamCommand], cycles: int) -> dict[str, Any]:
     """Untimed run (doubles as warm-up): setpoint limit violations and rejected commands.
 
-    Every command aborts the one before, so from its issue on an axis' setpoint must keep to
-    that command's limits, within 1e-9 relative: |v| <= max(velocity, the speed forced by the
-    state at issue; see ``forced_speed``), |a| <= max(acceleration, deceleration, |a| at
-    issue), |j| <= jerk. Checked every cycle, vectorised over the kernel arrays. Forced
-    overshoots beyond the axis' max_velocity are counted apart: they are a property of the
-    stream (jerk lowered mid-motion), not of the kernel.
+    Each cycle, vectorised over the kernel arrays, every axis' |v|, |a|, |j| is checked
+    against the bounds ``command_limits`` set at its last command, within 1e-9 relative.
+    Velocities beyond the axis' max_velocity (only possible when even max_jerk cannot take the
+    acceleration away in time) are counted apart, as are commands whose jerk was raised.
     """
     rt, axes = build_runtime(n_axes)
     kernel = rt._kernel
@@ -128,15 +151,16 @@ def check_run(n_axes: int, stream: list[StreamCommand], cycles: int) -> dict[str
         "velocity": np.zeros(n_axes), "acceleration": np.zeros(n_axes), "jerk": np.zeros(n_axes),
     }
     issued: list[om.Command] = []
+    jerk_raise_allowed = [0]
     slots = iter(zip(plan, commands, strict=True))
 
     def program() -> None:
         issues, stream_commands = next(slots)
         for (method, args), c in zip(issues, stream_commands, strict=True):
-            v, a = float(kernel.set_v[c.axis]), float(kernel.set_a[c.axis])
-            limit["velocity"][c.axis] = max(c.velocity, float(forced_speed(v, a, c.jerk)))
-            limit["acceleration"][c.axis] = max(c.acceleration, c.deceleration, abs(a))
-            limit["jerk"][c.axis] = c.jerk
+            bounds = command_limits(c, float(kernel.set_v[c.axis]), float(kernel.set_a[c.axis]))
+            for name, bound in zip(limit, bounds, strict=True):
+                limit[name][c.axis] = bound
+            jerk_raise_allowed[0] += bounds[2] > c.jerk
             issued.append(method(*args))
 
     counts = {"velocity": 0, "acceleration": 0, "jerk": 0}
@@ -177,6 +201,7 @@ def check_run(n_axes: int, stream: list[StreamCommand], cycles: int) -> dict[str
         "violations_by_kind": counts,
         "first_violations": first,
         "forced_overshoot": forced,
+        "jerk_raise_allowed": jerk_raise_allowed[0],
         "peak": peak,
         "moving_at_end": int(np.count_nonzero(kernel.set_v[:n_axes])),
     }
