@@ -522,8 +522,13 @@ class Axis:
         magnitude = _BLEND_SPEED[following.buffer_mode](previous.limits.velocity,
                                                          following.limits.velocity)
         running = previous is self._job and self.has_job
-        start = self._k.state(self.row) if running else KinematicState(
-            previous.extra.get("start", self.set_position))
+        if running:
+            start = self._k.state(self.row)
+        elif previous is self._job:
+            start = KinematicState(self.set_position)
+        else:  # queued: it will start where the job before it ends
+            before = self._queue[-3] if len(self._queue) >= 3 else self._job
+            start = KinematicState(self._end_position_of(before), before.end_velocity)
         previous.end_velocity = jobs.blend_velocity(start, previous, following.target,
                                                     following.limits, magnitude)
         if running and previous.end_velocity != 0.0:
@@ -670,13 +675,20 @@ class Axis:
                     self.state = AxisState.STANDSTILL
             return
         job = self._queue.pop(0)
+        time = max(time, self._k.sample_time)  # never rewrite a sample already taken
         previous = self._job
         if previous is not None and previous.kind == "velocity":
             self._finish(previous.command)
         start = self._k.segments.state(self.row, time)
         job.extra["start"] = start.position
         try:
-            profile = jobs.plan_job(job, start, self._effective_override, self.parameters)
+            try:
+                profile = jobs.plan_job(job, start, self._effective_override, self.parameters)
+            except CommandRejected:
+                if job.end_velocity == 0.0:
+                    raise
+                job.end_velocity = 0.0  # the blend is not plannable from here: stop at the target
+                profile = jobs.plan_job(job, start, self._effective_override, self.parameters)
             jobs.check_soft_limits(self.parameters, profile, job.target)
         except CommandRejected as rejected:
             job.command._end(CommandStatus.ERROR, time, rejected.error_id, rejected.message)
