@@ -561,3 +561,20 @@ def test_buffer_holds_sixteen_commands() -> None:
     run(rt, axis, lambda: [fb(execute=True) for fb in [active, *queued[:16]]],
         lambda: queued[15].done, max_cycles=60000)
     assert axis.set_position == 25.0
+
+
+def test_new_pos_and_velo_reach_velo_at_pos_issued_during_the_ramp() -> None:
+    """Rule 27 / D-024: issued while the axis still accelerates, the new velocity still
+    holds at ActivationPos."""
+    rt = om.Runtime()
+    axis = rt.add_axis("x", acceleration=1000.0, deceleration=1000.0, jerk=10000.0)
+    axis.power()
+    move = axis.move_absolute(2000.0, velocity=200.0)
+    rt.run(0.05)  # still ramping up
+    assert 0.0 < axis.set_velocity < 200.0 and axis.set_acceleration > 0.0
+    change = axis.new_position_and_velocity(om.NewPosAndVeloMode.REACH_VELO_AT_POS,
+                                            om.MC_INVALID, 50.0, activation_position=150.0)
+    while axis.set_position < 150.0:
+        rt.step()
+    assert change.done and not move.finished
+    assert axis.set_velocity == pytest.approx(50.0, rel=1e-9)

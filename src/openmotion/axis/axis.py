@@ -416,10 +416,8 @@ class Axis:
                 return self._reject(command, rejected.error_id, rejected.message)
             self._finish(command)
             return command
-        switch_at = float(activation_position)
-        if mode is NewPosAndVeloMode.REACH_VELO_AT_POS and speed is not None:
-            switch_at -= self._direction_of(job) * self._distance_to_change_speed(job, speed)
-        self._arm_switch(command, job, switch_at, target, speed)
+        reach = mode is NewPosAndVeloMode.REACH_VELO_AT_POS and speed is not None
+        self._arm_switch(command, job, float(activation_position), target, speed, reach)
         return command
 
     def change_dynamics(self, acceleration: InputValue = MC_DEFAULT,
@@ -803,14 +801,20 @@ class Axis:
         raise CommandRejected(ErrorId.INVALID_DIRECTION,
                               "MC_MoveVelocity takes positive, negative or current direction")
 
-    def _distance_to_change_speed(self, job: Job, speed: float) -> float:
-        start = KinematicState(0.0, abs(self.set_velocity))
-        return abs(plan_velocity(start, speed, job.limits).end.position)
+    def _distance_to_change_speed(self, job: Job, speed: float, direction: int) -> float:
+        """Travel the velocity change to ``speed`` needs from the current setpoint state."""
+        start = KinematicState(0.0, self.set_velocity * direction,
+                               self.set_acceleration * direction)
+        return plan_velocity(start, speed, job.limits).end.position
 
     def _arm_switch(self, command: Command, job: Job, switch_at: float, target: float | None,
-                    speed: float | None) -> None:
+                    speed: float | None, reach: bool = False) -> None:
+        """Apply the change when the set position passes ``switch_at``; with ``reach``
+        (REACH_VELO_AT_POS), early enough that ``speed`` holds there, re-checked every cycle
+        from the current state (D-015)."""
         command.status = CommandStatus.ACTIVE
         direction = self._direction_of(job) or 1
+        activation = switch_at
 
         def check(now: float) -> bool:
             if command.finished:
@@ -819,7 +823,11 @@ class Axis:
                 command._end(CommandStatus.ABORTED, now, message="the move ended before the "
                              "switch position")
                 return False
-            if (self.set_position - switch_at) * direction < 0.0:
+            position = self.set_position
+            if reach and speed is not None:  # look one cycle ahead: the change starts there
+                lead = self._distance_to_change_speed(job, speed, direction)
+                position += direction * (lead + abs(self.set_velocity) * self._rt.cycle_time)
+            if (position - activation) * direction < 0.0:
                 return True
             try:
                 self._modify(job, target, speed)
