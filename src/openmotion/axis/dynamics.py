@@ -30,6 +30,8 @@ def resolve(
     """The number a dynamics input stands for, or ``CommandRejected`` with its error id."""
     default_field, maximum_field, error_id, clamp = _SPEC[name]
     maximum = getattr(parameters, maximum_field)
+    if type(value) is float and 0.0 < value <= maximum:  # the common case, checked first
+        return value
     if value is MC_MAXIMUM:
         return maximum
     if value is MC_DEFAULT or (default_field and _is_zero(value)):

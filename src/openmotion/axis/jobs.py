@@ -29,8 +29,11 @@ def plan_job(job: Job, start: KinematicState, override: float,
     profile = _plan_job(job, start, override)
     if parameters is None or start.acceleration * start.velocity <= 0.0:
         return profile
-    lo, hi = profile.velocity_extrema()
     v_max = parameters.max_velocity
+    reach = abs(start.velocity) + start.acceleration**2 / (2.0 * job.limits.jerk)
+    if reach <= v_max:  # even releasing the acceleration at this jerk stays below v_max
+        return profile
+    lo, hi = profile.velocity_extrema()
     if max(-lo, hi) <= v_max * (1.0 + 1e-9) or abs(start.velocity) >= v_max:
         return profile
     needed = start.acceleration**2 / (2.0 * (v_max - abs(start.velocity)))

@@ -136,7 +136,7 @@ def check_run(n_axes: int, stream: list[StreamCommand], cycles: int) -> dict[str
     Each cycle, vectorised over the kernel arrays, every axis' |v|, |a|, |j| is checked
     against the bounds ``command_limits`` set at its last command, within 1e-9 relative.
     Velocities beyond the axis' max_velocity (only possible when even max_jerk cannot take the
-    acceleration away in time) are counted apart, as are commands whose jerk was raised.
+    acceleration away in time) are counted apart, as are commands allowed a raised jerk.
     """
     rt, axes = build_runtime(n_axes)
     kernel = rt._kernel

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from itertools import accumulate
 
 import numpy as np
 from ruckig import ControlInterface, InputParameter, Result, Ruckig, RuckigError, Trajectory
@@ -24,6 +25,7 @@ _MIN_SEGMENT = 1e-12  #: [s] ruckig reports empty phases as ~1e-14 s: drop them
 _otg = Ruckig(1)
 _input = InputParameter(1)
 _trajectory = Trajectory(1)
+_loaded: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)  #: limits given to ruckig
 
 
 @dataclass(frozen=True, slots=True)
@@ -46,16 +48,23 @@ def plan_position(
         ramped = _ramp_down_then_position(start, target, target_velocity, limits, sign)
         if ramped is not None:
             return ramped
+    asymmetric = limits.acceleration != limits.deceleration
+    if asymmetric and start.velocity * sign < -1e-12 * limits.velocity:  # heading away
+        return _brake_then_position(start, target, target_velocity, limits)
     try:
         profile = _ruckig_position(start, target, target_velocity, limits, sign)
     except CommandRejected:
         if start.velocity == 0.0 and start.acceleration == 0.0:
             raise
         profile = None  # a rare numerical failure of ruckig's step 1: brake, then move
-    if profile is not None and (
-        limits.acceleration == limits.deceleration or not _reverses(profile, sign)
-    ):
+    if profile is not None and (not asymmetric or not _reverses(profile, sign)):
         return profile
+    return _brake_then_position(start, target, target_velocity, limits)
+
+
+def _brake_then_position(
+    start: KinematicState, target: float, target_velocity: float, limits: Limits
+) -> Profile:
     brake = plan_velocity(start, 0.0, limits)
     rest = KinematicState(brake.end.position, 0.0, 0.0)
     sign = _sign(target - rest.position) or _sign(target_velocity)
@@ -132,10 +141,7 @@ def _release_then_velocity(start: KinematicState, velocity: float, limits: Limit
     dt = abs(a0) / limits.jerk
     p1 = start.position + dt * (start.velocity + dt * (a0 / 2.0 + dt * j / 6.0))
     v1 = start.velocity + dt * (a0 + dt * j / 2.0)
-    release = Profile(
-        np.array([0.0, dt]), np.array([start.position, p1]), np.array([start.velocity, v1]),
-        np.array([a0, 0.0]), np.array([j, 0.0]),
-    )
+    release = Profile([0.0, dt], [start.position, p1], [start.velocity, v1], [a0, 0.0], [j, 0.0])
     return Profile.concatenate(release, _ruckig_velocity(KinematicState(p1, v1), velocity, limits))
 
 
@@ -153,13 +159,14 @@ def _load_state(start: KinematicState, limits: Limits, sign: int) -> None:
     _input.current_velocity = [velocity]
     _input.current_acceleration = [acceleration]
     _input.target_acceleration = [0.0]
+    global _loaded
     if sign >= 0:
-        _input.max_acceleration = [limits.acceleration]
-        _input.min_acceleration = [-limits.deceleration]
+        _loaded = (limits.velocity, limits.acceleration, -limits.deceleration, limits.jerk)
     else:
-        _input.max_acceleration = [limits.deceleration]
-        _input.min_acceleration = [-limits.acceleration]
-    _input.max_jerk = [limits.jerk]
+        _loaded = (limits.velocity, limits.deceleration, -limits.acceleration, limits.jerk)
+    _input.max_acceleration = [_loaded[1]]
+    _input.min_acceleration = [_loaded[2]]
+    _input.max_jerk = [_loaded[3]]
 
 
 #: ruckig's community build fails on a few inputs in its numerical step 1; the same problem
@@ -169,15 +176,15 @@ _RETRY_FACTORS = (1.0, 1.0 - 1e-12, 1.0 - 1e-10, 1.0 - 1e-8, 1.0 - 1e-6)
 
 
 def _calculate() -> Profile:
-    limits = (_input.max_velocity, _input.max_acceleration, _input.min_acceleration,
-              _input.max_jerk)
+    velocity, max_acc, min_acc, jerk = _loaded
     failure = ""
     for factor in _RETRY_FACTORS:
         if factor != 1.0:
-            _input.max_velocity = [limits[0][0] * factor]
-            _input.max_acceleration = [limits[1][0] * factor]
-            _input.min_acceleration = [limits[2][0] * factor]
-            _input.max_jerk = [limits[3][0] * factor]
+            if _input.control_interface == ControlInterface.Position:
+                _input.max_velocity = [velocity * factor]
+            _input.max_acceleration = [max_acc * factor]
+            _input.min_acceleration = [min_acc * factor]
+            _input.max_jerk = [jerk * factor]
         try:
             result = _otg.calculate(_input, _trajectory)
         except (RuckigError, RuntimeError) as exc:  # ruckig raises on inputs it cannot plan
@@ -190,43 +197,33 @@ def _calculate() -> Profile:
 
 
 def _segments(profile) -> Profile:  # noqa: ANN001 - ruckig.Profile has no public type
-    """Flatten ruckig's brake, main and accel (post) phases into non-empty segments."""
-    t: list[float] = []
-    p: list[float] = []
-    v: list[float] = []
-    a: list[float] = []
-    j: list[float] = []
-    clock = 0.0
-    main_p, main_v, main_a = profile.p, profile.v, profile.a
-    pieces = []
+    """Flatten ruckig's brake and main phases into non-empty segments.
+
+    Ruckig's post-phase (``accel``) only serves target states beyond the limits, which we
+    never command, so it is not read. Plain lists here: this runs on every plan.
+    """
     brake = profile.brake
+    durations, jerks, ps, vs, accs = profile.t, profile.j, profile.p, profile.v, profile.a
     if brake.duration > 0.0:
-        pieces.append((brake.t, brake.j, brake.p, brake.v, brake.a))
-    pieces.append((profile.t, profile.j, main_p, main_v, main_a))
-    post = profile.accel
-    if post.duration > 0.0:
-        pieces.append((post.t, post.j, post.p, post.v, post.a))
-    for durations, jerks, ps, vs, accs in pieces:
-        for k, duration in enumerate(durations):
-            if duration > _MIN_SEGMENT:
-                t.append(clock)
-                p.append(ps[k])
-                v.append(vs[k])
-                a.append(accs[k])
-                j.append(jerks[k])
-                clock += duration
-    if t:
-        dt = clock - t[-1]
-        end_p = p[-1] + dt * (v[-1] + dt * (a[-1] / 2.0 + dt * j[-1] / 6.0))
-        end_v = v[-1] + dt * (a[-1] + dt * j[-1] / 2.0)
+        durations = brake.t + durations
+        jerks, ps, vs, accs = brake.j + jerks, brake.p + ps[:7], brake.v + vs[:7], \
+            brake.a + accs[:7]
+    keep = [k for k, duration in enumerate(durations) if duration > _MIN_SEGMENT]
+    t = [0.0, *accumulate([durations[k] for k in keep])]
+    p = [ps[k] for k in keep]
+    v = [vs[k] for k in keep]
+    a = [accs[k] for k in keep]
+    j = [jerks[k] for k in keep]
+    if keep:
+        dt, p0, v0, a0, j0 = t[-1] - t[-2], p[-1], v[-1], a[-1], j[-1]
+        p.append(p0 + dt * (v0 + dt * (a0 / 2.0 + dt * j0 / 6.0)))
+        v.append(v0 + dt * (a0 + dt * j0 / 2.0))
     else:
-        end_p, end_v = main_p[0], main_v[0]
-    t.append(clock)
-    p.append(end_p)
-    v.append(end_v)
+        p.append(ps[0])
+        v.append(vs[0])
     a.append(0.0)
     j.append(0.0)
-    return Profile(np.array(t), np.array(p), np.array(v), np.array(a), np.array(j))
+    return Profile.from_data(np.array((t, p, v, a, j)))
 
 
 def _with_exact_end(profile: Profile, position: float, velocity: float) -> Profile:

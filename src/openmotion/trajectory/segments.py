@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 
 @dataclass(frozen=True, slots=True)
@@ -20,15 +21,32 @@ class KinematicState:
     acceleration: float = 0.0  #: [mm/s²]
 
 
-@dataclass(frozen=True, slots=True)
 class Profile:
-    """Segments k = 0..n-1 start at offset ``t[k]`` [s] with state ``p, v, a`` and jerk ``j``."""
+    """Segments k = 0..n-1 start at offset ``t[k]`` [s] with state ``p, v, a`` and jerk ``j``.
 
-    t: np.ndarray
-    p: np.ndarray
-    v: np.ndarray
-    a: np.ndarray
-    j: np.ndarray
+    The five rows live in one (5, n) array ``data``: the table installs it in one copy.
+    """
+
+    __slots__ = ("data",)
+
+    def __init__(self, t: ArrayLike, p: ArrayLike, v: ArrayLike, a: ArrayLike,
+                 j: ArrayLike) -> None:
+        self.data = np.array((t, p, v, a, j), dtype=float)
+
+    @classmethod
+    def from_data(cls, data: np.ndarray) -> Profile:
+        profile = cls.__new__(cls)
+        profile.data = data
+        return profile
+
+    t = property(lambda self: self.data[0])
+    p = property(lambda self: self.data[1])
+    v = property(lambda self: self.data[2])
+    a = property(lambda self: self.data[3])
+    j = property(lambda self: self.data[4])
+
+    def __repr__(self) -> str:
+        return f"<Profile {self.data.shape[1]} segments, {self.duration:.6g} s>"
 
     @property
     def duration(self) -> float:
@@ -53,17 +71,18 @@ class Profile:
 
     def velocity_extrema(self) -> tuple[float, float]:
         """Lowest and highest velocity over the whole profile (segment ends and interior)."""
-        lo = hi = float(self.v[0])
-        for k in range(len(self.t) - 1):
-            dt = self.t[k + 1] - self.t[k]
-            v0, a0, j = self.v[k], self.a[k], self.j[k]
-            candidates = [v0 + dt * (a0 + dt * j / 2.0)]
-            if j != 0.0:
-                tm = -a0 / j
+        t, v, a, j = self.t.tolist(), self.v.tolist(), self.a.tolist(), self.j.tolist()
+        lo = hi = v[0]
+        for k in range(len(t) - 1):
+            dt = t[k + 1] - t[k]
+            v0, a0, jk = v[k], a[k], j[k]
+            end = v0 + dt * (a0 + dt * jk / 2.0)
+            lo, hi = min(lo, end), max(hi, end)
+            if jk != 0.0:
+                tm = -a0 / jk
                 if 0.0 < tm < dt:
-                    candidates.append(v0 + tm * (a0 + tm * j / 2.0))
-            lo = min(lo, *candidates)
-            hi = max(hi, *candidates)
+                    peak = v0 + tm * (a0 + tm * jk / 2.0)
+                    lo, hi = min(lo, peak), max(hi, peak)
         return lo, hi
 
     def position_extrema(self) -> tuple[float, float]:
@@ -82,7 +101,9 @@ class Profile:
 
     def shifted(self, offset: float) -> Profile:
         """The same motion with every position moved by ``offset`` (coordinate shifts)."""
-        return Profile(self.t, self.p + offset, self.v, self.a, self.j)
+        data = self.data.copy()
+        data[1] += offset
+        return Profile.from_data(data)
 
     @staticmethod
     def hold(state: KinematicState) -> Profile:
@@ -95,14 +116,12 @@ class Profile:
     @staticmethod
     def concatenate(first: Profile, second: Profile) -> Profile:
         """``second`` starts where ``first`` ends (its open segment is dropped)."""
-        offset = first.duration
-        return Profile(
-            np.concatenate([first.t[:-1], second.t + offset]),
-            np.concatenate([first.p[:-1], second.p]),
-            np.concatenate([first.v[:-1], second.v]),
-            np.concatenate([first.a[:-1], second.a]),
-            np.concatenate([first.j[:-1], second.j]),
-        )
+        n = first.data.shape[1] - 1
+        both = np.empty((5, n + second.data.shape[1]))
+        both[:, :n] = first.data[:, :n]
+        both[:, n:] = second.data
+        both[0, n:] += first.duration
+        return Profile.from_data(both)
 
 
 def _roots_of_velocity(v0: float, a0: float, j: float) -> list[float]:
