@@ -125,9 +125,11 @@ def _table_samples(profiles: list[Profile], offsets: list[float], times: np.ndar
         table.install(row, profile, offset)
     start = max(offsets)
     out = np.zeros((len(rows), 3, len(times)))
+    p, v, a, j = (np.zeros(table.capacity) for _ in range(4))
+    n = len(rows)
     for i, time in enumerate(times):
-        p, v, a, _ = table.evaluate(start + time)
-        out[:, 0, i], out[:, 1, i], out[:, 2, i] = p, v, a
+        table.evaluate(start + time, p, v, a, j)
+        out[:, 0, i], out[:, 1, i], out[:, 2, i] = p[:n], v[:n], a[:n]
     return [(start + times) - offset for offset in offsets], out
 
 

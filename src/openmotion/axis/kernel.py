@@ -72,22 +72,21 @@ class AxisKernel:
         return np.flatnonzero(self.has_job[:n] & (self.segments.end[:n] <= now))
 
     def evaluate(self, now: float) -> None:
-        n = self.size
-        p, v, a, j = self.segments.evaluate(now)
-        self.set_p[:n], self.set_v[:n], self.set_a[:n], self.set_j[:n] = p, v, a, j
+        self.segments.evaluate(now, self.set_p, self.set_v, self.set_a, self.set_j)
         self.sample_time = now
 
     def simulate_drives(self) -> None:
         n = self.size
-        previous = self.act_p[:n].copy()
-        if not self._any_lag:
+        if not self._any_lag:  # ideal drives follow the setpoint exactly
             self.act_p[:n] = self.set_p[:n]
-        else:
-            width = self.history.shape[1]
-            self._head = (self._head + 1) % width
-            self.history[:n, self._head] = self.set_p[:n]
-            delayed = self.history[np.arange(n), (self._head - self.dead[:n]) % width]
-            self.act_p[:n] += self.alpha[:n] * (delayed - self.act_p[:n])
+            self.act_v[:n] = self.set_v[:n]
+            return
+        previous = self.act_p[:n].copy()
+        width = self.history.shape[1]
+        self._head = (self._head + 1) % width
+        self.history[:n, self._head] = self.set_p[:n]
+        delayed = self.history[np.arange(n), (self._head - self.dead[:n]) % width]
+        self.act_p[:n] += self.alpha[:n] * (delayed - self.act_p[:n])
         self.act_v[:n] = (self.act_p[:n] - previous) / self.cycle_time
 
     def lag_alarms(self) -> np.ndarray:

@@ -37,7 +37,6 @@ class SegmentTable:
             next_start[:n], end[:n] = self.next_start[:n], self.end[:n]
         self.seg, self.cur, self.next_start, self.end = seg, cur, next_start, end
         self._dt, self._tmp = np.zeros(capacity), np.zeros(capacity)
-        self.out_p, self.out_v, self.out_a = (np.zeros(capacity) for _ in range(3))
         self.capacity = capacity
 
     def add(self, state: KinematicState, time: float) -> int:
@@ -77,8 +76,10 @@ class SegmentTable:
         self.next_start[rows] = np.where(k + 1 < self.columns, seg[rows, following, _T],
                                          np.inf)
 
-    def evaluate(self, now: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Position, velocity, acceleration and jerk of every row at ``now`` (views)."""
+    def evaluate(self, now: float, p: np.ndarray, v: np.ndarray, a: np.ndarray,
+                 j: np.ndarray) -> None:
+        """Write position, velocity, acceleration and jerk of every row at ``now`` into the
+        first ``size`` elements of ``p``, ``v``, ``a`` and ``j``."""
         n = self.size
         crossed = np.flatnonzero(self.next_start[:n] <= now)
         if crossed.size:
@@ -86,7 +87,8 @@ class SegmentTable:
         cur = self.cur
         t0, p0, v0, a0, j0 = cur[_T, :n], cur[_P, :n], cur[_V, :n], cur[_A, :n], cur[_J, :n]
         dt, tmp = self._dt[:n], self._tmp[:n]
-        p, v, a = self.out_p[:n], self.out_v[:n], self.out_a[:n]
+        p, v, a = p[:n], v[:n], a[:n]
+        j[:n] = j0
         np.subtract(now, t0, out=dt)
         # acceleration: a0 + dt*j
         np.multiply(dt, j0, out=a)
@@ -106,7 +108,6 @@ class SegmentTable:
         np.add(tmp, v0, out=tmp)
         np.multiply(tmp, dt, out=p)
         np.add(p, p0, out=p)
-        return p, v, a, j0
 
     def state(self, row: int, time: float) -> KinematicState:
         """Exact kinematic state of one row at ``time`` (used when planning from it)."""
