@@ -50,7 +50,9 @@ velocity commands the velocity interface; deceleration is mapped to ``min_accele
 raises ``RuckigError`` instead of returning an error code, so the loop only has a try block (free
 in Python 3.11 unless raised). Rarely (about 1 in 4000 random commands) the velocity interface
 raises when the current acceleration lies outside the new bounds; like pyplcopen's rejections,
-the bounds are then widened just enough and the update repeated, counted in ``PeerRun.reissued``.
+the bounds are then widened just enough and the update repeated; if ruckig still fails (its
+numerical step 1), every limit is lowered by 1e-12 ... 1e-6 relative, as openmotion's planner
+does. Both are counted in ``PeerRun.reissued``.
 """
 
 from __future__ import annotations
@@ -285,6 +287,28 @@ def _widen_ruckig_acceleration(inp: Any) -> None:
     inp.min_acceleration = [min(inp.min_acceleration[0], -floor)]
 
 
+_RUCKIG_RETRY_FACTORS = (1.0 - 1e-12, 1.0 - 1e-10, 1.0 - 1e-8, 1.0 - 1e-6)
+
+
+def _retry_ruckig(otg: Any, inp: Any, out: Any) -> bool:
+    """After a RuckigError: widen the acceleration bounds, then lower every limit a hair (the
+    retries openmotion's planner makes, decisions D-021). False when nothing plans."""
+    _widen_ruckig_acceleration(inp)
+    limits = (inp.max_velocity[0], inp.max_acceleration[0], inp.min_acceleration[0],
+              inp.max_jerk[0])
+    for factor in (1.0, *_RUCKIG_RETRY_FACTORS):
+        inp.max_velocity = [limits[0] * factor]
+        inp.max_acceleration = [limits[1] * factor]
+        inp.min_acceleration = [limits[2] * factor]
+        inp.max_jerk = [limits[3] * factor]
+        try:
+            otg.update(inp, out)
+        except ruckig.RuckigError:
+            continue
+        return True
+    return False
+
+
 def _drive_ruckig(
     n_axes: int, stream: list[StreamCommand], cycles: int, cycle_time: float = 0.001
 ) -> PeerRun:
@@ -335,9 +359,9 @@ def _drive_ruckig(
             try:
                 otg.update(inp, out)
             except ruckig.RuckigError:  # zero-cost in 3.11 unless raised
-                _widen_ruckig_acceleration(inp)
-                otg.update(inp, out)
                 reissued += 1
+                if not _retry_ruckig(otg, inp, out):
+                    continue  # no plan at all this cycle: the axis holds its state
             out.pass_to_input(inp)
     elapsed = time.perf_counter() - start
     return PeerRun(elapsed, [inp.current_position[0] for inp in inps], reissued)
