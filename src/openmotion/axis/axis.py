@@ -38,6 +38,12 @@ _BLEND_SPEED = {
 }
 
 
+_STATE_OF_JOB = {
+    "position": AxisState.DISCRETE_MOTION, "halt": AxisState.DISCRETE_MOTION,
+    "velocity": AxisState.CONTINUOUS_MOTION, "stop": AxisState.STOPPING,
+}
+
+
 class Axis:
     """One simulated NC axis. Units: mm (or °) and s."""
 
@@ -546,10 +552,7 @@ class Axis:
         self._job = job
         job.command.status = CommandStatus.ACTIVE
         self._install(profile, time=time)
-        self.state = {
-            "position": AxisState.DISCRETE_MOTION, "halt": AxisState.DISCRETE_MOTION,
-            "velocity": AxisState.CONTINUOUS_MOTION, "stop": AxisState.STOPPING,
-        }[job.kind]
+        self.state = _STATE_OF_JOB[job.kind]
         if job.soft_limit_stop:  # a MoveVelocity that will stop at a software limit
             self.state = AxisState.CONTINUOUS_MOTION
             self._rt._watch(self, lambda now: self._cruise_check(job))

@@ -17,7 +17,7 @@ from openmotion.axis.commands import Command
 from openmotion.axis.drive import DriveModel
 from openmotion.axis.kernel import AxisKernel
 from openmotion.axis.parameters import PARAMETER_FIELDS, AxisParameters
-from openmotion.core.errors import ConfigError
+from openmotion.core.errors import ConfigError, ErrorId
 
 Program = Callable[[], Any]
 Observer = Callable[["Runtime"], Any]
@@ -110,8 +110,6 @@ class Runtime:
         kernel.simulate_drives()
         alarms = kernel.lag_alarms()
         if alarms.size:
-            from openmotion.core.errors import ErrorId
-
             for row in alarms.tolist():
                 axis = self._axis_list[row]
                 axis._fault(ErrorId.FOLLOWING_ERROR,
