@@ -385,6 +385,76 @@ class Axis:
         self._finish(command)
         return command
 
+    def set_actual_position_on_the_fly(self, actual_position: InputValue,
+                                       previous_position: InputValue) -> Command:
+        """MC_SetActualPositionOnTheFly (TcMC §4.13): shift the coordinates of a moving axis.
+
+        Set position, actual position and the running move's target all move by
+        ``actual_position - previous_position``: the move covers the same distance and ends
+        at its old target plus that shift.
+        """
+        command = self._new("set_position_on_the_fly")
+        try:
+            if self.state in (AxisState.DISABLED, AxisState.ERROR_STOP, AxisState.HOMING):
+                admit(self.state, "move")
+            offset = require_position("actual_position", actual_position) - require_position(
+                "previous_position", previous_position)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        self.shift_coordinates(offset)
+        self._finish(command)
+        return command
+
+    def oriented_stop(self, position: InputValue) -> Command:
+        """MC_OrientedStop (TcMC §3.16): stop at the next reachable modulo ``position``.
+
+        Braking uses the running move's deceleration and jerk; the stop point is the first
+        position with the requested modulo value not before the normal stopping point, so the
+        travel may be up to one modulo period longer. Where that is impossible (a stop runs
+        already, a software limit lies before it) the axis stops normally and the command
+        reports the error.
+        """
+        command = self._new("oriented_stop")
+        period = self.parameters.modulo_period
+        try:
+            admit(self.state, "stop")
+            target = require_position("position", position)
+            if not 0.0 <= target < period:
+                raise CommandRejected(ErrorId.INVALID_MODULO_TARGET,
+                                      f"position must lie in [0, {period}), got {target}")
+            if self.state in (AxisState.STANDSTILL, AxisState.HOMING):
+                raise CommandRejected(ErrorId.AXIS_NOT_MOVING, "oriented stop needs motion")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        limits = self._stop_limits(0.0, 0.0, command)
+        start = self._k.state(self.row)
+        normal = plan_stop(start, limits.deceleration, limits.jerk)
+        failure: CommandRejected | None = None
+        profile = normal
+        if self.state is AxisState.STOPPING:
+            failure = CommandRejected(ErrorId.AXIS_STOPPING, "a stop runs already")
+        else:
+            direction = _sign(start.velocity) or _sign(start.acceleration) or 1
+            end = normal.end.position
+            offset = (target - end % period) % period if direction > 0 else \
+                -((end % period - target) % period)
+            goal = modulo_target_exact(end + offset, target, period)
+            speed = Limits(max(abs(start.velocity), 1e-9), limits.acceleration,
+                           limits.deceleration, limits.jerk)
+            try:
+                profile = jobs.plan_job(Job("position", command, speed, target=goal), start,
+                                        1.0, self.parameters)
+                jobs.check_soft_limits(self.parameters, profile, goal)
+            except CommandRejected as rejected:
+                failure, profile = rejected, normal
+        self._abort_all("aborted by MC_OrientedStop")
+        self._hold = None
+        self._start(Job("stop", command, limits), profile)
+        if failure is not None:
+            self._reject(command, failure.error_id,
+                         failure.message + "; stopped without orientation")
+        return command
+
     def new_position(self, position: InputValue) -> Command:
         """MC_NewPos (TcMC §3.7): a new target for the running move; Done = accepted."""
         return self.new_position_and_velocity(NewPosAndVeloMode.CHANGE_POS, position, 0.0)
@@ -913,6 +983,11 @@ def _check_dynamics_change(job: Job, profile: Profile, start: KinematicState) ->
     if peak > job.limits.velocity * (1 + 1e-9) and peak > abs(start.velocity) * (1 + 1e-9):
         raise CommandRejected(ErrorId.DYN_VELOCITY_EXCEEDED,
                               "the travel velocity would be exceeded")
+
+
+def modulo_target_exact(approximate: float, base: float, period: float) -> float:
+    """The position base + n*period nearest to ``approximate`` (no rounding residue)."""
+    return base + period * round((approximate - base) / period)
 
 
 def _parameter_spec(number: int):  # noqa: ANN202 - ParameterSpec

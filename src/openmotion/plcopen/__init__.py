@@ -26,6 +26,7 @@ from openmotion.plcopen.parameters import (
 from openmotion.plcopen.power import MC_Power
 from openmotion.plcopen.read import MC_ReadActualPosition, MC_ReadAxisError, MC_ReadStatus
 from openmotion.plcopen.stop import MC_Halt, MC_Stop
+from openmotion.plcopen.stop_ext import MC_OrientedStop, MC_SetActualPositionOnTheFly
 
 __all__ = [
     "EnableBlock",
@@ -41,6 +42,7 @@ __all__ = [
     "MC_MoveVelocity",
     "MC_NewPos",
     "MC_NewPosAndVelo",
+    "MC_OrientedStop",
     "MC_Power",
     "MC_ReadActualPosition",
     "MC_ReadAxisError",
@@ -50,6 +52,7 @@ __all__ = [
     "MC_ReadStatus",
     "MC_Reset",
     "MC_SetActualPosition",
+    "MC_SetActualPositionOnTheFly",
     "MC_SetOverride",
     "MC_Stop",
     "MC_WriteBoolParameter",
