@@ -16,6 +16,7 @@ from openmotion.plcopen.move import (
     MC_MoveVelocity,
 )
 from openmotion.plcopen.newpos import MC_NewPos, MC_NewPosAndVelo
+from openmotion.plcopen.override_filter import MC_OverrideFilter
 from openmotion.plcopen.parameters import (
     MC_ReadBoolParameter,
     MC_ReadParameter,
@@ -25,11 +26,14 @@ from openmotion.plcopen.parameters import (
 )
 from openmotion.plcopen.power import MC_Power
 from openmotion.plcopen.read import MC_ReadActualPosition, MC_ReadAxisError, MC_ReadStatus
+from openmotion.plcopen.reference import MC_ReadAxisComponents, MC_SetReferenceFlag
 from openmotion.plcopen.stop import MC_Halt, MC_Stop
 from openmotion.plcopen.stop_ext import MC_OrientedStop, MC_SetActualPositionOnTheFly
+from openmotion.plcopen.version import F_GetVersionTcMC
 
 __all__ = [
     "EnableBlock",
+    "F_GetVersionTcMC",
     "ExecuteBlock",
     "FunctionBlock",
     "MC_ChangeDynParam",
@@ -43,8 +47,10 @@ __all__ = [
     "MC_NewPos",
     "MC_NewPosAndVelo",
     "MC_OrientedStop",
+    "MC_OverrideFilter",
     "MC_Power",
     "MC_ReadActualPosition",
+    "MC_ReadAxisComponents",
     "MC_ReadAxisError",
     "MC_ReadBoolParameter",
     "MC_ReadParameter",
@@ -54,6 +60,7 @@ __all__ = [
     "MC_SetActualPosition",
     "MC_SetActualPositionOnTheFly",
     "MC_SetOverride",
+    "MC_SetReferenceFlag",
     "MC_Stop",
     "MC_WriteBoolParameter",
     "MC_WriteParameter",
