@@ -8,6 +8,7 @@ from openmotion.plcopen.admin import (
 )
 from openmotion.plcopen.handshake import EnableBlock, ExecuteBlock, FunctionBlock
 from openmotion.plcopen.home import MC_Home
+from openmotion.plcopen.jog import JogMode, MC_Jog
 from openmotion.plcopen.move import (
     MC_MoveAbsolute,
     MC_MoveAbsoluteOrRestart,
@@ -36,9 +37,11 @@ __all__ = [
     "F_GetVersionTcMC",
     "ExecuteBlock",
     "FunctionBlock",
+    "JogMode",
     "MC_ChangeDynParam",
     "MC_Halt",
     "MC_Home",
+    "MC_Jog",
     "MC_MoveAbsolute",
     "MC_MoveAbsoluteOrRestart",
     "MC_MoveModulo",
