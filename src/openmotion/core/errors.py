@@ -51,6 +51,7 @@ class ErrorId(IntEnum):
     BUFFER_FULL = 0x710A  #: 16 commands wait already (D-008)
     AXIS_NOT_HOMED = 0x710B  #: reserved: the command needs a homed axis
     NOTHING_TO_DO = 0x710C  #: a modifying command without a running job to modify
+    PROBE_ALREADY_ARMED = 0x710D  #: the touch-probe input is armed by another cycle
     # openmotion: axis errors raised by monitoring (0x72xx), these take the axis to ErrorStop
     FOLLOWING_ERROR = 0x7201  #: following error above 1020 for longer than 1021
     SOFT_LIMIT_REACHED = 0x7202  #: a velocity move stopped at an enabled software limit

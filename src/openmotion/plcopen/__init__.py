@@ -30,6 +30,7 @@ from openmotion.plcopen.read import MC_ReadActualPosition, MC_ReadAxisError, MC_
 from openmotion.plcopen.reference import MC_ReadAxisComponents, MC_SetReferenceFlag
 from openmotion.plcopen.stop import MC_Halt, MC_Stop
 from openmotion.plcopen.stop_ext import MC_OrientedStop, MC_SetActualPositionOnTheFly
+from openmotion.plcopen.touch_probe import MC_AbortTrigger, MC_TouchProbe
 from openmotion.plcopen.version import F_GetVersionTcMC
 
 __all__ = [
@@ -38,6 +39,7 @@ __all__ = [
     "ExecuteBlock",
     "FunctionBlock",
     "JogMode",
+    "MC_AbortTrigger",
     "MC_ChangeDynParam",
     "MC_Halt",
     "MC_Home",
@@ -65,6 +67,7 @@ __all__ = [
     "MC_SetOverride",
     "MC_SetReferenceFlag",
     "MC_Stop",
+    "MC_TouchProbe",
     "MC_WriteBoolParameter",
     "MC_WriteParameter",
 ]
