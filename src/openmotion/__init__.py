@@ -7,6 +7,7 @@ from openmotion.axis.parameters import AxisPara, AxisParameters
 from openmotion.core.enums import (
     AxisState,
     BufferMode,
+    DecoupleMode,
     Direction,
     NewPosAndVeloMode,
     ReadMode,
@@ -39,6 +40,7 @@ __all__ = [
     "Command",
     "CommandStatus",
     "ConfigError",
+    "DecoupleMode",
     "Direction",
     "DriveModel",
     "ErrorId",

@@ -100,7 +100,7 @@ def test_public_names_are_pinned():
     assert sorted(om.__all__) == sorted(
         ["DEFAULT_HOME_POSITION", "MC_DEFAULT", "MC_IGNORE", "MC_INVALID", "MC_MAXIMUM", "Axis",
          "AxisPara", "AxisParameters", "AxisState", "BufferMode", "Command", "CommandStatus",
-         "ConfigError", "Direction", "DriveModel", "ErrorId", "FallingBehindError",
+         "ConfigError", "DecoupleMode", "Direction", "DriveModel", "ErrorId", "FallingBehindError",
          "NewPosAndVeloMode", "PacedRuntime", "ReadMode", "ReferenceMode", "Runtime",
          "__version__"]
     )

@@ -18,10 +18,21 @@ from openmotion.axis.dynamics import require_position, resolve, resolve_limits
 from openmotion.axis.homing import HomingSequence
 from openmotion.axis.parameters import PARAMETERS, AxisPara, AxisParameters
 from openmotion.axis.state_machine import admit
-from openmotion.core.enums import AxisState, BufferMode, Direction, NewPosAndVeloMode
+from openmotion.core.enums import (
+    AxisState,
+    BufferMode,
+    DecoupleMode,
+    Direction,
+    NewPosAndVeloMode,
+)
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.modulo import modulo_target
-from openmotion.core.special_values import DEFAULT_HOME_POSITION, MC_DEFAULT, InputValue
+from openmotion.core.special_values import (
+    DEFAULT_HOME_POSITION,
+    MC_DEFAULT,
+    MC_INVALID,
+    InputValue,
+)
 from openmotion.trajectory.plan import Limits, plan_stop, plan_velocity
 from openmotion.trajectory.segments import KinematicState, Profile
 
@@ -455,6 +466,161 @@ class Axis:
                          failure.message + "; stopped without orientation")
         return command
 
+    # -- gearing (TcMC §3.17-3.21) -------------------------------------------------------------
+
+    def gear_in(self, master: Axis, ratio: float, acceleration: InputValue | None = None
+                ) -> Command:
+        """MC_GearIn / MC_GearInFloat / MC_GearInDyn: couple this slave to ``master``.
+
+        Only at standstill (TcMC §3.17): the slave in StandStill and the master at rest. With
+        ``acceleration`` (MC_GearInDyn) later ratio changes slew at most at
+        ``acceleration / master max_velocity`` per second (§3.19).
+        """
+        command = self._new("gear_in")
+        try:
+            if master is self or not isinstance(master, Axis):
+                raise CommandRejected(ErrorId.INVALID_MODE, "the master must be another axis")
+            admit(self.state, "move")
+            if self.state is not AxisState.STANDSTILL:
+                raise CommandRejected(ErrorId.AXIS_NOT_STANDSTILL,
+                                      "coupling only at standstill (TcMC §3.17)")
+            if master.set_velocity != 0.0 or master.set_acceleration != 0.0:
+                raise CommandRejected(ErrorId.AXIS_NOT_STANDSTILL,
+                                      "the master moves: coupling only at standstill")
+            ratio = _gear_ratio(ratio)
+            rate = math.inf
+            if acceleration is not None:
+                dyn = resolve("acceleration", acceleration, self.parameters, command.warnings)
+                rate = dyn / master.parameters.max_velocity
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        self._abort_all("aborted by MC_GearIn")
+        self._hold = None
+        self._k.couplings.couple(self.row, master.row, ratio, master.set_position,
+                                 self.set_position)
+        p = self.parameters
+        job = Job("gear", command, Limits(p.max_velocity, p.acceleration, p.deceleration, p.jerk))
+        job.extra.update(master=master, target_ratio=ratio, ratio_rate=rate)
+        self._job = job
+        command.status = CommandStatus.ACTIVE
+        self.state = AxisState.SYNCHRONIZED_MOTION
+        self._rt._watch(self, lambda now: self._gear_cycle(job))
+        return command
+
+    def set_gear_ratio(self, ratio: float) -> Command:
+        """A new target ratio for a dynamic coupling (MC_GearInDyn, re-read every cycle)."""
+        command = self._new("gear_ratio")
+        job = self._job
+        try:
+            if job is None or job.kind != "gear":
+                raise CommandRejected(ErrorId.NOT_COUPLED, "the axis is not a geared slave")
+            job.extra["target_ratio"] = _gear_ratio(ratio)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        self._finish(command)
+        return command
+
+    def gear_out(self) -> Command:
+        """MC_GearOut (TcMC §3.20): decouple; a moving slave releases its acceleration and
+        cruises at constant velocity until another command, like after MC_MoveVelocity."""
+        command = self._new("gear_out")
+        job = self._job
+        if job is None or job.kind != "gear":
+            return self._reject(command, ErrorId.NOT_COUPLED, "the axis is not a geared slave")
+        job.command._end(CommandStatus.ABORTED, self._rt.now, message="decoupled by MC_GearOut")
+        self._job = None
+        self._release_coupling()
+        self._finish(command)
+        return command
+
+    def gear_out_ext(self, mode: DecoupleMode, position: InputValue = MC_INVALID,
+                     velocity: InputValue = MC_INVALID, acceleration: InputValue = MC_DEFAULT,
+                     deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT
+                     ) -> Command:
+        """MC_GearOutExt (TcMC §3.21): decouple, then the follow-up ``mode`` if moving.
+
+        Returns the follow-up command (Done at its target or constant velocity); at
+        standstill there is no follow-up and the returned command is Done at once.
+        """
+        try:
+            mode = DecoupleMode(mode)
+        except ValueError:
+            command = self._new("gear_out_ext")
+            return self._reject(command, ErrorId.INVALID_MODE, f"mode {mode!r} is unknown")
+        moving = self.set_velocity != 0.0 or self.set_acceleration != 0.0
+        out = self.gear_out()
+        if out.error or not moving:
+            return out
+        direction = Direction.NEGATIVE if self.set_velocity < 0.0 else Direction.POSITIVE
+        if mode is DecoupleMode.STOP:
+            return self.stop(deceleration, jerk)
+        if mode is DecoupleMode.ORIENTED_STOP:
+            return self.oriented_stop(position)
+        if mode is DecoupleMode.ENDLESS:
+            return self.move_velocity(abs(self.set_velocity) or MC_INVALID, direction,
+                                      acceleration, deceleration, jerk)
+        if mode is DecoupleMode.ENDLESS_NEW_VELOCITY:
+            return self.move_velocity(velocity, direction, acceleration, deceleration, jerk)
+        if mode is DecoupleMode.NEW_POSITION:
+            return self.move_absolute(position, max(abs(self.set_velocity), 1e-9),
+                                      acceleration, deceleration, jerk)
+        if mode is DecoupleMode.NEW_POSITION_AND_VELOCITY:
+            return self.move_absolute(position, velocity, acceleration, deceleration, jerk)
+        halt = self._new("instantaneous_stop")  # the velocity jumps to zero (§3.21)
+        self._install(Profile.hold(KinematicState(self.set_position)), has_job=False)
+        self._job = None
+        self.state = AxisState.STANDSTILL
+        self._finish(halt)
+        return halt
+
+    def _gear_cycle(self, job: Job) -> bool:
+        """Per cycle while coupled: slew a dynamic ratio, watch the slave's limits."""
+        if job is not self._job or job.command.finished:
+            return False
+        couplings, master = self._k.couplings, job.extra["master"]
+        ratio, target = couplings.ratio_of(self.row), job.extra["target_ratio"]
+        if ratio != target:
+            cycle = self._rt.cycle_time
+            step = min(abs(target - ratio), job.extra["ratio_rate"] * cycle)
+            new = target if step == abs(target - ratio) else ratio + math.copysign(step,
+                                                                                   target - ratio)
+            couplings.set_ratio(self.row, new, master.set_position, (new - ratio) / cycle)
+        elif couplings.ratio_rate[couplings.slaves == self.row].any():
+            couplings.set_ratio(self.row, ratio, master.set_position, 0.0)
+        p = self.parameters
+        v, a = abs(self.set_velocity), abs(self.set_acceleration)
+        if v > p.max_velocity * (1 + 1e-9) or a > max(p.max_acceleration,
+                                                     p.max_deceleration) * (1 + 1e-9):
+            self._fault(ErrorId.GEAR_LIMIT_EXCEEDED,
+                        f"geared slave at {v:.6g} mm/s, {a:.6g} mm/s² beyond its maxima")
+            return False
+        return True
+
+    def _release_coupling(self) -> None:
+        """Decouple: continue from the coupled state, releasing the acceleration (§3.20)."""
+        k = self._k
+        if self.row not in k.couplings:
+            return
+        start = k.state(self.row)
+        k.couplings.decouple(self.row)
+        p = self.parameters
+        cruise = start.velocity + start.acceleration * abs(start.acceleration) / (2.0 * p.jerk)
+        profile = plan_velocity(start, cruise, Limits(p.max_velocity, p.max_acceleration,
+                                                      p.max_deceleration, p.jerk))
+        self._install(profile, has_job=False)
+        if cruise != 0.0:  # keeps moving like after MC_MoveVelocity
+            p = self.parameters
+            motion = self._new("decoupled")
+            job = Job("velocity", motion, Limits(abs(cruise), p.acceleration, p.deceleration,
+                                                 p.jerk), velocity=cruise)
+            self._job = job
+            motion.status = CommandStatus.ACTIVE
+            motion.in_velocity = profile.duration == 0.0
+            self._k.has_job[self.row] = profile.duration > 0.0
+            self.state = AxisState.CONTINUOUS_MOTION
+        else:
+            self.state = AxisState.STANDSTILL
+
     def new_position(self, position: InputValue) -> Command:
         """MC_NewPos (TcMC §3.7): a new target for the running move; Done = accepted."""
         return self.new_position_and_velocity(NewPosAndVeloMode.CHANGE_POS, position, 0.0)
@@ -784,6 +950,9 @@ class Axis:
             self._job.command._end(CommandStatus.ABORTED, now, message=reason)
             if self._job.kind == "home":
                 self.calibration_state = 0
+            if self._job.kind == "gear":
+                self._job = None
+                self._release_coupling()  # the new command starts from the coupled state
             self._job = None
         for job in self._queue:
             job.command._end(CommandStatus.ABORTED, now, message=reason)
@@ -983,6 +1152,12 @@ def _check_dynamics_change(job: Job, profile: Profile, start: KinematicState) ->
     if peak > job.limits.velocity * (1 + 1e-9) and peak > abs(start.velocity) * (1 + 1e-9):
         raise CommandRejected(ErrorId.DYN_VELOCITY_EXCEEDED,
                               "the travel velocity would be exceeded")
+
+
+def _gear_ratio(ratio: object) -> float:
+    if isinstance(ratio, bool) or not isinstance(ratio, int | float) or not math.isfinite(ratio):
+        raise CommandRejected(ErrorId.INVALID_GEAR_RATIO, f"gear ratio {ratio!r} is not finite")
+    return float(ratio)
 
 
 def modulo_target_exact(approximate: float, base: float, period: float) -> float:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from openmotion.axis.gearing import Couplings
 from openmotion.trajectory.evaluate import SegmentTable
 from openmotion.trajectory.segments import KinematicState
 
@@ -29,6 +30,7 @@ class AxisKernel:
         self.history = np.zeros((0, 1))
         self._head = 0
         self._any_lag = False
+        self.couplings = Couplings()
         self._grow(capacity)
 
     def _grow(self, capacity: int) -> None:
@@ -73,6 +75,7 @@ class AxisKernel:
 
     def evaluate(self, now: float) -> None:
         self.segments.evaluate(now, self.set_p, self.set_v, self.set_a, self.set_j)
+        self.couplings.apply(self.set_p, self.set_v, self.set_a, self.set_j)
         self.sample_time = now
 
     def simulate_drives(self) -> None:
@@ -104,6 +107,9 @@ class AxisKernel:
 
     def state(self, row: int) -> KinematicState:
         """The setpoint state at the last sample: where any new plan starts."""
+        if row in self.couplings:  # a geared slave follows its master, not its segments
+            return KinematicState(float(self.set_p[row]), float(self.set_v[row]),
+                                  float(self.set_a[row]))
         return self.segments.state(row, self.sample_time)
 
     def shift(self, row: int, offset: float) -> None:

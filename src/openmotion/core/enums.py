@@ -64,3 +64,15 @@ class NewPosAndVeloMode(IntEnum):
     CHANGE_VELO_AT_SWITCHPOS = 10
     CHANGE_POS_AND_VELO_AT_SWITCHPOS = 11
     REACH_VELO_AT_POS = 14
+
+
+class DecoupleMode(IntEnum):
+    """E_DecoupleMode (TcMC §3.21): the follow-up command of MC_GearOutExt."""
+
+    STOP = 0
+    ORIENTED_STOP = 1
+    ENDLESS = 2
+    ENDLESS_NEW_VELOCITY = 3
+    NEW_POSITION = 4
+    NEW_POSITION_AND_VELOCITY = 5
+    INSTANTANEOUS_STOP = 6

@@ -38,6 +38,7 @@ class ErrorId(IntEnum):
     INVALID_PARAMETER_VALUE = 0x7013  #: the value would make the parameter set invalid
     INVALID_STOP_DYNAMICS = 0x7014  #: reserved for stop inputs
     INVALID_MODE = 0x7015  #: an unknown mode enum value
+    INVALID_GEAR_RATIO = 0x7016  #: a gear ratio that is not finite, or a zero denominator
     # openmotion: state and command rejections (0x71xx)
     AXIS_DISABLED = 0x7101  #: the axis is not powered (MC_Power.Status FALSE)
     AXIS_IN_ERROR_STOP = 0x7102  #: the axis is in ErrorStop: MC_Reset first
@@ -52,12 +53,14 @@ class ErrorId(IntEnum):
     AXIS_NOT_HOMED = 0x710B  #: reserved: the command needs a homed axis
     NOTHING_TO_DO = 0x710C  #: a modifying command without a running job to modify
     PROBE_ALREADY_ARMED = 0x710D  #: the touch-probe input is armed by another cycle
+    NOT_COUPLED = 0x710E  #: MC_GearOut on an axis that is not a geared slave
     # openmotion: axis errors raised by monitoring (0x72xx), these take the axis to ErrorStop
     FOLLOWING_ERROR = 0x7201  #: following error above 1020 for longer than 1021
     SOFT_LIMIT_REACHED = 0x7202  #: a velocity move stopped at an enabled software limit
     IN_TARGET_TIMEOUT = 0x7203  #: not in the target window within 1028 after the profile
     DRIVE_NOT_READY = 0x7204  #: MC_Power enabled while the drive reports not ready
     HOMING_FAILED = 0x7205  #: no reference cam to search
+    GEAR_LIMIT_EXCEEDED = 0x7206  #: a geared slave would exceed its velocity or acceleration
 
 
 class ConfigError(ValueError):

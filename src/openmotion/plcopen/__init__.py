@@ -6,6 +6,13 @@ from openmotion.plcopen.admin import (
     MC_SetActualPosition,
     MC_SetOverride,
 )
+from openmotion.plcopen.gear import (
+    MC_GearIn,
+    MC_GearInDyn,
+    MC_GearInFloat,
+    MC_GearOut,
+    MC_GearOutExt,
+)
 from openmotion.plcopen.handshake import EnableBlock, ExecuteBlock, FunctionBlock
 from openmotion.plcopen.home import MC_Home
 from openmotion.plcopen.jog import JogMode, MC_Jog
@@ -41,6 +48,11 @@ __all__ = [
     "JogMode",
     "MC_AbortTrigger",
     "MC_ChangeDynParam",
+    "MC_GearIn",
+    "MC_GearInDyn",
+    "MC_GearInFloat",
+    "MC_GearOut",
+    "MC_GearOutExt",
     "MC_Halt",
     "MC_Home",
     "MC_Jog",

@@ -1,0 +1,71 @@
+"""Linear gear couplings: slave setpoint = ratio * master setpoint + offset (TcMC §3.17-3.21).
+
+The couplings of all axes are applied in one vectorised pass right after the setpoints are
+evaluated, in the order they were made (a master that is itself a slave must have been
+coupled first). A dynamic ratio (MC_GearInDyn) re-anchors the offset whenever it changes, so
+the slave position stays continuous: p_s = p_s(previous) + ratio * (p_m - p_m(previous)).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from openmotion.trajectory.segments import KinematicState
+
+
+class Couplings:
+    """Coupled slave rows with their master rows, ratios and offsets, as arrays."""
+
+    def __init__(self) -> None:
+        self.slaves = np.zeros(0, dtype=np.int64)
+        self.masters = np.zeros(0, dtype=np.int64)
+        self.ratio = np.zeros(0)
+        self.offset = np.zeros(0)
+        self.ratio_rate = np.zeros(0)  #: d(ratio)/dt during a dynamic ratio change [1/s]
+
+    def __contains__(self, row: int) -> bool:
+        return bool(np.any(self.slaves == row))
+
+    def couple(self, slave: int, master: int, ratio: float, master_position: float,
+               slave_position: float) -> None:
+        self.decouple(slave)
+        self.slaves = np.append(self.slaves, slave)
+        self.masters = np.append(self.masters, master)
+        self.ratio = np.append(self.ratio, ratio)
+        self.offset = np.append(self.offset, slave_position - ratio * master_position)
+        self.ratio_rate = np.append(self.ratio_rate, 0.0)
+
+    def decouple(self, slave: int) -> None:
+        keep = self.slaves != slave
+        if keep.all():
+            return
+        self.slaves, self.masters = self.slaves[keep], self.masters[keep]
+        self.ratio, self.offset = self.ratio[keep], self.offset[keep]
+        self.ratio_rate = self.ratio_rate[keep]
+
+    def set_ratio(self, slave: int, ratio: float, master_position: float, rate: float) -> None:
+        """Change the ratio of ``slave`` keeping its position: re-anchor the offset."""
+        i = int(np.flatnonzero(self.slaves == slave)[0])
+        self.offset[i] += (self.ratio[i] - ratio) * master_position
+        self.ratio[i] = ratio
+        self.ratio_rate[i] = rate
+
+    def ratio_of(self, slave: int) -> float:
+        return float(self.ratio[np.flatnonzero(self.slaves == slave)[0]])
+
+    def apply(self, p: np.ndarray, v: np.ndarray, a: np.ndarray, j: np.ndarray) -> None:
+        """Overwrite the slave setpoints from their masters' (one pass per coupling level)."""
+        if not self.slaves.size:
+            return
+        for i in range(self.slaves.size) if self._chained() else (slice(None),):
+            s, m, r = self.slaves[i], self.masters[i], self.ratio[i]
+            p[s] = r * p[m] + self.offset[i]
+            v[s] = r * v[m]
+            a[s] = r * a[m] + self.ratio_rate[i] * v[m]
+            j[s] = r * j[m]
+
+    def _chained(self) -> bool:
+        return bool(np.isin(self.masters, self.slaves).any())
+
+    def state(self, slave: int, p: np.ndarray, v: np.ndarray, a: np.ndarray) -> KinematicState:
+        return KinematicState(float(p[slave]), float(v[slave]), float(a[slave]))

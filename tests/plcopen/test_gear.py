@@ -1,0 +1,285 @@
+"""Gear couplings: MC_GearIn, MC_GearInFloat, MC_GearInDyn, MC_GearOut, MC_GearOutExt
+(TcMC §3.17-3.21, digest rules 84-99)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+import openmotion as om
+from openmotion.plcopen import MC_MoveVelocity, MC_Stop
+from openmotion.plcopen.gear import (
+    MC_GearIn,
+    MC_GearInDyn,
+    MC_GearInFloat,
+    MC_GearOut,
+    MC_GearOutExt,
+)
+
+E, S, D = om.ErrorId, om.AxisState, om.DecoupleMode
+
+
+def pair(**slave: float) -> tuple[om.Runtime, om.Axis, om.Axis]:
+    rt = om.Runtime()
+    master = rt.add_axis("m", max_velocity=2000.0)
+    follower = rt.add_axis("s", **slave)
+    master.power()
+    follower.power()
+    return rt, master, follower
+
+
+def test_gear_in_one_to_three_follows_a_third_and_a_negative_numerator_reverses() -> None:
+    """Rule 85 (§3.17 example 1:3): master +3 -> slave +1; numerator -1 -> slave -1."""
+    for numerator, expected in ((1, 100.0), (-1, -100.0)):
+        rt, master, slave = pair()
+        gear = MC_GearIn(slave)
+        gear(execute=True, master=master, ratio_numerator=numerator, ratio_denominator=3)
+        assert gear.in_gear and slave.state is S.SYNCHRONIZED_MOTION
+        move = master.move_relative(300.0, velocity=200.0)
+        rt.run_until(move, 5.0)
+        assert slave.set_position == pytest.approx(expected, abs=1e-9)
+
+
+def test_coupling_needs_standstill_of_slave_and_master() -> None:
+    """Rule 84, Q34: a moving slave or master cannot be coupled (flying saw is separate)."""
+    rt, master, slave = pair()
+    slave.move_velocity(50.0)
+    rt.run(0.1)
+    gear = MC_GearInFloat(slave)
+    gear(execute=True, master=master, gear_ratio=2.0)
+    assert gear.error and gear.error_id == E.AXIS_NOT_STANDSTILL and not gear.in_gear
+    rt, master, slave = pair()
+    master.move_velocity(50.0)
+    rt.run(0.1)
+    gear = MC_GearInFloat(slave)
+    gear(execute=True, master=master, gear_ratio=2.0)
+    assert gear.error and gear.error_id == E.AXIS_NOT_STANDSTILL
+
+
+@pytest.mark.parametrize(("numerator", "denominator"), [(1, 0), (1, -2), (1.5, 2), (True, 1)])
+def test_bad_ratios_are_errors(numerator: object, denominator: object) -> None:
+    """Rule 86: denominator 0 (and non-integers for INT/UINT) -> error, no coupling."""
+    rt, master, slave = pair()
+    gear = MC_GearIn(slave)
+    gear(execute=True, master=master, ratio_numerator=numerator, ratio_denominator=denominator)
+    assert gear.error and gear.error_id == E.INVALID_GEAR_RATIO
+    assert slave.state is S.STANDSTILL
+
+
+def test_float_ratio_nan_is_an_error_and_the_master_must_be_an_axis() -> None:
+    rt, master, slave = pair()
+    gear = MC_GearInFloat(slave)
+    gear(execute=True, master=master, gear_ratio=math.nan)
+    assert gear.error and gear.error_id == E.INVALID_GEAR_RATIO
+    gear = MC_GearInFloat(slave)
+    gear(execute=True, master=None, gear_ratio=1.0)
+    assert gear.error and gear.error_id == E.INVALID_MODE
+
+
+def test_dynamics_inputs_of_gear_in_have_no_effect() -> None:
+    """Rule 87."""
+    traces = []
+    for dyn in (0.0, 1.0, 1e6):
+        rt, master, slave = pair()
+        MC_GearInFloat(slave)(execute=True, master=master, gear_ratio=0.5, acceleration=dyn,
+                              deceleration=dyn, jerk=dyn)
+        master.move_absolute(100.0, velocity=300.0)
+        samples = []
+        for _ in range(600):
+            rt.step()
+            samples.append(slave.set_position)
+        traces.append(samples)
+    assert traces[0] == traces[1] == traces[2]
+
+
+@given(ratio=st.floats(-4.0, 4.0).filter(lambda r: abs(r) > 1e-3),
+       target=st.floats(-500.0, 500.0), start=st.floats(-100.0, 100.0))
+def test_slave_equals_ratio_times_master_plus_offset(ratio: float, target: float,
+                                                     start: float) -> None:
+    """Rule 88 (property): once InGear, slave = ratio * master + offset within 1e-9, every
+    cycle, with velocity and acceleration scaled alike."""
+    rt = om.Runtime()
+    master = rt.add_axis("m", max_velocity=2000.0, position=10.0)
+    slave = rt.add_axis("s", max_velocity=1e4, max_acceleration=1e6, max_deceleration=1e6,
+                        position=start)
+    master.power()
+    slave.power()
+    gear = slave.gear_in(master, ratio)
+    assert gear.active
+    offset = start - ratio * 10.0
+    master.move_absolute(target, velocity=400.0)
+    for _ in range(1500):
+        rt.step()
+        assert slave.set_position == pytest.approx(ratio * master.set_position + offset,
+                                                   abs=1e-9 * max(1.0, abs(master.set_position)))
+        assert slave.set_velocity == pytest.approx(ratio * master.set_velocity, abs=1e-9)
+
+
+def test_gear_in_dyn_takes_new_ratios_with_limited_acceleration() -> None:
+    """Rules 89, 90: a new ratio applies from the next cycle; the ratio slews at
+    Acceleration / master max velocity, so the slave's acceleration from the change is at most
+    Acceleration at the master's maximum velocity; the slave position stays continuous."""
+    rt, master, slave = pair(max_velocity=5000.0, max_acceleration=1e5, max_deceleration=1e5)
+    gear = MC_GearInDyn(slave)
+    gear(execute=True, master=master, gear_ratio=1.0, acceleration=2000.0)
+    master.move_velocity(2000.0)  # the master's maximum velocity
+    rt.run_until(lambda: master.set_velocity == 2000.0, 5.0)
+    previous = slave.set_position
+    accelerations = []
+    for _ in range(1500):
+        gear(execute=True, gear_ratio=2.0)
+        rt.step()
+        accelerations.append(slave.set_acceleration)
+        assert abs(slave.set_position - previous) <= 2.0 * 2000.0 * 0.001 * (1 + 1e-9) + 1e-9
+        previous = slave.set_position
+    assert slave.set_velocity == pytest.approx(4000.0)
+    assert max(accelerations) == pytest.approx(2000.0, rel=1e-6)  # 1 ratio/s * 2000 mm/s
+    assert gear.in_gear
+
+
+def test_decoupling_a_dynamic_coupling_while_execute_is_true_aborts_it() -> None:
+    """Rule 91."""
+    rt, master, slave = pair()
+    gear = MC_GearInDyn(slave)
+    gear(execute=True, master=master, gear_ratio=1.0)
+    out = MC_GearOut(slave)
+    out(execute=True)
+    gear(execute=True)
+    assert out.done and gear.command_aborted and not gear.in_gear
+
+
+def test_gear_out_in_motion_cruises_at_constant_velocity_in_continuous_motion() -> None:
+    """Rule 92: no stop, no target; acceleration released, then constant velocity."""
+    rt, master, slave = pair()
+    MC_GearInFloat(slave)(execute=True, master=master, gear_ratio=0.5)
+    master.move_velocity(400.0)
+    rt.run(0.06)  # the master still accelerates
+    assert slave.set_acceleration > 0.0
+    out = MC_GearOut(slave)
+    out(execute=True)
+    assert out.done
+    rt.run(0.5)
+    velocity = slave.set_velocity
+    rt.run(1.0)
+    assert slave.set_velocity == velocity and slave.set_acceleration == 0.0
+    assert slave.state is S.CONTINUOUS_MOTION
+    master.stop()
+    rt.run(1.0)
+    assert slave.set_velocity == velocity  # decoupled for good
+    stop = MC_Stop(slave)
+    stop(execute=True)
+    rt.run(1.0)
+    assert slave.set_velocity == 0.0
+
+
+def test_gear_out_of_an_uncoupled_axis_is_an_error() -> None:
+    rt, master, slave = pair()
+    out = MC_GearOut(slave)
+    out(execute=True)
+    assert out.error and out.error_id == E.NOT_COUPLED
+
+
+def coupled_in_motion() -> tuple[om.Runtime, om.Axis, om.Axis]:
+    rt, master, slave = pair()
+    MC_GearInFloat(slave)(execute=True, master=master, gear_ratio=1.0)
+    master.move_velocity(200.0)
+    rt.run(0.5)
+    return rt, master, slave
+
+
+def finish(rt: om.Runtime, fb: MC_GearOutExt, cycles: int = 20000) -> None:
+    for _ in range(cycles):
+        if fb.done or fb.error:
+            return
+        rt.step()
+        fb(execute=True)
+
+
+def test_gear_out_ext_at_standstill_only_decouples() -> None:
+    """Rule 93."""
+    rt, master, slave = pair()
+    MC_GearInFloat(slave)(execute=True, master=master, gear_ratio=1.0)
+    out = MC_GearOutExt(slave)
+    out(execute=True, mode=D.NEW_POSITION, position=50.0)
+    assert out.done and slave.state is S.STANDSTILL and slave.set_position == 0.0
+    master.move_absolute(100.0, velocity=100.0)
+    rt.run(2.0)
+    assert slave.set_position == 0.0
+
+
+@pytest.mark.parametrize("mode", [D.NEW_POSITION, D.NEW_POSITION_AND_VELOCITY])
+def test_gear_out_ext_to_a_position(mode: om.DecoupleMode) -> None:
+    """Rules 94, 99: stops at Position; Done only there."""
+    rt, master, slave = coupled_in_motion()
+    out = MC_GearOutExt(slave)
+    out(execute=True, mode=mode, position=500.0, velocity=300.0)
+    assert out.busy and not out.done
+    finish(rt, out)
+    assert out.done and slave.set_position == 500.0 and slave.set_velocity == 0.0
+
+
+def test_gear_out_ext_endless_keeps_the_velocity() -> None:
+    """Rule 95."""
+    rt, master, slave = coupled_in_motion()
+    out = MC_GearOutExt(slave)
+    out(execute=True, mode=D.ENDLESS)
+    finish(rt, out)
+    assert out.done and slave.set_velocity == pytest.approx(200.0)
+    master.stop()
+    rt.run(1.0)
+    assert slave.set_velocity == pytest.approx(200.0)
+
+
+def test_gear_out_ext_endless_new_velocity() -> None:
+    """Rule 96."""
+    rt, master, slave = coupled_in_motion()
+    out = MC_GearOutExt(slave)
+    out(execute=True, mode=D.ENDLESS_NEW_VELOCITY, velocity=350.0)
+    finish(rt, out)
+    assert out.done and slave.set_velocity == 350.0
+
+
+def test_gear_out_ext_instantaneous_stop() -> None:
+    """Rule 97: the set velocity jumps to zero in one cycle."""
+    rt, master, slave = coupled_in_motion()
+    out = MC_GearOutExt(slave)
+    out(execute=True, mode=D.INSTANTANEOUS_STOP)
+    rt.step()
+    assert out.done and slave.set_velocity == 0.0 and slave.state is S.STANDSTILL
+
+
+def test_gear_out_ext_oriented_stop() -> None:
+    """Rule 98."""
+    rt, master, slave = coupled_in_motion()
+    out = MC_GearOutExt(slave)
+    out(execute=True, mode=D.ORIENTED_STOP, position=90.0)
+    finish(rt, out)
+    assert out.done and slave.set_position % 360.0 == pytest.approx(90.0, abs=1e-9)
+
+
+def test_a_move_on_the_slave_aborts_the_coupling_without_a_jump() -> None:
+    rt, master, slave = coupled_in_motion()
+    gear_command = slave.active_command
+    before = (slave.set_position, slave.set_velocity)
+    move = MC_MoveVelocity(slave)
+    move(execute=True, velocity=50.0)
+    assert gear_command.aborted
+    rt.step()
+    assert abs(slave.set_position - before[0]) <= 0.2 + 1e-9
+    assert abs(slave.set_velocity - before[1]) <= 5000.0 * 0.001 * (1 + 1e-9)
+
+
+def test_a_slave_beyond_its_limits_is_an_axis_error() -> None:
+    """§3.17 ff: the slave's limits are respected; a violation is an error (D-039)."""
+    rt, master, slave = pair(max_velocity=100.0)
+    gear = MC_GearInFloat(slave)
+    gear(execute=True, master=master, gear_ratio=2.0)
+    master.move_velocity(100.0)
+    rt.run(1.0)
+    gear(execute=True)
+    assert slave.state is S.ERROR_STOP and slave.axis_error_id == E.GEAR_LIMIT_EXCEEDED
+    assert gear.command_aborted
+    assert abs(slave.set_velocity) < 200.0
