@@ -12,6 +12,7 @@ from openmotion.core.enums import (
     NewPosAndVeloMode,
     ReadMode,
     ReferenceMode,
+    TargetPositionType,
 )
 from openmotion.core.errors import ConfigError, ErrorId
 from openmotion.core.special_values import (
@@ -50,5 +51,6 @@ __all__ = [
     "ReadMode",
     "ReferenceMode",
     "Runtime",
+    "TargetPositionType",
     "__version__",
 ]

@@ -102,5 +102,6 @@ def test_public_names_are_pinned():
          "AxisPara", "AxisParameters", "AxisState", "BufferMode", "Command", "CommandStatus",
          "ConfigError", "DecoupleMode", "Direction", "DriveModel", "ErrorId", "FallingBehindError",
          "NewPosAndVeloMode", "PacedRuntime", "ReadMode", "ReferenceMode", "Runtime",
+         "TargetPositionType",
          "__version__"]
     )

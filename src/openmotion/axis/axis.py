@@ -24,6 +24,7 @@ from openmotion.core.enums import (
     DecoupleMode,
     Direction,
     NewPosAndVeloMode,
+    TargetPositionType,
 )
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.modulo import modulo_target
@@ -78,6 +79,10 @@ class Axis:
         self.calibration_state = 0  #: homing phase (TcMC §3.14 nCalibrationState)
         self.cam_input: bool | None = None  #: MC_Home.bCalibrationCam, None = simulated cam
         self.raw_offset = 0.0  #: shift between displayed and machine coordinates [mm]
+        self._external_goal: tuple[float | None, TargetPositionType] = (
+            None, TargetPositionType.ABSOLUTE)
+        self._external_target_reached = False
+        self._external_direction = 0
         self._job: Job | None = None
         self._queue: list[Job] = []
         self._hold: Command | None = None  #: a finished MC_Stop that still holds the axis
@@ -621,6 +626,122 @@ class Axis:
         else:
             self.state = AxisState.STANDSTILL
 
+    # -- external setpoint generation (TcMC §4.16-4.18) -----------------------------------------
+
+    @property
+    def external_setpoints(self) -> bool:
+        """The external setpoint generator is enabled (MC_ExtSetPointGen* ``Enabled``)."""
+        return bool(self._k.external[self.row])
+
+    @property
+    def in_external_target(self) -> bool:
+        """The set position reached the external generator's target (§4.16)."""
+        return bool(self._external_target_reached)
+
+    def enable_external_setpoints(self, position: InputValue = MC_INVALID,
+                                  position_type: TargetPositionType = TargetPositionType.ABSOLUTE
+                                  ) -> Command:
+        """MC_ExtSetPointGenEnable: from now on the fed values are the setpoint (D-040).
+
+        ``position`` is only watched ("in target position"); the axis does not go there by
+        itself. A cycle without a feed, or a fed velocity or acceleration beyond the axis
+        maxima, is an axis error with a controlled stop.
+        """
+        command = self._new("ext_setpoint_enable")
+        try:
+            admit(self.state, "move")
+            kind = TargetPositionType(position_type)
+            target = None if position is MC_INVALID else require_position("position", position)
+            if target is not None and kind is TargetPositionType.RELATIVE:
+                target += self.set_position
+        except ValueError:
+            return self._reject(command, ErrorId.INVALID_MODE,
+                                f"position type {position_type!r} is unknown")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        if self.external_setpoints:
+            self._external_goal = (target, kind)
+            self._finish(command)
+            return command
+        self._abort_all("aborted by MC_ExtSetPointGenEnable")
+        self._hold = None
+        self._k.set_external(self.row, True)
+        p = self.parameters
+        job = Job("external", command, Limits(p.max_velocity, p.acceleration, p.deceleration,
+                                              p.jerk))
+        self._job = job
+        self._external_goal = (target, kind)
+        self._external_target_reached = False
+        self.state = AxisState.CONTINUOUS_MOTION
+        self._finish(command)  # Done = command issued (§4.16)
+        self._job.command = self._new("external_motion")
+        self._job.command.status = CommandStatus.ACTIVE
+        grace = [True]  # the feed may start in the cycle after the enable
+        self._rt._watch(self, lambda now: self._external_cycle(job, grace))
+        return command
+
+    def disable_external_setpoints(self) -> Command:
+        """MC_ExtSetPointGenDisable: ignore fed values; a moving axis brakes to rest."""
+        command = self._new("ext_setpoint_disable")
+        if self.external_setpoints:
+            self._end_external("disabled by MC_ExtSetPointGenDisable")
+        self._finish(command)
+        return command
+
+    def feed_setpoint(self, position: float, velocity: float, acceleration: float,
+                      direction: int) -> bool:
+        """MC_ExtSetPointGenFeed (§4.18): the setpoint of the next motion step; returns False."""
+        k, row = self._k, self.row
+        k.ext_p[row], k.ext_v[row], k.ext_a[row] = position, velocity, acceleration
+        k.fed[row] = True
+        self._external_direction = direction
+        return False
+
+    def _external_cycle(self, job: Job, grace: list[bool]) -> bool:
+        if job is not self._job or job.command.finished:
+            return False
+        k, row, p = self._k, self.row, self.parameters
+        if not k.fed[row] and not grace[0]:
+            self._fault(ErrorId.EXT_SETPOINT_MISSING, "no external setpoint fed this cycle")
+            return False
+        grace[0] = False
+        k.fed[row] = False
+        v, a = abs(self.set_velocity), abs(self.set_acceleration)
+        if not (math.isfinite(self.set_position) and v <= p.max_velocity * (1 + 1e-9)
+                and a <= max(p.max_acceleration, p.max_deceleration) * (1 + 1e-9)):
+            self._fault(ErrorId.EXT_SETPOINT_LIMIT,
+                        f"fed setpoint {v:.6g} mm/s, {a:.6g} mm/s² beyond the axis maxima")
+            return False
+        target, kind = self._external_goal
+        if target is not None:
+            if kind is TargetPositionType.MODULO:
+                period = p.modulo_period
+                error = abs((self.set_position - target + period / 2) % period - period / 2)
+            else:
+                error = abs(self.set_position - target)
+            self._external_target_reached = error <= p.target_position_window
+        return True
+
+    def _end_external(self, reason: str) -> None:
+        """Leave external setpoints: continue from the fed state and brake to rest."""
+        k, row = self._k, self.row
+        start = k.state(row)
+        k.set_external(row, False)
+        if self._job is not None and self._job.kind == "external":
+            self._job.command._end(CommandStatus.DONE, self._rt.now, message=reason)
+            self._job = None
+        p = self.parameters
+        self._install(plan_stop(start, p.deceleration, p.jerk), has_job=False)
+        self.state = AxisState.STANDSTILL if start.velocity == 0.0 else self.state
+        if start.velocity != 0.0:
+            halt = self._new("external_stop")
+            job = Job("halt", halt, Limits(p.max_velocity, p.deceleration, p.deceleration,
+                                           p.jerk))
+            self._job = job
+            halt.status = CommandStatus.ACTIVE
+            self._k.has_job[row] = True
+            self.state = AxisState.DISCRETE_MOTION
+
     def new_position(self, position: InputValue) -> Command:
         """MC_NewPos (TcMC §3.7): a new target for the running move; Done = accepted."""
         return self.new_position_and_velocity(NewPosAndVeloMode.CHANGE_POS, position, 0.0)
@@ -953,6 +1074,12 @@ class Axis:
             if self._job.kind == "gear":
                 self._job = None
                 self._release_coupling()  # the new command starts from the coupled state
+            if self._job is not None and self._job.kind == "external":
+                start = self._k.state(self.row)  # the new command starts from the fed state
+                self._k.set_external(self.row, False)
+                p = self.parameters
+                self._install(plan_velocity(start, start.velocity, Limits(
+                    math.inf, p.max_acceleration, p.max_deceleration, p.jerk)), has_job=False)
             self._job = None
         for job in self._queue:
             job.command._end(CommandStatus.ABORTED, now, message=reason)

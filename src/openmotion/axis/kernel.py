@@ -14,8 +14,8 @@ from openmotion.trajectory.evaluate import SegmentTable
 from openmotion.trajectory.segments import KinematicState
 
 _FLOAT_FIELDS = ("set_p", "set_v", "set_a", "set_j", "act_p", "act_v", "alpha", "lag_max",
-                 "lag_filter", "lag_timer")
-_BOOL_FIELDS = ("has_job", "lag_on", "monitored")
+                 "lag_filter", "lag_timer", "ext_p", "ext_v", "ext_a")
+_BOOL_FIELDS = ("has_job", "lag_on", "monitored", "blocked", "external", "fed")
 _EMPTY = np.zeros(0, dtype=np.int64)
 
 
@@ -30,6 +30,8 @@ class AxisKernel:
         self.history = np.zeros((0, 1))
         self._head = 0
         self._any_lag = False
+        self._externals = 0  #: axes following external setpoints
+        self._blocked = 0  #: axes whose drive is mechanically blocked (stall simulation)
         self.couplings = Couplings()
         self._grow(capacity)
 
@@ -76,21 +78,51 @@ class AxisKernel:
     def evaluate(self, now: float) -> None:
         self.segments.evaluate(now, self.set_p, self.set_v, self.set_a, self.set_j)
         self.couplings.apply(self.set_p, self.set_v, self.set_a, self.set_j)
+        if self._externals:  # MC_ExtSetPointGen: the fed values are the setpoint
+            rows = np.flatnonzero(self.external[: self.size])
+            self.set_p[rows], self.set_v[rows] = self.ext_p[rows], self.ext_v[rows]
+            self.set_a[rows], self.set_j[rows] = self.ext_a[rows], 0.0
         self.sample_time = now
 
     def simulate_drives(self) -> None:
         n = self.size
-        if not self._any_lag:  # ideal drives follow the setpoint exactly
+        if not self._any_lag and not self._blocked:  # ideal drives follow exactly
             self.act_p[:n] = self.set_p[:n]
             self.act_v[:n] = self.set_v[:n]
             return
         previous = self.act_p[:n].copy()
+        if not self._any_lag:
+            self.act_p[:n] = self.set_p[:n]
+            self._hold_blocked(previous)
+            self.act_v[:n] = (self.act_p[:n] - previous) / self.cycle_time
+            return
         width = self.history.shape[1]
         self._head = (self._head + 1) % width
         self.history[:n, self._head] = self.set_p[:n]
         delayed = self.history[np.arange(n), (self._head - self.dead[:n]) % width]
         self.act_p[:n] += self.alpha[:n] * (delayed - self.act_p[:n])
+        self._hold_blocked(previous)
         self.act_v[:n] = (self.act_p[:n] - previous) / self.cycle_time
+
+    def _hold_blocked(self, previous: np.ndarray) -> None:
+        if self._blocked:
+            rows = np.flatnonzero(self.blocked[: self.size])
+            self.act_p[rows] = previous[rows]
+
+    def set_blocked(self, row: int, blocked: bool) -> None:
+        """Block the mechanics of an axis: its actual position stops following (a stall)."""
+        if bool(self.blocked[row]) != blocked:
+            self.blocked[row] = blocked
+            self._blocked += 1 if blocked else -1
+
+    def set_external(self, row: int, on: bool) -> None:
+        """Let an axis take its setpoint from ``ext_p/ext_v/ext_a`` (MC_ExtSetPointGen)."""
+        if bool(self.external[row]) != on:
+            self.external[row] = on
+            self._externals += 1 if on else -1
+            self.fed[row] = False
+            self.ext_p[row], self.ext_v[row], self.ext_a[row] = (
+                self.set_p[row], self.set_v[row], self.set_a[row])
 
     def lag_alarms(self) -> np.ndarray:
         """Rows whose following error stayed above the limit longer than the filter time."""
@@ -107,7 +139,7 @@ class AxisKernel:
 
     def state(self, row: int) -> KinematicState:
         """The setpoint state at the last sample: where any new plan starts."""
-        if row in self.couplings:  # a geared slave follows its master, not its segments
+        if row in self.couplings or self.external[row]:  # follows a master or a feed
             return KinematicState(float(self.set_p[row]), float(self.set_v[row]),
                                   float(self.set_a[row]))
         return self.segments.state(row, self.sample_time)

@@ -76,3 +76,11 @@ class DecoupleMode(IntEnum):
     NEW_POSITION = 4
     NEW_POSITION_AND_VELOCITY = 5
     INSTANTANEOUS_STOP = 6
+
+
+class TargetPositionType(IntEnum):
+    """E_TargPosType of MC_ExtSetPointGenEnable (TcMC §4.16; values from the TcNC library)."""
+
+    ABSOLUTE = 1
+    RELATIVE = 2
+    MODULO = 5

@@ -61,6 +61,8 @@ class ErrorId(IntEnum):
     DRIVE_NOT_READY = 0x7204  #: MC_Power enabled while the drive reports not ready
     HOMING_FAILED = 0x7205  #: no reference cam to search
     GEAR_LIMIT_EXCEEDED = 0x7206  #: a geared slave would exceed its velocity or acceleration
+    EXT_SETPOINT_MISSING = 0x7207  #: external setpoints enabled, but none fed this cycle
+    EXT_SETPOINT_LIMIT = 0x7208  #: a fed setpoint beyond the axis' velocity or acceleration
 
 
 class ConfigError(ValueError):

@@ -6,6 +6,11 @@ from openmotion.plcopen.admin import (
     MC_SetActualPosition,
     MC_SetOverride,
 )
+from openmotion.plcopen.external import (
+    MC_ExtSetPointGenDisable,
+    MC_ExtSetPointGenEnable,
+    MC_ExtSetPointGenFeed,
+)
 from openmotion.plcopen.gear import (
     MC_GearIn,
     MC_GearInDyn,
@@ -48,6 +53,9 @@ __all__ = [
     "JogMode",
     "MC_AbortTrigger",
     "MC_ChangeDynParam",
+    "MC_ExtSetPointGenDisable",
+    "MC_ExtSetPointGenEnable",
+    "MC_ExtSetPointGenFeed",
     "MC_GearIn",
     "MC_GearInDyn",
     "MC_GearInFloat",
