@@ -12,6 +12,7 @@ from openmotion.core.enums import (
     NewPosAndVeloMode,
     ReadMode,
     ReferenceMode,
+    SuperpositionMode,
     TargetPositionType,
 )
 from openmotion.core.errors import ConfigError, ErrorId
@@ -51,6 +52,7 @@ __all__ = [
     "ReadMode",
     "ReferenceMode",
     "Runtime",
+    "SuperpositionMode",
     "TargetPositionType",
     "__version__",
 ]

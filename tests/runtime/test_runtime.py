@@ -102,6 +102,6 @@ def test_public_names_are_pinned():
          "AxisPara", "AxisParameters", "AxisState", "BufferMode", "Command", "CommandStatus",
          "ConfigError", "DecoupleMode", "Direction", "DriveModel", "ErrorId", "FallingBehindError",
          "NewPosAndVeloMode", "PacedRuntime", "ReadMode", "ReferenceMode", "Runtime",
-         "TargetPositionType",
+         "SuperpositionMode", "TargetPositionType",
          "__version__"]
     )

@@ -18,12 +18,14 @@ from openmotion.axis.dynamics import require_position, resolve, resolve_limits
 from openmotion.axis.homing import HomingSequence
 from openmotion.axis.parameters import PARAMETERS, AxisPara, AxisParameters
 from openmotion.axis.state_machine import admit
+from openmotion.axis.superposition import plan_superposition
 from openmotion.core.enums import (
     AxisState,
     BufferMode,
     DecoupleMode,
     Direction,
     NewPosAndVeloMode,
+    SuperpositionMode,
     TargetPositionType,
 )
 from openmotion.core.errors import CommandRejected, ErrorId
@@ -83,6 +85,7 @@ class Axis:
             None, TargetPositionType.ABSOLUTE)
         self._external_target_reached = False
         self._external_direction = 0
+        self._superposition: Command | None = None
         self._job: Job | None = None
         self._queue: list[Job] = []
         self._hold: Command | None = None  #: a finished MC_Stop that still holds the axis
@@ -626,6 +629,112 @@ class Axis:
         else:
             self.state = AxisState.STANDSTILL
 
+    # -- superposition (TcMC §3.9-3.12) -------------------------------------------------------
+
+    def move_superimposed(self, distance: InputValue, velocity_diff: InputValue,
+                          velocity_process: InputValue, length: InputValue,
+                          mode: SuperpositionMode = SuperpositionMode.LENGTHREDUCTION_LIMITEDMOTION,
+                          acceleration: InputValue = MC_DEFAULT,
+                          deceleration: InputValue = MC_DEFAULT) -> Command:
+        """MC_MoveSuperImposed(Ext): add ``distance`` on top of the running motion.
+
+        The command's ``value`` holds (ActualVelocityDiff, ActualDistance, ActualLength). When
+        the distance cannot be reached it is done as far as possible and the command ends
+        with SUPERPOSITION_INCOMPLETE (0x4243) - a warning or an error, as the application
+        decides (§3.9).
+        """
+        command = self._new("move_superimposed")
+        try:
+            admit(self.state, "modify")
+            try:
+                mode = SuperpositionMode(mode)
+            except ValueError:
+                raise CommandRejected(ErrorId.INVALID_MODE, f"mode {mode!r} is unknown") from None
+            d = require_position("distance", distance)
+            if d == 0.0:
+                raise CommandRejected(ErrorId.INVALID_POSITION, "distance must not be 0")
+            w = command.warnings
+            dv = resolve("velocity", abs(velocity_diff) if isinstance(velocity_diff, float)
+                         else velocity_diff, _UNBOUNDED, w)
+            v0 = resolve("velocity", abs(velocity_process) if isinstance(velocity_process, float)
+                         else velocity_process, _UNBOUNDED, w)
+            span = require_position("length", length)
+            if span == 0.0:
+                raise CommandRejected(ErrorId.INVALID_POSITION, "length must not be 0")
+            acc = resolve("acceleration", acceleration, self.parameters, w)
+            dec = resolve("deceleration", deceleration, self.parameters, w)
+            plan = plan_superposition(mode, d, dv, acc, dec, self.parameters.jerk, v0, span,
+                                      self.set_velocity)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        k = self._k
+        if k.superimposed[self.row]:
+            return self._reject(command, ErrorId.SUPERPOSITION_ACTIVE,
+                                "a superposition runs already (D-041)")
+        k.set_superimposed(self.row, True)
+        k.overlay.install(self.row, plan.profile, k.sample_time)
+        command.value = (plan.velocity_diff, plan.distance, plan.length)
+        command.status = CommandStatus.ACTIVE
+        command.in_velocity = plan.complete
+        self._superposition = command
+        return command
+
+    def abort_superposition(self) -> Command:
+        """MC_AbortSuperposition (TcMC §3.12): end the superimposed part; the base continues.
+
+        The superimposed velocity brakes to zero with the axis default deceleration; the
+        superposition command shows CommandAborted.
+        """
+        command = self._new("abort_superposition")
+        k = self._k
+        if self._superposition is not None and k.superimposed[self.row]:
+            state = k.overlay.state(self.row, k.sample_time)
+            p = self.parameters
+            profile = plan_stop(state, p.deceleration, p.jerk)
+            k.overlay.install(self.row, profile, k.sample_time)
+            self._superposition._end(CommandStatus.ABORTED, self._rt.now,
+                                     message="aborted by MC_AbortSuperposition")
+            self._superposition = None
+        self._finish(command)
+        return command
+
+    def _on_superposition_end(self) -> None:
+        """Kernel event: the superimposed motion is complete; fold it into the base."""
+        command = self._superposition
+        if command is not None:
+            complete = command.in_velocity
+            command.in_velocity = False
+            if complete:
+                self._fold_overlay(CommandStatus.DONE, "", ended=True)
+            else:
+                self._fold_overlay(CommandStatus.ERROR, "the distance was compensated only "
+                                   "partly (TcMC §3.9)", ErrorId.SUPERPOSITION_INCOMPLETE,
+                                   ended=True)
+        else:
+            self._fold_overlay(CommandStatus.DONE, "", ended=True)
+
+    def _fold_overlay(self, status: CommandStatus, message: str,
+                      error_id: ErrorId = ErrorId.NO_ERROR, ended: bool = False) -> None:
+        """End the superposition. ``ended``: it reached its end, so its final offset moves
+        the base; otherwise the base takes over the combined state for a new plan."""
+        k, row = self._k, self.row
+        if not k.superimposed[row]:
+            return
+        extra = k.overlay.state(row, k.sample_time)
+        if ended or (extra.velocity == 0.0 and extra.acceleration == 0.0):
+            offset = k.overlay.end_position(row)
+            k.segments.shift(row, offset)  # the base continues, shifted by what was added
+            for job in ([self._job] if self._job else []) + self._queue:
+                if job.target is not None:
+                    job.target += offset
+        else:  # still moving: the base takes over the combined state (a new plan follows)
+            combined = k.state(row)
+            self._install(Profile.hold(combined), has_job=False)
+        k.set_superimposed(row, False)
+        if self._superposition is not None:
+            self._superposition._end(status, self._rt.now, error_id, message)
+            self._superposition = None
+
     # -- external setpoint generation (TcMC §4.16-4.18) -----------------------------------------
 
     @property
@@ -1067,6 +1176,8 @@ class Axis:
 
     def _abort_all(self, reason: str) -> None:
         now = self._rt.now
+        if self._k.superimposed[self.row]:  # MC_Stop and new moves end it too (§3.12)
+            self._fold_overlay(CommandStatus.ABORTED, reason)
         if self._job is not None:
             self._job.command._end(CommandStatus.ABORTED, now, message=reason)
             if self._job.kind == "home":
@@ -1279,6 +1390,10 @@ def _check_dynamics_change(job: Job, profile: Profile, start: KinematicState) ->
     if peak > job.limits.velocity * (1 + 1e-9) and peak > abs(start.velocity) * (1 + 1e-9):
         raise CommandRejected(ErrorId.DYN_VELOCITY_EXCEEDED,
                               "the travel velocity would be exceeded")
+
+
+#: parameters without a velocity cap: a velocity *difference* is checked, not clamped
+_UNBOUNDED = AxisParameters(max_velocity=1e300)
 
 
 def _gear_ratio(ratio: object) -> float:

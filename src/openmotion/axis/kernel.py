@@ -11,11 +11,11 @@ import numpy as np
 
 from openmotion.axis.gearing import Couplings
 from openmotion.trajectory.evaluate import SegmentTable
-from openmotion.trajectory.segments import KinematicState
+from openmotion.trajectory.segments import KinematicState, Profile
 
 _FLOAT_FIELDS = ("set_p", "set_v", "set_a", "set_j", "act_p", "act_v", "alpha", "lag_max",
                  "lag_filter", "lag_timer", "ext_p", "ext_v", "ext_a")
-_BOOL_FIELDS = ("has_job", "lag_on", "monitored", "blocked", "external", "fed")
+_BOOL_FIELDS = ("has_job", "lag_on", "monitored", "blocked", "external", "fed", "superimposed")
 _EMPTY = np.zeros(0, dtype=np.int64)
 
 
@@ -23,6 +23,9 @@ class AxisKernel:
     def __init__(self, cycle_time: float, capacity: int = 16) -> None:
         self.cycle_time = cycle_time
         self.segments = SegmentTable(capacity)
+        self.overlay = SegmentTable(capacity)  #: superimposed motion, added to the setpoint
+        self._overlays = 0
+        self._op, self._ov, self._oa, self._oj = (np.zeros(capacity) for _ in range(4))
         self.size = 0
         self.sample_time = 0.0  #: instant of the last evaluated sample [s]
         self._capacity = 0
@@ -55,6 +58,7 @@ class AxisKernel:
         if self.size == self._capacity:
             self._grow(2 * self._capacity)
         row = self.segments.add(KinematicState(position), self.sample_time)
+        self.overlay.add(KinematicState(0.0), self.sample_time)
         assert row == self.size
         self.size += 1
         self.set_p[row] = self.act_p[row] = position
@@ -77,6 +81,17 @@ class AxisKernel:
 
     def evaluate(self, now: float) -> None:
         self.segments.evaluate(now, self.set_p, self.set_v, self.set_a, self.set_j)
+        if self._overlays:  # MC_MoveSuperImposed: add the superimposed motion
+            n = self.size
+            if self._op.size < n:
+                self._op, self._ov, self._oa, self._oj = (np.zeros(self._capacity)
+                                                          for _ in range(4))
+            self.overlay.evaluate(now, self._op, self._ov, self._oa, self._oj)
+            rows = np.flatnonzero(self.superimposed[:n])
+            self.set_p[rows] += self._op[rows]
+            self.set_v[rows] += self._ov[rows]
+            self.set_a[rows] += self._oa[rows]
+            self.set_j[rows] += self._oj[rows]
         self.couplings.apply(self.set_p, self.set_v, self.set_a, self.set_j)
         if self._externals:  # MC_ExtSetPointGen: the fed values are the setpoint
             rows = np.flatnonzero(self.external[: self.size])
@@ -127,7 +142,7 @@ class AxisKernel:
     def lag_alarms(self) -> np.ndarray:
         """Rows whose following error stayed above the limit longer than the filter time."""
         n = self.size
-        if not self._any_lag:  # ideal drives: actual == set, no following error
+        if not self._any_lag and not self._blocked:  # ideal drives: actual == set
             return _EMPTY
         over = self.monitored[:n] & self.lag_on[:n] & (
             np.abs(self.set_p[:n] - self.act_p[:n]) > self.lag_max[:n]
@@ -142,7 +157,26 @@ class AxisKernel:
         if row in self.couplings or self.external[row]:  # follows a master or a feed
             return KinematicState(float(self.set_p[row]), float(self.set_v[row]),
                                   float(self.set_a[row]))
-        return self.segments.state(row, self.sample_time)
+        base = self.segments.state(row, self.sample_time)
+        if not self.superimposed[row]:
+            return base
+        extra = self.overlay.state(row, self.sample_time)
+        return KinematicState(base.position + extra.position, base.velocity + extra.velocity,
+                              base.acceleration + extra.acceleration)
+
+    def overlay_ended(self, now: float) -> np.ndarray:
+        """Rows whose superimposed motion has reached its end at or before ``now``."""
+        if not self._overlays:
+            return _EMPTY
+        n = self.size
+        return np.flatnonzero(self.superimposed[:n] & (self.overlay.end[:n] <= now))
+
+    def set_superimposed(self, row: int, on: bool) -> None:
+        if bool(self.superimposed[row]) != on:
+            self.superimposed[row] = on
+            self._overlays += 1 if on else -1
+        if not on:
+            self.overlay.install(row, Profile.hold(KinematicState(0.0)), self.sample_time)
 
     def shift(self, row: int, offset: float) -> None:
         """Move the coordinate system of one axis (MC_SetActualPosition, homing)."""

@@ -84,3 +84,12 @@ class TargetPositionType(IntEnum):
     ABSOLUTE = 1
     RELATIVE = 2
     MODULO = 5
+
+
+class SuperpositionMode(IntEnum):
+    """E_SuperpositionMode (TcMC §6.5)."""
+
+    VELOREDUCTION_ADDITIVEMOTION = 1
+    VELOREDUCTION_LIMITEDMOTION = 2
+    LENGTHREDUCTION_ADDITIVEMOTION = 3
+    LENGTHREDUCTION_LIMITEDMOTION = 4

@@ -54,6 +54,7 @@ class ErrorId(IntEnum):
     NOTHING_TO_DO = 0x710C  #: a modifying command without a running job to modify
     PROBE_ALREADY_ARMED = 0x710D  #: the touch-probe input is armed by another cycle
     NOT_COUPLED = 0x710E  #: MC_GearOut on an axis that is not a geared slave
+    SUPERPOSITION_ACTIVE = 0x710F  #: a superposition runs (or brakes) already
     # openmotion: axis errors raised by monitoring (0x72xx), these take the axis to ErrorStop
     FOLLOWING_ERROR = 0x7201  #: following error above 1020 for longer than 1021
     SOFT_LIMIT_REACHED = 0x7202  #: a velocity move stopped at an enabled software limit

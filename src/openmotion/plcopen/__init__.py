@@ -40,17 +40,31 @@ from openmotion.plcopen.parameters import (
 from openmotion.plcopen.power import MC_Power
 from openmotion.plcopen.read import MC_ReadActualPosition, MC_ReadAxisError, MC_ReadStatus
 from openmotion.plcopen.reference import MC_ReadAxisComponents, MC_SetReferenceFlag
+from openmotion.plcopen.stepper import (
+    DestallDetectMode,
+    DestallMode,
+    MC_PowerStepper,
+    PowerStepperParams,
+)
 from openmotion.plcopen.stop import MC_Halt, MC_Stop
 from openmotion.plcopen.stop_ext import MC_OrientedStop, MC_SetActualPositionOnTheFly
+from openmotion.plcopen.superposition import (
+    MC_AbortSuperposition,
+    MC_MoveSuperImposed,
+    MC_MoveSuperImposedExt,
+)
 from openmotion.plcopen.touch_probe import MC_AbortTrigger, MC_TouchProbe
 from openmotion.plcopen.version import F_GetVersionTcMC
 
 __all__ = [
+    "DestallDetectMode",
+    "DestallMode",
     "EnableBlock",
     "F_GetVersionTcMC",
     "ExecuteBlock",
     "FunctionBlock",
     "JogMode",
+    "MC_AbortSuperposition",
     "MC_AbortTrigger",
     "MC_ChangeDynParam",
     "MC_ExtSetPointGenDisable",
@@ -68,12 +82,15 @@ __all__ = [
     "MC_MoveAbsoluteOrRestart",
     "MC_MoveModulo",
     "MC_MoveRelative",
+    "MC_MoveSuperImposed",
+    "MC_MoveSuperImposedExt",
     "MC_MoveVelocity",
     "MC_NewPos",
     "MC_NewPosAndVelo",
     "MC_OrientedStop",
     "MC_OverrideFilter",
     "MC_Power",
+    "MC_PowerStepper",
     "MC_ReadActualPosition",
     "MC_ReadAxisComponents",
     "MC_ReadAxisError",
@@ -90,4 +107,5 @@ __all__ = [
     "MC_TouchProbe",
     "MC_WriteBoolParameter",
     "MC_WriteParameter",
+    "PowerStepperParams",
 ]

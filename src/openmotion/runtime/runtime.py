@@ -98,6 +98,8 @@ class Runtime:
 
     def _advance_motion(self) -> None:
         kernel, now = self._kernel, self.now
+        for row in kernel.overlay_ended(now).tolist():
+            self._axis_list[row]._on_superposition_end()
         ended = kernel.ended(now)
         if ended.size:
             end = kernel.segments.end

@@ -62,6 +62,12 @@ class SegmentTable:
         self.next_start[row] = records[1, _T] if n > 1 else np.inf
         self.end[row] = records[n - 1, _T]
 
+    def end_position(self, row: int) -> float:
+        """Position of the open segment of ``row`` (where its profile comes to rest)."""
+        records = self.seg[row]
+        n = int(np.isfinite(records[:, _T]).sum())
+        return float(records[n - 1, _P])
+
     def shift(self, row: int, offset: float) -> None:
         """Move every position of ``row`` by ``offset`` (a coordinate shift)."""
         self.seg[row, :, _P] += offset

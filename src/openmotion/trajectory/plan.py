@@ -109,15 +109,27 @@ def plan_stop(start: KinematicState, deceleration: float, jerk: float) -> Profil
 
 
 def _ruckig_position(
-    start: KinematicState, target: float, target_velocity: float, limits: Limits, sign: int
+    start: KinematicState, target: float, target_velocity: float, limits: Limits, sign: int,
+    minimum_duration: float | None = None,
 ) -> Profile:
     _load_state(start, limits, sign)
     _input.control_interface = ControlInterface.Position
     _input.max_velocity = [limits.velocity]
     _input.target_position = [target]
     _input.target_velocity = [target_velocity]
-    profile = _calculate()
+    _input.minimum_duration = minimum_duration
+    try:
+        profile = _calculate()
+    finally:
+        _input.minimum_duration = None
     return _with_exact_end(profile, target, target_velocity)
+
+
+def plan_in_time(distance: float, limits: Limits, duration: float | None) -> Profile:
+    """A rest-to-rest move over ``distance`` lasting at least ``duration`` (ruckig's minimum
+    duration: it lowers the velocity to fill the time). Superposition uses it (TcMC §3.10)."""
+    sign = _sign(distance)
+    return _ruckig_position(KinematicState(0.0), distance, 0.0, limits, sign, duration)
 
 
 def _velocity_profile(start: KinematicState, velocity: float, limits: Limits) -> Profile:

@@ -1,0 +1,74 @@
+"""Planning of superimposed motion (TcMC §3.9-3.11, §6.5; digest §1.8).
+
+A superposition adds ``distance`` on top of the running motion within a time budget that
+comes from a length: ADDITIVE modes measure ``length`` on the reference (the master or the
+workpiece, moving at ``velocity_process``), LIMITED modes on the compensated axis itself, so
+the budget is length / v (ADDITIVE) or (length - distance) / v (LIMITED). VELOREDUCTION uses
+the whole budget with the smallest velocity change; LENGTHREDUCTION is as fast as the velocity
+change allows. What cannot be done in the budget is done as far as possible: the result says
+so and the command reports 0x4243 (SUPERPOSITION_INCOMPLETE).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from openmotion.core.enums import SuperpositionMode
+from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.trajectory.plan import Limits, plan_in_time
+from openmotion.trajectory.segments import Profile
+
+BISECTION_STEPS = 40
+
+
+@dataclass(frozen=True)
+class SuperpositionPlan:
+    profile: Profile  #: the superimposed motion, from 0 to ``distance``
+    distance: float  #: ActualDistance [mm]
+    velocity_diff: float  #: ActualVelocityDiff: peak velocity change used [mm/s]
+    length: float  #: ActualLength [mm]
+    complete: bool  #: the whole distance fits
+
+
+def plan_superposition(mode: SuperpositionMode, distance: float, velocity_diff: float,
+                       acceleration: float, deceleration: float, jerk: float,
+                       velocity_process: float, length: float,
+                       base_velocity: float) -> SuperpositionPlan:
+    v0 = abs(velocity_process)
+    additive = mode in (SuperpositionMode.VELOREDUCTION_ADDITIVEMOTION,
+                        SuperpositionMode.LENGTHREDUCTION_ADDITIVEMOTION)
+    velo = mode in (SuperpositionMode.VELOREDUCTION_ADDITIVEMOTION,
+                    SuperpositionMode.VELOREDUCTION_LIMITEDMOTION)
+    budget = abs(length) / v0 if additive else (abs(length) - distance) / v0
+    if budget <= 0.0:
+        raise CommandRejected(ErrorId.SUPERPOSITION_INCOMPLETE,
+                              f"length {length} leaves no time for distance {distance}")
+    dv = abs(velocity_diff)
+    if distance < 0.0:  # slowing down cannot go below standstill (§3.11 conveyor example)
+        dv = min(dv, abs(base_velocity)) if base_velocity else dv
+    limits = Limits(dv, acceleration, deceleration, jerk)
+    fastest = plan_in_time(distance, limits, None)
+    complete = fastest.duration <= budget * (1 + 1e-12)
+    if not complete:
+        distance = _reachable(distance, limits, budget)
+        fastest = plan_in_time(distance, limits, None)
+    profile = plan_in_time(distance, limits, budget) if velo and complete else fastest
+    lo, hi = profile.velocity_extrema()
+    used = profile.duration
+    travelled = v0 * used + (0.0 if additive else distance)
+    return SuperpositionPlan(profile, float(profile.end.position), max(abs(lo), abs(hi)),
+                             travelled, complete)
+
+
+def _reachable(distance: float, limits: Limits, budget: float) -> float:
+    """The largest part of ``distance`` whose fastest profile fits the budget."""
+    lo, hi = 0.0, abs(distance)
+    for _ in range(BISECTION_STEPS):
+        mid = 0.5 * (lo + hi)
+        if mid == 0.0 or plan_in_time(math.copysign(mid, distance), limits,
+                                      None).duration <= budget:
+            lo = mid
+        else:
+            hi = mid
+    return math.copysign(lo, distance)
