@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import openmotion as om
 from openmotion.core.enums import SuperpositionMode as M
@@ -228,3 +230,26 @@ def test_superposition_on_a_standing_axis_is_an_error() -> None:
     fb(execute=True, distance=10.0, velocity_diff=10.0, velocity_process=10.0,
        max_distance=100.0)
     assert fb.error and fb.error_id == E.AXIS_NOT_MOVING
+
+
+@settings(max_examples=40)
+@given(velocity=st.floats(50.0, 800.0), distance=st.floats(-40.0, 300.0).filter(
+    lambda d: abs(d) > 1e-3), mode=st.sampled_from(list(M)))
+def test_superposition_adds_exactly_the_commanded_distance(velocity: float, distance: float,
+                                                           mode: M) -> None:
+    """Issue 3 property: with a budget that fits, the axis ends exactly ``distance`` ahead of
+    (or behind) where the base motion alone would be, and no limit is exceeded."""
+    rt, axis = cruising(velocity)
+    start, t0 = axis.set_position, rt.now
+    command = axis.move_superimposed(distance, 500.0, velocity, 4.0 * velocity + 2 * abs(distance),
+                                     mode)
+    assert command.active, command
+    peak = 0.0
+    while not command.finished:
+        rt.step()
+        peak = max(peak, abs(axis.set_velocity))
+    assert command.done, command
+    rt.step()
+    base = velocity * (rt.now - t0)
+    assert axis.set_position - start == pytest.approx(base + distance, abs=1e-6 * (1 + base))
+    assert peak <= velocity + 500.0 + 1e-9 and axis.set_velocity == pytest.approx(velocity)
