@@ -10,6 +10,7 @@ import pytest
 from pydantic import ValidationError
 
 import openmotion as om
+from openmotion.axis import probe
 from openmotion.core.special_values import MC_DEFAULT, MC_MAXIMUM
 from openmotion.scenario import Scenario, ScenarioError, load_scenario, parse_scenario
 from openmotion.scenario.schema import COMMANDS, MoveAbsolute, parse_condition
@@ -245,12 +246,16 @@ def test_entry_arguments_are_the_axis_method_parameters(command: str) -> None:
     model = COMMANDS[command]
     fields = {name: field for name, field in model.model_fields.items()
               if name not in ("id", "at", "when", "axis", "command")}
-    required = {name: 1.0 for name, field in fields.items() if field.is_required()}
-    if command == "new_position_and_velocity":
-        required["mode"] = "change_pos"
-    entry = model(at=0.0, axis="x", command=command, **required)
-    parameters = inspect.signature(getattr(om.Axis, model.method)).parameters
-    assert set(entry.arguments()) <= set(parameters) - {"self"}
+    required: dict[str, object] = {name: 1.0 for name, field in fields.items()
+                                   if field.is_required()}
+    required.update({"mode": {"new_position_and_velocity": "change_pos",
+                              "gear_out_ext": "stop"}.get(command), "master": "y",
+                     "probe": "p"})
+    entry = model(at=0.0, axis="x", command=command,
+                  **{name: value for name, value in required.items() if name in fields})
+    function = getattr(om.Axis, model.method, None) or getattr(probe, model.method)
+    parameters = inspect.signature(function).parameters
+    assert set(entry.arguments()) <= set(parameters) - {"self", "axis", "ref", "now"}
 
 
 @pytest.mark.parametrize(("text", "subject", "attribute", "operator", "value"), [

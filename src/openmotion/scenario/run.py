@@ -16,11 +16,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from openmotion.axis.commands import Command, CommandStatus
+from openmotion.axis.probe import InputRef, abort_probe, arm_probe
 from openmotion.core.enums import AxisState
 from openmotion.core.errors import ErrorId
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.load import load_scenario
 from openmotion.scenario.schema import (
+    AbortTrigger,
     CommandCheck,
     Condition,
     Entry,
@@ -28,6 +30,7 @@ from openmotion.scenario.schema import (
     PowerOff,
     Scenario,
     SignalCheck,
+    TouchProbe,
 )
 from openmotion.trace.record import Trace, TraceRecorder, read_signal, split_signal
 
@@ -55,6 +58,7 @@ class CommandRow:
     result: str  #: DONE, ABORTED, ERROR, BUSY or NOT ISSUED
     error: str  #: ErrorId name of an error, else ""
     message: str  #: error or abort reason, and any warnings
+    value: float | None = None  #: the command's result value (a touch_probe's position)
 
 
 @dataclass(frozen=True)
@@ -112,6 +116,9 @@ class ScenarioResult:
                                 no_wrap=name != "detail", overflow="fold")
         for row in self.commands:
             detail = ": ".join(part for part in (row.error, row.message) if part)
+            if row.value is not None:
+                detail = "; ".join(part for part in (f"value {_number(row.value)}", detail)
+                                   if part)
             commands.add_row(*map(Text, (row.id, row.axis, row.command,
                                          _time(row.issued_at, digits),
                                          _time(row.ended_at, digits))),
@@ -171,6 +178,14 @@ def _cycle_of(seconds: float, cycle_time: float) -> int:
     return math.ceil(round(seconds / cycle_time, 6))
 
 
+def _value_of(command: Command | None) -> float | None:
+    """The command's numeric result value (a touch_probe's recorded position), if any."""
+    value = None if command is None else command.value
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        return float(value)
+    return None
+
+
 def _result_of(command: Command | None) -> str:
     if command is None:
         return "NOT ISSUED"
@@ -182,14 +197,20 @@ class _Run:
         self.scenario = scenario
         self.rt = rt = Runtime(scenario.cycle_time)
         for spec in scenario.axes:
-            rt.add_axis(spec.name, parameters=spec.parameters.build(), drive=spec.drive.build(),
-                        position=spec.position)
+            axis = rt.add_axis(spec.name, parameters=spec.parameters.build(),
+                               drive=spec.drive.build(), position=spec.position)
+            if spec.probe is not None:
+                spec.probe.build(axis)
         self.entries = list(scenario.entries())
         self.fire_cycle = [None if entry.at is None else _cycle_of(entry.at, rt.cycle_time)
                            for _, entry in self.entries]
         self.pending = list(range(len(self.entries)))
         self.issued: dict[int, Command] = {}
         self.by_id: dict[str, Command] = {}
+        #: the MC_InputRef of each touch_probe entry, by entry id (or label)
+        self.trigger_inputs: dict[str, InputRef] = {
+            label: entry.trigger_input() for label, entry in self.entries
+            if isinstance(entry, TouchProbe)}
         self.recorder = TraceRecorder(rt, scenario.signals, scenario.record.every)
         self.checks = [_CheckState(check, self) for check in scenario.checks]
         self.quiet_since: int | None = None  #: first cycle of the current rest
@@ -208,7 +229,17 @@ class _Run:
     def issue(self, index: int, entry: Entry) -> None:
         axis = self.rt.axes[entry.axis]
         arguments = entry.arguments()
-        if isinstance(entry, Power | PowerOff):
+        for name in entry.axis_fields:
+            arguments[name] = self.rt.axes[arguments[name]]
+        if isinstance(entry, TouchProbe):
+            label = self.entries[index][0]
+            command = arm_probe(axis, self.trigger_inputs[label], **arguments)
+        elif isinstance(entry, AbortTrigger):  # as MC_AbortTrigger: Done, armed or not
+            command = Command(entry.command, self.rt.now)
+            abort_probe(self.trigger_inputs[entry.probe], self.rt.now)
+            command.status = CommandStatus.DONE
+            command.ended_at = self.rt.now
+        elif isinstance(entry, Power | PowerOff):
             command = Command(entry.command, self.rt.now)
             on = axis.power(**arguments)
             if on == arguments.get("enable", True):
@@ -228,7 +259,8 @@ class _Run:
             return False
         if condition.operator is None:
             command = self.by_id.get(condition.subject)
-            return command is not None and bool(getattr(command, condition.attribute))
+            attribute = "active" if condition.attribute == "in_gear" else condition.attribute
+            return command is not None and bool(getattr(command, attribute))
         value = read_signal(self.rt.axes[condition.subject], condition.attribute)
         return _OPERATORS[condition.operator](value, condition.value)
 
@@ -298,7 +330,8 @@ class _Run:
             text = "; ".join(part for part in [message, *warnings] if part)
             rows.append(CommandRow(label, entry.axis, entry.command,
                                    command.issued_at if command else None,
-                                   command.ended_at if command else None, result, error, text))
+                                   command.ended_at if command else None, result, error, text,
+                                   _value_of(command)))
         return rows
 
 
@@ -366,6 +399,13 @@ class _CheckState:
         ok = result == check.result.upper()
         if ok and check.error_id is not None:
             ok = command is not None and command.error_id == check.error_id
+        if check.value is not None:
+            value = _value_of(command)
+            if value is None:
+                return False, f"{detail}, no value"
+            detail += f" {_number(value)}"
+            if ok and not abs(value - check.value) <= check.tolerance:
+                return False, f"{detail}, off by {_number(value - check.value)}"
         return ok, detail
 
     def row(self) -> CheckRow:
@@ -380,7 +420,9 @@ class _CheckState:
                 {"end": "at end", "always": "always"}[check.at]
         if isinstance(check, CommandCheck):
             error = f" {check.error_id.name}" if check.error_id is not None else ""
-            return f"{check.command} {check.result}{error} {when}"
+            value = "" if check.value is None else f" value {check.value:.15g}" + (
+                f" ± {check.tolerance:.15g}" if check.tolerance else "")
+            return f"{check.command} {check.result}{error}{value} {when}"
         parts = []
         if isinstance(check.expect, str):
             parts.append(f"{check.signal} == {check.expect}")

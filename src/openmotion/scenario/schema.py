@@ -21,7 +21,7 @@ from collections import Counter
 from collections.abc import Iterator
 from contextvars import ContextVar
 from enum import Enum
-from typing import Annotated, Any, ClassVar, Literal, get_args, get_type_hints
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal, get_args, get_type_hints
 
 from pydantic import (
     AfterValidator,
@@ -42,8 +42,16 @@ from pydantic import (
 
 from openmotion.axis.drive import DriveModel
 from openmotion.axis.parameters import AxisParameters
-from openmotion.core.enums import AxisState, BufferMode, Direction, NewPosAndVeloMode
-from openmotion.core.errors import ErrorId
+from openmotion.axis.probe import InputRef, ProbeSignal, SignalEdge
+from openmotion.axis.probe import _intervals as _probe_intervals
+from openmotion.core.enums import (
+    AxisState,
+    BufferMode,
+    DecoupleMode,
+    Direction,
+    NewPosAndVeloMode,
+)
+from openmotion.core.errors import ConfigError, ErrorId
 from openmotion.core.special_values import (
     DEFAULT_HOME_POSITION,
     MC_DEFAULT,
@@ -53,6 +61,9 @@ from openmotion.core.special_values import (
 )
 from openmotion.trace.record import AXIS_SIGNALS, default_signals, split_signal
 
+if TYPE_CHECKING:
+    from openmotion.axis.axis import Axis
+
 # -- names known while one Scenario validates ----------------------------------------------
 
 
@@ -60,18 +71,23 @@ from openmotion.trace.record import AXIS_SIGNALS, default_signals, split_signal
 class _Names:
     axes: Counter[str]
     ids: Counter[str]
+    commands: dict[str, object]  #: entry id -> its ``command`` value (raw)
 
     @classmethod
     def of(cls, data: object) -> _Names:
         """The names in raw input, however malformed the rest of it is."""
-        def names(key: str, field: str) -> Counter[str]:
-            items = data.get(key) if isinstance(data, dict) else None
-            if not isinstance(items, list):
-                return Counter()
-            return Counter(item[field] for item in items
-                           if isinstance(item, dict) and isinstance(item.get(field), str))
+        def items(key: str) -> list[dict]:
+            found = data.get(key) if isinstance(data, dict) else None
+            return [item for item in found if isinstance(item, dict)] \
+                if isinstance(found, list) else []
 
-        return cls(names("axes", "name"), names("timeline", "id"))
+        def names(key: str, field: str) -> Counter[str]:
+            return Counter(item[field] for item in items(key)
+                           if isinstance(item.get(field), str))
+
+        commands = {item["id"]: item.get("command") for item in items("timeline")
+                    if isinstance(item.get("id"), str)}
+        return cls(names("axes", "name"), names("timeline", "id"), commands)
 
 
 _NAMES: ContextVar[_Names | None] = ContextVar("openmotion_scenario_names", default=None)
@@ -91,6 +107,18 @@ def _check_id(name: str) -> str:
         known = ", ".join(sorted(names.ids)) or "none"
         raise ValueError(f"{name!r} is not the id of a timeline entry (ids: {known})")
     return name
+
+
+def _check_id_of(command: str, what: str) -> Any:
+    """The id of a timeline entry whose ``command`` is ``command``."""
+    def check(name: str) -> str:
+        _check_id(name)
+        names = _NAMES.get()
+        if names is not None and names.commands.get(name) != command:
+            raise ValueError(f"{name!r} is not the id of a {command} entry ({what})")
+        return name
+
+    return AfterValidator(check)
 
 
 # -- value types ---------------------------------------------------------------------------
@@ -178,7 +206,8 @@ ErrorIdName = Annotated[ErrorId, PlainValidator(_error_id),
 
 # -- conditions ----------------------------------------------------------------------------
 
-COMMAND_FLAGS = ("done", "error", "aborted", "busy", "active", "in_velocity", "finished")
+COMMAND_FLAGS = ("done", "error", "aborted", "busy", "active", "in_velocity", "finished",
+                 "in_gear")
 OPERATORS = ("<=", ">=", "==", "<", ">")
 _CONDITION = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\.([a-z_]+)\s*"
                         r"(?:(<=|>=|==|<|>)\s*(\S+))?\s*$")
@@ -215,6 +244,10 @@ def parse_condition(text: object) -> Condition:
                     else f": the flag must be one of {', '.join(COMMAND_FLAGS)}")
             raise ValueError(f"{text!r}{hint}")
         _check_id(subject)
+        names = _NAMES.get()
+        if attribute == "in_gear" and names is not None \
+                and names.commands.get(subject) != "gear_in":
+            raise ValueError(f"{text!r}: in_gear is a flag of gear_in entries only")
         return Condition(text.strip(), subject, attribute)
     if attribute not in AXIS_SIGNALS:
         raise ValueError(f"{text!r}: the signal must be one of {', '.join(AXIS_SIGNALS)}")
@@ -294,6 +327,33 @@ class DriveSpec(_Model):
         return DriveModel(self.model, self.time_constant, self.dead_time)
 
 
+ProbeBound = Annotated[StrictFloat, Field(allow_inf_nan=True)]
+ProbeInterval = tuple[ProbeBound, ProbeBound]
+
+
+class ProbeSpec(_Model):
+    """A ProbeSignal (axis/probe.py): the input is TRUE inside ``positions`` or ``times``."""
+
+    positions: list[ProbeInterval] = []
+    """[from, to] of the machine position, from <= p < to; ``.inf`` for an open end."""
+    times: list[ProbeInterval] = []
+    """[from, to] of the simulated time [s], from <= t < to."""
+
+    @model_validator(mode="after")
+    def _intervals(self) -> ProbeSpec:
+        if bool(self.positions) == bool(self.times):
+            raise ValueError("give 'positions' or 'times' (a non-empty list of [from, to])")
+        for name in ("positions", "times"):
+            try:
+                _probe_intervals(name, getattr(self, name))
+            except ConfigError as exc:
+                raise ValueError(str(exc)) from None
+        return self
+
+    def build(self, axis: Axis) -> ProbeSignal:
+        return ProbeSignal(axis, positions=self.positions, times=self.times)
+
+
 class AxisSpec(_Model):
     """One axis of the runtime."""
 
@@ -305,6 +365,8 @@ class AxisSpec(_Model):
     """Drive and encoder model."""
     position: Number = 0.0
     """Initial position [mm or °]."""
+    probe: ProbeSpec | None = None
+    """The touch-probe input (TouchProbe1) of the axis; default: none wired."""
 
 
 # -- timeline ------------------------------------------------------------------------------
@@ -319,6 +381,8 @@ class Entry(_Model):
     """
 
     method: ClassVar[str]  #: the Axis method the entry calls
+    axis_fields: ClassVar[tuple[str, ...]] = ()  #: arguments that name an axis (the run
+    #: passes the Axis object)
     id: Annotated[Identifier, _unique("ids")] | None = None
     """Name for conditions and checks; unique."""
     at: Seconds | None = None
@@ -517,11 +581,129 @@ class Home(Entry):
     """Reference position; default: the axis' calibration_value."""
 
 
+class GearIn(Entry):
+    """MC_GearIn / MC_GearInFloat, or MC_GearInDyn with ``acceleration`` (TcMC §3.17-3.19).
+
+    Couples at standstill only: slave in Standstill, master at rest.
+    """
+
+    method = "gear_in"
+    command: Literal["gear_in"]
+    axis_fields: ClassVar[tuple[str, ...]] = ("master",)
+    master: Annotated[StrictStr, AfterValidator(_check_axis)]
+    """Name of the master axis."""
+    ratio: Number
+    """Gear ratio slave : master (may be negative or fractional)."""
+    acceleration: InputValue | None = None
+    """[mm/s²]: a dynamic coupling (MC_GearInDyn) whose ratio changes slew at most at
+    acceleration / master max_velocity per second; omitted: a fixed coupling."""
+
+
+class SetGearRatio(Entry):
+    """A new target ratio for a coupling (MC_GearInDyn's GearRatio input, TcMC §3.19)."""
+
+    method = "set_gear_ratio"
+    command: Literal["set_gear_ratio"]
+    ratio: Number
+    """New gear ratio slave : master."""
+
+
+class GearOut(Entry):
+    """MC_GearOut (TcMC §3.20): decouple; a moving slave keeps its velocity."""
+
+    method = "gear_out"
+    command: Literal["gear_out"]
+
+
+class GearOutExt(Entry):
+    """MC_GearOutExt (TcMC §3.21): decouple, then a follow-up ``mode`` if the slave moves.
+
+    The entry's outcome is the follow-up command's (Done at its target or velocity).
+    """
+
+    method = "gear_out_ext"
+    command: Literal["gear_out_ext"]
+    mode: _enum_by_name(DecoupleMode)  # type: ignore[valid-type]
+    """stop, oriented_stop, endless, endless_new_velocity, new_position,
+    new_position_and_velocity, instantaneous_stop."""
+    position: InputValue = MC_INVALID
+    """Target [mm or °] of new_position*, modulo position of oriented_stop."""
+    velocity: InputValue = MC_INVALID
+    """[mm/s] of endless_new_velocity and new_position_and_velocity."""
+    acceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³]."""
+
+
+class OrientedStop(Entry):
+    """MC_OrientedStop (TcMC §3.16): stop at the next reachable modulo position."""
+
+    method = "oriented_stop"
+    command: Literal["oriented_stop"]
+    position: InputValue
+    """Modulo stop position, 0 <= position < modulo_period."""
+
+
+class SetActualPositionOnTheFly(Entry):
+    """MC_SetActualPositionOnTheFly (TcMC §4.13): shift the coordinates of a moving axis."""
+
+    method = "set_actual_position_on_the_fly"
+    command: Literal["set_actual_position_on_the_fly"]
+    actual_position: InputValue
+    """New value of ``previous_position`` [mm or °]."""
+    previous_position: InputValue
+    """The old coordinate that becomes ``actual_position`` [mm or °]."""
+
+
+class TouchProbe(Entry):
+    """MC_TouchProbe (TcMC §4.21) on the axis' ``probe`` input: latch the position at an edge.
+
+    The command ends Done with the recorded position as its value (checks: ``value``).
+    """
+
+    method = "arm_probe"
+    command: Literal["touch_probe"]
+    edge: _enum_by_name(SignalEdge) = SignalEdge.RISING  # type: ignore[valid-type]
+    """rising or falling."""
+    window_only: StrictBool = False
+    """Accept only edges at positions in [first_position, last_position]."""
+    first_position: Number = 0.0
+    """Window start [mm or °]."""
+    last_position: Number = 0.0
+    """Window end [mm or °]; with modulo_positions a window first > last wraps through 0."""
+    modulo_positions: StrictBool = False
+    """Window and recorded position as modulo values of the axis' modulo_period."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"window_only": self.window_only, "first_position": self.first_position,
+                "last_position": self.last_position}
+
+    def trigger_input(self) -> InputRef:
+        """A fresh MC_InputRef for this entry (TouchProbe1, the entry's edge)."""
+        return InputRef(edge=self.edge, modulo_positions=self.modulo_positions)
+
+
+class AbortTrigger(Entry):
+    """MC_AbortTrigger (TcMC §4.22): disarm the probe cycle of a touch_probe entry."""
+
+    method = "abort_probe"
+    command: Literal["abort_trigger"]
+    probe: Annotated[StrictStr, _check_id_of("touch_probe", "probe")]
+    """The id of the touch_probe entry to disarm."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {}  # the run passes the touch_probe entry's InputRef
+
+
 COMMANDS: dict[str, type[Entry]] = {
     get_args(model.model_fields["command"].annotation)[0]: model
     for model in (Power, PowerOff, Reset, SetOverride, MoveAbsolute, MoveRelative, MoveModulo,
                   MoveVelocity, Halt, Stop, ChangeDynamics, NewPosition, NewPositionAndVelocity,
-                  SetActualPosition, Home)
+                  SetActualPosition, Home, GearIn, SetGearRatio, GearOut, GearOutExt,
+                  OrientedStop, SetActualPositionOnTheFly, TouchProbe, AbortTrigger)
 }
 TimelineEntry = Annotated[
     Annotated[Power, Tag("power")] | Annotated[PowerOff, Tag("power_off")]
@@ -532,7 +714,12 @@ TimelineEntry = Annotated[
     | Annotated[Stop, Tag("stop")] | Annotated[ChangeDynamics, Tag("change_dynamics")]
     | Annotated[NewPosition, Tag("new_position")]
     | Annotated[NewPositionAndVelocity, Tag("new_position_and_velocity")]
-    | Annotated[SetActualPosition, Tag("set_actual_position")] | Annotated[Home, Tag("home")],
+    | Annotated[SetActualPosition, Tag("set_actual_position")] | Annotated[Home, Tag("home")]
+    | Annotated[GearIn, Tag("gear_in")] | Annotated[SetGearRatio, Tag("set_gear_ratio")]
+    | Annotated[GearOut, Tag("gear_out")] | Annotated[GearOutExt, Tag("gear_out_ext")]
+    | Annotated[OrientedStop, Tag("oriented_stop")]
+    | Annotated[SetActualPositionOnTheFly, Tag("set_actual_position_on_the_fly")]
+    | Annotated[TouchProbe, Tag("touch_probe")] | Annotated[AbortTrigger, Tag("abort_trigger")],
     Discriminator("command"),
 ]
 
@@ -610,7 +797,7 @@ class SignalCheck(_Check):
 
 
 class CommandCheck(_Check):
-    """A timeline entry's command must have ended with ``result``."""
+    """A timeline entry's command must have ended with ``result`` (and ``value``)."""
 
     command: Annotated[StrictStr, AfterValidator(_check_id)]
     """The id of a timeline entry."""
@@ -618,6 +805,16 @@ class CommandCheck(_Check):
     """Expected outcome."""
     error_id: ErrorIdName | None = None
     """Expected ErrorId name, e.g. AXIS_STOPPING (with result: error)."""
+    value: Number | None = None
+    """Expected result value of the command, e.g. a touch_probe's recorded position."""
+    tolerance: Annotated[StrictFloat, Field(ge=0.0)] = 1e-9
+    """Allowed |value - expected value|."""
+
+    @model_validator(mode="after")
+    def _tolerance_with_value(self) -> CommandCheck:
+        if self.value is None and "tolerance" in self.model_fields_set:
+            raise ValueError("'tolerance' needs 'value'")
+        return self
 
 
 CHECKS: dict[str, type[_Check]] = {"signal": SignalCheck, "command": CommandCheck}
