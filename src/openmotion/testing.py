@@ -188,7 +188,7 @@ def _high_states(draw: st.DrawFn) -> KinematicState:
 
 @st.composite
 def moves(draw: st.DrawFn, kind: MoveKind = "position", symmetric: bool = False,
-          high: bool | None = None) -> MoveCase:
+          high: bool | None = None, onward: bool = False) -> MoveCase:
     """A start state, a target and limits.
 
     "position": with ``limits()``, a start state from ``kinematic_states`` and a target up to
@@ -198,6 +198,8 @@ def moves(draw: st.DrawFn, kind: MoveKind = "position", symmetric: bool = False,
     "velocity": a signed target velocity within the velocity limit (never 0: that is
     MC_Halt). "stop": brakes with ``limits.deceleration`` and ``limits.jerk``. Velocity
     moves and stops use ``limits()`` only: with high limits they would run for hours.
+    ``onward``: the target (position, or velocity sign) lies in the direction of the start
+    velocity, so the move need not reverse from the start (it still may by overshooting).
     """
     if high and kind != "position":
         raise ValueError("high limits are drawn for position moves only")
@@ -207,17 +209,21 @@ def moves(draw: st.DrawFn, kind: MoveKind = "position", symmetric: bool = False,
         lim = draw(high_limits(symmetric))
         start = draw(_high_states())
         target = draw(st.floats(-16.0, 16.0, allow_subnormal=False))
-        return MoveCase(start, target, lim, kind)
-    lim = draw(limits(symmetric))
-    start = draw(kinematic_states(lim))
-    if kind == "position":
-        travel = _or_zero(draw, st.floats(-1.0, 1.0, allow_subnormal=False), 0.95)
-        target = start.position + travel * lim.velocity
-    elif kind == "velocity":
-        speed = draw(st.floats(1e-3, 1.0)) * lim.velocity
-        target = speed if draw(st.booleans()) else -speed
     else:
-        target = 0.0
+        lim = draw(limits(symmetric))
+        start = draw(kinematic_states(lim))
+        if kind == "position":
+            travel = _or_zero(draw, st.floats(-1.0, 1.0, allow_subnormal=False), 0.95)
+            target = start.position + travel * lim.velocity
+        elif kind == "velocity":
+            speed = draw(st.floats(1e-3, 1.0)) * lim.velocity
+            target = speed if draw(st.booleans()) else -speed
+        else:
+            target = 0.0
+    if onward and kind != "stop":
+        origin = start.position if kind == "position" else 0.0
+        if (target - origin) * start.velocity < 0.0:
+            target = origin - (target - origin)  # mirrored onto the side the axis heads to
     return MoveCase(start, target, lim, kind)
 
 
@@ -295,11 +301,14 @@ def ruckig_duration(case: MoveCase) -> float:
 
 
 def ruckig_reverses(case: MoveCase) -> bool:
-    """ruckig's one-call profile reverses the direction of motion (plan.py's tolerance).
+    """The move reverses its direction of motion: the start velocity points away from the
+    target, or ruckig's one-call profile crosses zero velocity (beyond plan.py's tolerance).
 
     With acceleration != deceleration such a profile cannot keep both limits, so openmotion
     brakes to rest and moves again (docs/decisions.md D-002): it is no longer time-optimal.
     """
+    if case.start.velocity * _direction(case) < 0.0:
+        return True
     profile = ruckig_trajectory(case).profiles[0][0]
     lo = hi = profile.v[0] if profile.brake.duration <= 0.0 else profile.brake.v[0]
     for phase in (profile.brake, profile, profile.accel):

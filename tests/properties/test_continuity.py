@@ -2,8 +2,9 @@
 
 style.md §4.3 (invariant "continuous across every abort and blend"). A move is interrupted at
 a random cycle, including the cycles around its end, by another move (Aborting), a
-MoveVelocity, a Stop, or an override change; and 2-3 moves run as a Blending*/Buffered
-sequence. Every pair of consecutive samples, switch cycles included, satisfies
+MoveVelocity, a Stop or Halt, an override change, or a modification (MC_NewPos,
+MC_NewPosAndVelo, MC_ChangeDynParam); and 2-3 moves run as a Blending*/Buffered sequence.
+Every pair of consecutive samples, switch cycles included, satisfies
 (``assert_continuous``):
 
 * |Δp - (v₀+v₁)·dt/2| <= j_max·dt³/12 (trapezoid error of a C¹ velocity with |v''| <= j_max),
@@ -21,7 +22,7 @@ import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from openmotion.core.enums import BufferMode, Direction
+from openmotion.core.enums import BufferMode, Direction, NewPosAndVeloMode
 from openmotion.plcopen import MC_SetOverride
 from openmotion.testing import assert_continuous, limits, run_schedule, single_axis
 from openmotion.trajectory.plan import Limits
@@ -41,6 +42,19 @@ def _envelope(*limit_sets: Limits) -> Limits:
 def _bounds(*limit_sets: Limits) -> tuple[float, float]:
     env = _envelope(*limit_sets)
     return max(env.acceleration, env.deceleration), env.jerk
+
+
+def _assert_smooth(trace, axis, *limit_sets: Limits) -> None:  # noqa: ANN001
+    """Continuous at every sample, and within the axis limits: max_velocity is a hard limit
+    (D-020: a switch raises a low jerk up to max_jerk rather than pass it)."""
+    acceleration, jerk = _bounds(*limit_sets)
+    assert_continuous(trace, acceleration, jerk)
+    p = axis.parameters
+    for name, limit in (("velocity", p.max_velocity), ("jerk", p.max_jerk),
+                        ("acceleration", max(p.max_acceleration, p.max_deceleration))):
+        assert trace.peak(name) <= limit * (1 + 1e-9), (
+            f"|{name}| reaches {trace.peak(name)!r}, the axis limit is {limit!r}"
+        )
 
 
 def _move(axis, target: float, lim: Limits, mode: BufferMode = BufferMode.ABORTING):  # noqa: ANN001, ANN202
@@ -89,7 +103,7 @@ def test_abort_by_move_is_continuous(pair, fraction):
     _move(axis, target1, lim1)
     k = _interrupt_cycle(axis, fraction)
     trace = run_schedule(rt, axis, {k: lambda: _move(axis, target1 + travel2, lim2)})
-    assert_continuous(trace, *_bounds(lim1, lim2))
+    _assert_smooth(trace, axis, lim1, lim2)
 
 
 @given(pair=move_pairs(), speed=st.floats(0.01, 1.0), negative=st.booleans(),
@@ -109,19 +123,45 @@ def test_abort_by_move_velocity_is_continuous(pair, speed, negative, fraction):
                            second.deceleration, second.jerk)
 
     trace = run_schedule(rt, axis, {k: interrupt})
-    assert_continuous(trace, *_bounds(lim1, second))
+    _assert_smooth(trace, axis, lim1, second)
 
 
-@given(pair=move_pairs(), own_dynamics=st.booleans(), fraction=_fractions)
-def test_abort_by_stop_is_continuous(pair, own_dynamics, fraction):
-    """MC_Stop with its own deceleration and jerk, or with 0 (the running move's)."""
+@given(pair=move_pairs(), own_dynamics=st.booleans(), halt=st.booleans(), fraction=_fractions)
+def test_abort_by_stop_or_halt_is_continuous(pair, own_dynamics, halt, fraction):
+    """MC_Stop or MC_Halt with their own deceleration and jerk, or with the defaults (Stop: 0,
+    the running move's; Halt: the axis defaults, here the running move's too)."""
     (lim1, target1), (stop, _) = pair
     rt, axis = single_axis(_envelope(lim1, stop) if own_dynamics else lim1, CYCLE)
     _move(axis, target1, lim1)
     k = _interrupt_cycle(axis, fraction)
     dec, jerk = (stop.deceleration, stop.jerk) if own_dynamics else (0.0, 0.0)
-    trace = run_schedule(rt, axis, {k: lambda: axis.stop(dec, jerk)})
-    assert_continuous(trace, *_bounds(lim1, stop) if own_dynamics else _bounds(lim1))
+    command = axis.halt if halt else axis.stop
+    trace = run_schedule(rt, axis, {k: lambda: command(dec, jerk)})
+    _assert_smooth(trace, axis, *((lim1, stop) if own_dynamics else (lim1,)))
+    assert trace.velocity[-1] == 0.0 and trace.acceleration[-1] == 0.0
+
+
+@given(pair=move_pairs(), how=st.sampled_from(["new_position", "new_position_and_velocity",
+                                               "change_dynamics"]), fraction=_fractions)
+def test_modification_is_continuous(pair, how, fraction):
+    """MC_NewPos, MC_NewPosAndVelo (position and velocity) and MC_ChangeDynParam on the
+    running move; a refused modification (TcMC §4.20's unsafe cases) leaves it running."""
+    (lim1, target1), (lim2, travel2) = pair
+    rt, axis = single_axis(_envelope(lim1, lim2), CYCLE)
+    _move(axis, target1, lim1)
+    k = _interrupt_cycle(axis, fraction)
+
+    def modify() -> None:
+        if how == "new_position":
+            axis.new_position(target1 + travel2)
+        elif how == "new_position_and_velocity":
+            axis.new_position_and_velocity(NewPosAndVeloMode.CHANGE_POS_AND_VELO,
+                                           target1 + travel2, lim2.velocity)
+        else:
+            axis.change_dynamics(lim2.acceleration, lim2.deceleration, lim2.jerk)
+
+    trace = run_schedule(rt, axis, {k: modify})
+    _assert_smooth(trace, axis, lim1, lim2)
 
 
 @given(first=first_moves(), overrides=st.lists(st.floats(0.0, 100.0), min_size=1, max_size=3),
@@ -152,7 +192,7 @@ def test_override_change_is_continuous(first, overrides, fractions, by_block):
     schedule[last + 1] = lambda: axis.set_override(100.0)  # resume so the move can end
     pending.pop(last + 1, None)
     trace = run_schedule(rt, axis, schedule)
-    assert_continuous(trace, *_bounds(lim1))
+    _assert_smooth(trace, axis, lim1)
     assert axis.set_position == target1
 
 
@@ -184,5 +224,5 @@ def test_blending_sequence_is_continuous(moves, modes):
 
     trace = run_schedule(rt, axis, {0: issue})
     assert not any(command.error for command in commands), commands
-    assert_continuous(trace, *_bounds(*(lim for lim, _ in moves)))
+    _assert_smooth(trace, axis, *(lim for lim, _ in moves))
     assert axis.set_position == sum(travel for _, travel in moves)

@@ -14,8 +14,6 @@ exceeded, is rejected with ``assume(within_limits(...))``.
 
 from __future__ import annotations
 
-import math
-
 import pytest
 from hypothesis import assume, example, given, reject
 from ruckig import RuckigError
@@ -77,6 +75,10 @@ def test_move_keeps_limits(case):
 @given(case=moves())
 @example(case=MoveCase(  # ruckig's step 1 failed from rest: NO_PROFILE (fixed, D-021)
     KinematicState(0.0), 93.1, Limits(93.1, 93100.0, 181000.0, 181000000.0)))
+@example(case=MoveCase(  # open: a 1 nm move from rest with acc != dec is NO_PROFILE
+    KinematicState(0.0), 1e-6, Limits(10.0, 10.0, 100.0, 1e6)))
+@example(case=MoveCase(  # open: the return move after braking from v_max is NO_PROFILE
+    KinematicState(0.0, 3420.0), 0.0, Limits(3420.0, 430000.0, 860000.0, 434000000.0)))
 def test_move_reaches_target_exactly_and_stays(case):
     assume(within_limits(case.start, case.limits))
     trace = run_single_move(case, CYCLE)
@@ -93,7 +95,7 @@ def test_symmetric_move_is_time_optimal(case):
     _assert_time_optimal(run_single_move(case, CYCLE), case)
 
 
-@given(case=moves())
+@given(case=moves(onward=True))
 def test_asymmetric_move_without_reversal_is_time_optimal(case):
     """With acceleration != deceleration, only moves whose mapped ruckig profile keeps its
     direction are held to ruckig's duration.
@@ -146,9 +148,6 @@ def test_velocity_move_reaches_signed_velocity_exactly(case):
 
 
 @given(case=moves(kind="velocity"))
-@example(case=MoveCase(  # a 2e-153 mm/s start velocity was taken as a reversal (fixed)
-    KinematicState(0.0, 1.9739260268538742e-153, -8.9), -1.0, Limits(1.0, 10.0, 17.8, 178.0),
-    "velocity"))
 def test_velocity_move_without_reversal_is_time_optimal(case):
     """Symmetric limits, or asymmetric ones where the mapped profile keeps its direction
     (see ``test_asymmetric_move_without_reversal_is_time_optimal``)."""
@@ -174,4 +173,3 @@ def test_stop_ends_at_rest_within_its_limits(case):
     assert trace.reached(0.0, "velocity") and trace.reached(0.0, "acceleration")
     assert trace.reached(float(trace.position[-1]))
     _assert_time_optimal(trace, case)
-    assert not math.isnan(trace.position[-1])

@@ -8,6 +8,9 @@ brake-then-move (two ruckig calls; those have no single ruckig trajectory to com
 
 from __future__ import annotations
 
+import math
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from hypothesis import assume, given, reject
@@ -24,7 +27,7 @@ from openmotion.testing import (
 )
 from openmotion.trajectory.evaluate import SegmentTable
 from openmotion.trajectory.plan import plan_position, plan_velocity
-from openmotion.trajectory.segments import Profile
+from openmotion.trajectory.segments import KinematicState, Profile
 
 REL = 1e-9
 
@@ -55,23 +58,37 @@ def _plan(case: MoveCase) -> Profile:
         reject()  # ruckig cannot plan this input; test_moves reports rejections
 
 
+def _sanitised(case: MoveCase) -> MoveCase:
+    """The start state plan.py hands to ruckig (D-021): an acceleration below 1e-10 of the
+    limits is evaluation residue (0), a velocity within 1e-12 of the limit is the limit."""
+    start, lim = case.start, case.limits
+    velocity, acceleration = start.velocity, start.acceleration
+    if abs(acceleration) <= 1e-10 * max(lim.acceleration, lim.deceleration):
+        acceleration = 0.0
+    if abs(abs(velocity) - lim.velocity) <= 1e-12 * lim.velocity:
+        velocity = math.copysign(lim.velocity, velocity)
+    return replace(case, start=KinematicState(start.position, velocity, acceleration))
+
+
 def _single_call(case: MoveCase):  # noqa: ANN202 - ruckig.Trajectory
     """ruckig's trajectory for ``case`` when plan.py used exactly that one call: not for a
     position move that starts above the velocity limit towards its target (ramped down to
-    the limit first, D-021); with acc != dec not where the profile reverses (plan_position)
-    or the start velocity points against the target velocity (plan_velocity, D-002)."""
+    the limit first, D-021); with acc != dec not where the move reverses (start velocity, or
+    at rest the start acceleration, pointing away from the target, or an overshoot: brake,
+    then move, D-002)."""
     start, lim = case.start, case.limits
+    heading = np.sign(case.target - start.position) if case.kind == "position" else 0.0
+    heading = heading or np.sign(case.target) or np.sign(start.velocity)
     if case.kind == "position":
-        heading = np.sign(case.target - start.position) or np.sign(start.velocity)
         assume(not (abs(start.velocity) > lim.velocity and np.sign(start.velocity) == heading))
     try:
-        trajectory = ruckig_trajectory(case)
+        trajectory = ruckig_trajectory(_sanitised(case))
         reverses = ruckig_reverses(case)
     except RuckigError:
         reject()
     if case.limits.acceleration != case.limits.deceleration:
         assume(not reverses)
-        assume(case.kind == "position" or case.start.velocity * case.target >= 0.0)
+        assume((np.sign(start.velocity) or np.sign(start.acceleration)) * heading >= 0.0)
     return trajectory
 
 

@@ -112,6 +112,25 @@ def _ruckig_position(
     start: KinematicState, target: float, target_velocity: float, limits: Limits, sign: int,
     minimum_duration: float | None = None,
 ) -> Profile:
+    try:
+        return _ruckig_position_once(start, target, target_velocity, limits, sign,
+                                     minimum_duration)
+    except CommandRejected:
+        if limits.acceleration == limits.deceleration:
+            raise
+    # ruckig's step 1 fails on some short moves with unequal limits; equal limits at the
+    # smaller one give the same profile where no acceleration limit is reached, and never
+    # exceed either limit elsewhere (D-021)
+    low = min(limits.acceleration, limits.deceleration)
+    return _ruckig_position_once(start, target, target_velocity,
+                                 Limits(limits.velocity, low, low, limits.jerk), sign,
+                                 minimum_duration)
+
+
+def _ruckig_position_once(
+    start: KinematicState, target: float, target_velocity: float, limits: Limits, sign: int,
+    minimum_duration: float | None = None,
+) -> Profile:
     _load_state(start, limits, sign)
     _input.control_interface = ControlInterface.Position
     _input.max_velocity = [limits.velocity]
@@ -279,4 +298,4 @@ def _reverses(profile: Profile, sign: int) -> bool:
 
 
 def _sign(value: float) -> int:
-    return (value > 0.0) - (value < 0.0)
+    return int(value > 0.0) - int(value < 0.0)
