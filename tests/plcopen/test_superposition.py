@@ -253,3 +253,26 @@ def test_superposition_adds_exactly_the_commanded_distance(velocity: float, dist
     base = velocity * (rt.now - t0)
     assert axis.set_position - start == pytest.approx(base + distance, abs=1e-6 * (1 + base))
     assert peak <= velocity + 500.0 + 1e-9 and axis.set_velocity == pytest.approx(velocity)
+
+
+def test_a_geared_slave_takes_a_superimposed_correction_and_keeps_it() -> None:
+    """Issue 3 flying saw: the slave gears to the conveyor, superimposes a correction and stays
+    in gear, the correction kept; a master's own superposition is followed by its slave."""
+    rt = om.Runtime()
+    conveyor = rt.add_axis("conveyor", max_velocity=2000.0)
+    saw = rt.add_axis("saw", max_velocity=2000.0)
+    conveyor.power()
+    saw.power()
+    gear = saw.gear_in(conveyor, 1.0)
+    conveyor.move_velocity(300.0)
+    rt.run(1.0)
+    correction = saw.move_superimposed(2.5, 100.0, 300.0, 100.0)
+    rt.run_until(correction, 5.0)
+    rt.run(0.1)
+    assert correction.done and gear.active
+    assert saw.set_position - conveyor.set_position == pytest.approx(2.5, abs=1e-9)
+    assert saw.set_velocity == conveyor.set_velocity
+    shift = conveyor.move_superimposed(10.0, 100.0, 300.0, 300.0)
+    rt.run_until(shift, 5.0)
+    rt.run(0.1)
+    assert saw.set_position - conveyor.set_position == pytest.approx(2.5, abs=1e-9)

@@ -249,7 +249,9 @@ def test_entry_arguments_are_the_axis_method_parameters(command: str) -> None:
     required: dict[str, object] = {name: 1.0 for name, field in fields.items()
                                    if field.is_required()}
     required.update({"mode": {"new_position_and_velocity": "change_pos",
-                              "gear_out_ext": "stop"}.get(command), "master": "y",
+                              "gear_out_ext": "stop",
+                              "move_superimposed": "veloreduction_additivemotion"}.get(command),
+                     "master": "y",
                      "probe": "p"})
     entry = model(at=0.0, axis="x", command=command,
                   **{name: value for name, value in required.items() if name in fields})

@@ -723,7 +723,10 @@ class Axis:
         extra = k.overlay.state(row, k.sample_time)
         if ended or (extra.velocity == 0.0 and extra.acceleration == 0.0):
             offset = k.overlay.end_position(row)
-            k.segments.shift(row, offset)  # the base continues, shifted by what was added
+            if row in k.couplings:  # a geared slave keeps the correction in its offset
+                k.couplings.shift(row, offset)
+            else:
+                k.segments.shift(row, offset)  # the base continues, shifted by what was added
             for job in ([self._job] if self._job else []) + self._queue:
                 if job.target is not None:
                     job.target += offset

@@ -50,6 +50,10 @@ class Couplings:
         self.ratio[i] = ratio
         self.ratio_rate[i] = rate
 
+    def shift(self, slave: int, offset: float) -> None:
+        """Move a slave's coupled position by ``offset`` (a finished superposition)."""
+        self.offset[self.slaves == slave] += offset
+
     def ratio_of(self, slave: int) -> float:
         return float(self.ratio[np.flatnonzero(self.slaves == slave)[0]])
 

@@ -81,18 +81,11 @@ class AxisKernel:
 
     def evaluate(self, now: float) -> None:
         self.segments.evaluate(now, self.set_p, self.set_v, self.set_a, self.set_j)
-        if self._overlays:  # MC_MoveSuperImposed: add the superimposed motion
-            n = self.size
-            if self._op.size < n:
-                self._op, self._ov, self._oa, self._oj = (np.zeros(self._capacity)
-                                                          for _ in range(4))
-            self.overlay.evaluate(now, self._op, self._ov, self._oa, self._oj)
-            rows = np.flatnonzero(self.superimposed[:n])
-            self.set_p[rows] += self._op[rows]
-            self.set_v[rows] += self._ov[rows]
-            self.set_a[rows] += self._oa[rows]
-            self.set_j[rows] += self._oj[rows]
+        if self._overlays:  # MC_MoveSuperImposed, free axes first: their slaves follow them
+            self._add_overlays(now, slaves=False)
         self.couplings.apply(self.set_p, self.set_v, self.set_a, self.set_j)
+        if self._overlays and self.couplings.slaves.size:  # then geared slaves (flying saw)
+            self._add_overlays(now, slaves=True)
         if self._externals:  # MC_ExtSetPointGen: the fed values are the setpoint
             rows = np.flatnonzero(self.external[: self.size])
             self.set_p[rows], self.set_v[rows] = self.ext_p[rows], self.ext_v[rows]
@@ -163,6 +156,19 @@ class AxisKernel:
         extra = self.overlay.state(row, self.sample_time)
         return KinematicState(base.position + extra.position, base.velocity + extra.velocity,
                               base.acceleration + extra.acceleration)
+
+    def _add_overlays(self, now: float, slaves: bool) -> None:
+        n = self.size
+        if self._op.size < self._capacity:
+            self._op, self._ov, self._oa, self._oj = (np.zeros(self._capacity) for _ in range(4))
+        if not slaves:
+            self.overlay.evaluate(now, self._op, self._ov, self._oa, self._oj)
+        coupled = np.isin(np.arange(n), self.couplings.slaves)
+        rows = np.flatnonzero(self.superimposed[:n] & (coupled if slaves else ~coupled))
+        self.set_p[rows] += self._op[rows]
+        self.set_v[rows] += self._ov[rows]
+        self.set_a[rows] += self._oa[rows]
+        self.set_j[rows] += self._oj[rows]
 
     def overlay_ended(self, now: float) -> np.ndarray:
         """Rows whose superimposed motion has reached its end at or before ``now``."""

@@ -43,6 +43,9 @@ SUMMARY_WIDTH = 100  #: columns of the plain-text summary (and of the golden .ou
 PROGRESS_EVERY = 250  #: cycles between two progress calls
 _OPERATORS = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge,
               "==": operator.eq}
+#: commands that keep the run going until they end, whatever their ``in_velocity`` says (a
+#: superposition sets it when its distance can be done in full)
+_UNTIL_FINISHED = frozenset({"move_superimposed"})
 _RESULT_STYLE = {"DONE": "green", "ABORTED": "yellow", "ERROR": "red", "BUSY": "cyan"}
 
 
@@ -58,7 +61,9 @@ class CommandRow:
     result: str  #: DONE, ABORTED, ERROR, BUSY or NOT ISSUED
     error: str  #: ErrorId name of an error, else ""
     message: str  #: error or abort reason, and any warnings
-    value: float | None = None  #: the command's result value (a touch_probe's position)
+    value: float | None = None  #: the command's result value (a touch_probe's position, a
+    #: move_superimposed's actual distance)
+    value_detail: str = ""  #: the summary's text for the value, when more than ``value X``
 
 
 @dataclass(frozen=True)
@@ -117,8 +122,8 @@ class ScenarioResult:
         for row in self.commands:
             detail = ": ".join(part for part in (row.error, row.message) if part)
             if row.value is not None:
-                detail = "; ".join(part for part in (f"value {_number(row.value)}", detail)
-                                   if part)
+                shown = row.value_detail or f"value {_number(row.value)}"
+                detail = "; ".join(part for part in (shown, detail) if part)
             commands.add_row(*map(Text, (row.id, row.axis, row.command,
                                          _time(row.issued_at, digits),
                                          _time(row.ended_at, digits))),
@@ -179,11 +184,26 @@ def _cycle_of(seconds: float, cycle_time: float) -> int:
 
 
 def _value_of(command: Command | None) -> float | None:
-    """The command's numeric result value (a touch_probe's recorded position), if any."""
+    """The command's numeric result value, if any: a touch_probe's recorded position, the
+    actual distance of a move_superimposed (whose value is (velocity diff, distance, length))."""
     value = None if command is None else command.value
+    if isinstance(value, tuple) and len(value) == _SUPERPOSITION_VALUES:
+        value = value[1]
     if isinstance(value, int | float) and not isinstance(value, bool):
         return float(value)
     return None
+
+
+_SUPERPOSITION_VALUES = 3  #: (ActualVelocityDiff, ActualDistance, ActualLength)
+
+
+def _value_detail(command: Command | None) -> str:
+    """The summary's text for a value with parts: a move_superimposed's actual values."""
+    value = None if command is None else command.value
+    if isinstance(value, tuple) and len(value) == _SUPERPOSITION_VALUES:
+        velocity_diff, distance, length = (_number(float(part)) for part in value)
+        return f"distance {distance}, velocity diff {velocity_diff}, length {length}"
+    return ""
 
 
 def _result_of(command: Command | None) -> str:
@@ -309,7 +329,8 @@ class _Run:
         if any(self.fire_cycle[i] is not None and self.fire_cycle[i] > cycle
                for i in self.pending) or any(c.waiting(cycle) for c in self.checks):
             return False
-        if any(not (c.finished or c.in_velocity) for c in self.issued.values()):
+        if any(not (c.finished or c.in_velocity and c.kind not in _UNTIL_FINISHED)
+               for c in self.issued.values()):
             return False
         for axis in self.rt.axes.values():
             active = axis.active_command
@@ -331,7 +352,7 @@ class _Run:
             rows.append(CommandRow(label, entry.axis, entry.command,
                                    command.issued_at if command else None,
                                    command.ended_at if command else None, result, error, text,
-                                   _value_of(command)))
+                                   _value_of(command), _value_detail(command)))
         return rows
 
 

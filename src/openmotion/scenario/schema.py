@@ -50,6 +50,7 @@ from openmotion.core.enums import (
     DecoupleMode,
     Direction,
     NewPosAndVeloMode,
+    SuperpositionMode,
 )
 from openmotion.core.errors import ConfigError, ErrorId
 from openmotion.core.special_values import (
@@ -698,12 +699,48 @@ class AbortTrigger(Entry):
         return {}  # the run passes the touch_probe entry's InputRef
 
 
+class MoveSuperimposed(Entry):
+    """MC_MoveSuperImposed(Ext) (TcMC §3.9): add ``distance`` on top of the running motion.
+
+    The command's value is (ActualVelocityDiff, ActualDistance, ActualLength); a ``value``
+    check compares the actual distance. A distance done only partly ends the command with
+    SUPERPOSITION_INCOMPLETE.
+    """
+
+    method = "move_superimposed"
+    command: Literal["move_superimposed"]
+    distance: InputValue
+    """Additional distance [mm or °], != 0; its sign gives the direction."""
+    velocity_diff: InputValue
+    """Maximum velocity difference to the base motion [mm/s]."""
+    velocity_process: InputValue
+    """Velocity of the base motion [mm/s] the length is planned for."""
+    length: InputValue
+    """Base-motion distance [mm or °] within which the superposition is done, != 0."""
+    mode: _enum_by_name(SuperpositionMode) = (  # type: ignore[valid-type]
+        SuperpositionMode.LENGTHREDUCTION_LIMITEDMOTION)
+    """veloreduction_additivemotion, veloreduction_limitedmotion,
+    lengthreduction_additivemotion, lengthreduction_limitedmotion."""
+    acceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+
+
+class AbortSuperposition(Entry):
+    """MC_AbortSuperposition (TcMC §3.12): end the superimposed part; the base continues."""
+
+    method = "abort_superposition"
+    command: Literal["abort_superposition"]
+
+
 COMMANDS: dict[str, type[Entry]] = {
     get_args(model.model_fields["command"].annotation)[0]: model
     for model in (Power, PowerOff, Reset, SetOverride, MoveAbsolute, MoveRelative, MoveModulo,
                   MoveVelocity, Halt, Stop, ChangeDynamics, NewPosition, NewPositionAndVelocity,
                   SetActualPosition, Home, GearIn, SetGearRatio, GearOut, GearOutExt,
-                  OrientedStop, SetActualPositionOnTheFly, TouchProbe, AbortTrigger)
+                  OrientedStop, SetActualPositionOnTheFly, TouchProbe, AbortTrigger,
+                  MoveSuperimposed, AbortSuperposition)
 }
 TimelineEntry = Annotated[
     Annotated[Power, Tag("power")] | Annotated[PowerOff, Tag("power_off")]
@@ -719,7 +756,9 @@ TimelineEntry = Annotated[
     | Annotated[GearOut, Tag("gear_out")] | Annotated[GearOutExt, Tag("gear_out_ext")]
     | Annotated[OrientedStop, Tag("oriented_stop")]
     | Annotated[SetActualPositionOnTheFly, Tag("set_actual_position_on_the_fly")]
-    | Annotated[TouchProbe, Tag("touch_probe")] | Annotated[AbortTrigger, Tag("abort_trigger")],
+    | Annotated[TouchProbe, Tag("touch_probe")] | Annotated[AbortTrigger, Tag("abort_trigger")]
+    | Annotated[MoveSuperimposed, Tag("move_superimposed")]
+    | Annotated[AbortSuperposition, Tag("abort_superposition")],
     Discriminator("command"),
 ]
 
@@ -806,7 +845,8 @@ class CommandCheck(_Check):
     error_id: ErrorIdName | None = None
     """Expected ErrorId name, e.g. AXIS_STOPPING (with result: error)."""
     value: Number | None = None
-    """Expected result value of the command, e.g. a touch_probe's recorded position."""
+    """Expected result value of the command, e.g. a touch_probe's recorded position or a
+    move_superimposed's actual distance."""
     tolerance: Annotated[StrictFloat, Field(ge=0.0)] = 1e-9
     """Allowed |value - expected value|."""
 
