@@ -29,7 +29,7 @@ from openmotion.core.enums import (
     TargetPositionType,
 )
 from openmotion.core.errors import CommandRejected, ErrorId
-from openmotion.core.modulo import modulo_target
+from openmotion.core.modulo import modulo_target, snap_to_period
 from openmotion.core.special_values import (
     DEFAULT_HOME_POSITION,
     MC_DEFAULT,
@@ -457,7 +457,7 @@ class Axis:
             end = normal.end.position
             offset = (target - end % period) % period if direction > 0 else \
                 -((end % period - target) % period)
-            goal = modulo_target_exact(end + offset, target, period)
+            goal = snap_to_period(end + offset, target, period)
             speed = Limits(max(abs(start.velocity), 1e-9), limits.acceleration,
                            limits.deceleration, limits.jerk)
             try:
@@ -1403,11 +1403,6 @@ def _gear_ratio(ratio: object) -> float:
     if isinstance(ratio, bool) or not isinstance(ratio, int | float) or not math.isfinite(ratio):
         raise CommandRejected(ErrorId.INVALID_GEAR_RATIO, f"gear ratio {ratio!r} is not finite")
     return float(ratio)
-
-
-def modulo_target_exact(approximate: float, base: float, period: float) -> float:
-    """The position base + n*period nearest to ``approximate`` (no rounding residue)."""
-    return base + period * round((approximate - base) / period)
 
 
 def _parameter_spec(number: int):  # noqa: ANN202 - ParameterSpec

@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from openmotion.trajectory.segments import KinematicState
-
 
 class Couplings:
     """Coupled slave rows with their master rows, ratios and offsets, as arrays."""
@@ -22,6 +20,7 @@ class Couplings:
         self.ratio = np.zeros(0)
         self.offset = np.zeros(0)
         self.ratio_rate = np.zeros(0)  #: d(ratio)/dt during a dynamic ratio change [1/s]
+        self._chained = False  #: a master is itself a slave: apply one coupling at a time
 
     def __contains__(self, row: int) -> bool:
         return bool(np.any(self.slaves == row))
@@ -34,6 +33,7 @@ class Couplings:
         self.ratio = np.append(self.ratio, ratio)
         self.offset = np.append(self.offset, slave_position - ratio * master_position)
         self.ratio_rate = np.append(self.ratio_rate, 0.0)
+        self._chained = bool(np.isin(self.masters, self.slaves).any())
 
     def decouple(self, slave: int) -> None:
         keep = self.slaves != slave
@@ -42,6 +42,7 @@ class Couplings:
         self.slaves, self.masters = self.slaves[keep], self.masters[keep]
         self.ratio, self.offset = self.ratio[keep], self.offset[keep]
         self.ratio_rate = self.ratio_rate[keep]
+        self._chained = bool(np.isin(self.masters, self.slaves).any())
 
     def set_ratio(self, slave: int, ratio: float, master_position: float, rate: float) -> None:
         """Change the ratio of ``slave`` keeping its position: re-anchor the offset."""
@@ -61,15 +62,9 @@ class Couplings:
         """Overwrite the slave setpoints from their masters' (one pass per coupling level)."""
         if not self.slaves.size:
             return
-        for i in range(self.slaves.size) if self._chained() else (slice(None),):
+        for i in range(self.slaves.size) if self._chained else (slice(None),):
             s, m, r = self.slaves[i], self.masters[i], self.ratio[i]
             p[s] = r * p[m] + self.offset[i]
             v[s] = r * v[m]
             a[s] = r * a[m] + self.ratio_rate[i] * v[m]
             j[s] = r * j[m]
-
-    def _chained(self) -> bool:
-        return bool(np.isin(self.masters, self.slaves).any())
-
-    def state(self, slave: int, p: np.ndarray, v: np.ndarray, a: np.ndarray) -> KinematicState:
-        return KinematicState(float(p[slave]), float(v[slave]), float(a[slave]))

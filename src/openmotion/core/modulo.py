@@ -51,20 +51,20 @@ def modulo_target(
         delta = (base - start) % period
         if delta > period / 2.0:
             delta -= period
-        return _snap(start + delta, base, period)
+        return snap_to_period(start + delta, base, period)
     if direction == Direction.POSITIVE:
         delta = (base - start) % period
         if tolerance > 0.0 and delta >= period - tolerance:
             delta -= period
-        return _snap(start + delta + turns * period, base, period)
+        return snap_to_period(start + delta + turns * period, base, period)
     if direction == Direction.NEGATIVE:
         back = (start - base) % period
         if tolerance > 0.0 and back >= period - tolerance:
             back -= period
-        return _snap(start - back - turns * period, base, period)
+        return snap_to_period(start - back - turns * period, base, period)
     raise CommandRejected(ErrorId.INVALID_DIRECTION, f"direction {direction!r} is not allowed here")
 
 
-def _snap(approximate_end: float, base: float, period: float) -> float:
+def snap_to_period(approximate_end: float, base: float, period: float) -> float:
     """The exact absolute position base + n*period nearest to the computed end."""
     return base + period * round((approximate_end - base) / period)

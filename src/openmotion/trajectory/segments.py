@@ -99,12 +99,6 @@ class Profile:
             hi = max(hi, *candidates)
         return lo, hi
 
-    def shifted(self, offset: float) -> Profile:
-        """The same motion with every position moved by ``offset`` (coordinate shifts)."""
-        data = self.data.copy()
-        data[1] += offset
-        return Profile.from_data(data)
-
     @staticmethod
     def hold(state: KinematicState) -> Profile:
         """Stay at ``state.position`` (or cruise at ``state.velocity``) forever."""
