@@ -12,6 +12,8 @@ import pytest
 import openmotion as om
 from openmotion.plcopen import (
     MC_ChangeDynParam,
+    MC_GearIn,
+    MC_GearOut,
     MC_Home,
     MC_MoveAbsolute,
     MC_MoveRelative,
@@ -286,6 +288,36 @@ def test_read_status_discrete_motion_and_deceleration() -> None:
     ]
     status(enable=False)
     assert not status.done and not _flags(status)
+
+
+def test_read_status_synchronized_motion_while_geared() -> None:
+    """Rules 105, 92, TcMC §4.4, §3.17, §3.20: MC_ReadStatus on the slave shows
+    SynchronizedMotion from the coupling to the decoupling, whatever the master does;
+    after MC_GearOut in motion it shows ContinuousMotion at constant velocity."""
+    rt = om.Runtime()
+    master, slave = rt.add_axis("m"), rt.add_axis("s")
+    master.power()
+    slave.power()
+    status, gear, out = MC_ReadStatus(slave), MC_GearIn(slave), MC_GearOut(slave)
+    status(enable=True)
+    assert _flags(status) == {"standstill"} and not status.synchronized_motion
+    gear(execute=True, master=master, ratio_numerator=1, ratio_denominator=2)
+    status(enable=True)
+    assert gear.in_gear and status.synchronized_motion and _flags(status) == set()
+    master.move_velocity(200.0)
+    seen = []
+    for _ in range(300):
+        rt.step()
+        status(enable=True)
+        assert status.synchronized_motion and not status.standstill
+        seen.append(frozenset(_flags(status)))
+    assert seen[0] == {"accelerating"} and seen[-1] == {"constant_velocity"}
+    assert slave.set_velocity == pytest.approx(100.0, abs=1e-9)
+    out(execute=True)
+    rt.step()
+    status(enable=True)
+    assert out.done and not status.synchronized_motion
+    assert _flags(status) == {"continuous_motion", "constant_velocity"}
 
 
 def test_read_status_error_stop_and_read_axis_error() -> None:
@@ -615,6 +647,36 @@ def test_change_dyn_param_applies_and_is_retriggerable() -> None:
     # time-optimal from the change: 370 mm at 200 mm/s plus the 2000 mm/s² braking
     assert len(trace.v) * CYCLE < 370.0 / 200.0 + 0.2 + 0.05
     assert trace.peak_jerk() == pytest.approx(20000.0, rel=1e-6)
+
+
+def _changed_to(**dynamics: float) -> Trace:
+    """A fast move whose dynamics are changed 5 cycles after the start, on an axis with the
+    defaults 1500 / 2500 mm/s² and 20000 mm/s³; sampled from the change to Done."""
+    rt, axis = powered_axis(acceleration=1500.0, deceleration=2500.0, jerk=20000.0)
+    move, change = MC_MoveAbsolute(axis), MC_ChangeDynParam(axis)
+    for _ in range(5):
+        move(execute=True, position=600.0, velocity=400.0, acceleration=4000.0,
+             deceleration=4000.0, jerk=100000.0)
+        rt.step()
+    assert 0.0 < axis.set_acceleration < 1500.0  # still ramping up the acceleration
+    change(execute=True, **dynamics)
+    assert change.done and not change.error, change.message
+    trace = run(rt, axis, lambda: (move(execute=True), change(execute=True)),
+                lambda: move.done)
+    assert axis.set_position == 600.0
+    return trace
+
+
+def test_change_dyn_param_zero_means_the_axis_defaults() -> None:
+    """Rule 9, TcMC §4.20: Acceleration/Deceleration/Jerk = 0 set the axis defaults
+    AxisAcc/AxisDec/AxisJerk (1004-1006) for the rest of the move, the same profile as
+    given explicitly (the move itself started with 4000 / 4000 / 100000)."""
+    zero = _changed_to(acceleration=0.0, deceleration=0.0, jerk=0.0)
+    assert max(zero.a) == pytest.approx(1500.0, rel=1e-9)
+    assert min(zero.a) == pytest.approx(-2500.0, rel=1e-9)
+    assert zero.peak_jerk() == pytest.approx(20000.0, rel=1e-6)
+    explicit = _changed_to(acceleration=1500.0, deceleration=2500.0, jerk=20000.0)
+    assert zero.p == explicit.p and zero.v == explicit.v and zero.a == explicit.a
 
 
 def test_change_dyn_param_rejected_near_the_target() -> None:

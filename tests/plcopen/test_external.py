@@ -86,6 +86,53 @@ def test_disable_ignores_further_feeds_and_enabled_reports_the_state() -> None:
     assert axis.set_position == 5.0 and axis.state is S.STANDSTILL
 
 
+def test_an_idle_disable_block_shows_the_generator_state() -> None:
+    """Rule 118, TcMC §4.17: "Enabled shows the current state of the external set value
+    generator, independent of the function execution": a disable block that is never
+    executed follows the enables and disables done by other blocks."""
+    rt = om.Runtime()
+    axis = rt.add_axis("x")
+    axis.power()
+    idle = MC_ExtSetPointGenDisable(axis)
+    idle(execute=False)
+    assert not idle.enabled and not idle.busy and not idle.done
+    enable, disable = MC_ExtSetPointGenEnable(axis), MC_ExtSetPointGenDisable(axis)
+    for _ in range(2):
+        enable(execute=True)
+        idle(execute=False)
+        assert enable.enabled and idle.enabled and not idle.done
+        MC_ExtSetPointGenFeed(0.0, 0.0, 0.0, 0, axis)
+        rt.step()
+        idle(execute=False)
+        assert idle.enabled
+        enable(execute=False)
+        disable(execute=True)
+        idle(execute=False)
+        assert not disable.enabled and not idle.enabled and not idle.done
+        disable(execute=False)
+        rt.step()
+
+
+def test_the_direction_input_of_the_feed_does_not_change_the_setpoint() -> None:
+    """Rule 119, TcMC §4.18: Direction (-1, 0, 1) is copied with the other three values;
+    the axis takes the fed position, velocity and acceleration verbatim whatever Direction
+    says, even a Direction that contradicts the velocity: the sign of the fed velocity
+    is the direction of travel. The function returns FALSE for every Direction."""
+    traces = []
+    for direction in (1, 0, -1):
+        rt, axis, _ = enabled_axis()
+        samples = []
+        for k in range(1, 600):
+            p, v, a = cosine(k * 0.001)
+            assert MC_ExtSetPointGenFeed(p, v, a, direction, axis) is False
+            rt.step()
+            samples.append((axis.set_position, axis.set_velocity, axis.set_acceleration))
+            assert samples[-1] == (p, v, a)
+        assert axis.state is S.CONTINUOUS_MOTION and axis.set_velocity > 0.0
+        traces.append(samples)
+    assert traces[0] == traces[1] == traces[2]
+
+
 def test_a_cycle_without_a_feed_is_an_axis_error_with_a_controlled_stop() -> None:
     """D-040: where the manual is silent, a missing feed stops the axis with an error."""
     rt, axis, _ = enabled_axis()

@@ -43,20 +43,35 @@ def test_gear_in_one_to_three_follows_a_third_and_a_negative_numerator_reverses(
         assert slave.set_position == pytest.approx(expected, abs=1e-9)
 
 
-def test_coupling_needs_standstill_of_slave_and_master() -> None:
-    """Rule 84, Q34: a moving slave or master cannot be coupled (flying saw is separate)."""
+COUPLINGS = [
+    (MC_GearIn, {"ratio_numerator": 2, "ratio_denominator": 1}),
+    (MC_GearInFloat, {"gear_ratio": 2.0}),
+    (MC_GearInDyn, {"gear_ratio": 2.0, "acceleration": 1000.0}),
+]
+COUPLING_IDS = ["MC_GearIn", "MC_GearInFloat", "MC_GearInDyn"]
+
+
+@pytest.mark.parametrize("moving", ["slave", "master"])
+@pytest.mark.parametrize(("cls", "ratio"), COUPLINGS, ids=COUPLING_IDS)
+def test_coupling_needs_standstill_of_slave_and_master(cls: type, ratio: dict,
+                                                        moving: str) -> None:
+    """Rule 84, Q34 (D-039), TcMC §3.17-3.19: a moving slave or master cannot be coupled
+    (the flying saw is separate): Error, no InGear, and the slave does not follow."""
     rt, master, slave = pair()
-    slave.move_velocity(50.0)
+    (slave if moving == "slave" else master).move_velocity(50.0)
     rt.run(0.1)
-    gear = MC_GearInFloat(slave)
-    gear(execute=True, master=master, gear_ratio=2.0)
-    assert gear.error and gear.error_id == E.AXIS_NOT_STANDSTILL and not gear.in_gear
-    rt, master, slave = pair()
-    master.move_velocity(50.0)
-    rt.run(0.1)
-    gear = MC_GearInFloat(slave)
-    gear(execute=True, master=master, gear_ratio=2.0)
+    gear = cls(slave)
+    gear(execute=True, master=master, **ratio)
     assert gear.error and gear.error_id == E.AXIS_NOT_STANDSTILL
+    assert not gear.in_gear and not gear.busy
+    assert slave.state is not S.SYNCHRONIZED_MOTION
+    before = slave.set_position
+    master_before = master.set_position
+    rt.run(0.5)
+    slave_travel = slave.set_position - before
+    master_travel = master.set_position - master_before
+    assert slave_travel == pytest.approx(25.0 if moving == "slave" else 0.0, abs=1e-9)
+    assert master_travel == pytest.approx(0.0 if moving == "slave" else 25.0, abs=1e-9)
 
 
 @pytest.mark.parametrize(("numerator", "denominator"), [(1, 0), (1, -2), (1.5, 2), (True, 1)])
@@ -79,20 +94,25 @@ def test_float_ratio_nan_is_an_error_and_the_master_must_be_an_axis() -> None:
     assert gear.error and gear.error_id == E.INVALID_MODE
 
 
-def test_dynamics_inputs_of_gear_in_have_no_effect() -> None:
-    """Rule 87."""
+@pytest.mark.parametrize(("cls", "ratio"), [
+    (MC_GearIn, {"ratio_numerator": 1, "ratio_denominator": 2}),
+    (MC_GearInFloat, {"gear_ratio": 0.5}),
+], ids=["MC_GearIn", "MC_GearInFloat"])
+def test_dynamics_inputs_of_gear_in_have_no_effect(cls: type, ratio: dict) -> None:
+    """Rule 87, TcMC §3.17, §3.18: Acceleration, Deceleration and Jerk are not used."""
     traces = []
     for dyn in (0.0, 1.0, 1e6):
         rt, master, slave = pair()
-        MC_GearInFloat(slave)(execute=True, master=master, gear_ratio=0.5, acceleration=dyn,
-                              deceleration=dyn, jerk=dyn)
+        cls(slave)(execute=True, master=master, acceleration=dyn, deceleration=dyn, jerk=dyn,
+                   **ratio)
         master.move_absolute(100.0, velocity=300.0)
         samples = []
         for _ in range(600):
             rt.step()
-            samples.append(slave.set_position)
+            samples.append((slave.set_position, slave.set_velocity, slave.set_acceleration))
         traces.append(samples)
     assert traces[0] == traces[1] == traces[2]
+    assert traces[0][-1][0] == pytest.approx(50.0, abs=1e-9)  # ratio 1/2 of the 100 mm
 
 
 @given(ratio=st.floats(-4.0, 4.0).filter(lambda r: abs(r) > 1e-3),
@@ -137,6 +157,32 @@ def test_gear_in_dyn_takes_new_ratios_with_limited_acceleration() -> None:
         previous = slave.set_position
     assert slave.set_velocity == pytest.approx(4000.0)
     assert max(accelerations) == pytest.approx(2000.0, rel=1e-6)  # 1 ratio/s * 2000 mm/s
+    assert gear.in_gear
+
+
+@pytest.mark.parametrize("master_velocity", [500.0, 1000.0, 2000.0])
+def test_gear_in_dyn_acceleration_limit_scales_with_the_master_velocity(
+        master_velocity: float) -> None:
+    """Rule 90, TcMC §3.19: "the maximum acceleration will be reached when the master is
+    moving at its maximum velocity; the slave acceleration may be lower if the master is
+    moving at slower speed". The ratio slews at Acceleration / master max velocity (D-039),
+    so a ratio step 1 -> 2 with the master at v takes 1 s at any v and accelerates the
+    slave at Acceleration * v / v_max (master max velocity 2000 mm/s)."""
+    rt, master, slave = pair(max_velocity=5000.0, max_acceleration=1e5, max_deceleration=1e5)
+    gear = MC_GearInDyn(slave)
+    gear(execute=True, master=master, gear_ratio=1.0, acceleration=2000.0)
+    master.move_velocity(master_velocity)
+    rt.run_until(lambda: master.set_velocity == master_velocity, 5.0)
+    accelerations = []
+    for _ in range(1500):
+        gear(execute=True, gear_ratio=2.0)
+        rt.step()
+        accelerations.append(slave.set_acceleration)
+    limit = 2000.0 * master_velocity / 2000.0
+    assert max(accelerations) == pytest.approx(limit, rel=1e-9)
+    slewing = sum(1 for a in accelerations if a > 0.0)
+    assert slewing == pytest.approx(1000, abs=2)  # 1 s at 1 ratio/s, whatever the master speed
+    assert slave.set_velocity == pytest.approx(2.0 * master_velocity, rel=1e-9)
     assert gear.in_gear
 
 
@@ -219,6 +265,73 @@ def test_gear_out_ext_to_a_position(mode: om.DecoupleMode) -> None:
     assert out.busy and not out.done
     finish(rt, out)
     assert out.done and slave.set_position == 500.0 and slave.set_velocity == 0.0
+
+
+@pytest.mark.parametrize("velocity", [120.0, 300.0])
+def test_gear_out_ext_new_position_and_velocity_travels_at_velocity(velocity: float) -> None:
+    """Rule 99, TcMC §3.21 MC_DECOUPLEMODE_NEWPOSANDVELO: after decoupling at 200 mm/s the
+    slave moves at the Velocity input (slower or faster than at decoupling) and stops at
+    Position; MC_DECOUPLEMODE_NEWPOS instead keeps the decoupling velocity."""
+    for mode, plateau in ((D.NEW_POSITION_AND_VELOCITY, velocity), (D.NEW_POSITION, 200.0)):
+        rt, master, slave = coupled_in_motion()
+        out = MC_GearOutExt(slave)
+        out(execute=True, mode=mode, position=500.0, velocity=velocity)
+        velocities = []
+        while not (out.done or out.error):
+            rt.step()
+            out(execute=True)
+            velocities.append(slave.set_velocity)
+        assert out.done and slave.set_position == 500.0
+        cruising = [v for v in velocities if v == pytest.approx(plateau, abs=1e-9)]
+        assert len(cruising) > 100, mode  # a plateau of at least 0.1 s
+        assert max(velocities) <= max(plateau, 200.0) * (1 + 1e-9)
+
+
+def _gear_out_ext_trace(**dynamics: float) -> list[tuple[float, float, float]]:
+    rt, master, slave = pair(acceleration=1000.0, deceleration=1500.0, jerk=20000.0)
+    MC_GearInFloat(slave)(execute=True, master=master, gear_ratio=1.0)
+    master.move_velocity(200.0)
+    rt.run(0.5)
+    out = MC_GearOutExt(slave)
+    out(execute=True, mode=D.NEW_POSITION_AND_VELOCITY, position=600.0, velocity=400.0,
+        **dynamics)
+    samples = []
+    while not (out.done or out.error):
+        rt.step()
+        out(execute=True)
+        samples.append((slave.set_position, slave.set_velocity, slave.set_acceleration))
+    assert out.done and slave.set_position == 600.0
+    return samples
+
+
+def test_gear_out_ext_zero_dynamics_mean_the_axis_defaults() -> None:
+    """Rule 9, TcMC §3.21: Acceleration/Deceleration/Jerk = 0 use the slave's AxisAcc,
+    AxisDec, AxisJerk (1004-1006) for the follow-up, the same profile as given explicitly."""
+    zero = _gear_out_ext_trace(acceleration=0.0, deceleration=0.0, jerk=0.0)
+    accelerations = [a for _, _, a in zero]
+    assert max(accelerations) == pytest.approx(1000.0, rel=1e-9)
+    assert min(accelerations) == pytest.approx(-1500.0, rel=1e-9)
+    jerk = max(abs(b - a) for a, b in zip(accelerations, accelerations[1:], strict=False))
+    assert jerk / 0.001 == pytest.approx(20000.0, rel=1e-3)
+    assert zero == _gear_out_ext_trace(acceleration=1000.0, deceleration=1500.0, jerk=20000.0)
+
+
+@pytest.mark.parametrize("velocity", [0.0, -50.0])
+@pytest.mark.parametrize("mode", [D.ENDLESS_NEW_VELOCITY, D.NEW_POSITION_AND_VELOCITY])
+def test_gear_out_ext_velocity_not_above_zero_is_an_error(mode: om.DecoupleMode,
+                                                          velocity: float) -> None:
+    """Rule 10, TcMC §3.21 "Velocity: maximum travel velocity (>0)": Error with
+    INVALID_VELOCITY, no Done, and no follow-up: the slave keeps the 200 mm/s it had."""
+    rt, master, slave = coupled_in_motion()
+    out = MC_GearOutExt(slave)
+    out(execute=True, mode=mode, position=500.0, velocity=velocity)
+    assert out.error and out.error_id == E.INVALID_VELOCITY
+    assert not out.done and not out.busy
+    for _ in range(500):
+        rt.step()
+        out(execute=True)
+        assert slave.set_velocity == pytest.approx(200.0, abs=1e-9)
+    assert out.error and not out.done
 
 
 def test_gear_out_ext_endless_keeps_the_velocity() -> None:

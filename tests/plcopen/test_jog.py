@@ -321,6 +321,33 @@ def test_rule61_inching_uses_fb_velocity() -> None:
     assert peak == pytest.approx(40.0) and x.set_position == pytest.approx(100.0, abs=1e-9)
 
 
+def _inching_step(acceleration: float, deceleration: float, jerk: float) -> list[tuple]:
+    rt, x = setup(acceleration=1500.0, deceleration=2500.0, jerk=20000.0)
+    jog = MC_Jog(x, mode=JogMode.INCHING, position=300.0, velocity=400.0,
+                 acceleration=acceleration, deceleration=deceleration, jerk=jerk)
+    samples = []
+    for _ in range(5000):
+        jog(jog_forward=True)
+        samples.append((x.set_position, x.set_velocity, x.set_acceleration))
+        if jog.done:
+            break
+        rt.step()
+    assert jog.done and x.set_position == pytest.approx(300.0, abs=1e-9)
+    return samples
+
+
+def test_rule9_inching_zero_dynamics_mean_axis_defaults() -> None:
+    """Rule 9, TcMC §3.13: an INCHING step with Acceleration/Deceleration/Jerk = 0 runs with
+    AxisAcc/AxisDec/AxisJerk (1004-1006), the same profile as with them given explicitly."""
+    zero = _inching_step(0.0, 0.0, 0.0)
+    accelerations = [a for _, _, a in zero]
+    assert max(accelerations) == pytest.approx(1500.0, rel=1e-9)
+    assert min(accelerations) == pytest.approx(-2500.0, rel=1e-9)
+    jerk = max(abs(b - a) for a, b in zip(accelerations, accelerations[1:], strict=False))
+    assert jerk / 0.001 == pytest.approx(20000.0, rel=1e-3)
+    assert zero == _inching_step(1500.0, 2500.0, 20000.0)
+
+
 def test_inching_default_step_uses_jog_increments_1013_1014() -> None:
     rt, x = setup()
     x.write_parameter(1013, 0.75)

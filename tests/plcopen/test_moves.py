@@ -14,6 +14,7 @@ from openmotion.plcopen import (
     MC_Halt,
     MC_MoveAbsolute,
     MC_MoveAbsoluteOrRestart,
+    MC_MoveModulo,
     MC_MoveRelative,
     MC_MoveVelocity,
     MC_NewPos,
@@ -425,6 +426,66 @@ def test_dynamics_special_values(value, accel: float, jerk: float) -> None:
     peak_accel, peak_jerk = _peak_accel(value)
     assert peak_accel == pytest.approx(accel, rel=1e-6)
     assert peak_jerk == pytest.approx(jerk, rel=1e-3)
+
+
+#: axis defaults 1004-1006 that differ from each other and from the built-in defaults, so
+#: that a swapped or ignored default shows
+DEFAULT_DYNAMICS = {"acceleration": 1500.0, "deceleration": 2500.0, "jerk": 20000.0}
+ZERO_DYNAMICS = {"acceleration": 0.0, "deceleration": 0.0, "jerk": 0.0}
+
+
+def _positioning(cls: type, inputs: dict, dynamics: dict) -> Trace:
+    rt, axis = powered_axis(**DEFAULT_DYNAMICS)
+    fb = cls(axis)
+    trace = run(rt, axis, lambda: fb(execute=True, velocity=400.0, **inputs, **dynamics),
+                lambda: fb.done or fb.error)
+    assert fb.done, (fb.error_id, fb.message)
+    assert axis.set_position == pytest.approx(300.0, abs=1e-9)
+    return trace
+
+
+@pytest.mark.parametrize(("cls", "inputs"), [
+    (MC_MoveRelative, {"distance": 300.0}),
+    (MC_MoveModulo, {"position": 300.0, "direction": POS}),
+    (MC_MoveAbsoluteOrRestart, {"position": 300.0}),
+], ids=["MC_MoveRelative", "MC_MoveModulo", "MC_MoveAbsoluteOrRestart"])
+def test_zero_dynamics_mean_the_axis_defaults_on_positioning_blocks(cls, inputs) -> None:
+    """Rule 9, TcMC §3.2, §3.4, §3.6 (from standstill): Acceleration, Deceleration and Jerk
+    = 0 use AxisAcc/AxisDec/AxisJerk (1004-1006): the profile peaks at exactly those values
+    and equals, sample for sample, the one with the defaults given explicitly."""
+    zero = _positioning(cls, inputs, ZERO_DYNAMICS)
+    explicit = _positioning(cls, inputs, DEFAULT_DYNAMICS)
+    assert max(zero.a) == pytest.approx(1500.0, rel=1e-9)
+    assert min(zero.a) == pytest.approx(-2500.0, rel=1e-9)
+    assert zero.peak_jerk() == pytest.approx(20000.0, rel=1e-3)
+    assert max(zero.v) == pytest.approx(400.0, rel=1e-9)
+    assert zero.p == explicit.p and zero.v == explicit.v and zero.a == explicit.a
+
+
+def _speed_change(dynamics: dict) -> Trace:
+    """MC_MoveVelocity from rest to 600 mm/s, then a new edge down to 100 mm/s."""
+    rt, axis = powered_axis(**DEFAULT_DYNAMICS)
+    move = MC_MoveVelocity(axis)
+    trace = run(rt, axis, lambda: move(execute=True, velocity=600.0, **dynamics),
+                lambda: move.in_velocity)
+    move(execute=False)
+    rt.step()
+    slower = run(rt, axis, lambda: move(execute=True, velocity=100.0, **dynamics),
+                 lambda: move.in_velocity)
+    for name in ("p", "v", "a"):
+        getattr(trace, name).extend(getattr(slower, name))
+    assert axis.set_velocity == pytest.approx(100.0, abs=1e-9)
+    return trace
+
+
+def test_zero_dynamics_mean_the_axis_defaults_on_move_velocity() -> None:
+    """Rule 9, TcMC §3.3: speeding up uses AxisAcc and AxisJerk, slowing down AxisDec."""
+    zero = _speed_change(ZERO_DYNAMICS)
+    explicit = _speed_change(DEFAULT_DYNAMICS)
+    assert max(zero.a) == pytest.approx(1500.0, rel=1e-9)
+    assert min(zero.a) == pytest.approx(-2500.0, rel=1e-9)
+    assert zero.peak_jerk() == pytest.approx(20000.0, rel=1e-3)
+    assert zero.p == explicit.p and zero.v == explicit.v and zero.a == explicit.a
 
 
 def test_velocity_maximum_and_clamp_with_warning() -> None:

@@ -2,8 +2,10 @@
 
 The timeline is a runtime program (phase 1 of the cycle): entries are looked at in file order,
 each sees the effects of the ones before it, and every command goes through the public Axis
-methods, as a user's script would. Recording and checks are observers (phase 4). Nothing here
-reads the wall clock, so two runs of one scenario give bit-identical traces and summaries.
+methods, as a user's script would. Block entries (a jog, a feed, the override filter, the
+stepper) start programs that call their block every cycle, before the entries are looked at
+(programs.py). Recording and checks are observers (phase 4). Nothing here reads the wall
+clock, so two runs of one scenario give bit-identical traces and summaries.
 """
 
 from __future__ import annotations
@@ -20,7 +22,9 @@ from openmotion.axis.probe import InputRef, abort_probe, arm_probe
 from openmotion.core.enums import AxisState
 from openmotion.core.errors import ErrorId
 from openmotion.runtime.runtime import Runtime
+from openmotion.scenario.cyclic import BlockEntry
 from openmotion.scenario.load import load_scenario
+from openmotion.scenario.programs import BlockPrograms, cycle_of
 from openmotion.scenario.schema import (
     AbortTrigger,
     CommandCheck,
@@ -46,6 +50,8 @@ _OPERATORS = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": opera
 #: commands that keep the run going until they end, whatever their ``in_velocity`` says (a
 #: superposition sets it when its distance can be done in full)
 _UNTIL_FINISHED = frozenset({"move_superimposed"})
+#: commands whose block runs to the end of the run: they never keep the run going
+_TO_THE_END = frozenset({"override_filter", "power_stepper"})
 _RESULT_STYLE = {"DONE": "green", "ABORTED": "yellow", "ERROR": "red", "BUSY": "cyan"}
 
 
@@ -62,8 +68,9 @@ class CommandRow:
     error: str  #: ErrorId name of an error, else ""
     message: str  #: error or abort reason, and any warnings
     value: float | None = None  #: the command's result value (a touch_probe's position, a
-    #: move_superimposed's actual distance)
+    #: move_superimposed's actual distance, an override_filter's percent)
     value_detail: str = ""  #: the summary's text for the value, when more than ``value X``
+    #: (or a result without a number: read_axis_components)
 
 
 @dataclass(frozen=True)
@@ -121,7 +128,7 @@ class ScenarioResult:
                                 no_wrap=name != "detail", overflow="fold")
         for row in self.commands:
             detail = ": ".join(part for part in (row.error, row.message) if part)
-            if row.value is not None:
+            if row.value is not None or row.value_detail:
                 shown = row.value_detail or f"value {_number(row.value)}"
                 detail = "; ".join(part for part in (shown, detail) if part)
             commands.add_row(*map(Text, (row.id, row.axis, row.command,
@@ -178,11 +185,6 @@ def _number(value: float) -> str:
     return "0" if text == "-0" else text
 
 
-def _cycle_of(seconds: float, cycle_time: float) -> int:
-    """The first cycle whose time is at or after ``seconds``."""
-    return math.ceil(round(seconds / cycle_time, 6))
-
-
 def _value_of(command: Command | None) -> float | None:
     """The command's numeric result value, if any: a touch_probe's recorded position, the
     actual distance of a move_superimposed (whose value is (velocity diff, distance, length))."""
@@ -198,8 +200,11 @@ _SUPERPOSITION_VALUES = 3  #: (ActualVelocityDiff, ActualDistance, ActualLength)
 
 
 def _value_detail(command: Command | None) -> str:
-    """The summary's text for a value with parts: a move_superimposed's actual values."""
+    """The summary's text for a value with parts (a move_superimposed's actual values) or
+    for a text value (read_axis_components)."""
     value = None if command is None else command.value
+    if isinstance(value, str):
+        return value
     if isinstance(value, tuple) and len(value) == _SUPERPOSITION_VALUES:
         velocity_diff, distance, length = (_number(float(part)) for part in value)
         return f"distance {distance}, velocity diff {velocity_diff}, length {length}"
@@ -222,7 +227,7 @@ class _Run:
             if spec.probe is not None:
                 spec.probe.build(axis)
         self.entries = list(scenario.entries())
-        self.fire_cycle = [None if entry.at is None else _cycle_of(entry.at, rt.cycle_time)
+        self.fire_cycle = [None if entry.at is None else cycle_of(entry.at, rt.cycle_time)
                            for _, entry in self.entries]
         self.pending = list(range(len(self.entries)))
         self.issued: dict[int, Command] = {}
@@ -231,14 +236,21 @@ class _Run:
         self.trigger_inputs: dict[str, InputRef] = {
             label: entry.trigger_input() for label, entry in self.entries
             if isinstance(entry, TouchProbe)}
+        #: the programs that call the blocks of block entries (jog, feed, filter, stepper)
+        self.blocks = BlockPrograms(rt, self.holds)
         self.recorder = TraceRecorder(rt, scenario.signals, scenario.record.every)
         self.checks = [_CheckState(check, self) for check in scenario.checks]
         self.quiet_since: int | None = None  #: first cycle of the current rest
 
     # -- the cycle ---------------------------------------------------------------------------
 
+    def program(self) -> None:
+        """Runtime program: call the running blocks, then issue every entry that is due."""
+        self.blocks()
+        self.fire_due()
+
     def fire_due(self) -> None:
-        """Runtime program: issue every entry that is due, in timeline order."""
+        """Issue every entry that is due, in timeline order."""
         for index in list(self.pending):
             _, entry = self.entries[index]
             due = self.fire_cycle[index]
@@ -251,7 +263,9 @@ class _Run:
         arguments = entry.arguments()
         for name in entry.axis_fields:
             arguments[name] = self.rt.axes[arguments[name]]
-        if isinstance(entry, TouchProbe):
+        if isinstance(entry, BlockEntry):
+            command = self.blocks.start(entry)
+        elif isinstance(entry, TouchProbe):
             label = self.entries[index][0]
             command = arm_probe(axis, self.trigger_inputs[label], **arguments)
         elif isinstance(entry, AbortTrigger):  # as MC_AbortTrigger: Done, armed or not
@@ -295,7 +309,7 @@ class _Run:
         self.fire_due()  # entries at t = 0 act before the first cycle, like a script would
         self.recorder.sample(rt)
         self.observe(rt)
-        rt.add_program(self.fire_due)
+        rt.add_program(self.program)
         rt.add_observer(self.recorder)
         rt.add_observer(self.observe)
         total = scenario.duration  # None: open-ended, ends once everything is at rest
@@ -314,23 +328,26 @@ class _Run:
         """``duration`` is over; or ``settle_time`` after all came to rest, or the cap."""
         scenario, cycle = self.scenario, self.rt.cycle
         if scenario.duration is not None:
-            return cycle >= _cycle_of(scenario.duration, scenario.cycle_time)
+            return cycle >= cycle_of(scenario.duration, scenario.cycle_time)
         if not self.at_rest():
             self.quiet_since = None
         elif self.quiet_since is None:
             self.quiet_since = cycle
         settled = self.quiet_since is not None and \
-            cycle - self.quiet_since >= _cycle_of(scenario.settle_time, scenario.cycle_time)
-        return settled or cycle >= _cycle_of(scenario.max_duration, scenario.cycle_time)
+            cycle - self.quiet_since >= cycle_of(scenario.settle_time, scenario.cycle_time)
+        return settled or cycle >= cycle_of(scenario.max_duration, scenario.cycle_time)
 
     def at_rest(self) -> bool:
-        """No ``at`` is still ahead, every command ended (or is at speed), no axis moves."""
+        """No ``at`` is still ahead, every command ended (or is at speed), no jog, feed or
+        timed stall runs, no axis moves. An override filter or a stepper block, which run to
+        the end, do not count."""
         cycle = self.rt.cycle
         if any(self.fire_cycle[i] is not None and self.fire_cycle[i] > cycle
                for i in self.pending) or any(c.waiting(cycle) for c in self.checks):
             return False
-        if any(not (c.finished or c.in_velocity and c.kind not in _UNTIL_FINISHED)
-               for c in self.issued.values()):
+        if self.blocks.busy or any(
+                not (c.finished or c.in_velocity and c.kind not in _UNTIL_FINISHED)
+                for c in self.issued.values() if c.kind not in _TO_THE_END):
             return False
         for axis in self.rt.axes.values():
             active = axis.active_command
@@ -361,7 +378,7 @@ class _CheckState:
 
     def __init__(self, check: SignalCheck | CommandCheck, run: _Run) -> None:
         self.check, self.run = check, run
-        self.cycle = _cycle_of(check.at, run.rt.cycle_time) \
+        self.cycle = cycle_of(check.at, run.rt.cycle_time) \
             if isinstance(check.at, float) and check.when is None else None
         self.passed: bool | None = None
         self.detail = ""
@@ -402,11 +419,12 @@ class _CheckState:
     def _signal(self, check: SignalCheck) -> tuple[bool, str]:
         axis, prop = split_signal(check.signal)
         value = read_signal(self.run.rt.axes[axis], prop)
-        shown = AxisState(int(value)).name.lower() if prop == "state" else _number(value)
+        named = prop in ("state", "axis_error_id")
+        shown = AxisState(int(value)).name.lower() if prop == "state" else \
+            ErrorId(int(value)).name if prop == "axis_error_id" else _number(value)
         expected = check.expected
         if expected is not None and not abs(value - expected) <= check.tolerance:
-            return False, shown if prop == "state" else f"{shown}, off by " \
-                f"{_number(value - expected)}"
+            return False, shown if named else f"{shown}, off by {_number(value - expected)}"
         if check.min is not None and not value >= check.min:
             return False, f"{shown} < min {_number(check.min)}"
         if check.max is not None and not value <= check.max:

@@ -188,7 +188,7 @@ def _expect_value(value: object) -> float | str:
         return float(value)
     if isinstance(value, str):
         return value
-    raise ValueError(f"must be a finite number (or a state name), got {value!r}")
+    raise ValueError(f"must be a finite number (or a state or ErrorId name), got {value!r}")
 
 
 Identifier = Annotated[StrictStr, AfterValidator(_identifier)]
@@ -257,9 +257,20 @@ def parse_condition(text: object) -> Condition:
                      _signal_value(attribute, raw, text))
 
 
+def named_value(signal: str, name: str) -> float | None:
+    """The number behind a name: a state name for ``state`` (``standstill``), an ErrorId name
+    for ``axis_error_id`` (``STEPPER_STALL``); None when ``name`` is none of them."""
+    if signal == "state" and name.upper() in AxisState.__members__:
+        return float(AxisState[name.upper()])
+    if signal == "axis_error_id" and name.upper() in ErrorId.__members__:
+        return float(ErrorId[name.upper()])
+    return None
+
+
 def _signal_value(signal: str, raw: str, text: str) -> float:
-    if signal == "state" and raw.upper() in AxisState.__members__:
-        return float(AxisState[raw.upper()])
+    named = named_value(signal, raw)
+    if named is not None:
+        return named
     try:
         value = float(raw)
     except ValueError:
@@ -734,13 +745,29 @@ class AbortSuperposition(Entry):
     command: Literal["abort_superposition"]
 
 
+# The entries that a function block carries out (jog, external setpoints, override filter,
+# stepper, reference flag) build on Entry above; they live in their own module.
+from openmotion.scenario.cyclic import (  # noqa: E402 - needs Entry and the types above
+    DisableExternalSetpoints,
+    EnableExternalSetpoints,
+    InjectStall,
+    Jog,
+    OverrideFilter,
+    PowerStepper,
+    ReadAxisComponents,
+    ReleaseStall,
+    SetReferenceFlag,
+)
+
 COMMANDS: dict[str, type[Entry]] = {
     get_args(model.model_fields["command"].annotation)[0]: model
     for model in (Power, PowerOff, Reset, SetOverride, MoveAbsolute, MoveRelative, MoveModulo,
                   MoveVelocity, Halt, Stop, ChangeDynamics, NewPosition, NewPositionAndVelocity,
                   SetActualPosition, Home, GearIn, SetGearRatio, GearOut, GearOutExt,
                   OrientedStop, SetActualPositionOnTheFly, TouchProbe, AbortTrigger,
-                  MoveSuperimposed, AbortSuperposition)
+                  MoveSuperimposed, AbortSuperposition, Jog, EnableExternalSetpoints,
+                  DisableExternalSetpoints, OverrideFilter, PowerStepper, InjectStall,
+                  ReleaseStall, SetReferenceFlag, ReadAxisComponents)
 }
 TimelineEntry = Annotated[
     Annotated[Power, Tag("power")] | Annotated[PowerOff, Tag("power_off")]
@@ -758,7 +785,14 @@ TimelineEntry = Annotated[
     | Annotated[SetActualPositionOnTheFly, Tag("set_actual_position_on_the_fly")]
     | Annotated[TouchProbe, Tag("touch_probe")] | Annotated[AbortTrigger, Tag("abort_trigger")]
     | Annotated[MoveSuperimposed, Tag("move_superimposed")]
-    | Annotated[AbortSuperposition, Tag("abort_superposition")],
+    | Annotated[AbortSuperposition, Tag("abort_superposition")] | Annotated[Jog, Tag("jog")]
+    | Annotated[EnableExternalSetpoints, Tag("enable_external_setpoints")]
+    | Annotated[DisableExternalSetpoints, Tag("disable_external_setpoints")]
+    | Annotated[OverrideFilter, Tag("override_filter")]
+    | Annotated[PowerStepper, Tag("power_stepper")] | Annotated[InjectStall, Tag("inject_stall")]
+    | Annotated[ReleaseStall, Tag("release_stall")]
+    | Annotated[SetReferenceFlag, Tag("set_reference_flag")]
+    | Annotated[ReadAxisComponents, Tag("read_axis_components")],
     Discriminator("command"),
 ]
 
@@ -809,7 +843,8 @@ class SignalCheck(_Check):
     signal: SignalName
     """``<axis>.<signal>``."""
     expect: Annotated[float | str, PlainValidator(_expect_value)] | None = None
-    """Expected value; for ``.state`` also a state name such as standstill."""
+    """Expected value; for ``.state`` also a state name such as standstill, for
+    ``.axis_error_id`` an ErrorId name such as STEPPER_STALL."""
     tolerance: Annotated[StrictFloat, Field(ge=0.0)] = 1e-9
     """Allowed |actual - expect|."""
     min: Number | None = None
@@ -821,17 +856,17 @@ class SignalCheck(_Check):
     def _something_to_check(self) -> SignalCheck:
         if self.expect is None and self.min is None and self.max is None:
             raise ValueError("give 'expect', 'min' or 'max'")
-        state = self.signal.endswith(".state")
-        if isinstance(self.expect, str) and not (state and self.expect.upper() in
-                                                 AxisState.__members__):
-            raise ValueError(f"expect: {self.expect!r} is not a number"
-                             + (" or a state name" if state else ""))
+        _, signal = split_signal(self.signal)
+        if isinstance(self.expect, str) and named_value(signal, self.expect) is None:
+            raise ValueError(f"expect: {self.expect!r} is not a number" + {
+                "state": " or a state name", "axis_error_id": " or an ErrorId name"}.get(
+                    signal, ""))
         return self
 
     @property
     def expected(self) -> float | None:
         if isinstance(self.expect, str):
-            return float(AxisState[self.expect.upper()])
+            return named_value(split_signal(self.signal)[1], self.expect)
         return self.expect
 
 

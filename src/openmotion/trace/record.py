@@ -2,7 +2,8 @@
 
 A ``TraceRecorder`` is a runtime observer (architecture §cycle, phase 4): it samples after
 drives and monitoring, so a row shows the state a PLC would read at the start of the next
-cycle. Every value is a float64; an axis state is stored as its ``AxisState`` number.
+cycle. Every value is a float64; an axis state is stored as its ``AxisState`` number, an axis
+error as its ``ErrorId`` number.
 """
 
 from __future__ import annotations
@@ -21,10 +22,11 @@ if TYPE_CHECKING:
 
 #: Axis properties a trace can record, in the order ``default_signals`` lists them.
 AXIS_SIGNALS = ("set_position", "set_velocity", "set_acceleration", "set_jerk", "position",
-                "velocity", "following_error", "state")
+                "velocity", "following_error", "state", "override", "homed", "axis_error_id")
 #: What a scenario records when it names no signals: setpoint and actual position.
 DEFAULT_AXIS_SIGNALS = ("set_position", "set_velocity", "set_acceleration", "position")
 TIME = "time"
+_WHOLE_SIGNALS = frozenset({"state", "homed", "axis_error_id"})
 _SIGNAL = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)\.([a-z_]+)$")
 
 
@@ -38,9 +40,12 @@ def split_signal(name: str) -> tuple[str, str]:
 
 
 def read_signal(axis: Axis, prop: str) -> float:
-    """One signal of ``axis`` as a float (the state as its AxisState number)."""
+    """One signal of ``axis`` as a float: the state as its AxisState number, the override in
+    percent (0-100), homed as 0 or 1, the axis error as its ErrorId number (0: none)."""
     value = getattr(axis, prop)
-    return float(int(value)) if prop == "state" else float(value)
+    if prop == "override":
+        return float(value) * 100.0
+    return float(int(value)) if prop in _WHOLE_SIGNALS else float(value)
 
 
 def default_signals(axis_names: Iterable[str]) -> list[str]:
