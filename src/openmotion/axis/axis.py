@@ -90,6 +90,7 @@ class Axis:
         self._queue: list[Job] = []
         self._hold: Command | None = None  #: a finished MC_Stop that still holds the axis
         self._effective_override = 1.0
+        self.group: object | None = None  #: the CA group the axis is a member of
         self.apply_parameters()
 
     # -- reading -----------------------------------------------------------------------------
@@ -313,7 +314,7 @@ class Axis:
         """MC_MoveVelocity (TcMC §3.3): endless motion; ``in_velocity`` once at speed."""
         command = self._new("move_velocity")
         try:
-            admit(self.state, "move")
+            self._admit("move")
             mode = _buffer_mode(buffer_mode)
             limits = resolve_limits(self.parameters, command.warnings, velocity, acceleration,
                                     deceleration, jerk)
@@ -333,7 +334,7 @@ class Axis:
         """MC_Halt (PLCopen Part 1): a stop that other commands may abort."""
         command = self._new("halt")
         try:
-            admit(self.state, "move")
+            self._admit("move")
             dec = resolve("deceleration", deceleration, self.parameters, command.warnings)
             j = resolve("jerk", jerk, self.parameters, command.warnings)
             limits = Limits(self.parameters.max_velocity, dec, dec, j)
@@ -352,7 +353,7 @@ class Axis:
         """
         command = self._new("stop")
         try:
-            admit(self.state, "stop")
+            self._admit("stop")
         except CommandRejected as rejected:
             return self._reject(command, rejected.error_id, rejected.message)
         bad: CommandRejected | None = None
@@ -374,7 +375,7 @@ class Axis:
         """MC_Home (TcMC §3.14): reference the axis with the configured reference mode."""
         command = self._new("home")
         try:
-            admit(self.state, "home")
+            self._admit("home")
             home = (self.parameters.calibration_value if position is DEFAULT_HOME_POSITION
                     else require_position("position", position))
             sequence = HomingSequence(self, home)
@@ -395,7 +396,7 @@ class Axis:
         """MC_SetActualPosition (TcMC §4.12): shift the coordinates so actual = position."""
         command = self._new("set_position")
         try:
-            admit(self.state, "set_position")
+            self._admit("set_position")
             if self.has_job or self.set_velocity != 0.0:
                 raise CommandRejected(ErrorId.AXIS_NOT_STANDSTILL, "the axis is still moving")
             self.shift_coordinates(require_position("position", position) - self.position)
@@ -415,7 +416,7 @@ class Axis:
         command = self._new("set_position_on_the_fly")
         try:
             if self.state in (AxisState.DISABLED, AxisState.ERROR_STOP, AxisState.HOMING):
-                admit(self.state, "move")
+                self._admit("move")
             offset = require_position("actual_position", actual_position) - require_position(
                 "previous_position", previous_position)
         except CommandRejected as rejected:
@@ -436,7 +437,7 @@ class Axis:
         command = self._new("oriented_stop")
         period = self.parameters.modulo_period
         try:
-            admit(self.state, "stop")
+            self._admit("stop")
             target = require_position("position", position)
             if not 0.0 <= target < period:
                 raise CommandRejected(ErrorId.INVALID_MODULO_TARGET,
@@ -488,7 +489,7 @@ class Axis:
         try:
             if master is self or not isinstance(master, Axis):
                 raise CommandRejected(ErrorId.INVALID_MODE, "the master must be another axis")
-            admit(self.state, "move")
+            self._admit("move")
             if self.state is not AxisState.STANDSTILL:
                 raise CommandRejected(ErrorId.AXIS_NOT_STANDSTILL,
                                       "coupling only at standstill (TcMC §3.17)")
@@ -645,7 +646,7 @@ class Axis:
         """
         command = self._new("move_superimposed")
         try:
-            admit(self.state, "modify")
+            self._admit("modify")
             try:
                 mode = SuperpositionMode(mode)
             except ValueError:
@@ -761,7 +762,7 @@ class Axis:
         """
         command = self._new("ext_setpoint_enable")
         try:
-            admit(self.state, "move")
+            self._admit("move")
             kind = TargetPositionType(position_type)
             target = None if position is MC_INVALID else require_position("position", position)
             if target is not None and kind is TargetPositionType.RELATIVE:
@@ -864,7 +865,7 @@ class Axis:
         """MC_NewPosAndVelo (TcMC §3.8): change target and/or velocity, now or at a position."""
         command = self._new("new_position")
         try:
-            admit(self.state, "modify")
+            self._admit("modify")
             job = self._job
             if job is None or job.kind not in ("position", "velocity"):
                 raise CommandRejected(ErrorId.NOTHING_TO_DO, "no running move to modify")
@@ -904,7 +905,7 @@ class Axis:
             if self.state is AxisState.STOPPING:
                 raise CommandRejected(ErrorId.DYN_STRICTER_STOP_ACTIVE,
                                       "a stop with its own dynamics is in progress")
-            admit(self.state, "modify")
+            self._admit("modify")
             job = self._job
             if job is None or job.kind not in ("position", "velocity"):
                 raise CommandRejected(ErrorId.NOTHING_TO_DO, "no running move to modify")
@@ -943,12 +944,20 @@ class Axis:
 
     # -- internals: starting, replacing and ending jobs ---------------------------------------
 
+    def _admit(self, family: str) -> None:
+        """PLCopen state check; a CA group member only moves through its group (TF5410)."""
+        if self.group is not None:
+            raise CommandRejected(ErrorId.AXIS_IN_GROUP,
+                                  f"the axis is in CA group {getattr(self.group, 'name', '')!r}: "
+                                  "use the CA blocks")
+        admit(self.state, family)
+
     def _move(self, kind: str, target_of: Callable[[float], float], velocity: InputValue,
               acceleration: InputValue, deceleration: InputValue, jerk: InputValue,
               buffer_mode: BufferMode) -> Command:
         command = self._new(kind)
         try:
-            admit(self.state, "move")
+            self._admit("move")
             mode = _buffer_mode(buffer_mode)
             limits = resolve_limits(self.parameters, command.warnings, velocity, acceleration,
                                     deceleration, jerk)

@@ -39,6 +39,10 @@ class ErrorId(IntEnum):
     INVALID_STOP_DYNAMICS = 0x7014  #: reserved for stop inputs
     INVALID_MODE = 0x7015  #: an unknown mode enum value
     INVALID_GEAR_RATIO = 0x7016  #: a gear ratio that is not finite, or a zero denominator
+    INVALID_GAP = 0x7017  #: a CA gap that is not a finite number >= 0 (TF5410 §9.1.1.1)
+    INVALID_TARGET_POSITION = 0x7018  #: TF5410 §11.3: modulo target outside [0, rail length]
+    INVALID_ADDITIONAL_TURNS = 0x7019  #: TF5410 §11.3: turns > 0 with NonModulo/ShortestWay
+    INVALID_IDENT = 0x701A  #: IdentInGroup is not a UDINT_TO_IDENTINGROUP value
     # openmotion: state and command rejections (0x71xx)
     AXIS_DISABLED = 0x7101  #: the axis is not powered (MC_Power.Status FALSE)
     AXIS_IN_ERROR_STOP = 0x7102  #: the axis is in ErrorStop: MC_Reset first
@@ -55,6 +59,18 @@ class ErrorId(IntEnum):
     PROBE_ALREADY_ARMED = 0x710D  #: the touch-probe input is armed by another cycle
     NOT_COUPLED = 0x710E  #: MC_GearOut on an axis that is not a geared slave
     SUPERPOSITION_ACTIVE = 0x710F  #: a superposition runs (or brakes) already
+    AXIS_IN_GROUP = 0x7110  #: a CA group member only moves through the CA blocks
+    # openmotion: group rejections (0x73xx)
+    GROUP_EMPTY = 0x7301  #: MC_GroupEnable on a group without axes (TF5410 §7 note 9)
+    GROUP_NOT_ENABLED = 0x7302  #: a motion command while the group is Disabled or NotReady
+    GROUP_STOPPING = 0x7303  #: MC_GroupStop holds the group (TF5410 §7 note 2)
+    GROUP_IN_ERROR = 0x7304  #: the group is in GroupErrorStop: MC_GroupReset first
+    AXIS_NOT_IN_GROUP = 0x7305  #: a CA command for an axis that is not a member
+    AXIS_MOVING = 0x7306  #: adding or removing a moving axis (TF5410 §7, V3.1.10)
+    AXIS_IN_OTHER_GROUP = 0x7307  #: the axis belongs to another group already
+    IDENT_IN_USE = 0x7308  #: another axis of the group has this IdentInGroup
+    MODULO_ON_OPEN_RAIL = 0x7309  #: a modulo direction on a rail that is not a ring
+    GROUP_ERROR = 0x7310  #: a member axis went to ErrorStop: the group stopped (GroupErrorStop)
     # openmotion: axis errors raised by monitoring (0x72xx), these take the axis to ErrorStop
     FOLLOWING_ERROR = 0x7201  #: following error above 1020 for longer than 1021
     SOFT_LIMIT_REACHED = 0x7202  #: a velocity move stopped at an enabled software limit

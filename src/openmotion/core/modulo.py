@@ -68,3 +68,39 @@ def modulo_target(
 def snap_to_period(approximate_end: float, base: float, period: float) -> float:
     """The exact absolute position base + n*period nearest to the computed end."""
     return base + period * round((approximate_end - base) / period)
+
+
+def mc3_modulo_target(start: float, position: float, direction: int, additional_turns: int,
+                      period: float, window: float) -> float:
+    """Absolute target of an MC3 modulo move (TF5410 §11.3; also XPlanar's C axis).
+
+    ``direction``: 0 NonModulo (``position`` is absolute), 1 Positive, 2 ShortestWay,
+    3 Negative. A modulo ``position`` must lie in [0, period]. Inside ``window`` around
+    the target the move takes the short way whatever the direction (no unintended turn);
+    additional turns are added to that. Raises ``CommandRejected`` with INVALID_TARGET_POSITION or
+    INVALID_ADDITIONAL_TURNS.
+    """
+    if direction == 0:
+        if additional_turns:
+            raise CommandRejected(ErrorId.INVALID_ADDITIONAL_TURNS,
+                                  "additional turns need direction positive or negative")
+        return position
+    if not 0.0 <= position <= period:
+        raise CommandRejected(ErrorId.INVALID_TARGET_POSITION,
+                              f"modulo target {position:g} outside [0, {period:g}]")
+    if direction == 2 and additional_turns:
+        raise CommandRejected(ErrorId.INVALID_ADDITIONAL_TURNS,
+                              "additional turns need direction positive or negative")
+    s = start % period
+    short = (position - s + period / 2.0) % period - period / 2.0
+    if direction == 2 or abs(short) <= window:
+        delta = short
+    elif direction == 1:
+        delta = (position - s) % period
+    else:
+        delta = -((s - position) % period)
+    if direction == 1:
+        delta += additional_turns * period
+    elif direction == 3:
+        delta -= additional_turns * period
+    return start + delta

@@ -40,6 +40,7 @@ class Runtime:
         self._programs: list[Program] = []
         self._observers: list[Observer] = []
         self._watchers: list[tuple[int, int, Watcher]] = []
+        self._systems: list[Callable[[float], Any]] = []  #: group motion after evaluation
         self._watch_serial = 0
 
     # -- building ------------------------------------------------------------------------------
@@ -78,6 +79,11 @@ class Runtime:
         self._observers.append(observer)
         return observer
 
+    def _add_system(self, advance: Callable[[float], Any]) -> None:
+        """Let a motion system (a CA group) correct the setpoints of its axes every cycle,
+        right after the profiles are evaluated and before the drives follow them."""
+        self._systems.append(advance)
+
     def _watch(self, axis: Axis, watcher: Watcher) -> None:
         """Call ``watcher(now)`` after each motion step until it returns False."""
         self._watch_serial += 1
@@ -106,6 +112,8 @@ class Runtime:
             for row in ended.tolist():
                 self._axis_list[row]._on_profile_end(float(end[row]))
         kernel.evaluate(now)
+        for advance in self._systems:
+            advance(now)
 
     def _simulate_drives(self) -> None:
         kernel = self._kernel

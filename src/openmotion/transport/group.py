@@ -1,0 +1,866 @@
+"""The CA group: movers on one rail that keep a gap to the mover ahead (TF5410).
+
+Members are ordinary axes. While the group is enabled it owns their setpoints: every cycle,
+right after the profiles are evaluated, the group lets each mover propose its next setpoint
+and the gap filter (gap_control.py) makes the movers brake whose proposal is unsafe. A mover
+that had to brake is *held*: it follows a tracking step towards its target until its way is
+clear, then gets a fresh time-optimal profile again. Done only at the commanded target
+(§9.1.1.1.1); a mover queued behind another stays Busy.
+
+All per-mover numbers live in arrays in CA order (index 0 is the first mover, the one with
+the largest position), so a cycle is a few numpy passes over the group.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from openmotion.axis.commands import Command, CommandStatus
+from openmotion.core.enums import AxisState, BufferMode
+from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
+from openmotion.core.modulo import mc3_modulo_target
+from openmotion.core.special_values import MC_DEFAULT, InputValue
+from openmotion.trajectory.plan import Limits, plan_position, plan_stop
+from openmotion.trajectory.segments import KinematicState
+from openmotion.transport.braking import brake_envelope, brake_state
+from openmotion.transport.enums import (
+    GapControlDirection,
+    GapControlMode,
+    GroupState,
+    ModuloDirection,
+)
+from openmotion.transport.gap_control import TOLERANCE, Pairs, filter_steps
+from openmotion.transport.inputs import ca_gap, ca_limits, halt_limits
+from openmotion.transport.parameters import PARAMETER_FIELDS, CaGroupParameters
+
+if TYPE_CHECKING:
+    from openmotion.axis.axis import Axis
+    from openmotion.runtime.runtime import Runtime
+
+IDLE, FOLLOW, HELD = 0, 1, 2  #: mover modes: no command, on its profile, held by CA
+_POSITION, _HALT = "position", "halt"
+_MOVING_STATES = (GroupState.STANDBY, GroupState.MOVING, GroupState.STOPPING)
+
+
+@dataclass(frozen=True)
+class IdentInGroup:
+    """IDENT_IN_GROUP_REF of a CA member: made by ``UDINT_TO_IDENTINGROUP(n)`` (§9.3.1.1.13)."""
+
+    value: int
+
+
+def UDINT_TO_IDENTINGROUP(value: int) -> IdentInGroup:  # noqa: N802 - the manual's name
+    """The identity an axis has in a CA group; it does not decide the CA order (§8.1.1)."""
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 0xFFFFFFFF:
+        raise ValueError(f"UDINT_TO_IDENTINGROUP: a UDINT is needed, got {value!r}")
+    return IdentInGroup(value)
+
+
+@dataclass
+class CaJob:
+    """One CA motion command of a mover (active or buffered)."""
+
+    kind: str  #: "position" or "halt"
+    command: Command
+    limits: Limits
+    gap: float
+    gap_mode: GapControlMode  #: resolved: STANDARD, FAST or NONE
+    buffer_mode: BufferMode = BufferMode.ABORTING
+    target_of: Callable[[float], float] | None = None  #: start position -> absolute target
+    target: float = math.nan
+    continuous_update: bool = False
+
+
+@dataclass
+class Mover:
+    """A member of the group: its axis, identity and commands."""
+
+    axis: Axis
+    ident: IdentInGroup
+    added: int  #: insertion serial (ties in the CA order: the last added is first)
+    job: CaJob | None = None
+    queue: list[CaJob] = field(default_factory=list)
+    gap: float = 0.0  #: the last valid gap (§9.1.2.5: kept after a None command)
+    slot: int = -1  #: index in the group's arrays (CA order)
+
+
+class CaGroup:
+    """A CA group on a rail; create with ``CaGroup(runtime, "ca", rail_length=...)``."""
+
+    def __init__(self, runtime: Runtime, name: str = "ca",
+                 parameters: CaGroupParameters | None = None, **overrides: Any) -> None:
+        unknown = set(overrides) - PARAMETER_FIELDS
+        if unknown:
+            raise ConfigError(f"CA group {name!r}: unknown parameter(s) {sorted(unknown)}")
+        parameters = parameters or CaGroupParameters()
+        for key, value in overrides.items():
+            setattr(parameters, key, value)
+        try:
+            parameters.validate()
+        except (TypeError, ValueError) as exc:
+            raise ConfigError(f"CA group {name!r}: {exc}") from None
+        self.name = name
+        self.parameters = parameters
+        self._rt = runtime
+        self._k = runtime._kernel
+        self.state = GroupState.DISABLED
+        self.error_disabled = False  #: internal GroupErrorDisabled (not visible, §7.2)
+        self.error_id = ErrorId.NO_ERROR  #: GroupErrorId of the cyclic interface
+        self.movers: list[Mover] = []  #: in CA order once enabled
+        self._serial = 0
+        self._stop: Command | None = None  #: MC_GroupStop holding the group
+        self._halt: Command | None = None  #: MC_GroupHalt in progress
+        self._arrays(0)
+        runtime._add_system(self._advance)
+
+    # -- reading -------------------------------------------------------------------------------
+
+    @property
+    def axes_count(self) -> int:
+        """GroupAxesCount of the cyclic interface."""
+        return len(self.movers)
+
+    @property
+    def all_axes_standing(self) -> bool:
+        """MC_GroupReadStatus.AllAxesStanding: no member moves (v = 0 and a = 0)."""
+        k = self._k
+        return all(k.set_v[m.axis.row] == 0.0 and k.set_a[m.axis.row] == 0.0
+                   for m in self.movers)
+
+    @property
+    def order(self) -> list[str]:
+        """Axis names in CA order: the first mover first."""
+        return [m.axis.name for m in self.movers]
+
+    def mover_of(self, axis: Axis) -> Mover:
+        for mover in self.movers:
+            if mover.axis is axis:
+                return mover
+        raise KeyError(axis.name)
+
+    def gaps(self) -> np.ndarray:
+        """Setpoint gap of each mover to its predecessor, in CA order (inf: none)."""
+        k = self._k
+        p = k.set_p[self.rows] if self.rows.size else np.zeros(0)
+        gaps = np.full(len(self.movers), np.inf)
+        has = self.pred >= 0
+        gaps[has] = p[self.pred[has]] + self.offset[has] - p[has]
+        return gaps
+
+    def predecessor(self, axis: Axis) -> Axis | None:
+        slot = self.mover_of(axis).slot
+        return None if self.pred[slot] < 0 else self.movers[int(self.pred[slot])].axis
+
+    # -- administration (Tc3_McCoordinatedMotion §9.3.1.1) -------------------------------------
+
+    def add_axis(self, axis: Axis, ident: IdentInGroup) -> Command:
+        """MC_AddAxisToGroup: standing axes only; the CA order follows the positions."""
+        command = self._command("add_axis")
+        if not isinstance(ident, IdentInGroup):
+            return self._reject(command, ErrorId.INVALID_IDENT,
+                                "IdentInGroup must come from UDINT_TO_IDENTINGROUP(n)")
+        if axis.group is self:
+            if self.mover_of(axis).ident == ident:
+                return self._finish(command)
+            return self._reject(command, ErrorId.IDENT_IN_USE,
+                                f"{axis.name} is a member already")
+        if axis.group is not None:
+            return self._reject(command, ErrorId.AXIS_IN_OTHER_GROUP,
+                                f"{axis.name} is in group {getattr(axis.group, 'name', '?')!r}")
+        if any(m.ident == ident for m in self.movers):
+            return self._reject(command, ErrorId.IDENT_IN_USE,
+                                f"IdentInGroup {ident.value} is taken")
+        if axis.moving or axis.has_job:
+            return self._reject(command, ErrorId.AXIS_MOVING, f"{axis.name} is moving")
+        self._serial += 1
+        mover = Mover(axis, ident, self._serial, gap=self.parameters.default_gap)
+        axis.group = self
+        self.movers.append(mover)
+        self._reorder()
+        if self.state is GroupState.STANDBY and not axis.powered:
+            self.state = GroupState.NOT_READY
+        return self._finish(command)
+
+    def remove_axis(self, ident: IdentInGroup) -> Command:
+        """MC_RemoveAxisFromGroup: Done also when no member has ``ident`` (§9.3.1.1.8)."""
+        command = self._command("remove_axis")
+        mover = next((m for m in self.movers if m.ident == ident), None)
+        if mover is None:
+            return self._finish(command)
+        if mover.job is not None or self._moving(mover):
+            return self._reject(command, ErrorId.AXIS_MOVING,
+                                f"{mover.axis.name} is moving or has a command")
+        self._drop(mover)
+        return self._finish(command)
+
+    def ungroup_all(self) -> Command:
+        """MC_UngroupAllAxes: remove every axis and disable the group (§9.3.1.1.12)."""
+        command = self._command("ungroup_all")
+        self._disable()
+        for mover in list(self.movers):
+            self._drop(mover)
+        return self._finish(command)
+
+    def enable(self) -> Command:
+        """MC_GroupEnable: Standby once every member is powered, else NotReady."""
+        command = self._command("enable")
+        if self.state in (GroupState.ERROR_STOP,) or self.error_disabled:
+            return self._reject(command, ErrorId.GROUP_IN_ERROR,
+                                "the group is in error: MC_GroupReset first")
+        if not self.movers:
+            return self._reject(command, ErrorId.GROUP_EMPTY, "the group has no axes")
+        if self.state is GroupState.DISABLED:
+            self._reorder()
+            self._sync_states()
+            self.state = GroupState.NOT_READY
+            self._check_ready()
+        return self._finish(command)
+
+    def disable(self) -> Command:
+        """MC_GroupDisable: a moving group stands still at once (§9.3.1.1.2: avoid that)."""
+        command = self._command("disable")
+        if not self.all_axes_standing:
+            command.warnings.append("the group was moving: every mover stopped at once")
+        self._disable()
+        return self._finish(command)
+
+    def reset(self) -> Command:
+        """MC_GroupReset: clear group and member errors; no effect without an error."""
+        command = self._command("reset")
+        if self.state is GroupState.ERROR_STOP or self.error_disabled:
+            for mover in self.movers:
+                if mover.axis.state is AxisState.ERROR_STOP:
+                    mover.axis.reset()
+            self.error_id = ErrorId.NO_ERROR
+            if self.error_disabled:
+                self.error_disabled = False
+                self.state = GroupState.DISABLED
+            else:
+                self._sync_states()
+                self.state = GroupState.NOT_READY
+                self._check_ready()
+        return self._finish(command)
+
+    def halt(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT
+             ) -> Command:
+        """MC_GroupHalt: every mover brakes to rest; the group is not locked (§9.3.1.2.1)."""
+        command = self._command("group_halt")
+        try:
+            self._admit_motion()
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        for mover in self.movers:
+            inner = self._command("halt")
+            self._issue_halt(mover, inner, deceleration, jerk, mover.gap,
+                             GapControlMode.GROUP_DEFAULT)
+        command.status = CommandStatus.ACTIVE
+        self._halt = command
+        return command
+
+    def stop(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT
+             ) -> Command:
+        """MC_GroupStop: brake every mover and lock the group until ``release`` (§9.3.1.2.2).
+
+        Done at standstill; the group stays Stopping until ``command.release()`` (the
+        falling edge of Execute).
+        """
+        command = self._command("group_stop")
+        if self.state not in _MOVING_STATES and self.state is not GroupState.NOT_READY:
+            return self._reject(command, *self._refusal())
+        for mover in self.movers:
+            inner = self._command("stop")
+            self._issue_halt(mover, inner, deceleration, jerk, mover.gap,
+                             GapControlMode.GROUP_DEFAULT)
+            if inner.error:
+                return self._reject(command, inner.error_id, inner.message)
+        command.status = CommandStatus.ACTIVE
+        command.hold = True
+        self._stop = command
+        self.state = GroupState.STOPPING
+        return command
+
+    # -- mover commands (Tc3_McCollisionAvoidance §9.1.1.1) ------------------------------------
+
+    def move_absolute(self, axis: Axis, position: InputValue, velocity: InputValue,
+                      acceleration: InputValue = MC_DEFAULT,
+                      deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT,
+                      gap: InputValue = MC_DEFAULT,
+                      buffer_mode: BufferMode = BufferMode.ABORTING,
+                      direction: ModuloDirection = ModuloDirection.NON_MODULO,
+                      additional_turns: int = 0,
+                      gap_control_mode: GapControlMode = GapControlMode.GROUP_DEFAULT,
+                      continuous_update: bool = False) -> Command:
+        """MC_MoveAbsoluteCA: to ``position`` (a modulo position with a modulo direction)."""
+        command = self._command("move_absolute_ca")
+
+        def build(mover: Mover) -> CaJob:
+            direction_ = _enum(ModuloDirection, direction, ErrorId.INVALID_DIRECTION,
+                               "direction")
+            if direction_ is not ModuloDirection.NON_MODULO and not self.parameters.rail_is_ring:
+                raise CommandRejected(ErrorId.MODULO_ON_OPEN_RAIL,
+                                      "modulo directions need a rail that is a ring")
+            target = _position("position", position)
+            turns = additional_turns
+            if isinstance(turns, bool) or not isinstance(turns, int) or turns < 0:
+                raise CommandRejected(ErrorId.INVALID_ADDITIONAL_TURNS,
+                                      f"additional_turns: a UDINT, got {turns!r}")
+            length = self.parameters.rail_length
+            window = mover.axis.parameters.modulo_tolerance_window
+            mc3_modulo_target(0.0, target, int(direction_), turns, length, window)  # validate
+            job = self._job(mover, _POSITION, command, velocity, acceleration, deceleration,
+                            jerk, gap, buffer_mode, gap_control_mode, continuous_update)
+            job.target_of = lambda start: mc3_modulo_target(start, target, int(direction_),
+                                                            turns, length, window)
+            return job
+
+        return self._submit(axis, command, build)
+
+    def move_relative(self, axis: Axis, distance: InputValue, velocity: InputValue,
+                      acceleration: InputValue = MC_DEFAULT,
+                      deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT,
+                      gap: InputValue = MC_DEFAULT,
+                      buffer_mode: BufferMode = BufferMode.ABORTING,
+                      gap_control_mode: GapControlMode = GapControlMode.GROUP_DEFAULT,
+                      continuous_update: bool = False) -> Command:
+        """MC_MoveRelativeCA: by ``distance`` from the set position where it starts."""
+        command = self._command("move_relative_ca")
+
+        def build(mover: Mover) -> CaJob:
+            step = _position("distance", distance)
+            job = self._job(mover, _POSITION, command, velocity, acceleration, deceleration,
+                            jerk, gap, buffer_mode, gap_control_mode, continuous_update)
+            job.target_of = lambda start: start + step
+            return job
+
+        return self._submit(axis, command, build)
+
+    def halt_axis(self, axis: Axis, deceleration: InputValue = MC_DEFAULT,
+                  jerk: InputValue = MC_DEFAULT, gap: InputValue = MC_DEFAULT,
+                  gap_control_mode: GapControlMode = GapControlMode.GROUP_DEFAULT) -> Command:
+        """MC_HaltCA: brake to rest; the axis is not locked (§9.1.1.1.3)."""
+        command = self._command("halt_ca")
+        try:
+            self._admit_motion()
+            mover = self._member(axis)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        self._issue_halt(mover, command, deceleration, jerk, gap, gap_control_mode)
+        return command
+
+    def set_gap(self, command: Command, gap: InputValue) -> None:
+        """ContinuousUpdate: a running command with continuous_update takes a new gap."""
+        for mover in self.movers:
+            job = mover.job
+            if job is not None and job.command is command and job.continuous_update:
+                try:
+                    job.gap = ca_gap(gap, self.parameters.default_gap)
+                except CommandRejected:
+                    return
+                if job.gap_mode is not GapControlMode.NONE:
+                    mover.gap = job.gap
+                    self.gap[mover.slot] = job.gap
+                    self._pairs_dirty = True
+                return
+
+    # -- internals: commands --------------------------------------------------------------------
+
+    def _command(self, kind: str) -> Command:
+        return Command(kind, self._rt.now)
+
+    def _finish(self, command: Command) -> Command:
+        command._end(CommandStatus.DONE, self._rt.now)
+        return command
+
+    def _reject(self, command: Command, error_id: ErrorId, message: str) -> Command:
+        command._end(CommandStatus.ERROR, self._rt.now, error_id, message)
+        return command
+
+    def _refusal(self) -> tuple[ErrorId, str]:
+        if self.state is GroupState.STOPPING:
+            return ErrorId.GROUP_STOPPING, "MC_GroupStop holds the group"
+        if self.state is GroupState.ERROR_STOP:
+            return ErrorId.GROUP_IN_ERROR, "the group is in GroupErrorStop: MC_GroupReset first"
+        return ErrorId.GROUP_NOT_ENABLED, f"the group is {self.state.name}: enable it first"
+
+    def _admit_motion(self) -> None:
+        if self.state not in (GroupState.STANDBY, GroupState.MOVING):
+            raise CommandRejected(*self._refusal())
+
+    def _member(self, axis: Axis) -> Mover:
+        if axis.group is not self:
+            raise CommandRejected(ErrorId.AXIS_NOT_IN_GROUP,
+                                  f"{axis.name} is not in CA group {self.name!r}")
+        mover = self.mover_of(axis)
+        if not (axis.powered and axis.enable_positive and axis.enable_negative):
+            raise CommandRejected(ErrorId.AXIS_DISABLED,
+                                  f"{axis.name} is not enabled in both directions")
+        return mover
+
+    def _job(self, mover: Mover, kind: str, command: Command, velocity: InputValue,
+             acceleration: InputValue, deceleration: InputValue, jerk: InputValue,
+             gap: InputValue, buffer_mode: BufferMode, gap_control_mode: GapControlMode,
+             continuous_update: bool) -> CaJob:
+        mode = _enum(BufferMode, buffer_mode, ErrorId.INVALID_BUFFER_MODE, "buffer_mode")
+        if mode not in (BufferMode.ABORTING, BufferMode.BUFFERED):
+            raise CommandRejected(ErrorId.INVALID_BUFFER_MODE,
+                                  f"the CA blocks take Aborting or Buffered, not {mode.name}")
+        limits = ca_limits(mover.axis.parameters, command.warnings, velocity, acceleration,
+                           deceleration, jerk)
+        return CaJob(kind, command, limits, ca_gap(gap, self.parameters.default_gap),
+                     self._gap_mode(gap_control_mode), mode,
+                     continuous_update=bool(continuous_update))
+
+    def _gap_mode(self, value: GapControlMode) -> GapControlMode:
+        mode = _enum(GapControlMode, value, ErrorId.INVALID_MODE, "gap_control_mode")
+        return self.parameters.default_gap_control_mode if mode is GapControlMode.GROUP_DEFAULT \
+            else mode
+
+    def _submit(self, axis: Axis, command: Command, build: Callable[[Mover], CaJob]) -> Command:
+        try:
+            self._admit_motion()
+            mover = self._member(axis)
+            job = build(mover)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        if job.buffer_mode is BufferMode.BUFFERED and mover.job is not None:
+            job.command.status = CommandStatus.BUFFERED
+            mover.queue.append(job)
+            return command
+        self._start(mover, job)
+        return command
+
+    def _issue_halt(self, mover: Mover, command: Command, deceleration: InputValue,
+                    jerk: InputValue, gap: InputValue, gap_control_mode: GapControlMode) -> None:
+        try:
+            limits = halt_limits(mover.axis.parameters, command.warnings, deceleration, jerk)
+            job = CaJob(_HALT, command, limits, ca_gap(gap, self.parameters.default_gap),
+                        self._gap_mode(gap_control_mode))
+        except CommandRejected as rejected:
+            self._reject(command, rejected.error_id, rejected.message)
+            return
+        self._start(mover, job)
+
+    def _start(self, mover: Mover, job: CaJob) -> None:
+        """Make ``job`` the mover's command now: abort what runs or waits, plan from here."""
+        slot = mover.slot
+        start = KinematicState(float(self.p[slot]), float(self.v[slot]), float(self.a[slot]))
+        try:
+            if job.kind == _HALT:
+                profile = plan_stop(start, job.limits.deceleration, job.limits.jerk)
+                job.target = profile.end.position
+            else:
+                assert job.target_of is not None
+                job.target = job.target_of(start.position)
+                profile = plan_position(start, job.target, job.limits)
+        except CommandRejected as rejected:
+            self._reject(job.command, rejected.error_id, rejected.message)
+            return
+        self._abort(mover, f"aborted by {job.command.kind}")
+        mover.job = job
+        job.command.status = CommandStatus.ACTIVE
+        self._k.segments.install(mover.axis.row, profile, self._k.sample_time)
+        self.mode[slot] = FOLLOW
+        self.goal[slot] = job.target
+        self._load_job(mover)
+        if mover.axis.state in (AxisState.STANDSTILL, AxisState.DISCRETE_MOTION):
+            mover.axis.state = AxisState.DISCRETE_MOTION
+        if self.state is GroupState.STANDBY:
+            self.state = GroupState.MOVING
+
+    def _load_job(self, mover: Mover) -> None:
+        """Copy the job's numbers into the arrays the cycle reads."""
+        job, slot = mover.job, mover.slot
+        assert job is not None
+        if job.gap_mode is not GapControlMode.NONE:
+            mover.gap = job.gap
+        self.gap[slot] = mover.gap
+        self.gmode[slot] = int(job.gap_mode)
+        lim = job.limits
+        self.target[slot] = job.target
+        self.lim[:, slot] = (lim.velocity, lim.acceleration, lim.deceleration, lim.jerk)
+        self.halting[slot] = job.kind == _HALT
+        self._pairs_dirty = True
+
+    def _abort(self, mover: Mover, reason: str) -> None:
+        now = self._rt.now
+        if mover.job is not None:
+            mover.job.command._end(CommandStatus.ABORTED, now, message=reason)
+            mover.job = None
+        for job in mover.queue:
+            job.command._end(CommandStatus.ABORTED, now, message=reason)
+        mover.queue.clear()
+
+    def _finish_job(self, mover: Mover) -> None:
+        job = mover.job
+        assert job is not None
+        job.command._end(CommandStatus.DONE, self._rt.now)
+        mover.job = None
+        slot = mover.slot
+        self.mode[slot] = IDLE
+        self.gmode[slot] = int(self.parameters.default_gap_control_mode)
+        self._pairs_dirty = True
+        if mover.queue:
+            self._start(mover, mover.queue.pop(0))
+        elif mover.axis.state is AxisState.DISCRETE_MOTION:
+            mover.axis.state = AxisState.STANDSTILL
+
+    # -- internals: membership and order --------------------------------------------------------
+
+    def _moving(self, mover: Mover) -> bool:
+        row = mover.axis.row
+        return bool(self._k.set_v[row] != 0.0 or self._k.set_a[row] != 0.0)
+
+    def _drop(self, mover: Mover) -> None:
+        self._abort(mover, "removed from the group")
+        mover.axis.group = None
+        row = mover.axis.row
+        self._k.segments.install(row, _hold(float(self._k.set_p[row])), self._k.sample_time)
+        self.movers.remove(mover)
+        self._reorder()
+        if not self.movers and self.state is not GroupState.DISABLED:
+            self.state = GroupState.DISABLED
+
+    def _disable(self) -> None:
+        for mover in self.movers:
+            self._abort(mover, "the group was disabled")
+            row = mover.axis.row
+            k = self._k
+            k.set_v[row] = k.set_a[row] = k.set_j[row] = 0.0
+            k.segments.install(row, _hold(float(k.set_p[row])), k.sample_time)
+            if mover.axis.state is AxisState.DISCRETE_MOTION:
+                mover.axis.state = AxisState.STANDSTILL
+        if self._stop is not None:
+            self._stop._end(CommandStatus.ABORTED, self._rt.now, message="the group was disabled")
+            self._stop = None
+        self._halt = None
+        if self.state is GroupState.ERROR_STOP:
+            self.error_disabled = True
+        self.state = GroupState.DISABLED
+        self.mode[:] = IDLE
+
+    def _reorder(self) -> None:
+        """CA order by position (§8.1.1): the largest first; equal: the last added first."""
+        length = self.parameters.rail_length
+        ring = self.parameters.rail_is_ring
+        k = self._k
+
+        def key(m: Mover) -> tuple[float, int]:
+            p = float(k.set_p[m.axis.row])
+            return (p % length if ring else p, m.added)
+
+        ordered = sorted(self.movers, key=key, reverse=True)
+        if ring and ordered:  # rotate: the first is the one with the largest absolute position
+            first = max(range(len(ordered)),
+                        key=lambda i: (float(k.set_p[ordered[i].axis.row]), ordered[i].added))
+            ordered = ordered[first:] + ordered[:first]
+        self.movers = ordered
+        self._arrays(len(ordered))
+        for slot, mover in enumerate(ordered):
+            mover.slot = slot
+            self.gap[slot] = mover.gap
+            if mover.job is not None:
+                self._load_job(mover)
+        self._sync_states()
+        self._pairs_dirty = True
+
+    def _arrays(self, n: int) -> None:
+        self.rows = np.array([m.axis.row for m in self.movers], dtype=np.int64) if n else \
+            np.zeros(0, dtype=np.int64)
+        self.p, self.v, self.a = np.zeros(n), np.zeros(n), np.zeros(n)
+        self.mode = np.zeros(n, dtype=np.int8)
+        self.goal = np.full(n, np.nan)
+        self.target = np.full(n, np.nan)
+        self.lim = np.ones((4, n))  # velocity, acceleration, deceleration, jerk of the command
+        self.halting = np.zeros(n, dtype=bool)
+        self.gap = np.full(n, self.parameters.default_gap)
+        self.gmode = np.full(n, int(self.parameters.default_gap_control_mode), dtype=np.int8)
+        self.bdec = np.array([m.axis.parameters.max_deceleration for m in self.movers]) \
+            if n else np.zeros(0)
+        self.bjerk = np.array([m.axis.parameters.max_jerk for m in self.movers]) \
+            if n else np.zeros(0)
+        self.pred = np.full(n, -1, dtype=np.int64)
+        self.offset = np.zeros(n)
+        self._env: tuple[np.ndarray, np.ndarray] | None = None
+        if n:
+            self.pred[1:] = np.arange(n - 1)
+            if self.parameters.rail_is_ring:
+                self.pred[0] = n - 1
+
+    def _sync_states(self) -> None:
+        """Take the members' setpoints as the group's state (enable, reset, reorder)."""
+        k, rows = self._k, self.rows
+        if not rows.size:
+            return
+        self.p, self.v, self.a = k.set_p[rows].copy(), k.set_v[rows].copy(), \
+            k.set_a[rows].copy()
+        length = self.parameters.rail_length
+        has = self.pred >= 0
+        raw = self.p[self.pred[has]] - self.p[has]
+        wrapped = np.mod(raw, length)
+        if self.parameters.rail_is_ring:  # the wrap pair spans (0, L]: n = 1 sees itself at L
+            first = np.flatnonzero(has) == 0
+            wrapped = np.where(first & (wrapped == 0.0), length, wrapped)
+            self.offset[has] = wrapped - raw
+        self._pairs_dirty = True
+        self._env = None
+
+    def _check_ready(self) -> None:
+        if self.state is GroupState.NOT_READY and all(m.axis.powered for m in self.movers):
+            self._sync_states()
+            self.state = GroupState.MOVING if any(m.job for m in self.movers) \
+                else GroupState.STANDBY
+
+    # -- the cycle ------------------------------------------------------------------------------
+
+    def _pairs(self) -> Pairs:
+        if self._pairs_dirty:
+            succ = np.flatnonzero((self.pred >= 0) & (self.gmode != GapControlMode.NONE))
+            both = self.parameters.gap_control_direction is GapControlDirection.BOTH
+            self._pair_cache = Pairs(succ, self.pred[succ], self.offset[succ], self.gap[succ],
+                                     self.gmode[succ] == GapControlMode.FAST, both)
+            self._pairs_dirty = False
+        return self._pair_cache
+
+    def _advance(self, now: float) -> None:
+        """Phase 2, after the profiles: gap control and the movers' command events."""
+        if not self.movers:
+            return
+        self._watch_members()
+        if self.state not in _MOVING_STATES:
+            return
+        k, rows, dt = self._k, self.rows, self._rt.cycle_time
+        nxt = [k.set_p[rows].copy(), k.set_v[rows].copy(), k.set_a[rows].copy(),
+               k.set_j[rows].copy()]
+        held = np.flatnonzero(self.mode == HELD)
+        if held.size:
+            for field_, value in zip(nxt, self._track(held, dt), strict=True):
+                field_[held] = value
+        idle = self.mode == IDLE
+        if idle.any():  # no command: the mover rests where it is
+            nxt[0][idle], nxt[1][idle], nxt[2][idle], nxt[3][idle] = self.p[idle], 0.0, 0.0, 0.0
+        cur = (self.p, self.v, self.a)
+        brake = brake_state(self.p, self.v, self.a, self.bdec, self.bjerk, dt)
+        braking, lo, hi = filter_steps(cur, self._envelope(), nxt, brake, self.bdec,
+                                       self.bjerk, self._pairs())
+        k.set_p[rows], k.set_v[rows], k.set_a[rows], k.set_j[rows] = nxt
+        self.p, self.v, self.a = nxt[0], nxt[1], nxt[2]
+        self._env = (lo, hi)
+        self.mode[braking & (self.mode == FOLLOW)] = HELD
+        self._events(now)
+
+    def _envelope(self) -> tuple[np.ndarray, np.ndarray]:
+        """Brake envelope of the current states (cached from the last cycle)."""
+        if self._env is None:
+            self._env = brake_envelope(self.p, self.v, self.a, self.bdec, self.bjerk)
+        return self._env
+
+    def _track(self, held: np.ndarray, dt: float) -> tuple[np.ndarray, ...]:
+        """The next step of held movers: the most progressive constant-jerk step (jerk +J,
+        0 or -J) that stays within the command's limits, does not pass the target and keeps
+        clear of the neighbours as they are now; else the command's own brake.
+
+        The three candidates of every held mover are judged in one batch."""
+        m = held.size
+        p, v, a = self.p[held], self.v[held], self.a[held]
+        vmax, acc, dec, jmax = self.lim[:, held]
+        target = self.target[held]
+        sign = np.where(target >= p, 1.0, -1.0)
+        j = np.concatenate((sign * jmax, 0.0 * jmax, -sign * jmax))
+        p3, v3, a3 = np.tile(p, 3), np.tile(v, 3), np.tile(a, 3)
+        p1 = p3 + dt * (v3 + dt * (0.5 * a3 + dt * j / 6.0))
+        v1 = v3 + dt * (a3 + 0.5 * dt * j)
+        a1 = a3 + dt * j
+        s3 = np.tile(sign, 3)
+        u, b = s3 * v1, s3 * a1
+        acc3, dec3, vmax3, jmax3 = (np.tile(x, 3) for x in (acc, dec, vmax, jmax))
+        ok = (b <= acc3 * (1 + 1e-12)) & (b >= -dec3 * (1 + 1e-12))
+        ok &= u + b * np.abs(b) / (2.0 * jmax3) <= vmax3 * (1 + 1e-12)
+        both = np.concatenate((dec3, np.tile(self.bdec[held], 3)))
+        lo, hi = brake_envelope(np.tile(p1, 2), np.tile(v1, 2), np.tile(a1, 2), both,
+                                np.concatenate((jmax3, np.tile(self.bjerk[held], 3))))
+        t3 = np.tile(target, 3)
+        ok &= np.where(s3 > 0, hi[:3 * m] <= t3 + TOLERANCE, lo[:3 * m] >= t3 - TOLERANCE)
+        room_hi, room_lo = self._room(held)
+        lo_now, hi_now = self._envelope()
+        room_hi = np.tile(np.maximum(room_hi, hi_now[held]), 3)
+        room_lo = np.tile(np.minimum(room_lo, lo_now[held]), 3)
+        ok &= (hi[3 * m:] <= room_hi) & (lo[3 * m:] >= room_lo)
+        ok = ok.reshape(3, m) & ~self.halting[held]
+        pick = np.argmax(ok, axis=0)
+        found = ok[pick, np.arange(m)]
+        index = pick * m + np.arange(m)
+        out = list(brake_state(p, v, a, dec, jmax, dt))
+        for o, value in zip(out, (p1, v1, a1, j), strict=True):
+            o[found] = value[index[found]]
+        return tuple(out)
+
+    def _room(self, slots: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Where each mover may stop, given its neighbours' current brake envelopes."""
+        lo, hi = self._envelope()
+        room_hi = np.full(slots.size, np.inf)
+        room_lo = np.full(slots.size, -np.inf)
+        pred = self.pred[slots]
+        gated = (pred >= 0) & (self.gmode[slots] != GapControlMode.NONE)
+        room_hi[gated] = lo[pred[gated]] + self.offset[slots[gated]] - self.gap[slots[gated]]
+        if self.parameters.gap_control_direction is GapControlDirection.BOTH:
+            succ_of = np.full(len(self.movers), -1, dtype=np.int64)
+            has = self.pred >= 0
+            succ_of[self.pred[has]] = np.flatnonzero(has)
+            succ = succ_of[slots]
+            ok = succ >= 0
+            ok[ok] &= self.gmode[succ[ok]] != GapControlMode.NONE
+            s = succ[ok]
+            room_lo[ok] = hi[s] + self.gap[s] - self.offset[s]
+        return room_hi, room_lo
+
+    def _events(self, now: float) -> None:
+        k = self._k
+        ended = np.flatnonzero((self.mode == FOLLOW) & (k.segments.end[self.rows] <= now))
+        for slot in ended.tolist():
+            mover = self.movers[slot]
+            if mover.job is None:
+                self.mode[slot] = IDLE
+            elif mover.job.kind == _HALT or self.goal[slot] == mover.job.target:
+                self._finish_job(mover)
+            else:
+                self.mode[slot] = HELD  # a queue position: wait for the way to clear
+        held = np.flatnonzero(self.mode == HELD)
+        if held.size:
+            self._resume(held)
+        if self._halt is not None and all(m.job is None for m in self.movers):
+            self._halt._end(CommandStatus.DONE, now)
+            self._halt = None
+        if self._stop is not None:
+            if self._stop.busy and all(m.job is None for m in self.movers):
+                self._stop.status = CommandStatus.DONE
+                self._stop.ended_at = now
+            if self._stop.done and not self._stop.hold:
+                self._stop = None
+                self.state = GroupState.STANDBY
+        if self.state is GroupState.MOVING and all(m.job is None for m in self.movers) \
+                and self.all_axes_standing:
+            self.state = GroupState.STANDBY
+
+    def _resume(self, held: np.ndarray) -> None:
+        """Held movers get a profile again: to the target once nothing can block it, or to
+        the queue position once the mover and the neighbour in its way stand."""
+        room_hi, room_lo = self._room(held)
+        target = self.target[held]
+        rest = self._resting(held)
+        for i, slot in enumerate(held.tolist()):
+            mover = self.movers[slot]
+            if self.halting[slot]:
+                if rest[i]:
+                    self._finish_job(mover)
+                continue
+            free = room_lo[i] <= target[i] <= room_hi[i]
+            if free:
+                goal = float(target[i])
+            elif rest[i] and self._neighbour_rests(slot, target[i] >= self.p[slot]):
+                goal = float(min(max(target[i], room_lo[i]), room_hi[i]))
+                if (goal - self.p[slot]) * (target[i] - self.p[slot]) <= 0.0 or \
+                        abs(goal - self.p[slot]) <= TOLERANCE:
+                    continue  # no closer to the target (CA never moves a mover back, §3)
+            else:
+                continue
+            self._replan(mover, goal)
+
+    def _resting(self, slots: np.ndarray) -> np.ndarray:
+        """At rest up to float residue of the tracking steps."""
+        vmax, acc = self.lim[0, slots], self.lim[1, slots]
+        return (np.abs(self.v[slots]) <= 1e-9 * vmax) & (np.abs(self.a[slots]) <= 1e-9 * acc)
+
+    def _neighbour_rests(self, slot: int, forward: bool) -> bool:
+        if forward:
+            other = int(self.pred[slot])
+        else:
+            has = np.flatnonzero(self.pred == slot)
+            other = int(has[0]) if has.size else -1
+        return other < 0 or bool(self._resting(np.array([other]))[0])
+
+    def _replan(self, mover: Mover, goal: float) -> None:
+        slot = mover.slot
+        job = mover.job
+        assert job is not None
+        start = KinematicState(float(self.p[slot]), float(self.v[slot]), float(self.a[slot]))
+        try:
+            profile = plan_position(start, goal, job.limits)
+        except CommandRejected:
+            return  # stay held; the tracking step goes on
+        self._k.segments.install(mover.axis.row, profile, self._rt.now)
+        self.mode[slot] = FOLLOW
+        self.goal[slot] = goal
+
+    def _watch_members(self) -> None:
+        """Member errors stop the group; a member losing power makes it NotReady (§7)."""
+        if self.state in (GroupState.DISABLED, GroupState.ERROR_STOP):
+            return
+        failed = [m for m in self.movers if m.axis.state is AxisState.ERROR_STOP]
+        if failed:
+            self._error(failed[0].axis.axis_error_id, f"{failed[0].axis.name}: "
+                        f"{failed[0].axis.axis_error_message}")
+            return
+        if self.state is GroupState.NOT_READY:
+            self._check_ready()
+        elif any(not m.axis.powered for m in self.movers):
+            off = next(m for m in self.movers if not m.axis.powered)
+            self._brake_all(CommandStatus.ABORTED, f"{off.axis.name} was disabled")
+            self.state = GroupState.NOT_READY
+
+    def _error(self, error_id: ErrorId, message: str) -> None:
+        """GroupErrorStop: every command ends in error, every mover brakes at its maximum."""
+        self.error_id = ErrorId.GROUP_ERROR if error_id is ErrorId.NO_ERROR else error_id
+        self._brake_all(CommandStatus.ERROR, f"group error: {message}")
+        self.state = GroupState.ERROR_STOP
+
+    def _brake_all(self, status: CommandStatus, message: str) -> None:
+        """End every command and brake every powered mover with its maximum dynamics.
+
+        All movers brake together from states that keep the gap invariant, so no gap is
+        undershot although gap control pauses (docs/collision-avoidance.md)."""
+        now = self._rt.now
+        error_id = ErrorId.GROUP_ERROR if status is CommandStatus.ERROR else ErrorId.NO_ERROR
+        for mover in self.movers:
+            for job in ([mover.job] if mover.job else []) + mover.queue:
+                job.command._end(status, now, error_id, message)
+            mover.job = None
+            mover.queue.clear()
+            slot = mover.slot
+            self.mode[slot] = IDLE
+            if not mover.axis.powered:
+                continue
+            start = KinematicState(float(self.p[slot]), float(self.v[slot]), float(self.a[slot]))
+            profile = plan_stop(start, float(self.bdec[slot]), float(self.bjerk[slot]))
+            self._k.segments.install(mover.axis.row, profile, self._k.sample_time)
+            if mover.axis.state is AxisState.DISCRETE_MOTION:
+                mover.axis.state = AxisState.STANDSTILL
+        for command in (self._stop, self._halt):
+            if command is not None:
+                command._end(status, now, error_id, message)
+        self._stop = self._halt = None
+
+
+def _hold(position: float) -> Any:
+    from openmotion.trajectory.segments import Profile
+
+    return Profile.hold(KinematicState(position))
+
+
+def _enum(kind: Any, value: Any, error_id: ErrorId, name: str) -> Any:
+    try:
+        if isinstance(value, bool):
+            raise ValueError(value)
+        return kind(value)
+    except (ValueError, TypeError):
+        raise CommandRejected(error_id, f"{name}: {value!r} is not a {kind.__name__}") from None
+
+
+def _position(name: str, value: InputValue) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise CommandRejected(ErrorId.INVALID_POSITION, f"{name}: must be set, got {value!r}")
+    return float(value)
