@@ -23,7 +23,7 @@ def results() -> dict[str, dict]:
     return out
 
 
-@pytest.mark.parametrize("name", ["axes", "otg", "fbcall"])
+@pytest.mark.parametrize("name", ["axes", "otg", "fbcall", "ca"])
 def test_result_shape_is_json_and_renders(results: dict[str, dict], name: str) -> None:
     result = results[name]
     assert result["benchmark"] == name
@@ -37,7 +37,7 @@ def test_result_shape_is_json_and_renders(results: dict[str, dict], name: str) -
 
 
 def test_unknown_benchmark_names_the_choices() -> None:
-    with pytest.raises(KeyError, match="axes.*fbcall.*otg"):
+    with pytest.raises(KeyError, match="axes.*ca.*fbcall.*otg"):
         run_benchmark("nope", quick=True)
 
 
@@ -104,3 +104,14 @@ def test_fbcall_measures_a_busy_block(results: dict[str, dict]) -> None:
     r = results["fbcall"]["results"]
     assert r["still_busy"] and r["step_axis_moving"]
     assert r["fb_call_us"] > 0.0 and r["step_1_axis_us"] > 0.0
+
+
+def test_ca_keeps_every_gap_and_limit(results: dict[str, dict]) -> None:
+    ca = results["ca"]["results"]["by_n"]
+    assert set(ca) == {"10", "30"}
+    for row in ca.values():
+        assert row["commands"] >= row["movers"]  # every mover was commanded at least once
+        assert row["gap_violations"] == 0 and row["min_gap"] >= 100.0 - 1e-9
+        assert row["limit_violations"] == 0
+        assert 0.0 < row["cycle_us_p50"] <= row["cycle_us_p99"]
+    assert results["ca"]["goals"]["gap_violations"]["passed"] is True

@@ -155,10 +155,12 @@ def test_power_override_50_halves_the_velocities() -> None:
             power(enable=True, override=override),
             move(execute=True, position=400.0, velocity=200.0)), lambda move=move: move.done)
         assert axis.override == pytest.approx(override / 100.0)
+        assert axis.override_value == round(override * 10_000)  # the PlcToNc DWORD (§4.1)
         results[override] = (max(trace.v), len(trace.v))
     assert results[100.0][0] == pytest.approx(200.0, rel=1e-9)
     assert results[50.0][0] == pytest.approx(100.0, rel=1e-9)
     assert results[50.0][1] > 1.8 * results[100.0][1]  # takes about twice as long
+    assert axis.override_value == 500_000
     rt, axis = powered_axis()
     power, velocity = MC_Power(axis), MC_MoveVelocity(axis)
     run(rt, axis, lambda: (power(enable=True, override=50.0),
@@ -735,6 +737,50 @@ def test_change_dyn_param_rejected_in_the_braking_phase(cycles: int, jerk: float
     assert change.error and change.error_id == ErrorId.DYN_DIRECTION_REVERSAL == 0x4289
     trace = run(rt, axis, lambda: slower(execute=True), lambda: slower.in_velocity)
     assert min(trace.v) >= 1.0 - 1e-9
+
+
+def test_change_dyn_param_optimisation_not_possible() -> None:
+    """Rule 127, D-050: limits far below the running state (v = 90 mm/s, a = 3000 mm/s²)
+    leave the planner without a profile: "internal optimisation not possible" → 0x427E, not
+    NO_PROFILE; the running profile keeps its dynamics and ends at the target."""
+    rt, axis = powered_axis()
+    move, change = MC_MoveAbsolute(axis), MC_ChangeDynParam(axis)
+    move(execute=True, position=800.0, velocity=800.0)
+    for _ in range(60):
+        rt.step()
+        move(execute=True)
+    change(execute=True, acceleration=10.0, deceleration=10.0, jerk=10.0)
+    assert change.error and change.error_id == ErrorId.DYN_OPTIMISATION_FAILED == 0x427E
+    trace = run(rt, axis, lambda: move(execute=True), lambda: move.done)
+    assert axis.set_position == 800.0
+    assert max(trace.a) == pytest.approx(5000.0, rel=1e-9)  # the axis defaults, unchanged
+    assert min(trace.a) == pytest.approx(-5000.0, rel=1e-9)
+
+
+@pytest.mark.parametrize("paused", [False, True], ids=["same_cycle", "override_0"])
+def test_change_dyn_param_on_a_move_at_rest_applies(paused: bool) -> None:
+    """Rule 126: a positioning at rest (set velocity 0: issued in the same cycle, or paused by
+    override 0) takes new dynamics; with no velocity to give the direction, the target does,
+    so nothing is "overshot" (no 0x427F)."""
+    rt, axis = powered_axis()
+    move, change = MC_MoveAbsolute(axis), MC_ChangeDynParam(axis)
+    override = MC_SetOverride(axis)
+    move(execute=True, position=600.0, velocity=400.0)
+    if paused:
+        run(rt, axis, lambda: move(execute=True), lambda: axis.set_position > 50.0)
+        override(execute=True, override=0.0)
+        run(rt, axis, lambda: move(execute=True),
+            lambda: axis.set_velocity == 0.0 and not axis.has_job)
+        assert axis.set_position < 600.0 and move.busy
+    change(execute=True, acceleration=3000.0, deceleration=3000.0, jerk=30000.0)
+    assert change.done and not change.error
+    override(execute=False)
+    override(execute=True, override=100.0)
+    trace = run(rt, axis, lambda: move(execute=True), lambda: move.done)
+    assert axis.set_position == 600.0
+    assert max(trace.a) == pytest.approx(3000.0, rel=1e-9)
+    assert min(trace.a) == pytest.approx(-3000.0, rel=1e-9)
+    assert trace.peak_jerk() == pytest.approx(30000.0, rel=1e-6)
 
 
 def test_change_dyn_param_on_a_standing_axis() -> None:

@@ -10,6 +10,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import openmotion as om
+from openmotion.core.special_values import MC_INVALID
 from openmotion.plcopen import MC_MoveVelocity, MC_Stop
 from openmotion.plcopen.gear import (
     MC_GearIn,
@@ -321,17 +322,44 @@ def test_gear_out_ext_zero_dynamics_mean_the_axis_defaults() -> None:
 def test_gear_out_ext_velocity_not_above_zero_is_an_error(mode: om.DecoupleMode,
                                                           velocity: float) -> None:
     """Rule 10, TcMC §3.21 "Velocity: maximum travel velocity (>0)": Error with
-    INVALID_VELOCITY, no Done, and no follow-up: the slave keeps the 200 mm/s it had."""
+    INVALID_VELOCITY, no Done, and the command is refused as a whole: the slave stays coupled
+    and follows the master, also when the master stops."""
     rt, master, slave = coupled_in_motion()
     out = MC_GearOutExt(slave)
     out(execute=True, mode=mode, position=500.0, velocity=velocity)
     assert out.error and out.error_id == E.INVALID_VELOCITY
     assert not out.done and not out.busy
+    assert slave.state is S.SYNCHRONIZED_MOTION
     for _ in range(500):
         rt.step()
         out(execute=True)
         assert slave.set_velocity == pytest.approx(200.0, abs=1e-9)
+    offset = slave.set_position - master.set_position
+    master.stop()
+    rt.run(1.0)
+    out(execute=True)
     assert out.error and not out.done
+    assert slave.state is S.SYNCHRONIZED_MOTION
+    assert master.set_velocity == slave.set_velocity == 0.0
+    assert slave.set_position - master.set_position == pytest.approx(offset, abs=1e-9)
+
+
+@pytest.mark.parametrize(("mode", "position", "error"), [
+    (D.NEW_POSITION, MC_INVALID, E.INVALID_POSITION),
+    (D.ORIENTED_STOP, 400.0, E.INVALID_MODULO_TARGET),
+])
+def test_gear_out_ext_bad_position_leaves_the_slave_coupled(mode: om.DecoupleMode,
+                                                            position: object,
+                                                            error: om.ErrorId) -> None:
+    """A follow-up input the follow-up would refuse refuses MC_GearOutExt as a whole."""
+    rt, master, slave = coupled_in_motion()
+    out = MC_GearOutExt(slave)
+    out(execute=True, mode=mode, position=position)
+    assert out.error and out.error_id == error
+    assert slave.state is S.SYNCHRONIZED_MOTION
+    master.stop()
+    rt.run(1.0)
+    assert slave.set_velocity == 0.0 and slave.state is S.SYNCHRONIZED_MOTION
 
 
 def test_gear_out_ext_endless_keeps_the_velocity() -> None:

@@ -503,6 +503,16 @@ def test_unknown_mode_is_invalid_mode(mode: Any) -> None:
     assert not jog.error and x.set_position == 0.0
 
 
+def test_unknown_mode_error_is_timed_at_the_runtime_now() -> None:
+    """The error command carries the cycle time of the call, not 0.0."""
+    rt, x = setup()
+    rt.run(1.0)
+    jog = MC_Jog(x, mode=7)
+    jog(jog_forward=True)
+    assert jog.error_id == ErrorId.INVALID_MODE
+    assert jog.command.issued_at == jog.command.ended_at == rt.now == pytest.approx(1.0)
+
+
 def test_mode_given_as_plain_int() -> None:
     rt, x = setup()
     jog = MC_Jog(x, mode=2, velocity=30.0)

@@ -119,6 +119,18 @@ def test_read_axis_components_is_a_snapshot_kept_after_execute_falls() -> None:
     assert fb.axis_components["controller"]["max_position_lag"] == 9.0
 
 
+@pytest.mark.parametrize("block", [MC_SetReferenceFlag, MC_ReadAxisComponents])
+def test_commands_are_timed_at_the_runtime_now(block: type) -> None:
+    """The Done command carries the cycle time of the rising edge, not 0.0."""
+    rt = om.Runtime()
+    axis = rt.add_axis("x")
+    rt.run(1.0)
+    fb = block()
+    fb(axis, execute=True)
+    assert fb.done
+    assert fb.command.issued_at == fb.command.ended_at == rt.now == pytest.approx(1.0)
+
+
 def test_blocks_without_an_axis_are_a_type_error() -> None:
     with pytest.raises(TypeError, match="needs an axis"):
         MC_ReadAxisComponents()(execute=True)

@@ -133,6 +133,12 @@ class Axis:
         return bool(self._k.has_job[self.row])
 
     @property
+    def override_value(self) -> int:
+        """The override as the PlcToNc interface DWORD (TcMC §4.1): 0...1 000 000 for
+        0...100 %, so MC_Power's Override 50.0 gives 500 000."""
+        return round(self.override * 1_000_000)
+
+    @property
     def error(self) -> bool:
         return self.state is AxisState.ERROR_STOP
 
@@ -438,10 +444,7 @@ class Axis:
         period = self.parameters.modulo_period
         try:
             self._admit("stop")
-            target = require_position("position", position)
-            if not 0.0 <= target < period:
-                raise CommandRejected(ErrorId.INVALID_MODULO_TARGET,
-                                      f"position must lie in [0, {period}), got {target}")
+            target = self._oriented_target(position)
             if self.state in (AxisState.STANDSTILL, AxisState.HOMING):
                 raise CommandRejected(ErrorId.AXIS_NOT_MOVING, "oriented stop needs motion")
         except CommandRejected as rejected:
@@ -474,6 +477,15 @@ class Axis:
             self._reject(command, failure.error_id,
                          failure.message + "; stopped without orientation")
         return command
+
+    def _oriented_target(self, position: InputValue) -> float:
+        """MC_OrientedStop's Position: a modulo value in [0, period)."""
+        target = require_position("position", position)
+        period = self.parameters.modulo_period
+        if not 0.0 <= target < period:
+            raise CommandRejected(ErrorId.INVALID_MODULO_TARGET,
+                                  f"position must lie in [0, {period}), got {target}")
+        return target
 
     # -- gearing (TcMC §3.17-3.21) -------------------------------------------------------------
 
@@ -549,7 +561,8 @@ class Axis:
         """MC_GearOutExt (TcMC §3.21): decouple, then the follow-up ``mode`` if moving.
 
         Returns the follow-up command (Done at its target or constant velocity); at
-        standstill there is no follow-up and the returned command is Done at once.
+        standstill there is no follow-up and the returned command is Done at once. A follow-up
+        input that its command would refuse fails the whole command: the slave stays coupled.
         """
         try:
             mode = DecoupleMode(mode)
@@ -557,6 +570,17 @@ class Axis:
             command = self._new("gear_out_ext")
             return self._reject(command, ErrorId.INVALID_MODE, f"mode {mode!r} is unknown")
         moving = self.set_velocity != 0.0 or self.set_acceleration != 0.0
+        speed = abs(self.set_velocity)
+        if mode is DecoupleMode.ENDLESS:
+            velocity = speed or MC_INVALID
+        elif mode is DecoupleMode.NEW_POSITION:
+            velocity = max(speed, 1e-9)
+        if moving and self._job is not None and self._job.kind == "gear":
+            try:  # a rejected command leaves the slave coupled
+                self._check_follow_up(mode, position, velocity, acceleration, deceleration, jerk)
+            except CommandRejected as rejected:
+                return self._reject(self._new("gear_out_ext"), rejected.error_id,
+                                    rejected.message)
         out = self.gear_out()
         if out.error or not moving:
             return out
@@ -565,15 +589,9 @@ class Axis:
             return self.stop(deceleration, jerk)
         if mode is DecoupleMode.ORIENTED_STOP:
             return self.oriented_stop(position)
-        if mode is DecoupleMode.ENDLESS:
-            return self.move_velocity(abs(self.set_velocity) or MC_INVALID, direction,
-                                      acceleration, deceleration, jerk)
-        if mode is DecoupleMode.ENDLESS_NEW_VELOCITY:
+        if mode in (DecoupleMode.ENDLESS, DecoupleMode.ENDLESS_NEW_VELOCITY):
             return self.move_velocity(velocity, direction, acceleration, deceleration, jerk)
-        if mode is DecoupleMode.NEW_POSITION:
-            return self.move_absolute(position, max(abs(self.set_velocity), 1e-9),
-                                      acceleration, deceleration, jerk)
-        if mode is DecoupleMode.NEW_POSITION_AND_VELOCITY:
+        if mode in (DecoupleMode.NEW_POSITION, DecoupleMode.NEW_POSITION_AND_VELOCITY):
             return self.move_absolute(position, velocity, acceleration, deceleration, jerk)
         halt = self._new("instantaneous_stop")  # the velocity jumps to zero (§3.21)
         self._install(Profile.hold(KinematicState(self.set_position)), has_job=False)
@@ -581,6 +599,19 @@ class Axis:
         self.state = AxisState.STANDSTILL
         self._finish(halt)
         return halt
+
+    def _check_follow_up(self, mode: DecoupleMode, position: InputValue, velocity: InputValue,
+                         acceleration: InputValue, deceleration: InputValue,
+                         jerk: InputValue) -> None:
+        """MC_GearOutExt: reject the follow-up's inputs before decoupling, in the order its
+        command checks them (MC_Stop always stops; the instantaneous stop takes none)."""
+        if mode is DecoupleMode.ORIENTED_STOP:
+            self._oriented_target(position)
+        elif mode not in (DecoupleMode.STOP, DecoupleMode.INSTANTANEOUS_STOP):
+            resolve_limits(self.parameters, [], velocity, acceleration, deceleration, jerk)
+        if mode in (DecoupleMode.NEW_POSITION, DecoupleMode.NEW_POSITION_AND_VELOCITY):
+            target = require_position("position", position)
+            jobs.check_soft_limits(self.parameters, Profile.hold(KinematicState(target)), target)
 
     def _gear_cycle(self, job: Job) -> bool:
         """Per cycle while coupled: slew a dynamic ratio, watch the slave's limits."""
@@ -916,7 +947,7 @@ class Axis:
                             resolve("jerk", jerk, self.parameters, w))
             trial = Job(job.kind, job.command, limits, job.target, job.velocity,
                         job.buffer_mode, job.end_velocity, job.soft_limit_stop)
-            profile = self._plan(trial)
+            profile = self._plan_dynamics_change(trial)
             _check_dynamics_change(job, profile, self._k.state(self.row))
         except CommandRejected as rejected:
             return self._reject(command, rejected.error_id, rejected.message)
@@ -924,6 +955,18 @@ class Axis:
         self._install(profile)
         self._finish(command)
         return command
+
+    def _plan_dynamics_change(self, trial: Job) -> Profile:
+        """A planner failure under the new dynamics is TcMC §4.20's "internal optimisation
+        not possible" (D-050)."""
+        try:
+            return self._plan(trial)
+        except CommandRejected as rejected:
+            if rejected.error_id is not ErrorId.NO_PROFILE:
+                raise
+            raise CommandRejected(ErrorId.DYN_OPTIMISATION_FAILED,
+                                  f"no profile with the new dynamics ({rejected.message})"
+                                  ) from None
 
     def restart(self, command: Command, position: InputValue, velocity: InputValue) -> bool:
         """MC_MoveAbsoluteOrRestart (TcMC §3.6): retarget ``command`` if it still runs.
@@ -1391,6 +1434,8 @@ def _check_dynamics_change(job: Job, profile: Profile, start: KinematicState) ->
     """TcMC §4.20: refuse new dynamics in the manual's four unsafe situations."""
     lo, hi = profile.velocity_extrema()
     direction = _sign(start.velocity) or _sign(job.velocity)
+    if job.target is not None:  # a position job at rest (set velocity 0): towards its target
+        direction = direction or _sign(job.target - start.position)
     if job.kind == "position" and job.target is not None:
         p_lo, p_hi = profile.position_extrema()
         over = (p_hi - job.target) if direction > 0 else (job.target - p_lo)

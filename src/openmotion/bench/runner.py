@@ -19,6 +19,7 @@ import numpy as np
 import ruckig
 
 from openmotion.bench.axes import run_axes
+from openmotion.bench.ca import run_ca
 from openmotion.bench.fbcall import run_fbcall
 from openmotion.bench.otg import run_otg
 
@@ -28,6 +29,8 @@ Progress = Callable[[str], None] | None
 AXES_GOAL_N = 1000
 AXES_GOAL_US = 0.5
 FBCALL_GOAL_US = 2.0
+CA_GOAL_N = 1000
+CA_GOAL_P99_US = 500.0
 
 
 def _axes(quick: bool, progress: Progress) -> dict[str, Any]:
@@ -47,10 +50,17 @@ def _fbcall(quick: bool, progress: Progress) -> dict[str, Any]:
     return run_fbcall(calls=2000 if quick else 200_000)
 
 
+def _ca(quick: bool, progress: Progress) -> dict[str, Any]:
+    if quick:
+        return run_ca(counts=(10, 30), cycles=300, progress=progress)
+    return run_ca(progress=progress)
+
+
 BENCHMARKS: dict[str, Callable[[bool, Progress], dict[str, Any]]] = {
     "axes": _axes,
     "otg": _otg,
     "fbcall": _fbcall,
+    "ca": _ca,
 }
 
 
@@ -118,10 +128,28 @@ def goals_fbcall(results: dict[str, Any]) -> dict[str, Any]:
                                 value, value <= FBCALL_GOAL_US)}
 
 
+def goals_ca(results: dict[str, Any]) -> dict[str, Any]:
+    by_n = results["by_n"]
+    gaps = sum(r["gap_violations"] for r in by_n.values())
+    limits = sum(r["limit_violations"] for r in by_n.values())
+    goals = {
+        "gap_violations": _goal("no setpoint gap below the gap (all N)", gaps, gaps == 0),
+        "limit_violations": _goal("no mover beyond its own limits (all N)", limits,
+                                  limits == 0),
+    }
+    row = by_n.get(str(CA_GOAL_N))
+    if row is not None:
+        p99 = row["cycle_us_p99"]
+        goals["cycle_p99"] = _goal(f"N={CA_GOAL_N}: cycle p99 < {CA_GOAL_P99_US:g} us", p99,
+                                   p99 < CA_GOAL_P99_US)
+    return goals
+
+
 GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "axes": goals_axes,
     "otg": goals_otg,
     "fbcall": goals_fbcall,
+    "ca": goals_ca,
 }
 
 
@@ -252,7 +280,19 @@ def _render_fbcall(results: dict[str, Any]) -> list[str]:
     return _table(["figure", "value"], rows)
 
 
-_RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall}
+def _render_ca(results: dict[str, Any]) -> list[str]:
+    header = ["N", "cycles", "commands", "done", "cycle p50", "cycle p99", "min gap",
+              "gap viol.", "limit viol."]
+    rows = [[int(n), r["cycles"], r["commands"], r["done"], r["cycle_us_p50"],
+             r["cycle_us_p99"], r["min_gap"], r["gap_violations"], r["limit_violations"]]
+            for n, r in results["by_n"].items()]
+    return [f"N movers on a ring of {_fmt(results['spacing'])} mm per mover, gap "
+            f"{_fmt(results['gap'])} mm, random modulo targets; cycle time in us "
+            "(Runtime.step with gap control)", *_table(header, rows)]
+
+
+_RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
+           "ca": _render_ca}
 
 
 def render(result: dict[str, Any]) -> str:

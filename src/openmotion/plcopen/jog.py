@@ -162,8 +162,9 @@ class MC_Jog(FunctionBlock):
         return step  # not a number: the axis rejects it with INVALID_POSITION
 
     def _fail(self, error_id: ErrorId, message: str) -> None:
-        command = Command("MC_Jog", 0.0)
-        command._end(CommandStatus.ERROR, 0.0, error_id, message)
+        now = self._axis()._rt.now
+        command = Command("MC_Jog", now)
+        command._end(CommandStatus.ERROR, now, error_id, message)
         self._command = command
         self._phase = _MOVING
 

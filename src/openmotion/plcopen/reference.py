@@ -11,10 +11,11 @@ from openmotion.axis.commands import Command, CommandStatus
 from openmotion.plcopen.handshake import ExecuteBlock
 
 
-def _done(kind: str, value: object = None) -> Command:
-    command = Command(kind, 0.0)
+def _done(axis: Axis, kind: str, value: object = None) -> Command:
+    now = axis._rt.now
+    command = Command(kind, now)
     command.value = value
-    command._end(CommandStatus.DONE, 0.0)
+    command._end(CommandStatus.DONE, now)
     return command
 
 
@@ -30,7 +31,7 @@ class MC_SetReferenceFlag(ExecuteBlock):
 
     def _issue(self, axis: Axis) -> Command:
         axis.homed = bool(self.reference_flag)
-        return _done("set_reference_flag")
+        return _done(axis, "set_reference_flag")
 
 
 class MC_ReadAxisComponents(ExecuteBlock):
@@ -85,7 +86,7 @@ class MC_ReadAxisComponents(ExecuteBlock):
             "drive": asdict(axis.drive),
             "controller": {name: getattr(p, name) for name in self._CONTROLLER},
         }
-        return _done("read_axis_components", components)
+        return _done(axis, "read_axis_components", components)
 
     def _show_result(self, command: Command | None) -> None:
         if command is not None and command.done:

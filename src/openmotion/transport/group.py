@@ -115,6 +115,9 @@ class CaGroup:
         self._serial = 0
         self._stop: Command | None = None  #: MC_GroupStop holding the group
         self._halt: Command | None = None  #: MC_GroupHalt in progress
+        self._halt_parts: list[Command] = []  #: its per-mover halts
+        self._reset: Command | None = None  #: MC_GroupReset waiting for the members' MC_Reset
+        self._reset_parts: list[Command] = []
         self._arrays(0)
         runtime._add_system(self._advance)
 
@@ -128,13 +131,19 @@ class CaGroup:
     @property
     def all_axes_standing(self) -> bool:
         """MC_GroupReadStatus.AllAxesStanding: no member moves (v = 0 and a = 0)."""
-        k = self._k
-        return all(k.set_v[m.axis.row] == 0.0 and k.set_a[m.axis.row] == 0.0
-                   for m in self.movers)
+        self._fresh()
+        k, rows = self._k, self.rows
+        return bool(np.all(k.set_v[rows] == 0.0) and np.all(k.set_a[rows] == 0.0))
+
+    def _fresh(self) -> None:
+        """Order and arrays once members were added to a disabled group."""
+        if self.rows.size != len(self.movers):
+            self._reorder()
 
     @property
     def order(self) -> list[str]:
         """Axis names in CA order: the first mover first."""
+        self._fresh()
         return [m.axis.name for m in self.movers]
 
     def mover_of(self, axis: Axis) -> Mover:
@@ -145,6 +154,7 @@ class CaGroup:
 
     def gaps(self) -> np.ndarray:
         """Setpoint gap of each mover to its predecessor, in CA order (inf: none)."""
+        self._fresh()
         k = self._k
         p = k.set_p[self.rows] if self.rows.size else np.zeros(0)
         gaps = np.full(len(self.movers), np.inf)
@@ -181,7 +191,10 @@ class CaGroup:
         mover = Mover(axis, ident, self._serial, gap=self.parameters.default_gap)
         axis.group = self
         self.movers.append(mover)
-        self._reorder()
+        if self.state is not GroupState.DISABLED:
+            self._reorder()
+        else:
+            mover.slot = len(self.movers) - 1
         if self.state is GroupState.STANDBY and not axis.powered:
             self.state = GroupState.NOT_READY
         return self._finish(command)
@@ -230,21 +243,37 @@ class CaGroup:
         return self._finish(command)
 
     def reset(self) -> Command:
-        """MC_GroupReset: clear group and member errors; no effect without an error."""
+        """MC_GroupReset: clear group and member errors; no effect without an error.
+
+        Busy until every member in ErrorStop has been reset (MC_Reset waits for rest)."""
         command = self._command("reset")
         if self.state is GroupState.ERROR_STOP or self.error_disabled:
-            for mover in self.movers:
-                if mover.axis.state is AxisState.ERROR_STOP:
-                    mover.axis.reset()
-            self.error_id = ErrorId.NO_ERROR
-            if self.error_disabled:
-                self.error_disabled = False
-                self.state = GroupState.DISABLED
-            else:
-                self._sync_states()
-                self.state = GroupState.NOT_READY
-                self._check_ready()
+            self._reset_parts = [m.axis.reset() for m in self.movers
+                                 if m.axis.state is AxisState.ERROR_STOP]
+            command.status = CommandStatus.ACTIVE
+            self._reset = command
+            self._end_reset()
+            return command
         return self._finish(command)
+
+    def _end_reset(self) -> None:
+        command = self._reset
+        if command is None or any(part.busy for part in self._reset_parts):
+            return
+        self._reset = None
+        failed = next((part for part in self._reset_parts if part.error), None)
+        if failed is not None:
+            self._reject(command, failed.error_id, failed.message)
+            return
+        self.error_id = ErrorId.NO_ERROR
+        if self.error_disabled:
+            self.error_disabled = False
+            self.state = GroupState.DISABLED
+        else:
+            self._sync_states()
+            self.state = GroupState.NOT_READY
+            self._check_ready()
+        self._finish(command)
 
     def halt(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT
              ) -> Command:
@@ -254,12 +283,16 @@ class CaGroup:
             self._admit_motion()
         except CommandRejected as rejected:
             return self._reject(command, rejected.error_id, rejected.message)
+        parts = []
         for mover in self.movers:
             inner = self._command("halt")
             self._issue_halt(mover, inner, deceleration, jerk, mover.gap,
                              GapControlMode.GROUP_DEFAULT)
+            if inner.error:
+                return self._reject(command, inner.error_id, inner.message)
+            parts.append(inner)
         command.status = CommandStatus.ACTIVE
-        self._halt = command
+        self._halt, self._halt_parts = command, parts
         return command
 
     def stop(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT
@@ -534,10 +567,10 @@ class CaGroup:
             k.segments.install(row, _hold(float(k.set_p[row])), k.sample_time)
             if mover.axis.state is AxisState.DISCRETE_MOTION:
                 mover.axis.state = AxisState.STANDSTILL
-        if self._stop is not None:
-            self._stop._end(CommandStatus.ABORTED, self._rt.now, message="the group was disabled")
-            self._stop = None
-        self._halt = None
+        for command in (self._stop, self._halt):
+            if command is not None:
+                command._end(CommandStatus.ABORTED, self._rt.now, message="the group was disabled")
+        self._stop = self._halt = None
         if self.state is GroupState.ERROR_STOP:
             self.error_disabled = True
         self.state = GroupState.DISABLED
@@ -558,13 +591,16 @@ class CaGroup:
             first = max(range(len(ordered)),
                         key=lambda i: (float(k.set_p[ordered[i].axis.row]), ordered[i].added))
             ordered = ordered[first:] + ordered[:first]
+        running = {id(m): (self.mode[m.slot], self.goal[m.slot]) for m in ordered
+                   if m.job is not None and 0 <= m.slot < self.mode.size}
         self.movers = ordered
         self._arrays(len(ordered))
         for slot, mover in enumerate(ordered):
             mover.slot = slot
             self.gap[slot] = mover.gap
-            if mover.job is not None:
+            if mover.job is not None:  # keeps following its profile, or stays held
                 self._load_job(mover)
+                self.mode[slot], self.goal[slot] = running.get(id(mover), (FOLLOW, np.nan))
         self._sync_states()
         self._pairs_dirty = True
 
@@ -628,6 +664,8 @@ class CaGroup:
 
     def _advance(self, now: float) -> None:
         """Phase 2, after the profiles: gap control and the movers' command events."""
+        if self._reset is not None:
+            self._end_reset()
         if not self.movers:
             return
         self._watch_members()
@@ -732,18 +770,23 @@ class CaGroup:
         held = np.flatnonzero(self.mode == HELD)
         if held.size:
             self._resume(held)
-        if self._halt is not None and all(m.job is None for m in self.movers):
-            self._halt._end(CommandStatus.DONE, now)
-            self._halt = None
+        idle = not self.mode.any()  # mode IDLE (0) exactly when the mover has no command
+        if self._halt is not None:
+            if any(part.aborted for part in self._halt_parts):  # a new command took over
+                self._halt._end(CommandStatus.ABORTED, now,
+                                message="a member took another command")
+                self._halt = None
+            elif all(part.done for part in self._halt_parts):
+                self._halt._end(CommandStatus.DONE, now)
+                self._halt = None
         if self._stop is not None:
-            if self._stop.busy and all(m.job is None for m in self.movers):
+            if self._stop.busy and idle:
                 self._stop.status = CommandStatus.DONE
                 self._stop.ended_at = now
             if self._stop.done and not self._stop.hold:
                 self._stop = None
                 self.state = GroupState.STANDBY
-        if self.state is GroupState.MOVING and all(m.job is None for m in self.movers) \
-                and self.all_axes_standing:
+        if self.state is GroupState.MOVING and idle and self.all_axes_standing:
             self.state = GroupState.STANDBY
 
     def _resume(self, held: np.ndarray) -> None:
@@ -799,6 +842,10 @@ class CaGroup:
     def _watch_members(self) -> None:
         """Member errors stop the group; a member losing power makes it NotReady (§7)."""
         if self.state in (GroupState.DISABLED, GroupState.ERROR_STOP):
+            return
+        if self._k.monitored[self.rows].all():  # every member powered and free of errors
+            if self.state is GroupState.NOT_READY:
+                self._check_ready()
             return
         failed = [m for m in self.movers if m.axis.state is AxisState.ERROR_STOP]
         if failed:
