@@ -15,6 +15,7 @@ from openmotion.core.special_values import MC_DEFAULT, MC_MAXIMUM
 from openmotion.scenario import Scenario, ScenarioError, load_scenario, parse_scenario
 from openmotion.scenario.cyclic import BlockEntry
 from openmotion.scenario.schema import COMMANDS, MoveAbsolute, parse_condition
+from openmotion.scenario.transport import CA_ENTRIES
 
 VALID = """\
 name: valid
@@ -243,9 +244,10 @@ def test_python_construction_checks_cross_references_too() -> None:
 
 
 @pytest.mark.parametrize("command", sorted(name for name, model in COMMANDS.items()
-                                     if not issubclass(model, BlockEntry)))
+                                     if not issubclass(model, (BlockEntry, *CA_ENTRIES))))
 def test_entry_arguments_are_the_axis_method_parameters(command: str) -> None:
-    """Block entries pass block inputs instead (test_load_cyclic.py)."""
+    """Block entries pass block inputs instead (test_load_cyclic.py), CA entries call their
+    group (test_load_ca.py)."""
     model = COMMANDS[command]
     fields = {name: field for name, field in model.model_fields.items()
               if name not in ("id", "at", "when", "axis", "command")}

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import operator
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -23,6 +23,7 @@ from openmotion.core.enums import AxisState
 from openmotion.core.errors import ErrorId
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.cyclic import BlockEntry
+from openmotion.scenario.groups import CaGroups, GroupRow, MoverRow
 from openmotion.scenario.load import load_scenario
 from openmotion.scenario.programs import BlockPrograms, cycle_of
 from openmotion.scenario.schema import (
@@ -36,6 +37,7 @@ from openmotion.scenario.schema import (
     SignalCheck,
     TouchProbe,
 )
+from openmotion.scenario.transport import CA_ENTRIES, SetGap
 from openmotion.trace.record import Trace, TraceRecorder, read_signal, split_signal
 
 if TYPE_CHECKING:
@@ -90,6 +92,8 @@ class ScenarioResult:
     trace: Trace
     cycles: int
     end_time: float  #: simulated seconds
+    ca_movers: list[MoverRow] = field(default_factory=list)  #: every CA mover at the end
+    ca_groups: list[GroupRow] = field(default_factory=list)  #: each CA group's minimum gap
 
     @property
     def passed(self) -> bool:
@@ -105,6 +109,9 @@ class ScenarioResult:
                 "cycle_time": self.scenario.cycle_time, "end_time": round(self.end_time, 9),
                 "commands": [clean(row) for row in self.commands],
                 "checks": [clean(row) for row in self.checks],
+                **({"ca_groups": [clean(row) for row in self.ca_groups],
+                    "ca_movers": [clean(row) for row in self.ca_movers]}
+                   if self.ca_groups else {}),
                 "trace": {"rows": len(self.trace), "columns": list(self.trace.columns)}}
 
     def renderable(self) -> RenderableType:
@@ -137,6 +144,8 @@ class ScenarioResult:
                              Text(row.result, style=_RESULT_STYLE.get(row.result, "")),
                              Text(detail))
         parts: list[RenderableType] = [header, commands]
+        if self.ca_groups:
+            parts += self._ca_renderables(digits)
         if self.checks:
             checks = Table(box=box.SIMPLE, title_justify="left", title="Checks")
             for name in ("check", "result", "detail"):
@@ -150,6 +159,28 @@ class ScenarioResult:
                           f"{len(self.checks) - failed} of {len(self.checks)} checks passed"
                           + ("" if self.passed else f", {failed} FAILED")))
         return Group(*parts)
+
+    def _ca_renderables(self, digits: int) -> list[RenderableType]:
+        """The CA movers table and one minimum-gap line per group."""
+        from rich import box
+        from rich.table import Table
+        from rich.text import Text
+
+        table = Table(box=box.SIMPLE, title_justify="left", title="CA movers")
+        for name in ("group", "mover", "order", "position [mm]", "gap [mm]", "min gap [mm]",
+                     "min at [s]"):
+            table.add_column(Text(name), justify="left" if name in ("group", "mover")
+                             else "right", no_wrap=True)
+        for row in self.ca_movers:
+            table.add_row(row.group, row.mover, str(row.order), _number(row.position),
+                          *(_number(value) if value is not None else "-"
+                            for value in (row.gap, row.minimum_gap)),
+                          _time(row.minimum_at, digits))
+        lines = [Text(f"{group.name}: minimum gap: " + (
+            "-" if group.minimum_gap is None else f"{_number(group.minimum_gap)} mm "
+            f"({group.mover}, t={_time(group.minimum_at, digits)} s)") + f"; {group.state}")
+            for group in self.ca_groups]
+        return [table, *lines, Text("")]
 
     def summary(self, width: int = SUMMARY_WIDTH) -> str:
         """The summary as plain text, as ``openmotion run`` prints it and the .out files hold."""
@@ -226,6 +257,8 @@ class _Run:
                                drive=spec.drive.build(), position=spec.position)
             if spec.probe is not None:
                 spec.probe.build(axis)
+        #: the CA groups, built after the axes (and enabled before the first cycle)
+        self.ca = CaGroups(rt, scenario.ca_groups)
         self.entries = list(scenario.entries())
         self.fire_cycle = [None if entry.at is None else cycle_of(entry.at, rt.cycle_time)
                            for _, entry in self.entries]
@@ -247,6 +280,7 @@ class _Run:
     def program(self) -> None:
         """Runtime program: call the running blocks, then issue every entry that is due."""
         self.blocks()
+        self.ca.release_due()
         self.fire_due()
 
     def fire_due(self) -> None:
@@ -259,6 +293,9 @@ class _Run:
                 self.issue(index, entry)
 
     def issue(self, index: int, entry: Entry) -> None:
+        if isinstance(entry, CA_ENTRIES):
+            self._issued(index, entry, self.ca.issue(entry, self.by_id))
+            return
         axis = self.rt.axes[entry.axis]
         arguments = entry.arguments()
         for name in entry.axis_fields:
@@ -284,6 +321,9 @@ class _Run:
             command.ended_at = self.rt.now
         else:
             command = getattr(axis, entry.method)(**arguments)
+        self._issued(index, entry, command)
+
+    def _issued(self, index: int, entry: Entry, command: Command) -> None:
         self.issued[index] = command
         if entry.id is not None:
             self.by_id[entry.id] = command
@@ -291,6 +331,9 @@ class _Run:
     def holds(self, condition: Condition | None) -> bool:
         if condition is None:
             return False
+        group = self.ca.holds(condition)
+        if group is not None:
+            return group
         if condition.operator is None:
             command = self.by_id.get(condition.subject)
             attribute = "active" if condition.attribute == "in_gear" else condition.attribute
@@ -299,6 +342,7 @@ class _Run:
         return _OPERATORS[condition.operator](value, condition.value)
 
     def observe(self, runtime: Runtime) -> None:
+        self.ca.watch()
         for check in self.checks:
             check.observe()
 
@@ -322,7 +366,8 @@ class _Run:
         for check in self.checks:
             check.finish()
         return ScenarioResult(scenario, self.rows(), [c.row() for c in self.checks],
-                              self.recorder.trace, rt.cycle, rt.now)
+                              self.recorder.trace, rt.cycle, rt.now, self.ca.mover_rows(),
+                              self.ca.group_rows())
 
     def finished(self) -> bool:
         """``duration`` is over; or ``settle_time`` after all came to rest, or the cap."""
@@ -339,17 +384,24 @@ class _Run:
 
     def at_rest(self) -> bool:
         """No ``at`` is still ahead, every command ended (or is at speed), no jog, feed or
-        timed stall runs, no axis moves. An override filter or a stepper block, which run to
-        the end, do not count."""
+        timed stall runs, no group_stop holds, no axis moves. An override filter or a stepper
+        block, which run to the end, do not count; nor does a busy CA command whose group
+        stands still (a mover queued behind another stays Busy, TF5410 §9.1.1.1.1). A CA
+        mover stands with |v| and |a| at most 1e-9 of its maxima (groups.STANDING)."""
         cycle = self.rt.cycle
         if any(self.fire_cycle[i] is not None and self.fire_cycle[i] > cycle
                for i in self.pending) or any(c.waiting(cycle) for c in self.checks):
             return False
-        if self.blocks.busy or any(
+        if self.blocks.busy or self.ca.busy or any(
                 not (c.finished or c.in_velocity and c.kind not in _UNTIL_FINISHED)
+                and not self.ca.waiting(c)
                 for c in self.issued.values() if c.kind not in _TO_THE_END):
             return False
+        if not all(map(self.ca.standing, self.ca.groups.values())):
+            return False
         for axis in self.rt.axes.values():
+            if axis.name in self.ca.group_of:
+                continue  # stands with its group (above)
             active = axis.active_command
             if axis.moving and not (active is not None and active.in_velocity):
                 return False
@@ -357,6 +409,7 @@ class _Run:
 
     def rows(self) -> list[CommandRow]:
         rows = []
+        axis_of = {entry.id: entry.axis for _, entry in self.entries if entry.id is not None}
         for index, (label, entry) in enumerate(self.entries):
             command = self.issued.get(index)
             result = _result_of(command)
@@ -366,7 +419,8 @@ class _Run:
                     error = command.error_id.name
                 message, warnings = command.message, list(command.warnings)
             text = "; ".join(part for part in [message, *warnings] if part)
-            rows.append(CommandRow(label, entry.axis, entry.command,
+            axis = axis_of.get(entry.move, "") if isinstance(entry, SetGap) else entry.axis
+            rows.append(CommandRow(label, axis, entry.command,
                                    command.issued_at if command else None,
                                    command.ended_at if command else None, result, error, text,
                                    _value_of(command), _value_detail(command)))

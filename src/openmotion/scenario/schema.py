@@ -61,6 +61,7 @@ from openmotion.core.special_values import (
     SpecialValue,
 )
 from openmotion.trace.record import AXIS_SIGNALS, default_signals, split_signal
+from openmotion.transport.enums import GroupState
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
@@ -73,6 +74,9 @@ class _Names:
     axes: Counter[str]
     ids: Counter[str]
     commands: dict[str, object]  #: entry id -> its ``command`` value (raw)
+    groups: Counter[str] = dataclasses.field(default_factory=Counter)  #: CA group names
+    members: dict[str, list[str]] = dataclasses.field(default_factory=dict)  #: axis ->
+    #: the CA groups that list it (once per listing)
 
     @classmethod
     def of(cls, data: object) -> _Names:
@@ -88,7 +92,14 @@ class _Names:
 
         commands = {item["id"]: item.get("command") for item in items("timeline")
                     if isinstance(item.get("id"), str)}
-        return cls(names("axes", "name"), names("timeline", "id"), commands)
+        members: dict[str, list[str]] = {}
+        for group in items("ca_groups"):
+            axes = group.get("axes")
+            for axis in axes if isinstance(axes, list) else []:
+                if isinstance(axis, str):
+                    members.setdefault(axis, []).append(str(group.get("name")))
+        return cls(names("axes", "name"), names("timeline", "id"), commands,
+                   names("ca_groups", "name"), members)
 
 
 _NAMES: ContextVar[_Names | None] = ContextVar("openmotion_scenario_names", default=None)
@@ -99,6 +110,23 @@ def _check_axis(name: str) -> str:
     if names is not None and name not in names.axes:
         known = ", ".join(sorted(names.axes)) or "none"
         raise ValueError(f"unknown axis {name!r} (axes: {known})")
+    return name
+
+
+def _check_mover(name: str) -> str:
+    """An axis that one of the ``ca_groups`` lists."""
+    _check_axis(name)
+    names = _NAMES.get()
+    if names is not None and name not in names.members:
+        raise ValueError(f"{name!r} is in no CA group (ca_groups[].axes)")
+    return name
+
+
+def _check_group(name: str) -> str:
+    names = _NAMES.get()
+    if names is not None and name not in names.groups:
+        known = ", ".join(sorted(names.groups)) or "none"
+        raise ValueError(f"unknown CA group {name!r} (ca_groups: {known})")
     return name
 
 
@@ -159,8 +187,11 @@ def _enum_by_name(enum: type[Enum]) -> Any:
 
 
 def _signal(name: str) -> str:
-    axis, _ = split_signal(name)
-    _check_axis(axis)
+    axis, prop = split_signal(name)
+    if prop == "gap":
+        _check_mover(axis)
+    else:
+        _check_axis(axis)
     return name
 
 
@@ -250,8 +281,18 @@ def parse_condition(text: object) -> Condition:
                 and names.commands.get(subject) != "gear_in":
             raise ValueError(f"{text!r}: in_gear is a flag of gear_in entries only")
         return Condition(text.strip(), subject, attribute)
+    names = _NAMES.get()
+    if names is not None and subject in names.groups and subject not in names.axes:
+        if attribute != "state" or operator != "==" or raw.upper() not in GroupState.__members__:
+            states = ", ".join(state.name.lower() for state in GroupState)
+            raise ValueError(f"{text!r}: a CA group's condition is '<group>.state == <state>' "
+                             f"(states: {states})")
+        return Condition(text.strip(), subject, attribute, operator,
+                         float(GroupState[raw.upper()]))
     if attribute not in AXIS_SIGNALS:
         raise ValueError(f"{text!r}: the signal must be one of {', '.join(AXIS_SIGNALS)}")
+    if attribute == "gap":
+        _check_mover(subject)
     _check_axis(subject)
     return Condition(text.strip(), subject, attribute, operator,
                      _signal_value(attribute, raw, text))
@@ -759,6 +800,20 @@ from openmotion.scenario.cyclic import (  # noqa: E402 - needs Entry and the typ
     SetReferenceFlag,
 )
 
+# CA groups (TF5410): the ca_groups list and the entries on movers and groups.
+from openmotion.scenario.transport import (  # noqa: E402 - needs Entry and the types above
+    CaGroupSpec,
+    GroupDisable,
+    GroupEnable,
+    GroupHalt,
+    GroupReset,
+    GroupStop,
+    HaltCa,
+    MoveAbsoluteCa,
+    MoveRelativeCa,
+    SetGap,
+)
+
 COMMANDS: dict[str, type[Entry]] = {
     get_args(model.model_fields["command"].annotation)[0]: model
     for model in (Power, PowerOff, Reset, SetOverride, MoveAbsolute, MoveRelative, MoveModulo,
@@ -767,7 +822,9 @@ COMMANDS: dict[str, type[Entry]] = {
                   OrientedStop, SetActualPositionOnTheFly, TouchProbe, AbortTrigger,
                   MoveSuperimposed, AbortSuperposition, Jog, EnableExternalSetpoints,
                   DisableExternalSetpoints, OverrideFilter, PowerStepper, InjectStall,
-                  ReleaseStall, SetReferenceFlag, ReadAxisComponents)
+                  ReleaseStall, SetReferenceFlag, ReadAxisComponents, MoveAbsoluteCa,
+                  MoveRelativeCa, HaltCa, SetGap, GroupHalt, GroupStop, GroupEnable,
+                  GroupDisable, GroupReset)  # type: ignore[misc]
 }
 TimelineEntry = Annotated[
     Annotated[Power, Tag("power")] | Annotated[PowerOff, Tag("power_off")]
@@ -792,7 +849,13 @@ TimelineEntry = Annotated[
     | Annotated[PowerStepper, Tag("power_stepper")] | Annotated[InjectStall, Tag("inject_stall")]
     | Annotated[ReleaseStall, Tag("release_stall")]
     | Annotated[SetReferenceFlag, Tag("set_reference_flag")]
-    | Annotated[ReadAxisComponents, Tag("read_axis_components")],
+    | Annotated[ReadAxisComponents, Tag("read_axis_components")]
+    | Annotated[MoveAbsoluteCa, Tag("move_absolute_ca")]
+    | Annotated[MoveRelativeCa, Tag("move_relative_ca")] | Annotated[HaltCa, Tag("halt_ca")]
+    | Annotated[SetGap, Tag("set_gap")] | Annotated[GroupHalt, Tag("group_halt")]
+    | Annotated[GroupStop, Tag("group_stop")] | Annotated[GroupEnable, Tag("group_enable")]
+    | Annotated[GroupDisable, Tag("group_disable")]
+    | Annotated[GroupReset, Tag("group_reset")],
     Discriminator("command"),
 ]
 
@@ -931,6 +994,8 @@ class Scenario(_Model):
     """Hard cap [s] on simulated time when ``duration`` is not given."""
     axes: Annotated[list[AxisSpec], Field(min_length=1)]
     """The axes, created in this order."""
+    ca_groups: list[CaGroupSpec] = []
+    """CA groups (TF5410), built after the axes in this order."""
     timeline: list[TimelineEntry] = []
     """Commands, looked at in this order every cycle."""
     record: RecordSpec = RecordSpec()

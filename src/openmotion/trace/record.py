@@ -8,6 +8,7 @@ error as its ``ErrorId`` number.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING
@@ -22,7 +23,8 @@ if TYPE_CHECKING:
 
 #: Axis properties a trace can record, in the order ``default_signals`` lists them.
 AXIS_SIGNALS = ("set_position", "set_velocity", "set_acceleration", "set_jerk", "position",
-                "velocity", "following_error", "state", "override", "homed", "axis_error_id")
+                "velocity", "following_error", "state", "override", "homed", "axis_error_id",
+                "gap")
 #: What a scenario records when it names no signals: setpoint and actual position.
 DEFAULT_AXIS_SIGNALS = ("set_position", "set_velocity", "set_acceleration", "position")
 TIME = "time"
@@ -41,7 +43,14 @@ def split_signal(name: str) -> tuple[str, str]:
 
 def read_signal(axis: Axis, prop: str) -> float:
     """One signal of ``axis`` as a float: the state as its AxisState number, the override in
-    percent (0-100), homed as 0 or 1, the axis error as its ErrorId number (0: none)."""
+    percent (0-100), homed as 0 or 1, the axis error as its ErrorId number (0: none), the gap
+    as the setpoint gap [mm] to the predecessor in the axis' CA group (transport/group.py;
+    inf: no predecessor, NaN: in no CA group)."""
+    if prop == "gap":
+        group = axis.group
+        if group is None:
+            return math.nan
+        return float(group.gaps()[group.mover_of(axis).slot])  # type: ignore[attr-defined]
     value = getattr(axis, prop)
     if prop == "override":
         return float(value) * 100.0

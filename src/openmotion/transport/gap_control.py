@@ -75,6 +75,10 @@ def filter_steps(cur: tuple[np.ndarray, np.ndarray, np.ndarray],
         if pairs.both:
             backwards = lo[k] < lo_cur[k] - TOLERANCE
             blamed = np.concatenate((blamed, k[backwards & ~braking[k]]))
+        # FAST: with the successor braking, only a predecessor that brakes too is sure to
+        # keep the pair (its brake then moves on exactly as before)
+        fast_pred = pairs.fast[bad] & braking[s] & ~braking[k]
+        blamed = np.concatenate((blamed, k[fast_pred]))
         blamed = np.unique(blamed)
         if blamed.size == 0:
             return braking, lo, hi  # only pairs that were unsafe before and do not get worse

@@ -1,0 +1,316 @@
+"""CA groups in scenario files: the ``ca_groups`` list and the timeline entries of TF5410.
+
+A CA group (transport/group.py) owns the setpoints of its movers, so their motion commands
+go through the group: ``move_absolute_ca``, ``move_relative_ca`` and ``halt_ca`` name the
+mover in ``axis`` (the run finds its group), ``set_gap`` changes the gap of a running move
+with ``continuous_update``, and the group commands (``group_halt``, ``group_stop``,
+``group_enable``, ``group_disable``, ``group_reset``) name the group in ``group`` instead of
+an axis.
+
+schema.py puts these models into its ``COMMANDS``, ``TimelineEntry`` and ``Scenario``; they
+share its value types, conditions and name checks.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Annotated, Any, ClassVar, Literal, get_type_hints
+
+from pydantic import (
+    AfterValidator,
+    Field,
+    StrictBool,
+    StrictInt,
+    StrictStr,
+    create_model,
+    model_validator,
+)
+
+from openmotion.core.enums import BufferMode
+from openmotion.core.special_values import MC_DEFAULT
+from openmotion.scenario.schema import (
+    _NAMES,
+    BufferModeName,
+    ConditionText,
+    Entry,
+    Identifier,
+    InputValue,
+    Seconds,
+    _check_axis,
+    _check_group,
+    _check_id,
+    _check_mover,
+    _enum_by_name,
+    _Model,
+    _parameter_type,
+    _unique,
+)
+from openmotion.transport.enums import GapControlMode, ModuloDirection
+from openmotion.transport.parameters import CaGroupParameters
+
+GapControlModeName = _enum_by_name(GapControlMode)
+ModuloDirectionName = _enum_by_name(ModuloDirection)
+CA_MOVES = ("move_absolute_ca", "move_relative_ca")  #: the entries ``set_gap`` can change
+
+# -- ca_groups -----------------------------------------------------------------------------
+
+
+class _CaParametersBase(_Model):
+    @model_validator(mode="after")
+    def _in_range(self) -> _CaParametersBase:
+        self.build()  # CaGroupParameters.validate names the field: "rail_length: must be > 0"
+        return self
+
+    def build(self) -> CaGroupParameters:
+        parameters = CaGroupParameters(**{name: getattr(self, name)
+                                          for name in self.model_fields_set})
+        parameters.validate()
+        return parameters
+
+
+_HINTS = get_type_hints(CaGroupParameters)
+#: the group parameters a scenario sets (TF5410 §6); GearInPosCA is not reachable from files
+_SCENARIO_PARAMETERS = [f for f in dataclasses.fields(CaGroupParameters)
+                        if f.name != "gear_in_pos_default_dynamics_after_sync"]
+CaGroupParametersSpec = create_model(
+    "CaGroupParametersSpec",
+    __base__=_CaParametersBase,
+    __doc__="Fields of CaGroupParameters (transport/parameters.py, TF5410 §6), same name and "
+            "unit; unset fields keep their defaults. Enums by lower-case name "
+            "(default_gap_control_mode: fast, gap_control_direction: positive).",
+    **{f.name: (_parameter_type(_HINTS[f.name]), f.default) for f in _SCENARIO_PARAMETERS},
+)
+
+
+def _not_an_axis(name: str) -> str:
+    names = _NAMES.get()
+    if names is not None and name in names.axes:
+        raise ValueError(f"{name!r} is an axis name; a CA group needs a name of its own")
+    return name
+
+
+def _in_one_group(name: str) -> str:
+    _check_axis(name)
+    names = _NAMES.get()
+    groups = names.members.get(name, []) if names is not None else []
+    if len(groups) > 1:
+        raise ValueError(f"{name!r} is listed {len(groups)} times in ca_groups "
+                         f"({', '.join(groups)}); an axis is in one CA group only")
+    return name
+
+
+class CaGroupSpec(_Model):
+    """A CA group (TF5410): its movers in insertion order and its parameters.
+
+    The run builds the group after the axes and adds the axes with IdentInGroup 1, 2, ...
+    in the listed order (the CA order follows the positions, §8.1.1). With ``enable`` the run
+    powers every member (a CA mover needs MC_Power) and enables the group at t = 0.
+    """
+
+    name: Annotated[Identifier, _unique("groups"), AfterValidator(_not_an_axis)]
+    """Unique name, not an axis name; group entries and conditions refer to it."""
+    axes: Annotated[list[Annotated[StrictStr, AfterValidator(_in_one_group)]],
+                    Field(min_length=1)]
+    """The member axes, added in this order (IdentInGroup 1..n)."""
+    parameters: CaGroupParametersSpec = CaGroupParametersSpec()  # type: ignore[valid-type]
+    """CaGroupParameters fields to set (the rest keep their defaults)."""
+    enable: StrictBool = True
+    """Power the members and enable the group at t = 0; false: the timeline does it
+    (power entries, then group_enable)."""
+
+
+# -- timeline entries on a mover -----------------------------------------------------------
+
+
+class CaEntry(Entry):
+    """A CA command for one mover: the run calls the method of the mover's group."""
+
+    axis: Annotated[StrictStr, AfterValidator(_check_mover)]
+    """Name of the mover (an axis of one of the ca_groups)."""
+
+
+class _CaMove(CaEntry):
+    velocity: InputValue
+    """[mm/s]; MC_MAXIMUM = axis maximum."""
+    acceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³]."""
+    gap: InputValue = MC_DEFAULT
+    """Minimum gap to the predecessor [mm]; MC_DEFAULT = the group's default_gap."""
+    buffer_mode: BufferModeName = BufferMode.ABORTING
+    """aborting or buffered (the CA blocks refuse the blending modes)."""
+    gap_control_mode: GapControlModeName = GapControlMode.GROUP_DEFAULT
+    """group_default, standard, fast or none."""
+    continuous_update: StrictBool = False
+    """A ``set_gap`` entry may change the gap while the command runs."""
+
+
+class MoveAbsoluteCa(_CaMove):
+    """MC_MoveAbsoluteCA (TF5410 §9.1.1.1.1): Done only at the target."""
+
+    method = "move_absolute"
+    command: Literal["move_absolute_ca"]
+    position: InputValue
+    """Target [mm]; a modulo position (0 <= position < rail_length) with a modulo direction."""
+    direction: ModuloDirectionName = ModuloDirection.NON_MODULO
+    """non_modulo, positive, shortest_way or negative (modulo directions: ring rails only)."""
+    additional_turns: StrictInt = 0
+    """Whole extra laps of a modulo move."""
+
+
+class MoveRelativeCa(_CaMove):
+    """MC_MoveRelativeCA (TF5410 §9.1.1.1.2): Done once the distance is travelled."""
+
+    method = "move_relative"
+    command: Literal["move_relative_ca"]
+    distance: InputValue
+    """From the set position where the move starts [mm]."""
+
+
+class HaltCa(CaEntry):
+    """MC_HaltCA (TF5410 §9.1.1.1.3): brake to rest, keeping the gap."""
+
+    method = "halt_axis"
+    command: Literal["halt_ca"]
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³]."""
+    gap: InputValue = MC_DEFAULT
+    """Minimum gap to the predecessor [mm]."""
+    gap_control_mode: GapControlModeName = GapControlMode.GROUP_DEFAULT
+    """group_default, standard, fast or none."""
+
+
+# -- entries without an axis ---------------------------------------------------------------
+
+
+class _Timed(_Model):
+    """Id and trigger of an entry that names no axis (as in Entry)."""
+
+    method: ClassVar[str]  #: the CaGroup method the entry calls
+    axis_fields: ClassVar[tuple[str, ...]] = ()
+    id: Annotated[Identifier, _unique("ids")] | None = None
+    """Name for conditions and checks; unique."""
+    at: Seconds | None = None
+    """Issue time [s]; give ``at`` or ``when``."""
+    when: ConditionText | None = None
+    """Issue once, in the first cycle this condition holds."""
+
+    @model_validator(mode="after")
+    def _trigger(self) -> _Timed:
+        if (self.at is None) == (self.when is None):
+            raise ValueError("give exactly one of 'at' (seconds) or 'when' (a condition)")
+        return self
+
+
+def _ca_move(name: str) -> str:
+    _check_id(name)
+    names = _NAMES.get()
+    if names is not None and names.commands.get(name) not in CA_MOVES:
+        raise ValueError(f"{name!r} is not the id of a {' or '.join(CA_MOVES)} entry")
+    return name
+
+
+class SetGap(_Timed):
+    """ContinuousUpdate of a running CA move: its gap becomes ``gap`` at once (§1.4).
+
+    Done at once; the row says when the group ignored it (the move is not running or has
+    continuous_update false).
+    """
+
+    method = "set_gap"
+    command: Literal["set_gap"]
+    move: Annotated[StrictStr, AfterValidator(_ca_move)]
+    """The id of the move_absolute_ca or move_relative_ca entry."""
+    gap: InputValue
+    """New minimum gap to the predecessor [mm]; MC_DEFAULT = the group's default_gap."""
+
+    @property
+    def axis(self) -> str:
+        """No axis of its own: the summary shows the move's (the run fills it in)."""
+        return ""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"gap": self.gap}
+
+
+class GroupEntry(_Timed):
+    """A command for a whole CA group (Tc3_McCoordinatedMotion §9.3)."""
+
+    group: Annotated[StrictStr, AfterValidator(_check_group)]
+    """Name of the CA group."""
+
+    @property
+    def axis(self) -> str:
+        """The group's name, for the summary's axis column."""
+        return self.group
+
+    def arguments(self) -> dict[str, Any]:
+        skip = {"id", "at", "when", "group", "command", "hold", "release_at"}
+        return {name: getattr(self, name) for name in type(self).model_fields
+                if name not in skip}
+
+
+class GroupHalt(GroupEntry):
+    """MC_GroupHalt (§9.3.1.2.1): every mover brakes to rest; the group is not locked."""
+
+    method = "halt"
+    command: Literal["group_halt"]
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³]."""
+
+
+class GroupStop(GroupEntry):
+    """MC_GroupStop (§9.3.1.2.2): brake every mover and lock the group while Execute is TRUE.
+
+    Execute falls after ``hold`` seconds or at ``release_at``; the run goes on until then.
+    """
+
+    method = "stop"
+    command: Literal["group_stop"]
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³]."""
+    hold: Seconds = 0.0
+    """How long Execute stays TRUE [s]: released in the first cycle at or after the firing
+    time + hold; 0 = one cycle."""
+    release_at: Seconds | None = None
+    """Instead of ``hold``: the run time [s] at which Execute falls."""
+
+    @model_validator(mode="after")
+    def _one_release(self) -> GroupStop:
+        if self.release_at is not None and "hold" in self.model_fields_set:
+            raise ValueError("give 'hold' or 'release_at', not both")
+        return self
+
+
+class GroupEnable(GroupEntry):
+    """MC_GroupEnable (§9.3.1.1.3): Standby once every member is powered, else NotReady."""
+
+    method = "enable"
+    command: Literal["group_enable"]
+
+
+class GroupDisable(GroupEntry):
+    """MC_GroupDisable (§9.3.1.1.2): a moving group stands still at once."""
+
+    method = "disable"
+    command: Literal["group_disable"]
+
+
+class GroupReset(GroupEntry):
+    """MC_GroupReset (§9.3.1.1.6): clear group and member errors."""
+
+    method = "reset"
+    command: Literal["group_reset"]
+
+
+CA_ENTRIES: tuple[type, ...] = (MoveAbsoluteCa, MoveRelativeCa, HaltCa, SetGap, GroupHalt,
+                                GroupStop, GroupEnable, GroupDisable, GroupReset)
