@@ -717,7 +717,9 @@ class CaGroup:
         u, b = s3 * v1, s3 * a1
         acc3, dec3, vmax3, jmax3 = (np.tile(x, 3) for x in (acc, dec, vmax, jmax))
         ok = (b <= acc3 * (1 + 1e-12)) & (b >= -dec3 * (1 + 1e-12))
-        ok &= u + b * np.abs(b) / (2.0 * jmax3) <= vmax3 * (1 + 1e-12)
+        release = u + b * np.abs(b) / (2.0 * jmax3)  # velocity once b is taken away
+        ok &= release <= vmax3 * (1 + 1e-12)
+        ok &= (u >= 0.0) & (release >= 0.0)  # never turn back: CA only delays (§3, V3.3)
         both = np.concatenate((dec3, np.tile(self.bdec[held], 3)))
         lo, hi = brake_envelope(np.tile(p1, 2), np.tile(v1, 2), np.tile(a1, 2), both,
                                 np.concatenate((jmax3, np.tile(self.bjerk[held], 3))))
@@ -735,6 +737,9 @@ class CaGroup:
         out = list(brake_state(p, v, a, dec, jmax, dt))
         for o, value in zip(out, (p1, v1, a1, j), strict=True):
             o[found] = value[index[found]]
+        # float residue of the steps (|v| ~ 1e-17) is rest: snap it, so standstill is exact
+        still = (np.abs(out[1]) <= 1e-9 * vmax) & (np.abs(out[2]) <= 1e-9 * acc)
+        out[1][still], out[2][still], out[3][still] = 0.0, 0.0, 0.0
         return tuple(out)
 
     def _room(self, slots: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -793,6 +798,7 @@ class CaGroup:
         """Held movers get a profile again: to the target once nothing can block it, or to
         the queue position once the mover and the neighbour in its way stand."""
         room_hi, room_lo = self._room(held)
+        lo, hi = self._envelope()
         target = self.target[held]
         rest = self._resting(held)
         for i, slot in enumerate(held.tolist()):
@@ -802,16 +808,30 @@ class CaGroup:
                     self._finish_job(mover)
                 continue
             free = room_lo[i] <= target[i] <= room_hi[i]
+            forward = target[i] >= self.p[slot]
             if free:
                 goal = float(target[i])
-            elif rest[i] and self._neighbour_rests(slot, target[i] >= self.p[slot]):
+            elif self._neighbour_rests(slot, forward):
+                # the room ends at a fixed point: plan exactly to it (the queue position)
                 goal = float(min(max(target[i], room_lo[i]), room_hi[i]))
-                if (goal - self.p[slot]) * (target[i] - self.p[slot]) <= 0.0 or \
-                        abs(goal - self.p[slot]) <= TOLERANCE:
+                if rest[i] and ((goal - self.p[slot]) * (target[i] - self.p[slot]) <= 0.0
+                                or abs(goal - self.p[slot]) <= TOLERANCE):
                     continue  # no closer to the target (CA never moves a mover back, §3)
+                if (hi[slot] > goal + TOLERANCE) if forward else (lo[slot] < goal - TOLERANCE):
+                    continue  # cannot stop there any more (a pair that started too close)
+                if not forward and self._head_on(slot):
+                    continue  # both want the same room: the mover moving forwards takes it
             else:
                 continue
             self._replan(mover, goal)
+
+    def _head_on(self, slot: int) -> bool:
+        """The successor of ``slot`` waits to move forwards into the room behind ``slot``."""
+        has = np.flatnonzero(self.pred == slot)
+        if not has.size:
+            return False
+        other = int(has[0])
+        return self.mode[other] != IDLE and self.target[other] > self.p[other] + TOLERANCE
 
     def _resting(self, slots: np.ndarray) -> np.ndarray:
         """At rest up to float residue of the tracking steps."""
