@@ -43,6 +43,7 @@ class ErrorId(IntEnum):
     INVALID_TARGET_POSITION = 0x7018  #: TF5410 §11.3: modulo target outside [0, rail length]
     INVALID_ADDITIONAL_TURNS = 0x7019  #: TF5410 §11.3: turns > 0 with NonModulo/ShortestWay
     INVALID_IDENT = 0x701A  #: IdentInGroup is not a UDINT_TO_IDENTINGROUP value
+    INVALID_SYNC_OPTIONS = 0x701B  #: MC_GearInPosCA: under- and overshoot both forbidden
     # openmotion: state and command rejections (0x71xx)
     AXIS_DISABLED = 0x7101  #: the axis is not powered (MC_Power.Status FALSE)
     AXIS_IN_ERROR_STOP = 0x7102  #: the axis is in ErrorStop: MC_Reset first
@@ -70,6 +71,7 @@ class ErrorId(IntEnum):
     AXIS_IN_OTHER_GROUP = 0x7307  #: the axis belongs to another group already
     IDENT_IN_USE = 0x7308  #: another axis of the group has this IdentInGroup
     MODULO_ON_OPEN_RAIL = 0x7309  #: a modulo direction on a rail that is not a ring
+    SYNC_FAILED = 0x730A  #: MC_GearInPosCA: synchronisation impossible (Late: master accelerated)
     GROUP_ERROR = 0x7310  #: a member axis went to ErrorStop: the group stopped (GroupErrorStop)
     # openmotion: axis errors raised by monitoring (0x72xx), these take the axis to ErrorStop
     FOLLOWING_ERROR = 0x7201  #: following error above 1020 for longer than 1021

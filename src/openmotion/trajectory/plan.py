@@ -144,6 +144,14 @@ def _ruckig_position_once(
     return _with_exact_end(profile, target, target_velocity)
 
 
+def plan_position_in(start: KinematicState, target: float, limits: Limits,
+                     duration: float) -> Profile:
+    """A move to ``target`` from any state lasting at least ``duration`` [s] (ruckig's minimum
+    duration); the time-optimal move where that is longer. MC_GearInPosCA's Late and Slow."""
+    sign = _sign(target - start.position) or _sign(start.velocity) or 1
+    return _ruckig_position(start, target, 0.0, limits, sign, duration)
+
+
 def plan_in_time(distance: float, limits: Limits, duration: float | None) -> Profile:
     """A rest-to-rest move over ``distance`` lasting at least ``duration`` (ruckig's minimum
     duration: it lowers the velocity to fill the time). Superposition uses it (TcMC §3.10)."""
@@ -245,7 +253,8 @@ def _calculate() -> Profile:
             _input.max_jerk = [jerk * factor]
         try:
             result = _otg.calculate(_input, _trajectory)
-        except (RuckigError, RuntimeError) as exc:  # ruckig raises on inputs it cannot plan
+        except (RuckigError, RuntimeError, ValueError) as exc:  # ruckig raises on inputs it
+            # cannot plan; ValueError: a result code the Python enum does not know (-101)
             failure = str(exc).strip().splitlines()[0] if str(exc).strip() else "error"
             continue
         if result in (Result.Working, Result.Finished):

@@ -25,6 +25,8 @@ from openmotion.transport.enums import (
     GroupState,
     GroupType,
     ModuloDirection,
+    SyncMode,
+    SyncStrategy,
 )
 from openmotion.transport.group import UDINT_TO_IDENTINGROUP, CaGroup, IdentInGroup
 from openmotion.transport.parameters import CaGroupParameters
@@ -56,4 +58,6 @@ __all__ = [
     "GroupType",
     "IdentInGroup",
     "ModuloDirection",
+    "SyncMode",
+    "SyncStrategy",
 ]

@@ -56,3 +56,19 @@ class GroupType(IntEnum):
     INVALID = 0
     CA = 1
     DXD = 2
+
+
+class SyncStrategy(IntEnum):
+    """MC_SYNC_STRATEGY (§9.4.1.5)."""
+
+    LATE = 1
+    SLOW = 2
+    EARLY = 3
+
+
+class SyncMode(IntEnum):
+    """MC_SYNC_MODE (§9.4.1.4): how SlaveSyncPosition is read on a ring."""
+
+    NON_MODULO = 0
+    POSITIVE = 1
+    NEGATIVE = 3

@@ -24,25 +24,29 @@ from openmotion.axis.commands import Command, CommandStatus
 from openmotion.core.enums import AxisState, BufferMode
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.modulo import mc3_modulo_target
-from openmotion.core.special_values import MC_DEFAULT, InputValue
+from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE, MC_INVALID, InputValue
 from openmotion.trajectory.plan import Limits, plan_position, plan_stop
 from openmotion.trajectory.segments import KinematicState
 from openmotion.transport.braking import brake_envelope, brake_state
 from openmotion.transport.enums import (
     GapControlDirection,
     GapControlMode,
+    GearInPosDefaultDynamicsAfterSync,
     GroupState,
     ModuloDirection,
+    SyncStrategy,
 )
 from openmotion.transport.gap_control import TOLERANCE, Pairs, filter_steps
-from openmotion.transport.inputs import ca_gap, ca_limits, halt_limits
+from openmotion.transport.gear import GearSync
+from openmotion.transport.inputs import ca_gap, ca_limits, ca_value, halt_limits
 from openmotion.transport.parameters import PARAMETER_FIELDS, CaGroupParameters
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
     from openmotion.runtime.runtime import Runtime
 
-IDLE, FOLLOW, HELD = 0, 1, 2  #: mover modes: no command, on its profile, held by CA
+IDLE, FOLLOW, HELD, GEAR = 0, 1, 2, 3  #: mover modes: no command, on its profile, held by
+#: CA, coupled to a master (MC_GearInPosCA)
 _POSITION, _HALT = "position", "halt"
 _MOVING_STATES = (GroupState.STANDBY, GroupState.MOVING, GroupState.STOPPING)
 
@@ -65,7 +69,7 @@ def UDINT_TO_IDENTINGROUP(value: int) -> IdentInGroup:  # noqa: N802 - the manua
 class CaJob:
     """One CA motion command of a mover (active or buffered)."""
 
-    kind: str  #: "position" or "halt"
+    kind: str  #: "position", "halt", "standby" or "gear"
     command: Command
     limits: Limits
     gap: float
@@ -74,6 +78,7 @@ class CaJob:
     target_of: Callable[[float], float] | None = None  #: start position -> absolute target
     target: float = math.nan
     continuous_update: bool = False
+    extra: Any = None  #: the GearSync of a "gear" job
 
 
 @dataclass
@@ -385,6 +390,84 @@ class CaGroup:
         self._issue_halt(mover, command, deceleration, jerk, gap, gap_control_mode)
         return command
 
+    def gear_in_pos(self, master: Axis, slave: Axis, ratio_numerator: float = 1.0,
+                    ratio_denominator: int = 1,
+                    master_sync_position: InputValue = MC_INVALID,
+                    slave_sync_position: InputValue = MC_INVALID,
+                    sync_strategy: SyncStrategy = SyncStrategy.LATE,
+                    master_start_distance: InputValue = MC_IGNORE,
+                    velocity: InputValue = MC_INVALID, acceleration: InputValue = MC_DEFAULT,
+                    deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT,
+                    gap: InputValue = MC_DEFAULT, buffer_mode: BufferMode = BufferMode.ABORTING,
+                    after_sync_velocity: InputValue = MC_DEFAULT,
+                    after_sync_acceleration: InputValue = MC_DEFAULT,
+                    after_sync_deceleration: InputValue = MC_DEFAULT,
+                    after_sync_jerk: InputValue = MC_DEFAULT,
+                    master_velocity_undershoot_allowed: bool = True,
+                    master_velocity_overshoot_allowed: bool = True,
+                    override_slave_dynamic_restrictions: bool = False,
+                    gap_control_mode: GapControlMode = GapControlMode.GROUP_DEFAULT,
+                    continuous_update: bool = False) -> Command:
+        """MC_GearInPosCA (§9.1.1.1.4): couple ``slave`` to ``master``'s set values.
+
+        The command never ends Done: another command (aborting) decouples. ``sync_state``
+        gives StartSync and InSync.
+        """
+        command = self._command("gear_in_pos_ca")
+
+        def build(mover: Mover) -> CaJob:
+            if not master_velocity_undershoot_allowed and not master_velocity_overshoot_allowed:
+                raise CommandRejected(ErrorId.INVALID_SYNC_OPTIONS, "master velocity under- "
+                                      "and overshoot cannot both be forbidden")
+            if master is slave:
+                raise CommandRejected(ErrorId.INVALID_PARAMETER_VALUE,
+                                      "a mover cannot be its own master")
+            denominator = ratio_denominator
+            if isinstance(denominator, bool) or not isinstance(denominator, int) or \
+                    not 1 <= denominator <= 0xFFFF:
+                raise CommandRejected(ErrorId.INVALID_GEAR_RATIO,
+                                      f"ratio_denominator: a UINT > 0, got {denominator!r}")
+            numerator = _position("ratio_numerator", ratio_numerator)
+            strategy = _enum(SyncStrategy, sync_strategy, ErrorId.INVALID_MODE, "sync_strategy")
+            msp = _position("master_sync_position", master_sync_position)
+            ssp = _position("slave_sync_position", slave_sync_position)
+            start = None if master_start_distance is MC_IGNORE else \
+                _position("master_start_distance", master_start_distance)
+            job = self._job(mover, "gear", command, velocity, acceleration, deceleration, jerk,
+                            gap, buffer_mode, gap_control_mode, continuous_update)
+            params = mover.axis.parameters
+            if self.parameters.gear_in_pos_default_dynamics_after_sync is \
+                    GearInPosDefaultDynamicsAfterSync.JOB_DYNAMICS:
+                defaults = job.limits
+            else:  # the slave's maxima, jerk unlimited (here: the axis' max_jerk)
+                defaults = Limits(params.max_velocity, params.max_acceleration,
+                                  params.max_deceleration, params.max_jerk)
+            warnings = command.warnings
+
+            def after(name: str, value: InputValue, default: float) -> float:
+                return default if value is MC_DEFAULT else ca_value(name, value, params,
+                                                                     warnings)
+
+            after_sync = Limits(after("velocity", after_sync_velocity, defaults.velocity),
+                                after("acceleration", after_sync_acceleration,
+                                      defaults.acceleration),
+                                after("deceleration", after_sync_deceleration,
+                                      defaults.deceleration),
+                                after("jerk", after_sync_jerk, defaults.jerk))
+            job.extra = GearSync(master.row, numerator / denominator, msp, ssp, strategy, start,
+                                 job.limits, after_sync, bool(override_slave_dynamic_restrictions))
+            return job
+
+        return self._submit(slave, command, build)
+
+    def sync_state(self, command: Command) -> tuple[bool, bool]:
+        """(StartSync, InSync) of a gear_in_pos command; (False, False) once it ended."""
+        for mover in self.movers:
+            job = mover.job
+            if job is not None and job.command is command and isinstance(job.extra, GearSync):
+                return job.extra.start_sync, job.extra.in_sync
+        return False, False
+
     def set_gap(self, command: Command, gap: InputValue) -> None:
         """ContinuousUpdate: a running command with continuous_update takes a new gap."""
         for mover in self.movers:
@@ -483,7 +566,9 @@ class CaGroup:
         slot = mover.slot
         start = KinematicState(float(self.p[slot]), float(self.v[slot]), float(self.a[slot]))
         try:
-            if job.kind == _HALT:
+            if job.kind == "gear":
+                profile = None
+            elif job.kind == _HALT:
                 profile = plan_stop(start, job.limits.deceleration, job.limits.jerk)
                 job.target = profile.end.position
             else:
@@ -496,8 +581,11 @@ class CaGroup:
         self._abort(mover, f"aborted by {job.command.kind}")
         mover.job = job
         job.command.status = CommandStatus.ACTIVE
-        self._k.segments.install(mover.axis.row, profile, self._k.sample_time)
-        self.mode[slot] = FOLLOW
+        if profile is None:
+            self.mode[slot] = GEAR
+        else:
+            self._k.segments.install(mover.axis.row, profile, self._k.sample_time)
+            self.mode[slot] = FOLLOW
         self.goal[slot] = job.target
         self._load_job(mover)
         if mover.axis.state in (AxisState.STANDSTILL, AxisState.DISCRETE_MOTION):
@@ -620,12 +708,15 @@ class CaGroup:
         self.bjerk = np.array([m.axis.parameters.max_jerk for m in self.movers]) \
             if n else np.zeros(0)
         self.pred = np.full(n, -1, dtype=np.int64)
+        self.succ = np.full(n, -1, dtype=np.int64)
         self.offset = np.zeros(n)
         self._env: tuple[np.ndarray, np.ndarray] | None = None
         if n:
             self.pred[1:] = np.arange(n - 1)
             if self.parameters.rail_is_ring:
                 self.pred[0] = n - 1
+            has = self.pred >= 0
+            self.succ[self.pred[has]] = np.flatnonzero(has)
 
     def _sync_states(self) -> None:
         """Take the members' setpoints as the group's state (enable, reset, reorder)."""
@@ -681,6 +772,9 @@ class CaGroup:
         idle = self.mode == IDLE
         if idle.any():  # no command: the mover rests where it is
             nxt[0][idle], nxt[1][idle], nxt[2][idle], nxt[3][idle] = self.p[idle], 0.0, 0.0, 0.0
+        geared = np.flatnonzero(self.mode == GEAR)
+        if geared.size:
+            self._gear_steps(geared, now, nxt)
         cur = (self.p, self.v, self.a)
         brake = brake_state(self.p, self.v, self.a, self.bdec, self.bjerk, dt)
         braking, lo, hi = filter_steps(cur, self._envelope(), nxt, brake, self.bdec,
@@ -689,7 +783,44 @@ class CaGroup:
         self.p, self.v, self.a = nxt[0], nxt[1], nxt[2]
         self._env = (lo, hi)
         self.mode[braking & (self.mode == FOLLOW)] = HELD
+        for slot in np.flatnonzero(braking & (self.mode == GEAR)).tolist():
+            sync = self.movers[slot].job.extra  # type: ignore[union-attr]
+            sync.held(now, (float(self.p[slot]), float(self.v[slot]), float(self.a[slot])),
+                      self._master(sync))
         self._events(now)
+
+    def _master(self, sync: GearSync) -> tuple[float, float, float, float]:
+        k, row = self._k, sync.master_row
+        return float(k.set_p[row]), float(k.set_v[row]), float(k.set_a[row]), float(k.set_j[row])
+
+    def _gear_steps(self, slots: np.ndarray, now: float, nxt: list[np.ndarray]) -> None:
+        """Proposals of coupled slaves (few: a loop); a failed sync ends in error and brakes."""
+        dt = self._rt.cycle_time
+        for slot in slots.tolist():
+            mover = self.movers[slot]
+            job = mover.job
+            assert job is not None
+            sync: GearSync = job.extra
+            state = (float(self.p[slot]), float(self.v[slot]), float(self.a[slot]))
+            try:
+                proposal = sync.step(now, state, self._master(sync), dt)
+            except CommandRejected as rejected:
+                sync.error = (rejected.error_id, rejected.message)
+                proposal = None
+            if sync.error is not None:
+                job.command._end(CommandStatus.ERROR, now, *sync.error)
+                mover.job = None
+                self._issue_halt(mover, self._command("halt"), MC_DEFAULT, MC_DEFAULT,
+                                 mover.gap, GapControlMode.GROUP_DEFAULT)
+                proposal = None
+            if proposal is None:  # waiting (or stopping): brake to rest with the job's limits
+                lim = job.limits
+                step = brake_state(self.p[slot:slot + 1], self.v[slot:slot + 1],
+                                   self.a[slot:slot + 1], np.array([lim.deceleration]),
+                                   np.array([lim.jerk]), dt)
+                proposal = tuple(float(x[0]) for x in step)
+            for field_, value in zip(nxt, proposal, strict=True):
+                field_[slot] = value
 
     def _envelope(self) -> tuple[np.ndarray, np.ndarray]:
         """Brake envelope of the current states (cached from the last cycle)."""
@@ -751,10 +882,7 @@ class CaGroup:
         gated = (pred >= 0) & (self.gmode[slots] != GapControlMode.NONE)
         room_hi[gated] = lo[pred[gated]] + self.offset[slots[gated]] - self.gap[slots[gated]]
         if self.parameters.gap_control_direction is GapControlDirection.BOTH:
-            succ_of = np.full(len(self.movers), -1, dtype=np.int64)
-            has = self.pred >= 0
-            succ_of[self.pred[has]] = np.flatnonzero(has)
-            succ = succ_of[slots]
+            succ = self.succ[slots]
             ok = succ >= 0
             ok[ok] &= self.gmode[succ[ok]] != GapControlMode.NONE
             s = succ[ok]
@@ -775,6 +903,8 @@ class CaGroup:
         held = np.flatnonzero(self.mode == HELD)
         if held.size:
             self._resume(held)
+        if self.parameters.standby_gap_control or self.parameters.active_gap_establishing:
+            self._restore_gaps()
         idle = not self.mode.any()  # mode IDLE (0) exactly when the mover has no command
         if self._halt is not None:
             if any(part.aborted for part in self._halt_parts):  # a new command took over
@@ -796,55 +926,83 @@ class CaGroup:
 
     def _resume(self, held: np.ndarray) -> None:
         """Held movers get a profile again: to the target once nothing can block it, or to
-        the queue position once the mover and the neighbour in its way stand."""
+        the queue position once the neighbour in its way stands. Decided for all held movers
+        at once; only the few that replan cost a ruckig call."""
         room_hi, room_lo = self._room(held)
         lo, hi = self._envelope()
-        target = self.target[held]
+        target, p = self.target[held], self.p[held]
         rest = self._resting(held)
-        for i, slot in enumerate(held.tolist()):
-            mover = self.movers[slot]
-            if self.halting[slot]:
-                if rest[i]:
-                    self._finish_job(mover)
-                continue
-            free = room_lo[i] <= target[i] <= room_hi[i]
-            forward = target[i] >= self.p[slot]
-            if free:
-                goal = float(target[i])
-            elif self._neighbour_rests(slot, forward):
-                # the room ends at a fixed point: plan exactly to it (the queue position)
-                goal = float(min(max(target[i], room_lo[i]), room_hi[i]))
-                if rest[i] and ((goal - self.p[slot]) * (target[i] - self.p[slot]) <= 0.0
-                                or abs(goal - self.p[slot]) <= TOLERANCE):
-                    continue  # no closer to the target (CA never moves a mover back, §3)
-                if (hi[slot] > goal + TOLERANCE) if forward else (lo[slot] < goal - TOLERANCE):
-                    continue  # cannot stop there any more (a pair that started too close)
-                if not forward and self._head_on(slot):
-                    continue  # both want the same room: the mover moving forwards takes it
-            else:
-                continue
-            self._replan(mover, goal)
+        halting = self.halting[held]
+        forward = target >= p
+        free = ~halting & (room_lo <= target) & (target <= room_hi)
+        succ = self.succ[held]
+        other = np.where(forward, self.pred[held], succ)
+        other_rests = other < 0
+        has = ~other_rests
+        other_rests[has] = self._resting(other[has])
+        goal = np.minimum(np.maximum(target, room_lo), room_hi)
+        queue = ~halting & ~free & other_rests
+        # no closer to the target (CA never moves a mover back, §3)
+        queue &= ~(rest & (((goal - p) * (target - p) <= 0.0) | (np.abs(goal - p) <= TOLERANCE)))
+        # cannot stop there any more (a pair that started too close)
+        queue &= np.where(forward, hi[held] <= goal + TOLERANCE, lo[held] >= goal - TOLERANCE)
+        # head on: both want the same room; the mover moving forwards takes it
+        waiting = succ >= 0
+        waiting[waiting] = (self.mode[succ[waiting]] != IDLE) & \
+            (self.target[succ[waiting]] > self.p[succ[waiting]] + TOLERANCE)
+        queue &= forward | ~waiting
+        for slot in held[halting & rest].tolist():
+            self._finish_job(self.movers[slot])
+        goals = np.where(free, target, goal)
+        for i in np.flatnonzero(free | queue).tolist():
+            self._replan(self.movers[int(held[i])], float(goals[i]))
 
-    def _head_on(self, slot: int) -> bool:
-        """The successor of ``slot`` waits to move forwards into the room behind ``slot``."""
-        has = np.flatnonzero(self.pred == slot)
-        if not has.size:
-            return False
-        other = int(has[0])
-        return self.mode[other] != IDLE and self.target[other] > self.p[other] + TOLERANCE
+    def _restore_gaps(self) -> None:
+        """Standby gap control (§6, §8.1.1): movers without a command give way.
+
+        An idle mover closer to its predecessor than its last valid gap moves back to it with
+        the group's default dynamics; idle movers behind it move back as far as that needs
+        (the push goes down the row). Movers with a command never give way.
+        """
+        idle = self.mode == IDLE
+        if not idle.any() or self.state is GroupState.STOPPING or self._halt is not None:
+            return
+        slots = np.flatnonzero(idle)
+        room_hi, _ = self._room(slots)
+        if not np.any(self.p[slots] > room_hi + 1e-6):
+            return
+        lo, _hi = self._envelope()
+        desired = np.where(idle, self.p, lo)  # where each mover may end up, at most
+        order = list(range(len(self.movers)))
+        for _ in range(len(order)):  # push down the row until nothing changes (a ring too)
+            changed = False
+            for slot in order:
+                k = int(self.pred[slot])
+                if k < 0 or not idle[slot] or self.gmode[slot] == GapControlMode.NONE:
+                    continue
+                limit = desired[k] + self.offset[slot] - self.gap[slot]
+                if limit < desired[slot] - 1e-9:
+                    desired[slot] = limit
+                    changed = True
+            if not changed:
+                break
+        for slot in np.flatnonzero(idle & (desired < self.p - 1e-6)).tolist():
+            self._standby(self.movers[slot], float(desired[slot]))
+
+    def _standby(self, mover: Mover, target: float) -> None:
+        p, group = mover.axis.parameters, self.parameters
+        limits = Limits(min(group.default_velocity, p.max_velocity),
+                        min(group.default_acceleration, p.max_acceleration),
+                        min(group.default_deceleration, p.max_deceleration),
+                        min(group.default_jerk, p.max_jerk))
+        job = CaJob("standby", self._command("standby_gap_control"), limits, mover.gap,
+                    self.parameters.default_gap_control_mode, target_of=lambda _start: target)
+        self._start(mover, job)
 
     def _resting(self, slots: np.ndarray) -> np.ndarray:
         """At rest up to float residue of the tracking steps."""
         vmax, acc = self.lim[0, slots], self.lim[1, slots]
         return (np.abs(self.v[slots]) <= 1e-9 * vmax) & (np.abs(self.a[slots]) <= 1e-9 * acc)
-
-    def _neighbour_rests(self, slot: int, forward: bool) -> bool:
-        if forward:
-            other = int(self.pred[slot])
-        else:
-            has = np.flatnonzero(self.pred == slot)
-            other = int(has[0]) if has.size else -1
-        return other < 0 or bool(self._resting(np.array([other]))[0])
 
     def _replan(self, mover: Mover, goal: float) -> None:
         slot = mover.slot
