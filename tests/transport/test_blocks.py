@@ -313,21 +313,26 @@ def test_options_default_as_the_manual():
 TEMPLATE = 0x01010010  #: the OTCID of a mover template
 
 
-@pytest.mark.parametrize(("make", "inputs"), [
+@pytest.mark.parametrize(("make", "inputs", "error_id"), [
     (MC_MoveAbsoluteCA, {"position": 1.0, "velocity": 1.0,
-                         "options": ST_MoveAbsoluteCAOptions(position_reference_system=TEMPLATE)}),
+                         "options": ST_MoveAbsoluteCAOptions(position_reference_system=TEMPLATE)},
+     ErrorId.UNKNOWN_TEMPLATE),
     (MC_MoveAbsoluteCA, {"position": 1.0, "velocity": 1.0,
-                         "options": ST_MoveAbsoluteCAOptions(dynamics_reference_system=TEMPLATE)}),
+                         "options": ST_MoveAbsoluteCAOptions(dynamics_reference_system=TEMPLATE)},
+     ErrorId.UNKNOWN_TEMPLATE),
     (MC_MoveRelativeCA, {"distance": 1.0, "velocity": 1.0,
-                         "options": ST_MoveRelativeCAOptions(position_reference_system=TEMPLATE)}),
-    (MC_HaltCA, {"options": ST_HaltCAOptions(dynamics_reference_system=TEMPLATE)}),
+                         "options": ST_MoveRelativeCAOptions(position_reference_system=TEMPLATE)},
+     ErrorId.INVALID_MODE),
+    (MC_HaltCA, {"options": ST_HaltCAOptions(dynamics_reference_system=TEMPLATE)},
+     ErrorId.INVALID_MODE),
 ], ids=["absolute-position", "absolute-dynamics", "relative-position", "halt-dynamics"])
-def test_a_reference_system_other_than_the_motor_path_is_an_error(make, inputs):
-    """Geo-compensation is not built yet: only 0 (the motor path) is accepted."""
+def test_a_reference_system_other_than_the_motor_path_is_an_error(make, inputs, error_id):
+    """Without a registered mover template (tests/transport/test_geo.py): MC_MoveAbsoluteCA
+    names no template; MC_MoveRelativeCA and MC_HaltCA take only 0 so far (INVALID_MODE)."""
     _, _, axes = ring(1000.0)
     fb = make(axes[0])
     fb(execute=True, **inputs)
-    assert fb.error and fb.error_id is ErrorId.INVALID_MODE
+    assert fb.error and fb.error_id is error_id
 
 
 @pytest.mark.parametrize("make", [MC_MoveAbsoluteCA, MC_MoveRelativeCA, MC_HaltCA])

@@ -73,6 +73,12 @@ class ErrorId(IntEnum):
     MODULO_ON_OPEN_RAIL = 0x7309  #: a modulo direction on a rail that is not a ring
     SYNC_FAILED = 0x730A  #: MC_GearInPosCA: synchronisation impossible (Late: master accelerated)
     GROUP_ERROR = 0x7310  #: a member axis went to ErrorStop: the group stopped (GroupErrorStop)
+    UNKNOWN_TRACK = 0x7311  #: MC_ActivateTrack: no track of the group has this TrackId
+    NOT_ON_TRACK = 0x7312  #: the mover's set position is on no part of the (active) track
+    TARGET_OFF_TRACK = 0x7313  #: a track position outside [0, length] of an open track
+    UNKNOWN_TEMPLATE = 0x7314  #: an OTCID that names no mover template of the group (§9.2)
+    COMPENSATION_NOT_REGISTERED = 0x7315  #: a reference system the axis did not register
+    INVALID_COMPENSATION_TYPE = 0x7316  #: MC_RegisterCompensation: CompensationType is not GEO
     # openmotion: axis errors raised by monitoring (0x72xx), these take the axis to ErrorStop
     FOLLOWING_ERROR = 0x7201  #: following error above 1020 for longer than 1021
     SOFT_LIMIT_REACHED = 0x7202  #: a velocity move stopped at an enabled software limit

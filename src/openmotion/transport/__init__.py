@@ -19,6 +19,7 @@ from openmotion.transport.blocks import (
     ST_MoveRelativeCAOptions,
 )
 from openmotion.transport.enums import (
+    CompensationType,
     GapControlDirection,
     GapControlMode,
     GearInPosDefaultDynamicsAfterSync,
@@ -28,10 +29,33 @@ from openmotion.transport.enums import (
     SyncMode,
     SyncStrategy,
 )
+from openmotion.transport.gear_blocks import MC_GearInPosCA, ST_GearInPosCAOptions
+from openmotion.transport.geo import GeoCompensation, MoverTemplate, StarterKitGeometry
 from openmotion.transport.group import UDINT_TO_IDENTINGROUP, CaGroup, IdentInGroup
 from openmotion.transport.parameters import CaGroupParameters
+from openmotion.transport.track_blocks import (
+    MC_ActivateTrack,
+    MC_ReadTrackPositions,
+    MC_RegisterCompensation,
+    MC_TransformPosition,
+)
+from openmotion.transport.tracks import Part, Track, TrackPositions, TrackTable
 
 __all__ = [
+    "MC_ActivateTrack",
+    "MC_ReadTrackPositions",
+    "MC_RegisterCompensation",
+    "MC_TransformPosition",
+    "CompensationType",
+    "GeoCompensation",
+    "MoverTemplate",
+    "Part",
+    "StarterKitGeometry",
+    "Track",
+    "TrackPositions",
+    "TrackTable",
+    "MC_GearInPosCA",
+    "ST_GearInPosCAOptions",
     "MC_AddAxisToGroup",
     "MC_GroupDisable",
     "MC_GroupEnable",

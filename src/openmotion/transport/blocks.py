@@ -11,9 +11,10 @@ the group blocks take the ``CaGroup`` first (``axes_group``)::
     move(execute=True, position=2500.0, velocity=500.0, gap=120.0)
 
 MC3 inputs: 0 is an ordinary (mostly invalid) value; ``MC_DEFAULT`` means the default and
-``velocity`` has none (transport/inputs.py). Geo-compensation is not built yet, so a
-``position_reference_system`` or ``dynamics_reference_system`` other than 0 is an FB error
-(INVALID_MODE).
+``velocity`` has none (transport/inputs.py). Reference systems (geo-compensation,
+transport/geo.py): MC_MoveAbsoluteCA takes 0 (the motor path) or the mover template the axis
+registered with MC_RegisterCompensation; MC_MoveRelativeCA and MC_HaltCA take only 0 so far
+(INVALID_MODE otherwise).
 """
 
 # ruff: noqa: N801 - the manual's block and structure names
@@ -37,8 +38,9 @@ from openmotion.transport.group import CaGroup
 
 @dataclass(frozen=True)
 class ST_MoveAbsoluteCAOptions:
-    """Options of MC_MoveAbsoluteCA (§9.1.2.2). Reference systems: OTCID of a mover template,
-    0 = the motor path (the only one accepted until geo-compensation exists).
+    """Options of MC_MoveAbsoluteCA (§9.1.2.2). Reference systems: 0 = the motor path, or the
+    OTCID of the mover template the axis registered (MC_RegisterCompensation): the position
+    is then on its TCP path, or the dynamics refer to it (transport/geo.py).
 
     ``additional_turns`` [UDINT]: full turns more, with a Positive or Negative direction only
     (M = 360, start 5, target 10, 2 turns, Positive: end 730).
@@ -67,17 +69,18 @@ class ST_HaltCAOptions:
     dynamics_reference_system: int = 0
 
 
-def _checked(block: Any, kind: type) -> Any:
-    """The block's ``options``; a reference system other than the motor path is refused."""
+def _checked(block: Any, kind: type, motor_path_only: bool = True) -> Any:
+    """The block's ``options``; unless the block's group call takes reference systems
+    (MC_MoveAbsoluteCA), one other than the motor path is refused."""
     options = block.options
     if not isinstance(options, kind):
         raise TypeError(f"{type(block).__name__}.options must be a {kind.__name__}, "
                         f"got {type(options).__name__}")
     for name in ("position_reference_system", "dynamics_reference_system"):
-        if getattr(options, name, 0) != 0:
+        if motor_path_only and getattr(options, name, 0) != 0:
             raise CommandRejected(ErrorId.INVALID_MODE,
-                                  f"options.{name}: only 0 (the motor path); "
-                                  "geo-compensation is not built yet")
+                                  f"options.{name}: only 0 (the motor path); reference "
+                                  f"systems are not wired for {type(block).__name__} yet")
     return options
 
 
@@ -128,7 +131,9 @@ class MC_MoveAbsoluteCA(_ContinuousUpdate):
     GROUP_IN_ERROR, INVALID_POSITION, INVALID_VELOCITY, INVALID_ACCELERATION,
     INVALID_DECELERATION, INVALID_JERK, INVALID_GAP, INVALID_BUFFER_MODE, INVALID_DIRECTION,
     MODULO_ON_OPEN_RAIL, INVALID_TARGET_POSITION, INVALID_ADDITIONAL_TURNS, INVALID_MODE (a
-    gap control mode, or a reference system other than 0: geo-compensation is not built yet).
+    gap control mode). With an active track (MC_ActivateTrack) ``position`` is a track
+    position: NOT_ON_TRACK, TARGET_OFF_TRACK. Reference systems: UNKNOWN_TEMPLATE,
+    COMPENSATION_NOT_REGISTERED.
 
     >>> import openmotion as om
     >>> from openmotion.transport import CaGroup, MC_AddAxisToGroup, MC_GroupEnable
@@ -151,12 +156,13 @@ class MC_MoveAbsoluteCA(_ContinuousUpdate):
     }
 
     def _issue(self, axis: Axis) -> Command:
-        options = _checked(self, ST_MoveAbsoluteCAOptions)
+        options = _checked(self, ST_MoveAbsoluteCAOptions, motor_path_only=False)
         self._group = _group_of(axis)
         return self._group.move_absolute(
             axis, self.position, self.velocity, self.acceleration, self.deceleration,
             self.jerk, self.gap, self.buffer_mode, self.direction, options.additional_turns,
-            options.gap_control_mode, self.continuous_update)
+            options.gap_control_mode, self.continuous_update,
+            options.position_reference_system, options.dynamics_reference_system)
 
 
 class MC_MoveRelativeCA(_ContinuousUpdate):

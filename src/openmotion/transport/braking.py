@@ -129,3 +129,4 @@ def _velocity_roots(v0: np.ndarray, a0: np.ndarray, j: np.ndarray,
         ok = np.isfinite(r) & (r >= 0.0) & (r <= duration)
         roots.append(np.where(ok, r, np.nan))
     return roots[0], roots[1]
+

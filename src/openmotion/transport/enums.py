@@ -72,3 +72,10 @@ class SyncMode(IntEnum):
     NON_MODULO = 0
     POSITIVE = 1
     NEGATIVE = 3
+
+
+class CompensationType(IntEnum):
+    """MC_COMPENSATION_TYPE of Tc3_McCompensations (§9.4.1.2)."""
+
+    INVALID = 0  #: mcTypeInvalidCompensation
+    GEO = 1  #: mcTypeGeoCompensation

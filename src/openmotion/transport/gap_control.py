@@ -23,7 +23,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from openmotion.transport.braking import _boundaries, brake_envelope, brake_phases
+from openmotion.transport.braking import (
+    _boundaries,
+    brake_envelope,
+    brake_phases,
+    brake_state,
+)
 
 TOLERANCE = 1e-9  #: [mm] float slack of the pair checks
 
@@ -46,12 +51,13 @@ class Pairs:
 
 def filter_steps(cur: tuple[np.ndarray, np.ndarray, np.ndarray],
                  envelope: tuple[np.ndarray, np.ndarray], nxt: list[np.ndarray],
-                 brake: tuple[np.ndarray, ...], dec: np.ndarray, jerk: np.ndarray,
+                 cycle_time: float, dec: np.ndarray, jerk: np.ndarray,
                  pairs: Pairs) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Replace unsafe proposals in ``nxt`` ([p, v, a, j], modified) by the brake step.
 
-    ``cur`` is the state of the last cycle with its ``envelope`` (lo, hi), ``brake`` the
-    brake step from it. Returns the mask of movers that brake and the envelope of ``nxt``.
+    ``cur`` is the state of the last cycle with its ``envelope`` (lo, hi); the brake step
+    (one cycle of each mover's brake from there) is computed only for the movers that brake.
+    Returns the mask of movers that brake and the envelope of ``nxt``.
     """
     n = cur[0].shape[0]
     braking = np.zeros(n, dtype=bool)
@@ -83,8 +89,10 @@ def filter_steps(cur: tuple[np.ndarray, np.ndarray, np.ndarray],
         if blamed.size == 0:
             return braking, lo, hi  # only pairs that were unsafe before and do not get worse
         braking[blamed] = True
-        for field, source in zip(nxt, brake, strict=True):
-            field[blamed] = source[blamed]
+        step = brake_state(cur[0][blamed], cur[1][blamed], cur[2][blamed], dec[blamed],
+                           jerk[blamed], cycle_time)
+        for field, source in zip(nxt, step, strict=True):
+            field[blamed] = source
         lo[blamed], hi[blamed] = brake_envelope(
             nxt[0][blamed], nxt[1][blamed], nxt[2][blamed], dec[blamed], jerk[blamed])
         check = np.isin(pairs.succ, blamed) | np.isin(pairs.pred, blamed)

@@ -40,6 +40,7 @@ from openmotion.transport.gap_control import TOLERANCE, Pairs, filter_steps
 from openmotion.transport.gear import GearSync
 from openmotion.transport.inputs import ca_gap, ca_limits, ca_value, halt_limits
 from openmotion.transport.parameters import PARAMETER_FIELDS, CaGroupParameters
+from openmotion.transport.tracks import TrackTable
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
@@ -124,6 +125,7 @@ class CaGroup:
         self._reset: Command | None = None  #: MC_GroupReset waiting for the members' MC_Reset
         self._reset_parts: list[Command] = []
         self._arrays(0)
+        self.tracks = TrackTable(self)  #: parts, tracks and geo-compensation (tracks.py)
         runtime._add_system(self._advance)
 
     # -- reading -------------------------------------------------------------------------------
@@ -332,7 +334,8 @@ class CaGroup:
                       direction: ModuloDirection = ModuloDirection.NON_MODULO,
                       additional_turns: int = 0,
                       gap_control_mode: GapControlMode = GapControlMode.GROUP_DEFAULT,
-                      continuous_update: bool = False) -> Command:
+                      continuous_update: bool = False, position_reference_system: int = 0,
+                      dynamics_reference_system: int = 0) -> Command:
         """MC_MoveAbsoluteCA: to ``position`` (a modulo position with a modulo direction)."""
         command = self._command("move_absolute_ca")
 
@@ -349,11 +352,16 @@ class CaGroup:
                                       f"additional_turns: a UDINT, got {turns!r}")
             length = self.parameters.rail_length
             window = mover.axis.parameters.modulo_tolerance_window
+            # tracks and geo-compensation (transport/tracks.py): ``position`` is in the mover's
+            # frame (its active track, PositionReferenceSystem); from here on the motor path
+            target = self.tracks.to_absolute(mover.axis, target, direction_,
+                                             position_reference_system)
             mc3_modulo_target(0.0, target, int(direction_), turns, length, window)  # validate
             job = self._job(mover, _POSITION, command, velocity, acceleration, deceleration,
                             jerk, gap, buffer_mode, gap_control_mode, continuous_update)
             job.target_of = lambda start: mc3_modulo_target(start, target, int(direction_),
                                                             turns, length, window)
+            self.tracks.compensate(mover.axis, job, dynamics_reference_system)  # TCP dynamics
             return job
 
         return self._submit(axis, command, build)
@@ -767,6 +775,8 @@ class CaGroup:
                k.set_j[rows].copy()]
         held = np.flatnonzero(self.mode == HELD)
         if held.size:
+            held = self._waiting(held, nxt)
+        if held.size:
             for field_, value in zip(nxt, self._track(held, dt), strict=True):
                 field_[held] = value
         idle = self.mode == IDLE
@@ -776,8 +786,7 @@ class CaGroup:
         if geared.size:
             self._gear_steps(geared, now, nxt)
         cur = (self.p, self.v, self.a)
-        brake = brake_state(self.p, self.v, self.a, self.bdec, self.bjerk, dt)
-        braking, lo, hi = filter_steps(cur, self._envelope(), nxt, brake, self.bdec,
+        braking, lo, hi = filter_steps(cur, self._envelope(), nxt, dt, self.bdec,
                                        self.bjerk, self._pairs())
         k.set_p[rows], k.set_v[rows], k.set_a[rows], k.set_j[rows] = nxt
         self.p, self.v, self.a = nxt[0], nxt[1], nxt[2]
@@ -822,6 +831,20 @@ class CaGroup:
             for field_, value in zip(nxt, proposal, strict=True):
                 field_[slot] = value
 
+    def _waiting(self, held: np.ndarray, nxt: list[np.ndarray]) -> np.ndarray:
+        """Held movers standing with no room at all towards their target stay as they are
+        (a queue behind a mover that stands or waits itself); returns the others."""
+        still = (self.v[held] == 0.0) & (self.a[held] == 0.0) & ~self.halting[held]
+        if not still.any():
+            return held
+        room_hi, room_lo = self._room(held)
+        p = self.p[held]
+        room = np.where(self.target[held] >= p, room_hi - p, p - room_lo)
+        stay = still & (room <= TOLERANCE)
+        slots = held[stay]
+        nxt[0][slots], nxt[1][slots], nxt[2][slots], nxt[3][slots] = self.p[slots], 0.0, 0.0, 0.0
+        return held[~stay]
+
     def _envelope(self) -> tuple[np.ndarray, np.ndarray]:
         """Brake envelope of the current states (cached from the last cycle)."""
         if self._env is None:
@@ -831,43 +854,53 @@ class CaGroup:
     def _track(self, held: np.ndarray, dt: float) -> tuple[np.ndarray, ...]:
         """The next step of held movers: the most progressive constant-jerk step (jerk +J,
         0 or -J) that stays within the command's limits, does not pass the target and keeps
-        clear of the neighbours as they are now; else the command's own brake.
-
-        The three candidates of every held mover are judged in one batch."""
+        clear of the neighbours as they are now; else the command's own brake. Held movers
+        never turn back. The three candidates of every held mover are judged in one batch."""
         m = held.size
         p, v, a = self.p[held], self.v[held], self.a[held]
         vmax, acc, dec, jmax = self.lim[:, held]
         target = self.target[held]
         sign = np.where(target >= p, 1.0, -1.0)
+        three = np.arange(3 * m) % m  # candidate c of mover i at c * m + i
         j = np.concatenate((sign * jmax, 0.0 * jmax, -sign * jmax))
-        p3, v3, a3 = np.tile(p, 3), np.tile(v, 3), np.tile(a, 3)
+        p3, v3, a3, s3 = p[three], v[three], a[three], sign[three]
+        acc3, dec3, vmax3, jmax3 = acc[three], dec[three], vmax[three], jmax[three]
         p1 = p3 + dt * (v3 + dt * (0.5 * a3 + dt * j / 6.0))
         v1 = v3 + dt * (a3 + 0.5 * dt * j)
         a1 = a3 + dt * j
-        s3 = np.tile(sign, 3)
         u, b = s3 * v1, s3 * a1
-        acc3, dec3, vmax3, jmax3 = (np.tile(x, 3) for x in (acc, dec, vmax, jmax))
         ok = (b <= acc3 * (1 + 1e-12)) & (b >= -dec3 * (1 + 1e-12))
         release = u + b * np.abs(b) / (2.0 * jmax3)  # velocity once b is taken away
         ok &= release <= vmax3 * (1 + 1e-12)
         ok &= (u >= 0.0) & (release >= 0.0)  # never turn back: CA only delays (§3, V3.3)
-        both = np.concatenate((dec3, np.tile(self.bdec[held], 3)))
-        lo, hi = brake_envelope(np.tile(p1, 2), np.tile(v1, 2), np.tile(a1, 2), both,
-                                np.concatenate((jmax3, np.tile(self.bjerk[held], 3))))
-        t3 = np.tile(target, 3)
+        both = np.arange(6 * m) % (3 * m)
+        lo, hi = brake_envelope(p1[both], v1[both], a1[both],
+                                np.concatenate((dec3, self.bdec[held][three])),
+                                np.concatenate((jmax3, self.bjerk[held][three])))
+        t3 = target[three]
         ok &= np.where(s3 > 0, hi[:3 * m] <= t3 + TOLERANCE, lo[:3 * m] >= t3 - TOLERANCE)
         room_hi, room_lo = self._room(held)
         lo_now, hi_now = self._envelope()
-        room_hi = np.tile(np.maximum(room_hi, hi_now[held]), 3)
-        room_lo = np.tile(np.minimum(room_lo, lo_now[held]), 3)
-        ok &= (hi[3 * m:] <= room_hi) & (lo[3 * m:] >= room_lo)
+        ok &= (hi[3 * m:] <= np.maximum(room_hi, hi_now[held])[three]) & \
+            (lo[3 * m:] >= np.minimum(room_lo, lo_now[held])[three])
         ok = ok.reshape(3, m) & ~self.halting[held]
         pick = np.argmax(ok, axis=0)
         found = ok[pick, np.arange(m)]
         index = pick * m + np.arange(m)
-        out = list(brake_state(p, v, a, dec, jmax, dt))
+        out = [np.empty(m) for _ in range(4)]
         for o, value in zip(out, (p1, v1, a1, j), strict=True):
             o[found] = value[index[found]]
+        lost = ~found
+        if lost.any():  # no step fits: the command's own brake, or the mover's hardest one
+            # where gap control braked it beyond what the command's brake can take back
+            # without turning round
+            u, b = sign[lost] * v[lost], sign[lost] * a[lost]
+            hard = (b < -dec[lost]) | (u + b * np.abs(b) / (2.0 * jmax[lost]) < 0.0)
+            step = brake_state(p[lost], v[lost], a[lost],
+                               np.where(hard, self.bdec[held][lost], dec[lost]),
+                               np.where(hard, self.bjerk[held][lost], jmax[lost]), dt)
+            for o, value in zip(out, step, strict=True):
+                o[lost] = value
         # float residue of the steps (|v| ~ 1e-17) is rest: snap it, so standstill is exact
         still = (np.abs(out[1]) <= 1e-9 * vmax) & (np.abs(out[2]) <= 1e-9 * acc)
         out[1][still], out[2][still], out[3][still] = 0.0, 0.0, 0.0
@@ -954,7 +987,21 @@ class CaGroup:
         for slot in held[halting & rest].tolist():
             self._finish_job(self.movers[slot])
         goals = np.where(free, target, goal)
-        for i in np.flatnonzero(free | queue).tolist():
+        candidates = np.flatnonzero(free | queue)
+        if candidates.size:  # a profile with the command's limits must be able to stop there
+            slots = held[candidates]
+            vmax, acc, dec, jerk = self.lim[:, slots]
+            step = np.where(forward[candidates], 1.0, -1.0)
+            b = step * self.a[slots]
+            c_lo, c_hi = brake_envelope(self.p[slots], self.v[slots], self.a[slots], dec, jerk)
+            fits = np.where(forward[candidates], c_hi <= goals[candidates] + TOLERANCE,
+                            c_lo >= goals[candidates] - TOLERANCE)
+            fits &= (b <= acc * (1 + 1e-12)) & (b >= -dec * (1 + 1e-12))
+            u = step * self.v[slots]  # and stop without turning round
+            fits &= (u >= 0.0) & (u + b * np.abs(b) / (2.0 * jerk) >= -1e-9 * vmax)
+            fits &= np.abs(self.v[slots]) <= vmax * (1 + 1e-12)
+            candidates = candidates[fits]
+        for i in candidates.tolist():
             self._replan(self.movers[int(held[i])], float(goals[i]))
 
     def _restore_gaps(self) -> None:
