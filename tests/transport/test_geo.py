@@ -21,10 +21,12 @@ from openmotion.transport import (
     MC_AddAxisToGroup,
     MC_GroupEnable,
     MC_MoveAbsoluteCA,
+    MC_MoveRelativeCA,
     MC_RegisterCompensation,
     MC_TransformPosition,
     MoverTemplate,
     ST_MoveAbsoluteCAOptions,
+    ST_MoveRelativeCAOptions,
     StarterKitGeometry,
 )
 
@@ -310,3 +312,22 @@ def test_the_gap_stays_on_the_motor_path_so_the_tcp_gap_is_larger_in_a_curve():
     assert ahead.set_position - behind.set_position == pytest.approx(100.0, abs=1e-6)
     tcp_gap = g.motor_to_tcp(ahead.set_position, Y) - g.motor_to_tcp(behind.set_position, Y)
     assert tcp_gap == pytest.approx(100.0 * (R + Y) / R, abs=1e-6)
+
+
+def test_a_relative_distance_on_the_tcp_path_ends_where_the_tcp_has_gone_that_far():
+    rt, group, (axis,) = starter_kit(900.0)  # on the upper straight, before the right curve
+    g = group.tracks.geo.geometry
+    fb = MC_MoveRelativeCA(axis)
+    for _ in range(20000):
+        fb(execute=True, distance=300.0, velocity=VELOCITY, acceleration=ACCELERATION,
+           deceleration=ACCELERATION,
+           options=ST_MoveRelativeCAOptions(position_reference_system=T,
+                                            dynamics_reference_system=T))
+        if not fb.busy:
+            break
+        rt.step()
+    assert fb.done, fb.message
+    # 100 mm of straight, then 200 mm of TCP arc = 200 R / (R + y) of motor arc
+    assert axis.set_position == pytest.approx(1000.0 + 200.0 * R / (R + Y), abs=1e-9)
+    assert g.motor_to_tcp(axis.set_position, Y) - g.motor_to_tcp(900.0, Y) == \
+        pytest.approx(300.0, abs=1e-9)

@@ -176,12 +176,13 @@ class MC_MoveRelativeCA(_ContinuousUpdate):
     }
 
     def _issue(self, axis: Axis) -> Command:
-        options = _checked(self, ST_MoveRelativeCAOptions)
+        options = _checked(self, ST_MoveRelativeCAOptions, motor_path_only=False)
         self._group = _group_of(axis)
         return self._group.move_relative(
             axis, self.distance, self.velocity, self.acceleration, self.deceleration,
             self.jerk, self.gap, self.buffer_mode, options.gap_control_mode,
-            self.continuous_update)
+            self.continuous_update, options.position_reference_system,
+            options.dynamics_reference_system)
 
 
 class MC_HaltCA(ExecuteBlock):

@@ -372,15 +372,24 @@ class CaGroup:
                       gap: InputValue = MC_DEFAULT,
                       buffer_mode: BufferMode = BufferMode.ABORTING,
                       gap_control_mode: GapControlMode = GapControlMode.GROUP_DEFAULT,
-                      continuous_update: bool = False) -> Command:
-        """MC_MoveRelativeCA: by ``distance`` from the set position where it starts."""
+                      continuous_update: bool = False, position_reference_system: int = 0,
+                      dynamics_reference_system: int = 0) -> Command:
+        """MC_MoveRelativeCA: by ``distance`` from the set position where it starts; with a
+        mover template as PositionReferenceSystem the distance is measured on its TCP path."""
         command = self._command("move_relative_ca")
 
         def build(mover: Mover) -> CaJob:
             step = _position("distance", distance)
             job = self._job(mover, _POSITION, command, velocity, acceleration, deceleration,
                             jerk, gap, buffer_mode, gap_control_mode, continuous_update)
-            job.target_of = lambda start: start + step
+            geo = self.tracks.geo
+            template = geo.reference(mover.axis, position_reference_system)
+            if template is None:
+                job.target_of = lambda start: start + step
+            else:
+                job.target_of = lambda start: geo.to_motor(template,
+                                                           geo.to_tcp(template, start) + step)
+            self.tracks.compensate(mover.axis, job, dynamics_reference_system)  # TCP dynamics
             return job
 
         return self._submit(axis, command, build)
