@@ -147,7 +147,7 @@ def test_gear_out_ext_defaults_are_the_fb_defaults() -> None:
         timeline:
           - {id: m, at: 0, axis: x, command: move_velocity, velocity: 5}
           - {when: m.in_gear, axis: x, command: halt}
-        """, 5, "timeline[1].when", "in_gear is a flag of gear_in entries only",
+        """, 5, "timeline[1].when", "in_gear is a flag of gear_in and gear_in_pos_ca entries only",
         id="in-gear-of-a-move"),
     pytest.param("""\
         name: t

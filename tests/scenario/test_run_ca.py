@@ -8,6 +8,7 @@ import json
 import numpy as np
 import pytest
 
+from openmotion.core.errors import ConfigError
 from openmotion.scenario import CommandRow, ScenarioResult, parse_scenario, run_scenario
 
 MOVERS = """\
@@ -219,3 +220,24 @@ def test_the_starter_kit_lines_up_exactly() -> None:
     result = run_scenario(examples_dir() / "ca_starter_kit.yaml")
     positions = sorted((row.position for row in result.ca_movers), reverse=True)
     assert positions == pytest.approx([2500.0 - 100.0 * k for k in range(10)], abs=1e-9)
+
+
+def test_gear_in_pos_ca_syncs_late_and_in_gear_is_in_sync() -> None:
+    from openmotion.scenario import examples_dir
+
+    result = run_scenario(examples_dir() / "ca_gear_in_pos.yaml")
+    assert result.passed, result.checks
+    by_id = {row.id: row for row in result.commands}
+    assert by_id["sync"].result == "ABORTED" and by_id["back"].result == "DONE"
+    # Late: in sync exactly when the conveyor (500 mm/s, from rest) is at 1000 mm
+    trace = result.trace
+    synced = np.flatnonzero(np.isclose(trace["conveyor.set_position"], 1000.0, atol=1e-9))
+    assert synced.size and trace["m1.set_position"][synced[0]] == pytest.approx(1500.0)
+
+
+def test_gear_in_pos_ca_needs_an_axis_as_master() -> None:
+    bad = QUEUE.replace("command: move_absolute_ca, position: 500, velocity: 1000}",
+                        "command: gear_in_pos_ca, master: nope, master_sync_position: 1, "
+                        "slave_sync_position: 1, velocity: 1000}", 1)
+    with pytest.raises(ConfigError, match="master"):
+        parse_scenario(bad)

@@ -24,6 +24,7 @@ from openmotion.scenario.schema import Condition
 from openmotion.scenario.transport import (
     CaEntry,
     CaGroupSpec,
+    GearInPosCa,
     GroupEntry,
     GroupStop,
     SetGap,
@@ -101,7 +102,11 @@ class CaGroups:
                 self.releases.append((cycle, command))
             return command
         group = self.group_of[entry.axis]
-        command = getattr(group, entry.method)(rt.axes[entry.axis], **entry.arguments())
+        if isinstance(entry, GearInPosCa):  # master first, as MC_GearInPosCA's in/outs
+            command = group.gear_in_pos(rt.axes[entry.master], rt.axes[entry.axis],
+                                        **entry.arguments())
+        else:
+            command = getattr(group, entry.method)(rt.axes[entry.axis], **entry.arguments())
         self.commands[command] = group
         return command
 

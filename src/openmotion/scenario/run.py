@@ -336,6 +336,8 @@ class _Run:
             return group
         if condition.operator is None:
             command = self.by_id.get(condition.subject)
+            if condition.attribute == "in_gear" and command in self.ca.commands:
+                return self.ca.commands[command].sync_state(command)[1]  # InSync
             attribute = "active" if condition.attribute == "in_gear" else condition.attribute
             return command is not None and bool(getattr(command, attribute))
         value = read_signal(self.rt.axes[condition.subject], condition.attribute)

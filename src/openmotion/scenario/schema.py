@@ -278,8 +278,9 @@ def parse_condition(text: object) -> Condition:
         _check_id(subject)
         names = _NAMES.get()
         if attribute == "in_gear" and names is not None \
-                and names.commands.get(subject) != "gear_in":
-            raise ValueError(f"{text!r}: in_gear is a flag of gear_in entries only")
+                and names.commands.get(subject) not in ("gear_in", "gear_in_pos_ca"):
+            raise ValueError(f"{text!r}: in_gear is a flag of gear_in and gear_in_pos_ca "
+                             "entries only")
         return Condition(text.strip(), subject, attribute)
     names = _NAMES.get()
     if names is not None and subject in names.groups and subject not in names.axes:
@@ -803,6 +804,7 @@ from openmotion.scenario.cyclic import (  # noqa: E402 - needs Entry and the typ
 # CA groups (TF5410): the ca_groups list and the entries on movers and groups.
 from openmotion.scenario.transport import (  # noqa: E402 - needs Entry and the types above
     CaGroupSpec,
+    GearInPosCa,
     GroupDisable,
     GroupEnable,
     GroupHalt,
@@ -823,7 +825,8 @@ COMMANDS: dict[str, type[Entry]] = {
                   MoveSuperimposed, AbortSuperposition, Jog, EnableExternalSetpoints,
                   DisableExternalSetpoints, OverrideFilter, PowerStepper, InjectStall,
                   ReleaseStall, SetReferenceFlag, ReadAxisComponents, MoveAbsoluteCa,
-                  MoveRelativeCa, HaltCa, SetGap, GroupHalt, GroupStop, GroupEnable,
+                  MoveRelativeCa, GearInPosCa, HaltCa, SetGap, GroupHalt, GroupStop,
+                  GroupEnable,
                   GroupDisable, GroupReset)  # type: ignore[misc]
 }
 TimelineEntry = Annotated[
@@ -852,6 +855,7 @@ TimelineEntry = Annotated[
     | Annotated[ReadAxisComponents, Tag("read_axis_components")]
     | Annotated[MoveAbsoluteCa, Tag("move_absolute_ca")]
     | Annotated[MoveRelativeCa, Tag("move_relative_ca")] | Annotated[HaltCa, Tag("halt_ca")]
+    | Annotated[GearInPosCa, Tag("gear_in_pos_ca")]
     | Annotated[SetGap, Tag("set_gap")] | Annotated[GroupHalt, Tag("group_halt")]
     | Annotated[GroupStop, Tag("group_stop")] | Annotated[GroupEnable, Tag("group_enable")]
     | Annotated[GroupDisable, Tag("group_disable")]

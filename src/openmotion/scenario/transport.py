@@ -27,7 +27,7 @@ from pydantic import (
 )
 
 from openmotion.core.enums import BufferMode
-from openmotion.core.special_values import MC_DEFAULT
+from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE
 from openmotion.scenario.schema import (
     _NAMES,
     BufferModeName,
@@ -35,6 +35,7 @@ from openmotion.scenario.schema import (
     Entry,
     Identifier,
     InputValue,
+    Number,
     Seconds,
     _check_axis,
     _check_group,
@@ -45,11 +46,12 @@ from openmotion.scenario.schema import (
     _parameter_type,
     _unique,
 )
-from openmotion.transport.enums import GapControlMode, ModuloDirection
+from openmotion.transport.enums import GapControlMode, ModuloDirection, SyncStrategy
 from openmotion.transport.parameters import CaGroupParameters
 
 GapControlModeName = _enum_by_name(GapControlMode)
 ModuloDirectionName = _enum_by_name(ModuloDirection)
+SyncStrategyName = _enum_by_name(SyncStrategy)
 CA_MOVES = ("move_absolute_ca", "move_relative_ca")  #: the entries ``set_gap`` can change
 
 # -- ca_groups -----------------------------------------------------------------------------
@@ -168,6 +170,35 @@ class MoveRelativeCa(_CaMove):
     command: Literal["move_relative_ca"]
     distance: InputValue
     """From the set position where the move starts [mm]."""
+
+
+class GearInPosCa(_CaMove):
+    """MC_GearInPosCA (TF5410 §9.1.1.1.4): couple the mover to ``master``'s set values.
+
+    Never Done (another command decouples); a ``<id>.in_gear`` condition holds while in sync.
+    """
+
+    method = "gear_in_pos"
+    command: Literal["gear_in_pos_ca"]
+    master: Annotated[StrictStr, AfterValidator(_check_axis)]
+    """The master axis (any axis)."""
+    ratio_numerator: Number = 1.0
+    """Gear factor numerator (any real, also negative)."""
+    ratio_denominator: Annotated[StrictInt, Field(ge=1, le=0xFFFF)] = 1
+    """Gear factor denominator (UINT > 0)."""
+    master_sync_position: InputValue
+    """Master position at which the slave is in sync [mm]."""
+    slave_sync_position: InputValue
+    """Slave position at that moment [mm]."""
+    sync_strategy: SyncStrategyName = SyncStrategy.LATE  # type: ignore[valid-type]
+    """late, slow or early."""
+    master_start_distance: InputValue = MC_IGNORE
+    """MC_IGNORE: sync at once; > 0: once master >= MSP - d; < 0: once master <= MSP - d."""
+
+    def arguments(self) -> dict[str, Any]:
+        arguments = super().arguments()
+        del arguments["master"]
+        return arguments
 
 
 class HaltCa(CaEntry):
@@ -312,5 +343,6 @@ class GroupReset(GroupEntry):
     command: Literal["group_reset"]
 
 
-CA_ENTRIES: tuple[type, ...] = (MoveAbsoluteCa, MoveRelativeCa, HaltCa, SetGap, GroupHalt,
+CA_ENTRIES: tuple[type, ...] = (MoveAbsoluteCa, MoveRelativeCa, GearInPosCa, HaltCa, SetGap,
+                                GroupHalt,
                                 GroupStop, GroupEnable, GroupDisable, GroupReset)
