@@ -60,7 +60,7 @@ from openmotion.core.special_values import (
     SPECIAL_VALUES,
     SpecialValue,
 )
-from openmotion.trace.record import AXIS_SIGNALS, default_signals, split_signal
+from openmotion.trace.record import AXIS_SIGNALS, MOVER_SIGNALS, default_signals, split_signal
 from openmotion.transport.enums import GroupState
 
 if TYPE_CHECKING:
@@ -188,7 +188,7 @@ def _enum_by_name(enum: type[Enum]) -> Any:
 
 def _signal(name: str) -> str:
     axis, prop = split_signal(name)
-    if prop == "gap":
+    if prop in MOVER_SIGNALS:
         _check_mover(axis)
     else:
         _check_axis(axis)
@@ -292,7 +292,7 @@ def parse_condition(text: object) -> Condition:
                          float(GroupState[raw.upper()]))
     if attribute not in AXIS_SIGNALS:
         raise ValueError(f"{text!r}: the signal must be one of {', '.join(AXIS_SIGNALS)}")
-    if attribute == "gap":
+    if attribute in MOVER_SIGNALS:
         _check_mover(subject)
     _check_axis(subject)
     return Condition(text.strip(), subject, attribute, operator,

@@ -11,11 +11,11 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Iterable, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from openmotion.core.errors import ConfigError
+from openmotion.core.errors import CommandRejected, ConfigError
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
@@ -24,7 +24,9 @@ if TYPE_CHECKING:
 #: Axis properties a trace can record, in the order ``default_signals`` lists them.
 AXIS_SIGNALS = ("set_position", "set_velocity", "set_acceleration", "set_jerk", "position",
                 "velocity", "following_error", "state", "override", "homed", "axis_error_id",
-                "gap")
+                "gap", "track_position", "tcp_position")
+#: The signals only members of a CA group have (NaN for other axes).
+MOVER_SIGNALS = ("gap", "track_position", "tcp_position")
 #: What a scenario records when it names no signals: setpoint and actual position.
 DEFAULT_AXIS_SIGNALS = ("set_position", "set_velocity", "set_acceleration", "position")
 TIME = "time"
@@ -43,18 +45,35 @@ def split_signal(name: str) -> tuple[str, str]:
 
 def read_signal(axis: Axis, prop: str) -> float:
     """One signal of ``axis`` as a float: the state as its AxisState number, the override in
-    percent (0-100), homed as 0 or 1, the axis error as its ErrorId number (0: none), the gap
-    as the setpoint gap [mm] to the predecessor in the axis' CA group (transport/group.py;
-    inf: no predecessor, NaN: in no CA group)."""
-    if prop == "gap":
+    percent (0-100), homed as 0 or 1, the axis error as its ErrorId number (0: none). The
+    signals of a CA mover (transport/; NaN for an axis in no CA group):
+
+    - ``gap``: the setpoint gap [mm] to the predecessor in the group (inf: no predecessor);
+    - ``track_position``: the set position on the active track, as MC_ReadTrackPositions
+      gives it; the absolute set position without one; NaN once off an (open) track;
+    - ``tcp_position``: the TCP arc length [mm] of the set position on the path of the
+      registered mover template (MC_TransformPosition from 0 to it); NaN without one.
+    """
+    if prop in MOVER_SIGNALS:
         group = axis.group
-        if group is None:
-            return math.nan
-        return float(group.gaps()[group.mover_of(axis).slot])  # type: ignore[attr-defined]
+        return math.nan if group is None else _mover_signal(group, axis, prop)
     value = getattr(axis, prop)
     if prop == "override":
         return float(value) * 100.0
     return float(int(value)) if prop in _WHOLE_SIGNALS else float(value)
+
+
+def _mover_signal(group: Any, axis: Axis, prop: str) -> float:
+    if prop == "gap":
+        return float(group.gaps()[group.mover_of(axis).slot])
+    if prop == "track_position":
+        try:
+            return float(group.tracks.read_track_positions(axis).track_position)
+        except CommandRejected:  # NOT_ON_TRACK: the mover left its open track
+            return math.nan
+    geo = group.tracks.geo
+    template = geo.registered(axis)
+    return math.nan if template is None else geo.to_tcp(template, axis.set_position)
 
 
 def default_signals(axis_names: Iterable[str]) -> list[str]:

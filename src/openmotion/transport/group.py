@@ -498,6 +498,7 @@ class CaGroup:
                     mover.gap = job.gap
                     self.gap[mover.slot] = job.gap
                     self._pairs_dirty = True
+                    self._room_of = None
                 return
 
     # -- internals: commands --------------------------------------------------------------------
@@ -623,6 +624,7 @@ class CaGroup:
         self.lim[:, slot] = (lim.velocity, lim.acceleration, lim.deceleration, lim.jerk)
         self.halting[slot] = job.kind == _HALT
         self._pairs_dirty = True
+        self._room_of = None
 
     def _abort(self, mover: Mover, reason: str) -> None:
         now = self._rt.now
@@ -642,6 +644,7 @@ class CaGroup:
         self.mode[slot] = IDLE
         self.gmode[slot] = int(self.parameters.default_gap_control_mode)
         self._pairs_dirty = True
+        self._room_of = None
         if mover.queue:
             self._start(mover, mover.queue.pop(0))
         elif mover.axis.state is AxisState.DISCRETE_MOTION:
@@ -708,6 +711,7 @@ class CaGroup:
                 self.mode[slot], self.goal[slot] = running.get(id(mover), (FOLLOW, np.nan))
         self._sync_states()
         self._pairs_dirty = True
+        self._room_of = None
 
     def _arrays(self, n: int) -> None:
         self.rows = np.array([m.axis.row for m in self.movers], dtype=np.int64) if n else \
@@ -728,6 +732,8 @@ class CaGroup:
         self.succ = np.full(n, -1, dtype=np.int64)
         self.offset = np.zeros(n)
         self._env: tuple[np.ndarray, np.ndarray] | None = None
+        self._room_of: object = None  #: the envelope ``_room_all`` was computed from
+        self._room_all: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
         if n:
             self.pred[1:] = np.arange(n - 1)
             if self.parameters.rail_is_ring:
@@ -751,6 +757,7 @@ class CaGroup:
             wrapped = np.where(first & (wrapped == 0.0), length, wrapped)
             self.offset[has] = wrapped - raw
         self._pairs_dirty = True
+        self._room_of = None
         self._env = None
 
     def _check_ready(self) -> None:
@@ -863,51 +870,63 @@ class CaGroup:
     def _track(self, held: np.ndarray, dt: float) -> tuple[np.ndarray, ...]:
         """The next step of held movers: the most progressive constant-jerk step (jerk +J,
         0 or -J) that stays within the command's limits, does not pass the target and keeps
-        clear of the neighbours as they are now; else the command's own brake. Held movers
-        never turn back. The three candidates of every held mover are judged in one batch."""
+        clear of the neighbours as they are now; else a brake. Held movers never turn back.
+
+        The candidates are tried in that order, each only for the movers the one before did
+        not fit, so a cycle costs about one envelope per held mover."""
         m = held.size
         p, v, a = self.p[held], self.v[held], self.a[held]
         vmax, acc, dec, jmax = self.lim[:, held]
+        bdec, bjerk = self.bdec[held], self.bjerk[held]
         target = self.target[held]
         sign = np.where(target >= p, 1.0, -1.0)
-        three = np.arange(3 * m) % m  # candidate c of mover i at c * m + i
-        j = np.concatenate((sign * jmax, 0.0 * jmax, -sign * jmax))
-        p3, v3, a3, s3 = p[three], v[three], a[three], sign[three]
-        acc3, dec3, vmax3, jmax3 = acc[three], dec[three], vmax[three], jmax[three]
-        p1 = p3 + dt * (v3 + dt * (0.5 * a3 + dt * j / 6.0))
-        v1 = v3 + dt * (a3 + 0.5 * dt * j)
-        a1 = a3 + dt * j
-        u, b = s3 * v1, s3 * a1
-        ok = (b <= acc3 * (1 + 1e-12)) & (b >= -dec3 * (1 + 1e-12))
-        release = u + b * np.abs(b) / (2.0 * jmax3)  # velocity once b is taken away
-        ok &= release <= vmax3 * (1 + 1e-12)
-        ok &= (u >= 0.0) & (release >= 0.0)  # never turn back: CA only delays (§3, V3.3)
-        both = np.arange(6 * m) % (3 * m)
-        lo, hi = brake_envelope(p1[both], v1[both], a1[both],
-                                np.concatenate((dec3, self.bdec[held][three])),
-                                np.concatenate((jmax3, self.bjerk[held][three])))
-        t3 = target[three]
-        ok &= np.where(s3 > 0, hi[:3 * m] <= t3 + TOLERANCE, lo[:3 * m] >= t3 - TOLERANCE)
         room_hi, room_lo = self._room(held)
         lo_now, hi_now = self._envelope()
-        ok &= (hi[3 * m:] <= np.maximum(room_hi, hi_now[held])[three]) & \
-            (lo[3 * m:] >= np.minimum(room_lo, lo_now[held])[three])
-        ok = ok.reshape(3, m) & ~self.halting[held]
-        pick = np.argmax(ok, axis=0)
-        found = ok[pick, np.arange(m)]
-        index = pick * m + np.arange(m)
+        room_hi = np.maximum(room_hi, hi_now[held])
+        room_lo = np.minimum(room_lo, lo_now[held])
         out = [np.empty(m) for _ in range(4)]
-        for o, value in zip(out, (p1, v1, a1, j), strict=True):
-            o[found] = value[index[found]]
-        lost = ~found
+        rows = np.flatnonzero(~self.halting[held])
+        for step in (1.0, 0.0, -1.0):
+            if not rows.size:
+                break
+            s, jm = sign[rows], jmax[rows]
+            j = step * s * jm
+            p0, v0, a0 = p[rows], v[rows], a[rows]
+            p1 = p0 + dt * (v0 + dt * (0.5 * a0 + dt * j / 6.0))
+            v1 = v0 + dt * (a0 + 0.5 * dt * j)
+            a1 = a0 + dt * j
+            u, b = s * v1, s * a1
+            release = u + b * np.abs(b) / (2.0 * jm)  # velocity once b is taken away
+            ok = (b <= acc[rows] * (1 + 1e-12)) & (b >= -dec[rows] * (1 + 1e-12))
+            ok &= (release <= vmax[rows] * (1 + 1e-12)) & (u >= 0.0) & (release >= 0.0)
+            # the target: a cheap bound on the command's stop distance first, exact if needed
+            # (the velocity stays below max(u, release) while braking, which lasts at most
+            # b+/J to take b away, 2 dec/J for the ramps and v/dec at full deceleration)
+            top = np.maximum(u, release)
+            t_stop = (np.maximum(b, 0.0) + 2.0 * dec[rows]) / jm + top / dec[rows]
+            near = ok & (top * t_stop >= s * (target[rows] - p1))
+            if near.any():
+                i = np.flatnonzero(near)
+                c_lo, c_hi = brake_envelope(p1[i], v1[i], a1[i], dec[rows][i], jm[i])
+                ok[i] = np.where(s[i] > 0.0, c_hi <= target[rows][i] + TOLERANCE,
+                                 c_lo >= target[rows][i] - TOLERANCE)
+            i = np.flatnonzero(ok)  # the neighbours, with the mover's own (hardest) brake
+            b_lo, b_hi = brake_envelope(p1[i], v1[i], a1[i], bdec[rows][i], bjerk[rows][i])
+            ok[i] = (b_hi <= room_hi[rows][i]) & (b_lo >= room_lo[rows][i])
+            for o, value in zip(out, (p1, v1, a1, j), strict=True):
+                o[rows[ok]] = value[ok]
+            rows = rows[~ok]
+        lost = np.zeros(m, dtype=bool)
+        lost[rows] = True
+        lost |= self.halting[held]
         if lost.any():  # no step fits: the command's own brake, or the mover's hardest one
             # where gap control braked it beyond what the command's brake can take back
             # without turning round
             u, b = sign[lost] * v[lost], sign[lost] * a[lost]
             hard = (b < -dec[lost]) | (u + b * np.abs(b) / (2.0 * jmax[lost]) < 0.0)
             step = brake_state(p[lost], v[lost], a[lost],
-                               np.where(hard, self.bdec[held][lost], dec[lost]),
-                               np.where(hard, self.bjerk[held][lost], jmax[lost]), dt)
+                               np.where(hard, bdec[lost], dec[lost]),
+                               np.where(hard, bjerk[lost], jmax[lost]), dt)
             for o, value in zip(out, step, strict=True):
                 o[lost] = value
         # float residue of the steps (|v| ~ 1e-17) is rest: snap it, so standstill is exact
@@ -916,20 +935,24 @@ class CaGroup:
         return tuple(out)
 
     def _room(self, slots: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Where each mover may stop, given its neighbours' current brake envelopes."""
-        lo, hi = self._envelope()
-        room_hi = np.full(slots.size, np.inf)
-        room_lo = np.full(slots.size, -np.inf)
-        pred = self.pred[slots]
-        gated = (pred >= 0) & (self.gmode[slots] != GapControlMode.NONE)
-        room_hi[gated] = lo[pred[gated]] + self.offset[slots[gated]] - self.gap[slots[gated]]
-        if self.parameters.gap_control_direction is GapControlDirection.BOTH:
-            succ = self.succ[slots]
-            ok = succ >= 0
-            ok[ok] &= self.gmode[succ[ok]] != GapControlMode.NONE
-            s = succ[ok]
-            room_lo[ok] = hi[s] + self.gap[s] - self.offset[s]
-        return room_hi, room_lo
+        """Where each mover may stop, given its neighbours' current brake envelopes
+        (computed for the whole group once per envelope)."""
+        env = self._envelope()
+        if self._room_of is not env:
+            lo, hi = env
+            n = lo.size
+            room_hi, room_lo = np.full(n, np.inf), np.full(n, -np.inf)
+            gated = (self.pred >= 0) & (self.gmode != GapControlMode.NONE)
+            room_hi[gated] = lo[self.pred[gated]] + self.offset[gated] - self.gap[gated]
+            if self.parameters.gap_control_direction is GapControlDirection.BOTH:
+                behind = (self.succ >= 0)
+                behind[behind] &= self.gmode[self.succ[behind]] != GapControlMode.NONE
+                s = self.succ[behind]
+                room_lo[behind] = hi[s] + self.gap[s] - self.offset[s]
+            self._room_all = (room_hi, room_lo)
+            self._room_of = env
+        room_hi, room_lo = self._room_all
+        return room_hi[slots], room_lo[slots]
 
     def _events(self, now: float) -> None:
         k = self._k
