@@ -1,8 +1,9 @@
 """The CA groups of one run: built after the axes, fed by the timeline, their gaps watched.
 
-The run builds each group of ``ca_groups`` after the axes, adds the axes in the listed order
-(IdentInGroup 1..n) and, with ``enable``, powers them (a CA mover needs MC_Power) and
-enables the group before the first cycle. CA entries call the group's methods. As an
+The run builds each group of ``ca_groups`` after the axes, gives it its parts, tracks,
+geometry and templates (scenario/tracks.py), adds the axes in the listed order (IdentInGroup
+1..n) and, with ``enable``, powers them (a CA mover needs MC_Power) and enables the group
+before the first cycle. CA entries call the group's methods. As an
 observer, ``watch`` takes every group's gaps once per cycle (one ``gaps()`` call per group)
 and keeps each mover's smallest gap, so the summary's minimum covers every cycle, recorded or
 not.
@@ -18,9 +19,11 @@ import numpy as np
 
 from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command, CommandStatus
+from openmotion.core.errors import ConfigError
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.programs import cycle_of
 from openmotion.scenario.schema import Condition
+from openmotion.scenario.tracks import configure
 from openmotion.scenario.transport import (
     CaEntry,
     CaGroupSpec,
@@ -70,6 +73,10 @@ class CaGroups:
         self.group_of: dict[str, CaGroup] = {}  #: axis name -> its group
         for spec in specs:
             group = CaGroup(rt, spec.name, spec.parameters.build())
+            problems = list(configure(spec, group))  # parts, tracks, geometry, templates
+            if problems:  # the scenario's validation tried the same on a scratch group
+                raise ConfigError(f"ca_groups {spec.name}: " + "; ".join(
+                    f"{'.'.join(map(str, loc))}: {message}" for loc, message in problems))
             for number, name in enumerate(spec.axes, start=1):
                 axis = rt.axes[name]
                 if spec.enable:
@@ -106,7 +113,10 @@ class CaGroups:
             command = group.gear_in_pos(rt.axes[entry.master], rt.axes[entry.axis],
                                         **entry.arguments())
         else:
-            command = getattr(group, entry.method)(rt.axes[entry.axis], **entry.arguments())
+            owner = group
+            for name in filter(None, entry.owner.split(".")):  # group.tracks, .tracks.geo
+                owner = getattr(owner, name)
+            command = getattr(owner, entry.method)(rt.axes[entry.axis], **entry.arguments())
         self.commands[command] = group
         return command
 

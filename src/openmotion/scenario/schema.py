@@ -803,6 +803,7 @@ from openmotion.scenario.cyclic import (  # noqa: E402 - needs Entry and the typ
 
 # CA groups (TF5410): the ca_groups list and the entries on movers and groups.
 from openmotion.scenario.transport import (  # noqa: E402 - needs Entry and the types above
+    ActivateTrack,
     CaGroupSpec,
     GearInPosCa,
     GroupDisable,
@@ -813,6 +814,7 @@ from openmotion.scenario.transport import (  # noqa: E402 - needs Entry and the 
     HaltCa,
     MoveAbsoluteCa,
     MoveRelativeCa,
+    RegisterCompensation,
     SetGap,
 )
 
@@ -825,9 +827,9 @@ COMMANDS: dict[str, type[Entry]] = {
                   MoveSuperimposed, AbortSuperposition, Jog, EnableExternalSetpoints,
                   DisableExternalSetpoints, OverrideFilter, PowerStepper, InjectStall,
                   ReleaseStall, SetReferenceFlag, ReadAxisComponents, MoveAbsoluteCa,
-                  MoveRelativeCa, GearInPosCa, HaltCa, SetGap, GroupHalt, GroupStop,
-                  GroupEnable,
-                  GroupDisable, GroupReset)  # type: ignore[misc]
+                  MoveRelativeCa, GearInPosCa, HaltCa, ActivateTrack, RegisterCompensation,
+                  SetGap, GroupHalt, GroupStop, GroupEnable, GroupDisable,
+                  GroupReset)  # type: ignore[misc]
 }
 TimelineEntry = Annotated[
     Annotated[Power, Tag("power")] | Annotated[PowerOff, Tag("power_off")]
@@ -856,6 +858,8 @@ TimelineEntry = Annotated[
     | Annotated[MoveAbsoluteCa, Tag("move_absolute_ca")]
     | Annotated[MoveRelativeCa, Tag("move_relative_ca")] | Annotated[HaltCa, Tag("halt_ca")]
     | Annotated[GearInPosCa, Tag("gear_in_pos_ca")]
+    | Annotated[ActivateTrack, Tag("activate_track")]
+    | Annotated[RegisterCompensation, Tag("register_compensation")]
     | Annotated[SetGap, Tag("set_gap")] | Annotated[GroupHalt, Tag("group_halt")]
     | Annotated[GroupStop, Tag("group_stop")] | Annotated[GroupEnable, Tag("group_enable")]
     | Annotated[GroupDisable, Tag("group_disable")]

@@ -73,6 +73,8 @@ class TemplateSpec(_Model):
 def problems(spec: CaGroupSpec) -> list[tuple[Loc, str]]:
     """What is wrong with the tracks and geo-compensation of ``spec``, as (field path,
     message): found by configuring a scratch group with the spec's parameters."""
+    if not (spec.parts or spec.tracks or spec.geometry or spec.templates):
+        return []
     return list(configure(spec, CaGroup(Runtime(), spec.name, spec.parameters.build())))
 
 
@@ -83,7 +85,11 @@ def configure(spec: CaGroupSpec, group: CaGroup) -> Iterator[tuple[Loc, str]]:
     yield from _tracks(spec.tracks, spec.parts, group)
     if spec.geometry is not None:
         yield from _geometry(spec.geometry, group)
-    yield from _templates(spec.templates, group)
+    if spec.templates and spec.geometry is None:
+        yield ("templates",), "mover templates need the group's geometry (geometry: " \
+                              "curve_radius, rail_offset; both have defaults)"
+    elif group.tracks.geo.geometry is not None:  # else the geometry's problem says it
+        yield from _templates(spec.templates, group)
 
 
 def _parts(parts: list[PartSpec], group: CaGroup) -> Iterator[tuple[Loc, str]]:
@@ -138,9 +144,6 @@ def _templates(templates: list[TemplateSpec], group: CaGroup) -> Iterator[tuple[
     seen: set[int] = set()
     for index, template in enumerate(templates):
         loc: Loc = ("templates", index)
-        if geo.geometry is None:
-            yield loc, "a mover template needs the group's geometry (a valid geometry field)"
-            continue
         found = _clash(loc, template.id, seen, "template")
         yield from found or _added(loc, geo.add_template,
                                    MoverTemplate(template.id, template.y_shift))

@@ -3,9 +3,10 @@
 A CA group (transport/group.py) owns the setpoints of its movers, so their motion commands
 go through the group: ``move_absolute_ca``, ``move_relative_ca`` and ``halt_ca`` name the
 mover in ``axis`` (the run finds its group), ``set_gap`` changes the gap of a running move
-with ``continuous_update``, and the group commands (``group_halt``, ``group_stop``,
-``group_enable``, ``group_disable``, ``group_reset``) name the group in ``group`` instead of
-an axis.
+with ``continuous_update``, ``activate_track`` and ``register_compensation`` pick the frame
+of a mover's later moves (the group's parts, tracks and templates: scenario/tracks.py), and
+the group commands (``group_halt``, ``group_stop``, ``group_enable``, ``group_disable``,
+``group_reset``) name the group in ``group`` instead of an axis.
 
 schema.py puts these models into its ``COMMANDS``, ``TimelineEntry`` and ``Scenario``; they
 share its value types, conditions and name checks.
@@ -22,9 +23,11 @@ from pydantic import (
     StrictBool,
     StrictInt,
     StrictStr,
+    ValidationError,
     create_model,
     model_validator,
 )
+from pydantic_core import InitErrorDetails, PydanticCustomError
 
 from openmotion.core.enums import BufferMode
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE
@@ -46,6 +49,7 @@ from openmotion.scenario.schema import (
     _parameter_type,
     _unique,
 )
+from openmotion.scenario.tracks import GeometrySpec, PartSpec, TemplateSpec, TrackSpec, problems
 from openmotion.transport.enums import GapControlMode, ModuloDirection, SyncStrategy
 from openmotion.transport.parameters import CaGroupParameters
 
@@ -53,6 +57,8 @@ GapControlModeName = _enum_by_name(GapControlMode)
 ModuloDirectionName = _enum_by_name(ModuloDirection)
 SyncStrategyName = _enum_by_name(SyncStrategy)
 CA_MOVES = ("move_absolute_ca", "move_relative_ca")  #: the entries ``set_gap`` can change
+#: an OTCID input of a block: a UDINT; 0 = none (the absolute frame, the motor path)
+OidInput = Annotated[StrictInt, Field(ge=0, le=0xFFFFFFFF)]
 
 # -- ca_groups -----------------------------------------------------------------------------
 
@@ -119,14 +125,35 @@ class CaGroupSpec(_Model):
     enable: StrictBool = True
     """Power the members and enable the group at t = 0; false: the timeline does it
     (power entries, then group_enable)."""
+    parts: list[PartSpec] = []
+    """Parts of the rail (group.tracks.add_part), in this order."""
+    tracks: list[TrackSpec] = []
+    """Tracks of adjacent parts (group.tracks.add_track); activate_track names one."""
+    geometry: GeometrySpec | None = None
+    """The starter-kit geometry (group.tracks.geo.set_geometry); templates need it."""
+    templates: list[TemplateSpec] = []
+    """Mover templates (group.tracks.geo.add_template); register_compensation names one."""
+
+    @model_validator(mode="after")
+    def _tracks_build(self) -> CaGroupSpec:
+        """Parts, tracks, geometry and templates go onto a scratch group as the run will put
+        them onto the real one; each failure names its field."""
+        found = problems(self)
+        if found:
+            raise ValidationError.from_exception_data(type(self).__name__, [
+                InitErrorDetails(type=PydanticCustomError("value_error", message), loc=loc,
+                                 input=None) for loc, message in found])
+        return self
 
 
 # -- timeline entries on a mover -----------------------------------------------------------
 
 
 class CaEntry(Entry):
-    """A CA command for one mover: the run calls the method of the mover's group."""
+    """A CA command for one mover: the run calls the method of the mover's group (of
+    ``group.tracks`` or ``group.tracks.geo`` when ``owner`` says so)."""
 
+    owner: ClassVar[str] = ""  #: the attribute path from the group to ``method``'s object
     axis: Annotated[StrictStr, AfterValidator(_check_mover)]
     """Name of the mover (an axis of one of the ca_groups)."""
 
@@ -150,7 +177,16 @@ class _CaMove(CaEntry):
     """A ``set_gap`` entry may change the gap while the command runs."""
 
 
-class MoveAbsoluteCa(_CaMove):
+class _Referenced(_CaMove):
+    position_reference_system: OidInput = 0
+    """ST_MoveAbsoluteCAOptions: 0 = the motor path; a mover template the mover registered
+    (register_compensation): the position or distance is on that template's TCP path."""
+    dynamics_reference_system: OidInput = 0
+    """0 = the motor path; the registered template: the TCP keeps within the dynamics (in a
+    move that meets a curve every limit is scaled by R / (R + y_shift), D-072)."""
+
+
+class MoveAbsoluteCa(_Referenced):
     """MC_MoveAbsoluteCA (TF5410 §9.1.1.1.1): Done only at the target."""
 
     method = "move_absolute"
@@ -163,7 +199,7 @@ class MoveAbsoluteCa(_CaMove):
     """Whole extra laps of a modulo move."""
 
 
-class MoveRelativeCa(_CaMove):
+class MoveRelativeCa(_Referenced):
     """MC_MoveRelativeCA (TF5410 §9.1.1.1.2): Done once the distance is travelled."""
 
     method = "move_relative"
@@ -214,6 +250,35 @@ class HaltCa(CaEntry):
     """Minimum gap to the predecessor [mm]."""
     gap_control_mode: GapControlModeName = GapControlMode.GROUP_DEFAULT
     """group_default, standard, fast or none."""
+
+
+class ActivateTrack(CaEntry):
+    """MC_ActivateTrack (TF5410 §9.1.1.1.6): ``track`` becomes the frame of the mover's later
+    move_absolute_ca positions. Done at once; UNKNOWN_TRACK, NOT_ON_TRACK as the block."""
+
+    owner = "tracks"
+    method = "activate_track"
+    command: Literal["activate_track"]
+    track: OidInput
+    """The id of a track of the mover's group; 0 = the absolute frame again."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"track_id": self.track}
+
+
+class RegisterCompensation(CaEntry):
+    """MC_RegisterCompensation (TF5410 §9.2.1.1): link the mover to a mover template, so that
+    its later moves may name it as position or dynamics reference system. Done at once;
+    UNKNOWN_TEMPLATE as the block."""
+
+    owner = "tracks.geo"
+    method = "register_compensation"
+    command: Literal["register_compensation"]
+    template: OidInput
+    """The id of a template of the mover's group."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"template_id": self.template}
 
 
 # -- entries without an axis ---------------------------------------------------------------
@@ -343,6 +408,6 @@ class GroupReset(GroupEntry):
     command: Literal["group_reset"]
 
 
-CA_ENTRIES: tuple[type, ...] = (MoveAbsoluteCa, MoveRelativeCa, GearInPosCa, HaltCa, SetGap,
-                                GroupHalt,
+CA_ENTRIES: tuple[type, ...] = (MoveAbsoluteCa, MoveRelativeCa, GearInPosCa, HaltCa,
+                                ActivateTrack, RegisterCompensation, SetGap, GroupHalt,
                                 GroupStop, GroupEnable, GroupDisable, GroupReset)
