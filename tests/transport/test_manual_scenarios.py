@@ -237,3 +237,15 @@ def test_t11_a_held_mover_with_softer_command_dynamics_never_turns_back() -> Non
         lowest = min(lowest, axes[1].set_velocity)
     assert lowest >= 0.0
     assert axes[1].set_position == pytest.approx(1200.0, abs=1e-9) and command.busy
+
+
+def test_t1_cyclic_group_interface_after_enable() -> None:
+    """§8.1.1 / §11.1: after MC_GroupEnable a PLC reads Standby and ten axes."""
+    rt, group, axes = group_of([150.0 * i for i in range(10)])
+    status = group.nc_to_plc
+    assert status.group_state is GroupState.STANDBY and status.group_axes_count == 10
+    assert status.is_enable_requested and status.group_error_id == 0
+    assert int(status.group_type) == 1  # mcGroupTypeCA
+    group.disable()
+    assert group.nc_to_plc.group_state is GroupState.DISABLED
+    assert not group.nc_to_plc.is_enable_requested

@@ -31,7 +31,12 @@ from openmotion.transport.enums import (
 )
 from openmotion.transport.gear_blocks import MC_GearInPosCA, ST_GearInPosCAOptions
 from openmotion.transport.geo import GeoCompensation, MoverTemplate, StarterKitGeometry
-from openmotion.transport.group import UDINT_TO_IDENTINGROUP, CaGroup, IdentInGroup
+from openmotion.transport.group import (
+    UDINT_TO_IDENTINGROUP,
+    CaGroup,
+    GroupInterface,
+    IdentInGroup,
+)
 from openmotion.transport.parameters import CaGroupParameters
 from openmotion.transport.track_blocks import (
     MC_ActivateTrack,
@@ -80,6 +85,7 @@ __all__ = [
     "GearInPosDefaultDynamicsAfterSync",
     "GroupState",
     "GroupType",
+    "GroupInterface",
     "IdentInGroup",
     "ModuloDirection",
     "SyncMode",

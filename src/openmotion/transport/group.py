@@ -33,6 +33,7 @@ from openmotion.transport.enums import (
     GapControlMode,
     GearInPosDefaultDynamicsAfterSync,
     GroupState,
+    GroupType,
     ModuloDirection,
     SyncStrategy,
 )
@@ -64,6 +65,18 @@ def UDINT_TO_IDENTINGROUP(value: int) -> IdentInGroup:  # noqa: N802 - the manua
     if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 0xFFFFFFFF:
         raise ValueError(f"UDINT_TO_IDENTINGROUP: a UDINT is needed, got {value!r}")
     return IdentInGroup(value)
+
+
+@dataclass(frozen=True)
+class GroupInterface:
+    """NcToPlc of AXES_GROUP_REF (§11.1): what a PLC reads every cycle."""
+
+    group_oid: int
+    group_type: GroupType
+    group_state: GroupState  #: GroupStatus.State
+    is_enable_requested: bool  #: GroupStatus.Flags.IsEnableRequested
+    group_error_id: int
+    group_axes_count: int
 
 
 @dataclass
@@ -111,6 +124,7 @@ class CaGroup:
         except (TypeError, ValueError) as exc:
             raise ConfigError(f"CA group {name!r}: {exc}") from None
         self.name = name
+        self.oid = 0x05030000 + len(runtime._systems) + 1  #: TcCOM-like object id (ours)
         self.parameters = parameters
         self._rt = runtime
         self._k = runtime._kernel
@@ -168,6 +182,13 @@ class CaGroup:
         has = self.pred >= 0
         gaps[has] = p[self.pred[has]] + self.offset[has] - p[has]
         return gaps
+
+    @property
+    def nc_to_plc(self) -> GroupInterface:
+        """The cyclic group interface NcToPlc (§11.1), as a PLC reads it."""
+        enabled = self.state not in (GroupState.DISABLED,) and not self.error_disabled
+        return GroupInterface(self.oid, GroupType.CA, self.state, enabled, int(self.error_id),
+                              len(self.movers))
 
     def predecessor(self, axis: Axis) -> Axis | None:
         slot = self.mover_of(axis).slot
