@@ -13,7 +13,12 @@ from typing import Any
 import pytest
 
 import openmotion as om
-from openmotion.plcopen import MC_MoveAbsolute, MC_MoveVelocity, MC_ReadAxisError
+from openmotion.plcopen import (
+    MC_MoveAbsolute,
+    MC_MoveAbsoluteOrRestart,
+    MC_MoveVelocity,
+    MC_ReadAxisError,
+)
 
 ErrorId = om.ErrorId
 S = om.AxisState
@@ -46,12 +51,13 @@ class Run:
 
 
 def move_with(range_on: bool, target_on: bool, max_cycles: int = 5000,
-              **overrides: Any) -> tuple[Run, om.Axis, MC_MoveAbsolute]:
+              block: type = MC_MoveAbsolute, **overrides: Any
+              ) -> tuple[Run, om.Axis, MC_MoveAbsolute]:
     rt = om.Runtime()
     axis = rt.add_axis("x", drive=LAG, enable_position_range_monitoring=range_on,
                        enable_target_position_monitoring=target_on, **overrides)
     axis.power()
-    move = MC_MoveAbsolute(axis)
+    move = block(axis)
     run = Run()
     for _ in range(max_cycles):
         move(execute=True, position=TARGET, velocity=200.0)
@@ -122,9 +128,11 @@ def test_target_monitor_only_uses_the_at_target_rule() -> None:
 
 @pytest.mark.parametrize(("range_on", "target_on"),
                          [(True, True), (True, False), (False, False), (False, True)])
-def test_done_never_while_the_axis_has_a_job(range_on: bool, target_on: bool) -> None:
+@pytest.mark.parametrize("block", [MC_MoveAbsolute, MC_MoveAbsoluteOrRestart])
+def test_done_never_while_the_axis_has_a_job(range_on: bool, target_on: bool,
+                                             block: type) -> None:
     """Rule 5, §7.1/§3.6: Done is never TRUE while AxisHasJob is TRUE."""
-    run, axis, move = move_with(range_on, target_on)
+    run, axis, move = move_with(range_on, target_on, block=block)
     assert move.done
     assert not any(s.done and s.has_job for s in run.samples)
     assert not any(s.done and s.busy for s in run.samples)
