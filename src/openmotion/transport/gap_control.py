@@ -52,16 +52,26 @@ class Pairs:
 def filter_steps(cur: tuple[np.ndarray, np.ndarray, np.ndarray],
                  envelope: tuple[np.ndarray, np.ndarray], nxt: list[np.ndarray],
                  cycle_time: float, dec: np.ndarray, jerk: np.ndarray,
-                 pairs: Pairs) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                 pairs: Pairs, known: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Replace unsafe proposals in ``nxt`` ([p, v, a, j], modified) by the brake step.
 
     ``cur`` is the state of the last cycle with its ``envelope`` (lo, hi); the brake step
     (one cycle of each mover's brake from there) is computed only for the movers that brake.
-    Returns the mask of movers that brake and the envelope of ``nxt``.
+    Returns the mask of movers that brake and the envelope of ``nxt``. ``known`` = (mask,
+    lo, hi) gives the envelopes of proposals the caller computed already.
     """
     n = cur[0].shape[0]
     braking = np.zeros(n, dtype=bool)
-    lo, hi = brake_envelope(nxt[0], nxt[1], nxt[2], dec, jerk)
+    if known is None:
+        lo, hi = brake_envelope(nxt[0], nxt[1], nxt[2], dec, jerk)
+    else:
+        mask, lo, hi = known
+        lo, hi = lo.copy(), hi.copy()
+        todo = np.flatnonzero(~mask)
+        if todo.size:
+            lo[todo], hi[todo] = brake_envelope(nxt[0][todo], nxt[1][todo], nxt[2][todo],
+                                                dec[todo], jerk[todo])
     if pairs.succ.size == 0:
         return braking, lo, hi
     lo_cur, hi_cur = envelope

@@ -810,21 +810,24 @@ class CaGroup:
         k, rows, dt = self._k, self.rows, self._rt.cycle_time
         nxt = [k.set_p[rows].copy(), k.set_v[rows].copy(), k.set_a[rows].copy(),
                k.set_j[rows].copy()]
+        n = rows.size
+        known = (np.zeros(n, dtype=bool), np.empty(n), np.empty(n))  # proposal envelopes
         held = np.flatnonzero(self.mode == HELD)
         if held.size:
-            held = self._waiting(held, nxt)
+            held = self._waiting(held, nxt, known)
         if held.size:
-            for field_, value in zip(nxt, self._track(held, dt), strict=True):
+            for field_, value in zip(nxt, self._track(held, dt, known), strict=True):
                 field_[held] = value
         idle = self.mode == IDLE
         if idle.any():  # no command: the mover rests where it is
             nxt[0][idle], nxt[1][idle], nxt[2][idle], nxt[3][idle] = self.p[idle], 0.0, 0.0, 0.0
+            known[0][idle], known[1][idle], known[2][idle] = True, self.p[idle], self.p[idle]
         geared = np.flatnonzero(self.mode == GEAR)
         if geared.size:
             self._gear_steps(geared, now, nxt)
         cur = (self.p, self.v, self.a)
         braking, lo, hi = filter_steps(cur, self._envelope(), nxt, dt, self.bdec,
-                                       self.bjerk, self._pairs())
+                                       self.bjerk, self._pairs(), known)
         k.set_p[rows], k.set_v[rows], k.set_a[rows], k.set_j[rows] = nxt
         self.p, self.v, self.a = nxt[0], nxt[1], nxt[2]
         self._env = (lo, hi)
@@ -868,7 +871,8 @@ class CaGroup:
             for field_, value in zip(nxt, proposal, strict=True):
                 field_[slot] = value
 
-    def _waiting(self, held: np.ndarray, nxt: list[np.ndarray]) -> np.ndarray:
+    def _waiting(self, held: np.ndarray, nxt: list[np.ndarray],
+                 known: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
         """Held movers standing with no room at all towards their target stay as they are
         (a queue behind a mover that stands or waits itself); returns the others."""
         still = (self.v[held] == 0.0) & (self.a[held] == 0.0) & ~self.halting[held]
@@ -880,6 +884,7 @@ class CaGroup:
         stay = still & (room <= TOLERANCE)
         slots = held[stay]
         nxt[0][slots], nxt[1][slots], nxt[2][slots], nxt[3][slots] = self.p[slots], 0.0, 0.0, 0.0
+        known[0][slots], known[1][slots], known[2][slots] = True, self.p[slots], self.p[slots]
         return held[~stay]
 
     def _envelope(self) -> tuple[np.ndarray, np.ndarray]:
@@ -888,7 +893,8 @@ class CaGroup:
             self._env = brake_envelope(self.p, self.v, self.a, self.bdec, self.bjerk)
         return self._env
 
-    def _track(self, held: np.ndarray, dt: float) -> tuple[np.ndarray, ...]:
+    def _track(self, held: np.ndarray, dt: float,
+               known: tuple[np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, ...]:
         """The next step of held movers: the most progressive constant-jerk step (jerk +J,
         0 or -J) that stays within the command's limits, does not pass the target and keeps
         clear of the neighbours as they are now; else a brake. Held movers never turn back.
@@ -933,7 +939,10 @@ class CaGroup:
                                  c_lo >= target[rows][i] - TOLERANCE)
             i = np.flatnonzero(ok)  # the neighbours, with the mover's own (hardest) brake
             b_lo, b_hi = brake_envelope(p1[i], v1[i], a1[i], bdec[rows][i], bjerk[rows][i])
-            ok[i] = (b_hi <= room_hi[rows][i]) & (b_lo >= room_lo[rows][i])
+            fits = (b_hi <= room_hi[rows][i]) & (b_lo >= room_lo[rows][i])
+            ok[i] = fits
+            chosen = held[rows[i[fits]]]  # their envelope is the gap filter's too
+            known[0][chosen], known[1][chosen], known[2][chosen] = True, b_lo[fits], b_hi[fits]
             for o, value in zip(out, (p1, v1, a1, j), strict=True):
                 o[rows[ok]] = value[ok]
             rows = rows[~ok]
@@ -953,6 +962,7 @@ class CaGroup:
         # float residue of the steps (|v| ~ 1e-17) is rest: snap it, so standstill is exact
         still = (np.abs(out[1]) <= 1e-9 * vmax) & (np.abs(out[2]) <= 1e-9 * acc)
         out[1][still], out[2][still], out[3][still] = 0.0, 0.0, 0.0
+        known[0][held[still]] = False  # snapped: the filter computes their envelope
         return tuple(out)
 
     def _room(self, slots: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
