@@ -13,9 +13,7 @@ the largest position), so a cycle is a few numpy passes over the group.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -27,9 +25,8 @@ from openmotion.core.modulo import mc3_modulo_target
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE, MC_INVALID, InputValue
 from openmotion.trajectory.plan import Limits, plan_position, plan_stop
 from openmotion.trajectory.segments import KinematicState
-from openmotion.transport.braking import brake_envelope, brake_state
+from openmotion.transport.cycle import GroupCycle
 from openmotion.transport.enums import (
-    GapControlDirection,
     GapControlMode,
     GearInPosDefaultDynamicsAfterSync,
     GroupState,
@@ -37,78 +34,35 @@ from openmotion.transport.enums import (
     ModuloDirection,
     SyncStrategy,
 )
-from openmotion.transport.gap_control import TOLERANCE, Pairs, filter_steps
 from openmotion.transport.gear import GearSync
 from openmotion.transport.inputs import ca_gap, ca_limits, ca_value, halt_limits
+from openmotion.transport.movers import (
+    FOLLOW,
+    GEAR,
+    HALT,
+    IDLE,
+    MOVING_STATES,
+    POSITION,
+    UDINT_TO_IDENTINGROUP,
+    CaJob,
+    GroupInterface,
+    IdentInGroup,
+    Mover,
+    enum_input,
+    hold,
+    position_input,
+)
 from openmotion.transport.parameters import PARAMETER_FIELDS, CaGroupParameters
 from openmotion.transport.tracks import TrackTable
+
+__all__ = ["UDINT_TO_IDENTINGROUP", "CaGroup", "CaJob", "GroupInterface", "IdentInGroup",
+           "Mover"]
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
     from openmotion.runtime.runtime import Runtime
 
-IDLE, FOLLOW, HELD, GEAR = 0, 1, 2, 3  #: mover modes: no command, on its profile, held by
-#: CA, coupled to a master (MC_GearInPosCA)
-_POSITION, _HALT = "position", "halt"
-_MOVING_STATES = (GroupState.STANDBY, GroupState.MOVING, GroupState.STOPPING)
-
-
-@dataclass(frozen=True)
-class IdentInGroup:
-    """IDENT_IN_GROUP_REF of a CA member: made by ``UDINT_TO_IDENTINGROUP(n)`` (§9.3.1.1.13)."""
-
-    value: int
-
-
-def UDINT_TO_IDENTINGROUP(value: int) -> IdentInGroup:  # noqa: N802 - the manual's name
-    """The identity an axis has in a CA group; it does not decide the CA order (§8.1.1)."""
-    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 0xFFFFFFFF:
-        raise ValueError(f"UDINT_TO_IDENTINGROUP: a UDINT is needed, got {value!r}")
-    return IdentInGroup(value)
-
-
-@dataclass(frozen=True)
-class GroupInterface:
-    """NcToPlc of AXES_GROUP_REF (§11.1): what a PLC reads every cycle."""
-
-    group_oid: int
-    group_type: GroupType
-    group_state: GroupState  #: GroupStatus.State
-    is_enable_requested: bool  #: GroupStatus.Flags.IsEnableRequested
-    group_error_id: int
-    group_axes_count: int
-
-
-@dataclass
-class CaJob:
-    """One CA motion command of a mover (active or buffered)."""
-
-    kind: str  #: "position", "halt", "standby" or "gear"
-    command: Command
-    limits: Limits
-    gap: float
-    gap_mode: GapControlMode  #: resolved: STANDARD, FAST or NONE
-    buffer_mode: BufferMode = BufferMode.ABORTING
-    target_of: Callable[[float], float] | None = None  #: start position -> absolute target
-    target: float = math.nan
-    continuous_update: bool = False
-    extra: Any = None  #: the GearSync of a "gear" job
-
-
-@dataclass
-class Mover:
-    """A member of the group: its axis, identity and commands."""
-
-    axis: Axis
-    ident: IdentInGroup
-    added: int  #: insertion serial (ties in the CA order: the last added is first)
-    job: CaJob | None = None
-    queue: list[CaJob] = field(default_factory=list)
-    gap: float = 0.0  #: the last valid gap (§9.1.2.5: kept after a None command)
-    slot: int = -1  #: index in the group's arrays (CA order)
-
-
-class CaGroup:
+class CaGroup(GroupCycle):
     """A CA group on a rail; create with ``CaGroup(runtime, "ca", rail_length=...)``."""
 
     def __init__(self, runtime: Runtime, name: str = "ca",
@@ -331,7 +285,7 @@ class CaGroup:
         falling edge of Execute).
         """
         command = self._command("group_stop")
-        if self.state not in _MOVING_STATES and self.state is not GroupState.NOT_READY:
+        if self.state not in MOVING_STATES and self.state is not GroupState.NOT_READY:
             return self._reject(command, *self._refusal())
         for mover in self.movers:
             inner = self._command("stop")
@@ -361,12 +315,12 @@ class CaGroup:
         command = self._command("move_absolute_ca")
 
         def build(mover: Mover) -> CaJob:
-            direction_ = _enum(ModuloDirection, direction, ErrorId.INVALID_DIRECTION,
+            direction_ = enum_input(ModuloDirection, direction, ErrorId.INVALID_DIRECTION,
                                "direction")
             if direction_ is not ModuloDirection.NON_MODULO and not self.parameters.rail_is_ring:
                 raise CommandRejected(ErrorId.MODULO_ON_OPEN_RAIL,
                                       "modulo directions need a rail that is a ring")
-            target = _position("position", position)
+            target = position_input("position", position)
             turns = additional_turns
             if isinstance(turns, bool) or not isinstance(turns, int) or turns < 0:
                 raise CommandRejected(ErrorId.INVALID_ADDITIONAL_TURNS,
@@ -378,7 +332,7 @@ class CaGroup:
             target = self.tracks.to_absolute(mover.axis, target, direction_,
                                              position_reference_system)
             mc3_modulo_target(0.0, target, int(direction_), turns, length, window)  # validate
-            job = self._job(mover, _POSITION, command, velocity, acceleration, deceleration,
+            job = self._job(mover, POSITION, command, velocity, acceleration, deceleration,
                             jerk, gap, buffer_mode, gap_control_mode, continuous_update)
             job.target_of = lambda start: mc3_modulo_target(start, target, int(direction_),
                                                             turns, length, window)
@@ -400,8 +354,8 @@ class CaGroup:
         command = self._command("move_relative_ca")
 
         def build(mover: Mover) -> CaJob:
-            step = _position("distance", distance)
-            job = self._job(mover, _POSITION, command, velocity, acceleration, deceleration,
+            step = position_input("distance", distance)
+            job = self._job(mover, POSITION, command, velocity, acceleration, deceleration,
                             jerk, gap, buffer_mode, gap_control_mode, continuous_update)
             geo = self.tracks.geo
             template = geo.reference(mover.axis, position_reference_system)
@@ -465,12 +419,13 @@ class CaGroup:
                     not 1 <= denominator <= 0xFFFF:
                 raise CommandRejected(ErrorId.INVALID_GEAR_RATIO,
                                       f"ratio_denominator: a UINT > 0, got {denominator!r}")
-            numerator = _position("ratio_numerator", ratio_numerator)
-            strategy = _enum(SyncStrategy, sync_strategy, ErrorId.INVALID_MODE, "sync_strategy")
-            msp = _position("master_sync_position", master_sync_position)
-            ssp = _position("slave_sync_position", slave_sync_position)
+            numerator = position_input("ratio_numerator", ratio_numerator)
+            strategy = enum_input(SyncStrategy, sync_strategy, ErrorId.INVALID_MODE,
+                                  "sync_strategy")
+            msp = position_input("master_sync_position", master_sync_position)
+            ssp = position_input("slave_sync_position", slave_sync_position)
             start = None if master_start_distance is MC_IGNORE else \
-                _position("master_start_distance", master_start_distance)
+                position_input("master_start_distance", master_start_distance)
             job = self._job(mover, "gear", command, velocity, acceleration, deceleration, jerk,
                             gap, buffer_mode, gap_control_mode, continuous_update)
             params = mover.axis.parameters
@@ -560,7 +515,7 @@ class CaGroup:
              acceleration: InputValue, deceleration: InputValue, jerk: InputValue,
              gap: InputValue, buffer_mode: BufferMode, gap_control_mode: GapControlMode,
              continuous_update: bool) -> CaJob:
-        mode = _enum(BufferMode, buffer_mode, ErrorId.INVALID_BUFFER_MODE, "buffer_mode")
+        mode = enum_input(BufferMode, buffer_mode, ErrorId.INVALID_BUFFER_MODE, "buffer_mode")
         if mode not in (BufferMode.ABORTING, BufferMode.BUFFERED):
             raise CommandRejected(ErrorId.INVALID_BUFFER_MODE,
                                   f"the CA blocks take Aborting or Buffered, not {mode.name}")
@@ -571,7 +526,7 @@ class CaGroup:
                      continuous_update=bool(continuous_update))
 
     def _gap_mode(self, value: GapControlMode) -> GapControlMode:
-        mode = _enum(GapControlMode, value, ErrorId.INVALID_MODE, "gap_control_mode")
+        mode = enum_input(GapControlMode, value, ErrorId.INVALID_MODE, "gap_control_mode")
         return self.parameters.default_gap_control_mode if mode is GapControlMode.GROUP_DEFAULT \
             else mode
 
@@ -593,7 +548,7 @@ class CaGroup:
                     jerk: InputValue, gap: InputValue, gap_control_mode: GapControlMode) -> None:
         try:
             limits = halt_limits(mover.axis.parameters, command.warnings, deceleration, jerk)
-            job = CaJob(_HALT, command, limits, ca_gap(gap, self.parameters.default_gap),
+            job = CaJob(HALT, command, limits, ca_gap(gap, self.parameters.default_gap),
                         self._gap_mode(gap_control_mode))
         except CommandRejected as rejected:
             self._reject(command, rejected.error_id, rejected.message)
@@ -607,7 +562,7 @@ class CaGroup:
         try:
             if job.kind == "gear":
                 profile = None
-            elif job.kind == _HALT:
+            elif job.kind == HALT:
                 profile = plan_stop(start, job.limits.deceleration, job.limits.jerk)
                 job.target = profile.end.position
             else:
@@ -643,7 +598,7 @@ class CaGroup:
         lim = job.limits
         self.target[slot] = job.target
         self.lim[:, slot] = (lim.velocity, lim.acceleration, lim.deceleration, lim.jerk)
-        self.halting[slot] = job.kind == _HALT
+        self.halting[slot] = job.kind == HALT
         self._pairs_dirty = True
         self._room_of = None
 
@@ -681,7 +636,7 @@ class CaGroup:
         self._abort(mover, "removed from the group")
         mover.axis.group = None
         row = mover.axis.row
-        self._k.segments.install(row, _hold(float(self._k.set_p[row])), self._k.sample_time)
+        self._k.segments.install(row, hold(float(self._k.set_p[row])), self._k.sample_time)
         self.movers.remove(mover)
         self._reorder()
         if not self.movers and self.state is not GroupState.DISABLED:
@@ -693,7 +648,7 @@ class CaGroup:
             row = mover.axis.row
             k = self._k
             k.set_v[row] = k.set_a[row] = k.set_j[row] = 0.0
-            k.segments.install(row, _hold(float(k.set_p[row])), k.sample_time)
+            k.segments.install(row, hold(float(k.set_p[row])), k.sample_time)
             if mover.axis.state is AxisState.DISCRETE_MOTION:
                 mover.axis.state = AxisState.STANDSTILL
         for command in (self._stop, self._halt):
@@ -786,416 +741,3 @@ class CaGroup:
             self._sync_states()
             self.state = GroupState.MOVING if any(m.job for m in self.movers) \
                 else GroupState.STANDBY
-
-    # -- the cycle ------------------------------------------------------------------------------
-
-    def _pairs(self) -> Pairs:
-        if self._pairs_dirty:
-            succ = np.flatnonzero((self.pred >= 0) & (self.gmode != GapControlMode.NONE))
-            both = self.parameters.gap_control_direction is GapControlDirection.BOTH
-            self._pair_cache = Pairs(succ, self.pred[succ], self.offset[succ], self.gap[succ],
-                                     self.gmode[succ] == GapControlMode.FAST, both)
-            self._pairs_dirty = False
-        return self._pair_cache
-
-    def _advance(self, now: float) -> None:
-        """Phase 2, after the profiles: gap control and the movers' command events."""
-        if self._reset is not None:
-            self._end_reset()
-        if not self.movers:
-            return
-        self._watch_members()
-        if self.state not in _MOVING_STATES:
-            return
-        k, rows, dt = self._k, self.rows, self._rt.cycle_time
-        nxt = [k.set_p[rows].copy(), k.set_v[rows].copy(), k.set_a[rows].copy(),
-               k.set_j[rows].copy()]
-        n = rows.size
-        known = (np.zeros(n, dtype=bool), np.empty(n), np.empty(n))  # proposal envelopes
-        held = np.flatnonzero(self.mode == HELD)
-        if held.size:
-            held = self._waiting(held, nxt, known)
-        if held.size:
-            for field_, value in zip(nxt, self._track(held, dt, known), strict=True):
-                field_[held] = value
-        idle = self.mode == IDLE
-        if idle.any():  # no command: the mover rests where it is
-            nxt[0][idle], nxt[1][idle], nxt[2][idle], nxt[3][idle] = self.p[idle], 0.0, 0.0, 0.0
-            known[0][idle], known[1][idle], known[2][idle] = True, self.p[idle], self.p[idle]
-        geared = np.flatnonzero(self.mode == GEAR)
-        if geared.size:
-            self._gear_steps(geared, now, nxt)
-        cur = (self.p, self.v, self.a)
-        braking, lo, hi = filter_steps(cur, self._envelope(), nxt, dt, self.bdec,
-                                       self.bjerk, self._pairs(), known)
-        k.set_p[rows], k.set_v[rows], k.set_a[rows], k.set_j[rows] = nxt
-        self.p, self.v, self.a = nxt[0], nxt[1], nxt[2]
-        self._env = (lo, hi)
-        self.mode[braking & (self.mode == FOLLOW)] = HELD
-        for slot in np.flatnonzero(braking & (self.mode == GEAR)).tolist():
-            sync = self.movers[slot].job.extra  # type: ignore[union-attr]
-            sync.held(now, (float(self.p[slot]), float(self.v[slot]), float(self.a[slot])),
-                      self._master(sync))
-        self._events(now)
-
-    def _master(self, sync: GearSync) -> tuple[float, float, float, float]:
-        k, row = self._k, sync.master_row
-        return float(k.set_p[row]), float(k.set_v[row]), float(k.set_a[row]), float(k.set_j[row])
-
-    def _gear_steps(self, slots: np.ndarray, now: float, nxt: list[np.ndarray]) -> None:
-        """Proposals of coupled slaves (few: a loop); a failed sync ends in error and brakes."""
-        dt = self._rt.cycle_time
-        for slot in slots.tolist():
-            mover = self.movers[slot]
-            job = mover.job
-            assert job is not None
-            sync: GearSync = job.extra
-            state = (float(self.p[slot]), float(self.v[slot]), float(self.a[slot]))
-            try:
-                proposal = sync.step(now, state, self._master(sync), dt)
-            except CommandRejected as rejected:
-                sync.error = (rejected.error_id, rejected.message)
-                proposal = None
-            if sync.error is not None:
-                job.command._end(CommandStatus.ERROR, now, *sync.error)
-                mover.job = None
-                self._issue_halt(mover, self._command("halt"), MC_DEFAULT, MC_DEFAULT,
-                                 mover.gap, GapControlMode.GROUP_DEFAULT)
-                proposal = None
-            if proposal is None:  # waiting (or stopping): brake to rest with the job's limits
-                lim = job.limits
-                step = brake_state(self.p[slot:slot + 1], self.v[slot:slot + 1],
-                                   self.a[slot:slot + 1], np.array([lim.deceleration]),
-                                   np.array([lim.jerk]), dt)
-                proposal = tuple(float(x[0]) for x in step)
-            for field_, value in zip(nxt, proposal, strict=True):
-                field_[slot] = value
-
-    def _waiting(self, held: np.ndarray, nxt: list[np.ndarray],
-                 known: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
-        """Held movers standing with no room at all towards their target stay as they are
-        (a queue behind a mover that stands or waits itself); returns the others."""
-        still = (self.v[held] == 0.0) & (self.a[held] == 0.0) & ~self.halting[held]
-        if not still.any():
-            return held
-        room_hi, room_lo = self._room(held)
-        p = self.p[held]
-        room = np.where(self.target[held] >= p, room_hi - p, p - room_lo)
-        stay = still & (room <= TOLERANCE)
-        slots = held[stay]
-        nxt[0][slots], nxt[1][slots], nxt[2][slots], nxt[3][slots] = self.p[slots], 0.0, 0.0, 0.0
-        known[0][slots], known[1][slots], known[2][slots] = True, self.p[slots], self.p[slots]
-        return held[~stay]
-
-    def _envelope(self) -> tuple[np.ndarray, np.ndarray]:
-        """Brake envelope of the current states (cached from the last cycle)."""
-        if self._env is None:
-            self._env = brake_envelope(self.p, self.v, self.a, self.bdec, self.bjerk)
-        return self._env
-
-    def _track(self, held: np.ndarray, dt: float,
-               known: tuple[np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, ...]:
-        """The next step of held movers: the most progressive constant-jerk step (jerk +J,
-        0 or -J) that stays within the command's limits, does not pass the target and keeps
-        clear of the neighbours as they are now; else a brake. Held movers never turn back.
-
-        The candidates are tried in that order, each only for the movers the one before did
-        not fit, so a cycle costs about one envelope per held mover."""
-        m = held.size
-        p, v, a = self.p[held], self.v[held], self.a[held]
-        vmax, acc, dec, jmax = self.lim[:, held]
-        bdec, bjerk = self.bdec[held], self.bjerk[held]
-        target = self.target[held]
-        sign = np.where(target >= p, 1.0, -1.0)
-        room_hi, room_lo = self._room(held)
-        lo_now, hi_now = self._envelope()
-        room_hi = np.maximum(room_hi, hi_now[held])
-        room_lo = np.minimum(room_lo, lo_now[held])
-        out = [np.empty(m) for _ in range(4)]
-        rows = np.flatnonzero(~self.halting[held])
-        for step in (1.0, 0.0, -1.0):
-            if not rows.size:
-                break
-            s, jm = sign[rows], jmax[rows]
-            j = step * s * jm
-            p0, v0, a0 = p[rows], v[rows], a[rows]
-            p1 = p0 + dt * (v0 + dt * (0.5 * a0 + dt * j / 6.0))
-            v1 = v0 + dt * (a0 + 0.5 * dt * j)
-            a1 = a0 + dt * j
-            u, b = s * v1, s * a1
-            release = u + b * np.abs(b) / (2.0 * jm)  # velocity once b is taken away
-            ok = (b <= acc[rows] * (1 + 1e-12)) & (b >= -dec[rows] * (1 + 1e-12))
-            ok &= (release <= vmax[rows] * (1 + 1e-12)) & (u >= 0.0) & (release >= 0.0)
-            # the target: a cheap bound on the command's stop distance first, exact if needed
-            # (the velocity stays below max(u, release) while braking, which lasts at most
-            # b+/J to take b away, 2 dec/J for the ramps and v/dec at full deceleration)
-            top = np.maximum(u, release)
-            t_stop = (np.maximum(b, 0.0) + 2.0 * dec[rows]) / jm + top / dec[rows]
-            near = ok & (top * t_stop >= s * (target[rows] - p1))
-            if near.any():
-                i = np.flatnonzero(near)
-                c_lo, c_hi = brake_envelope(p1[i], v1[i], a1[i], dec[rows][i], jm[i])
-                ok[i] = np.where(s[i] > 0.0, c_hi <= target[rows][i] + TOLERANCE,
-                                 c_lo >= target[rows][i] - TOLERANCE)
-            i = np.flatnonzero(ok)  # the neighbours, with the mover's own (hardest) brake
-            b_lo, b_hi = brake_envelope(p1[i], v1[i], a1[i], bdec[rows][i], bjerk[rows][i])
-            fits = (b_hi <= room_hi[rows][i]) & (b_lo >= room_lo[rows][i])
-            ok[i] = fits
-            chosen = held[rows[i[fits]]]  # their envelope is the gap filter's too
-            known[0][chosen], known[1][chosen], known[2][chosen] = True, b_lo[fits], b_hi[fits]
-            for o, value in zip(out, (p1, v1, a1, j), strict=True):
-                o[rows[ok]] = value[ok]
-            rows = rows[~ok]
-        lost = np.zeros(m, dtype=bool)
-        lost[rows] = True
-        lost |= self.halting[held]
-        if lost.any():  # no step fits: the command's own brake, or the mover's hardest one
-            # where gap control braked it beyond what the command's brake can take back
-            # without turning round
-            u, b = sign[lost] * v[lost], sign[lost] * a[lost]
-            hard = (b < -dec[lost]) | (u + b * np.abs(b) / (2.0 * jmax[lost]) < 0.0)
-            step = brake_state(p[lost], v[lost], a[lost],
-                               np.where(hard, bdec[lost], dec[lost]),
-                               np.where(hard, bjerk[lost], jmax[lost]), dt)
-            for o, value in zip(out, step, strict=True):
-                o[lost] = value
-        # float residue of the steps (|v| ~ 1e-17) is rest: snap it, so standstill is exact
-        still = (np.abs(out[1]) <= 1e-9 * vmax) & (np.abs(out[2]) <= 1e-9 * acc)
-        out[1][still], out[2][still], out[3][still] = 0.0, 0.0, 0.0
-        known[0][held[still]] = False  # snapped: the filter computes their envelope
-        return tuple(out)
-
-    def _room(self, slots: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Where each mover may stop, given its neighbours' current brake envelopes
-        (computed for the whole group once per envelope)."""
-        env = self._envelope()
-        if self._room_of is not env:
-            lo, hi = env
-            n = lo.size
-            room_hi, room_lo = np.full(n, np.inf), np.full(n, -np.inf)
-            gated = (self.pred >= 0) & (self.gmode != GapControlMode.NONE)
-            room_hi[gated] = lo[self.pred[gated]] + self.offset[gated] - self.gap[gated]
-            if self.parameters.gap_control_direction is GapControlDirection.BOTH:
-                behind = (self.succ >= 0)
-                behind[behind] &= self.gmode[self.succ[behind]] != GapControlMode.NONE
-                s = self.succ[behind]
-                room_lo[behind] = hi[s] + self.gap[s] - self.offset[s]
-            self._room_all = (room_hi, room_lo)
-            self._room_of = env
-        room_hi, room_lo = self._room_all
-        return room_hi[slots], room_lo[slots]
-
-    def _events(self, now: float) -> None:
-        k = self._k
-        ended = np.flatnonzero((self.mode == FOLLOW) & (k.segments.end[self.rows] <= now))
-        for slot in ended.tolist():
-            mover = self.movers[slot]
-            if mover.job is None:
-                self.mode[slot] = IDLE
-            elif mover.job.kind == _HALT or self.goal[slot] == mover.job.target:
-                self._finish_job(mover)
-            else:
-                self.mode[slot] = HELD  # a queue position: wait for the way to clear
-        held = np.flatnonzero(self.mode == HELD)
-        if held.size:
-            self._resume(held)
-        if self.parameters.standby_gap_control or self.parameters.active_gap_establishing:
-            self._restore_gaps()
-        idle = not self.mode.any()  # mode IDLE (0) exactly when the mover has no command
-        if self._halt is not None:
-            if any(part.aborted for part in self._halt_parts):  # a new command took over
-                self._halt._end(CommandStatus.ABORTED, now,
-                                message="a member took another command")
-                self._halt = None
-            elif all(part.done for part in self._halt_parts):
-                self._halt._end(CommandStatus.DONE, now)
-                self._halt = None
-        if self._stop is not None:
-            if self._stop.busy and idle:
-                self._stop.status = CommandStatus.DONE
-                self._stop.ended_at = now
-            if self._stop.done and not self._stop.hold:
-                self._stop = None
-                self.state = GroupState.STANDBY
-        if self.state is GroupState.MOVING and idle and self.all_axes_standing:
-            self.state = GroupState.STANDBY
-
-    def _resume(self, held: np.ndarray) -> None:
-        """Held movers get a profile again: to the target once nothing can block it, or to
-        the queue position once the neighbour in its way stands. Decided for all held movers
-        at once; only the few that replan cost a ruckig call."""
-        room_hi, room_lo = self._room(held)
-        lo, hi = self._envelope()
-        target, p = self.target[held], self.p[held]
-        rest = self._resting(held)
-        halting = self.halting[held]
-        forward = target >= p
-        free = ~halting & (room_lo <= target) & (target <= room_hi)
-        succ = self.succ[held]
-        other = np.where(forward, self.pred[held], succ)
-        other_rests = other < 0
-        has = ~other_rests
-        other_rests[has] = self._resting(other[has])
-        goal = np.minimum(np.maximum(target, room_lo), room_hi)
-        queue = ~halting & ~free & other_rests
-        # no closer to the target (CA never moves a mover back, §3)
-        queue &= ~(rest & (((goal - p) * (target - p) <= 0.0) | (np.abs(goal - p) <= TOLERANCE)))
-        # cannot stop there any more (a pair that started too close)
-        queue &= np.where(forward, hi[held] <= goal + TOLERANCE, lo[held] >= goal - TOLERANCE)
-        # head on: both want the same room; the mover moving forwards takes it
-        waiting = succ >= 0
-        waiting[waiting] = (self.mode[succ[waiting]] != IDLE) & \
-            (self.target[succ[waiting]] > self.p[succ[waiting]] + TOLERANCE)
-        queue &= forward | ~waiting
-        for slot in held[halting & rest].tolist():
-            self._finish_job(self.movers[slot])
-        goals = np.where(free, target, goal)
-        candidates = np.flatnonzero(free | queue)
-        if candidates.size:  # a profile with the command's limits must be able to stop there
-            slots = held[candidates]
-            vmax, acc, dec, jerk = self.lim[:, slots]
-            step = np.where(forward[candidates], 1.0, -1.0)
-            b = step * self.a[slots]
-            c_lo, c_hi = brake_envelope(self.p[slots], self.v[slots], self.a[slots], dec, jerk)
-            fits = np.where(forward[candidates], c_hi <= goals[candidates] + TOLERANCE,
-                            c_lo >= goals[candidates] - TOLERANCE)
-            fits &= (b <= acc * (1 + 1e-12)) & (b >= -dec * (1 + 1e-12))
-            u = step * self.v[slots]  # and stop without turning round
-            fits &= (u >= 0.0) & (u + b * np.abs(b) / (2.0 * jerk) >= -1e-9 * vmax)
-            fits &= np.abs(self.v[slots]) <= vmax * (1 + 1e-12)
-            candidates = candidates[fits]
-        for i in candidates.tolist():
-            self._replan(self.movers[int(held[i])], float(goals[i]))
-
-    def _restore_gaps(self) -> None:
-        """Standby gap control (§6, §8.1.1): movers without a command give way.
-
-        An idle mover closer to its predecessor than its last valid gap moves back to it with
-        the group's default dynamics; idle movers behind it move back as far as that needs
-        (the push goes down the row). Movers with a command never give way.
-        """
-        idle = self.mode == IDLE
-        if not idle.any() or self.state is GroupState.STOPPING or self._halt is not None:
-            return
-        slots = np.flatnonzero(idle)
-        room_hi, _ = self._room(slots)
-        if not np.any(self.p[slots] > room_hi + 1e-6):
-            return
-        lo, _hi = self._envelope()
-        desired = np.where(idle, self.p, lo)  # where each mover may end up, at most
-        order = list(range(len(self.movers)))
-        for _ in range(len(order)):  # push down the row until nothing changes (a ring too)
-            changed = False
-            for slot in order:
-                k = int(self.pred[slot])
-                if k < 0 or not idle[slot] or self.gmode[slot] == GapControlMode.NONE:
-                    continue
-                limit = desired[k] + self.offset[slot] - self.gap[slot]
-                if limit < desired[slot] - 1e-9:
-                    desired[slot] = limit
-                    changed = True
-            if not changed:
-                break
-        for slot in np.flatnonzero(idle & (desired < self.p - 1e-6)).tolist():
-            self._standby(self.movers[slot], float(desired[slot]))
-
-    def _standby(self, mover: Mover, target: float) -> None:
-        p, group = mover.axis.parameters, self.parameters
-        limits = Limits(min(group.default_velocity, p.max_velocity),
-                        min(group.default_acceleration, p.max_acceleration),
-                        min(group.default_deceleration, p.max_deceleration),
-                        min(group.default_jerk, p.max_jerk))
-        job = CaJob("standby", self._command("standby_gap_control"), limits, mover.gap,
-                    self.parameters.default_gap_control_mode, target_of=lambda _start: target)
-        self._start(mover, job)
-
-    def _resting(self, slots: np.ndarray) -> np.ndarray:
-        """At rest up to float residue of the tracking steps."""
-        vmax, acc = self.lim[0, slots], self.lim[1, slots]
-        return (np.abs(self.v[slots]) <= 1e-9 * vmax) & (np.abs(self.a[slots]) <= 1e-9 * acc)
-
-    def _replan(self, mover: Mover, goal: float) -> None:
-        slot = mover.slot
-        job = mover.job
-        assert job is not None
-        start = KinematicState(float(self.p[slot]), float(self.v[slot]), float(self.a[slot]))
-        try:
-            profile = plan_position(start, goal, job.limits)
-        except CommandRejected:
-            return  # stay held; the tracking step goes on
-        self._k.segments.install(mover.axis.row, profile, self._rt.now)
-        self.mode[slot] = FOLLOW
-        self.goal[slot] = goal
-
-    def _watch_members(self) -> None:
-        """Member errors stop the group; a member losing power makes it NotReady (§7)."""
-        if self.state in (GroupState.DISABLED, GroupState.ERROR_STOP):
-            return
-        if self._k.monitored[self.rows].all():  # every member powered and free of errors
-            if self.state is GroupState.NOT_READY:
-                self._check_ready()
-            return
-        failed = [m for m in self.movers if m.axis.state is AxisState.ERROR_STOP]
-        if failed:
-            self._error(failed[0].axis.axis_error_id, f"{failed[0].axis.name}: "
-                        f"{failed[0].axis.axis_error_message}")
-            return
-        if self.state is GroupState.NOT_READY:
-            self._check_ready()
-        elif any(not m.axis.powered for m in self.movers):
-            off = next(m for m in self.movers if not m.axis.powered)
-            self._brake_all(CommandStatus.ABORTED, f"{off.axis.name} was disabled")
-            self.state = GroupState.NOT_READY
-
-    def _error(self, error_id: ErrorId, message: str) -> None:
-        """GroupErrorStop: every command ends in error, every mover brakes at its maximum."""
-        self.error_id = ErrorId.GROUP_ERROR if error_id is ErrorId.NO_ERROR else error_id
-        self._brake_all(CommandStatus.ERROR, f"group error: {message}")
-        self.state = GroupState.ERROR_STOP
-
-    def _brake_all(self, status: CommandStatus, message: str) -> None:
-        """End every command and brake every powered mover with its maximum dynamics.
-
-        All movers brake together from states that keep the gap invariant, so no gap is
-        undershot although gap control pauses (docs/collision-avoidance.md)."""
-        now = self._rt.now
-        error_id = ErrorId.GROUP_ERROR if status is CommandStatus.ERROR else ErrorId.NO_ERROR
-        for mover in self.movers:
-            for job in ([mover.job] if mover.job else []) + mover.queue:
-                job.command._end(status, now, error_id, message)
-            mover.job = None
-            mover.queue.clear()
-            slot = mover.slot
-            self.mode[slot] = IDLE
-            if not mover.axis.powered:
-                continue
-            start = KinematicState(float(self.p[slot]), float(self.v[slot]), float(self.a[slot]))
-            profile = plan_stop(start, float(self.bdec[slot]), float(self.bjerk[slot]))
-            self._k.segments.install(mover.axis.row, profile, self._k.sample_time)
-            if mover.axis.state is AxisState.DISCRETE_MOTION:
-                mover.axis.state = AxisState.STANDSTILL
-        for command in (self._stop, self._halt):
-            if command is not None:
-                command._end(status, now, error_id, message)
-        self._stop = self._halt = None
-
-
-def _hold(position: float) -> Any:
-    from openmotion.trajectory.segments import Profile
-
-    return Profile.hold(KinematicState(position))
-
-
-def _enum(kind: Any, value: Any, error_id: ErrorId, name: str) -> Any:
-    try:
-        if isinstance(value, bool):
-            raise ValueError(value)
-        return kind(value)
-    except (ValueError, TypeError):
-        raise CommandRejected(error_id, f"{name}: {value!r} is not a {kind.__name__}") from None
-
-
-def _position(name: str, value: InputValue) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise CommandRejected(ErrorId.INVALID_POSITION, f"{name}: must be set, got {value!r}")
-    return float(value)
