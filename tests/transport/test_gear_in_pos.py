@@ -181,3 +181,63 @@ def test_the_block_shows_start_sync_and_in_sync() -> None:
     group.halt_axis(slave)
     fb()
     assert fb.command_aborted and not fb.busy and not fb.in_sync
+
+
+def test_overshoot_forbidden_fails_when_the_slave_must_catch_up() -> None:
+    rt, group, master, slave = setup()
+    master.move_velocity(500.0)
+    command = group.gear_in_pos(master, slave, 1.0, 1, MSP, SSP, SyncStrategy.EARLY,
+                                velocity=3000.0, master_velocity_overshoot_allowed=False)
+    rt.run_until(lambda: command.finished, timeout=2.0)
+    assert command.error and command.error_id is ErrorId.SYNC_FAILED
+    assert "Overshoot" in command.message
+
+
+def test_overshoot_forbidden_is_fine_when_the_slave_only_falls_back() -> None:
+    rt, group, master, slave = setup()  # master standing at 0: the slave goes back to -200
+    command = group.gear_in_pos(master, slave, 1.0, 1, 0.0, -200.0, SyncStrategy.EARLY,
+                                velocity=3000.0, master_velocity_overshoot_allowed=False)
+    rt.run_until(lambda: group.sync_state(command)[1], timeout=5.0)
+    assert slave.set_position == pytest.approx(-200.0, abs=1e-9)
+
+
+def test_undershoot_forbidden_fails_when_the_slave_would_be_slower() -> None:
+    rt, group, master, slave = setup()
+    command = group.gear_in_pos(master, slave, 1.0, 1, 0.0, -200.0, SyncStrategy.EARLY,
+                                velocity=3000.0, master_velocity_undershoot_allowed=False)
+    rt.run_until(lambda: command.finished, timeout=2.0)
+    assert command.error_id is ErrorId.SYNC_FAILED and "Undershoot" in command.message
+
+
+@pytest.mark.parametrize(("minimum", "ok"), [(-300.0, True), (-100.0, False)])
+def test_minimal_slave_position(minimum: float, ok: bool) -> None:
+    rt, group, master, slave = setup()
+    command = group.gear_in_pos(master, slave, 1.0, 1, 0.0, -200.0, SyncStrategy.EARLY,
+                                velocity=3000.0, minimal_slave_position=minimum)
+    if ok:
+        rt.run_until(lambda: group.sync_state(command)[1], timeout=5.0)
+        assert slave.set_position == pytest.approx(-200.0, abs=1e-9)
+    else:
+        rt.run_until(lambda: command.finished, timeout=2.0)
+        assert command.error_id is ErrorId.SYNC_FAILED and "MinimalSlavePosition" in \
+            command.message
+
+
+@pytest.mark.parametrize("allowed", [True, False])
+def test_direction_reversal(allowed: bool) -> None:
+    """The slave far ahead of its coupled position: the fastest sync moves it backwards."""
+    rt, group, master, slave = setup()
+    master.move_velocity(100.0)
+    rt.run(0.5)
+    command = group.gear_in_pos(master, slave, 1.0, 1, 1000.0, 400.0, SyncStrategy.EARLY,
+                                velocity=3000.0, direction_reversal_allowed=allowed)
+    lowest = 0.0
+    for _ in range(3000):
+        rt.step()
+        lowest = min(lowest, slave.set_velocity)
+        if command.finished or group.sync_state(command)[1]:
+            break
+    if allowed:
+        assert group.sync_state(command)[1] and lowest < 0.0
+    else:
+        assert command.error_id is ErrorId.SYNC_FAILED and lowest >= 0.0

@@ -41,6 +41,10 @@ class GearSync:
     limits: Limits  #: sync phase
     after_sync: Limits  #: re-synchronising after gap control held the slave
     override_restrictions: bool = False
+    undershoot_allowed: bool = True  #: MasterVelocityUndershootAllowed
+    overshoot_allowed: bool = True  #: MasterVelocityOvershootAllowed
+    reversal_allowed: bool = True  #: DirectionReversalAllowed
+    minimal_slave_position: float | None = None  #: MinimalSlavePosition (None: MC_IGNORE)
     phase: int = WAITING
     synced_once: bool = False
     profile: Profile | None = None  #: the sync error over time, from ``started``
@@ -134,6 +138,36 @@ class GearSync:
             math.isfinite(remaining) and remaining > 0.0
         self.profile = self._error_profile(slave, master_then, limits,
                                            remaining if timed else None)
+        self._check_options(self.profile, slave, master_then)
+
+    def _check_options(self, profile: Profile, slave: tuple[float, float, float],
+                       master: tuple[float, float, float, float]) -> None:
+        """The sync phase's restrictions of ST_GearInPosCAOptions, judged on the planned
+        profile with the master at its present velocity; a profile that breaks one is
+        SYNC_FAILED ("synchronisation impossible under the Options restrictions", §9.1.2.1).
+        """
+        cp, cv, _, _ = self.coupled(*master)
+        direction = 1.0 if cv > 0.0 else -1.0 if cv < 0.0 else 1.0
+        low, high = profile.velocity_extrema()  # of the sync error's velocity
+        tolerance = 1e-9 * max(1.0, abs(cv), self.limits.velocity)
+        error_low, error_high = (low, high) if direction > 0 else (-high, -low)
+        if not self.undershoot_allowed and error_low < -tolerance:
+            raise CommandRejected(ErrorId.SYNC_FAILED, "the slave would be slower than the "
+                                  "master (MasterVelocityUndershootAllowed FALSE)")
+        if not self.overshoot_allowed and error_high > tolerance:
+            raise CommandRejected(ErrorId.SYNC_FAILED, "the slave would be faster than the "
+                                  "master (MasterVelocityOvershootAllowed FALSE)")
+        if not self.reversal_allowed and abs(cv) + error_low < -tolerance:
+            raise CommandRejected(ErrorId.SYNC_FAILED, "the slave would move against the "
+                                  "sync direction (DirectionReversalAllowed FALSE)")
+        if self.minimal_slave_position is not None:
+            data = profile.data.copy()  # the slave itself: error + coupled motion
+            data[1] += cp + cv * data[0]
+            data[2] += cv
+            lowest, _ = Profile.from_data(data).position_extrema()
+            if lowest < self.minimal_slave_position - tolerance:
+                raise CommandRejected(ErrorId.SYNC_FAILED, f"the slave would pass below "
+                                      f"MinimalSlavePosition {self.minimal_slave_position:g}")
 
     def _error_profile(self, slave: tuple[float, float, float],
                        master: tuple[float, float, float, float], limits: Limits,

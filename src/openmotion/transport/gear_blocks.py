@@ -20,9 +20,10 @@ class ST_GearInPosCAOptions:
     """Options of MC_GearInPosCA (§9.1.2.1), with the manual's defaults.
 
     MinimalSlavePosition, DirectionReversalAllowed and the master velocity under/overshoot
-    flags are validated and kept, but the sync profile does not enforce them yet (both
-    flags FALSE is an error, as the manual says). Reference systems other than 0 need
-    geo-compensation.
+    flags are checked on the planned sync profile: one that breaks them is SYNC_FAILED (the
+    manual's "synchronisation impossible"); the slave does not first adapt its velocity to
+    make them hold. Both flags FALSE is an error at once, as the manual says. Reference
+    systems other than 0 need geo-compensation.
     """
 
     after_sync_velocity: InputValue = MC_DEFAULT
@@ -93,9 +94,9 @@ class MC_GearInPosCA(_ContinuousUpdate):
             self.jerk, self.gap, self.buffer_mode, options.after_sync_velocity,
             options.after_sync_acceleration, options.after_sync_deceleration,
             options.after_sync_jerk, options.master_velocity_undershoot_allowed,
-            options.master_velocity_overshoot_allowed,
-            options.override_slave_dynamic_restrictions, options.gap_control_mode,
-            self.continuous_update)
+            options.master_velocity_overshoot_allowed, options.minimal_slave_position,
+            options.direction_reversal_allowed, options.override_slave_dynamic_restrictions,
+            options.gap_control_mode, self.continuous_update)
 
     def _show_progress(self, command: Command) -> None:
         super()._show_progress(command)

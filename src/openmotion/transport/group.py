@@ -397,6 +397,8 @@ class CaGroup(GroupCycle):
                     after_sync_jerk: InputValue = MC_DEFAULT,
                     master_velocity_undershoot_allowed: bool = True,
                     master_velocity_overshoot_allowed: bool = True,
+                    minimal_slave_position: InputValue = MC_IGNORE,
+                    direction_reversal_allowed: bool = True,
                     override_slave_dynamic_restrictions: bool = False,
                     gap_control_mode: GapControlMode = GapControlMode.GROUP_DEFAULT,
                     continuous_update: bool = False) -> Command:
@@ -447,8 +449,13 @@ class CaGroup(GroupCycle):
                                 after("deceleration", after_sync_deceleration,
                                       defaults.deceleration),
                                 after("jerk", after_sync_jerk, defaults.jerk))
+            minimum = None if minimal_slave_position is MC_IGNORE else \
+                position_input("minimal_slave_position", minimal_slave_position)
             job.extra = GearSync(master.row, numerator / denominator, msp, ssp, strategy, start,
-                                 job.limits, after_sync, bool(override_slave_dynamic_restrictions))
+                                 job.limits, after_sync, bool(override_slave_dynamic_restrictions),
+                                 bool(master_velocity_undershoot_allowed),
+                                 bool(master_velocity_overshoot_allowed),
+                                 bool(direction_reversal_allowed), minimum)
             return job
 
         return self._submit(slave, command, build)
