@@ -15,6 +15,7 @@ from openmotion.transport import (
     CaGroup,
     MC_GearInPosCA,
     ST_GearInPosCAOptions,
+    SyncMode,
     SyncStrategy,
 )
 
@@ -241,3 +242,31 @@ def test_direction_reversal(allowed: bool) -> None:
         assert group.sync_state(command)[1] and lowest < 0.0
     else:
         assert command.error_id is ErrorId.SYNC_FAILED and lowest >= 0.0
+
+
+@pytest.mark.parametrize(("mode", "expected"), [(SyncMode.POSITIVE, 3100.0),
+                                                (SyncMode.NEGATIVE, 100.0),
+                                                (SyncMode.NON_MODULO, 100.0)])
+def test_sync_mode_picks_the_slave_sync_position_on_the_ring(mode: SyncMode,
+                                                             expected: float) -> None:
+    """§9.4.1.4: with a modulo sync mode SlaveSyncPosition is a position on the ring, the
+    next one from the slave in that direction; NonModulo takes it as absolute."""
+    rt = om.Runtime()
+    group = CaGroup(rt, "ca", rail_length=3000.0)
+    master = rt.add_axis("master", max_velocity=2000.0)
+    master.power()
+    slave = rt.add_axis("slave", position=2900.0, **LIMITS)
+    slave.power()
+    group.add_axis(slave, UDINT_TO_IDENTINGROUP(1))
+    group.enable()
+    command = group.gear_in_pos(master, slave, 1.0, 1, 0.0, 100.0, SyncStrategy.EARLY,
+                                sync_mode=mode, velocity=3000.0)
+    rt.run_until(lambda: group.sync_state(command)[1], timeout=5.0)
+    assert slave.set_position == pytest.approx(expected, abs=1e-9)  # master stands at 0
+
+
+def test_a_modulo_sync_mode_on_an_open_rail_is_an_error() -> None:
+    rt, group, master, slave = setup()
+    command = group.gear_in_pos(master, slave, 1.0, 1, MSP, SSP, sync_mode=SyncMode.POSITIVE,
+                                velocity=1000.0)
+    assert command.error and command.error_id is ErrorId.MODULO_ON_OPEN_RAIL

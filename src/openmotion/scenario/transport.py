@@ -50,12 +50,13 @@ from openmotion.scenario.schema import (
     _unique,
 )
 from openmotion.scenario.tracks import GeometrySpec, PartSpec, TemplateSpec, TrackSpec, problems
-from openmotion.transport.enums import GapControlMode, ModuloDirection, SyncStrategy
+from openmotion.transport.enums import GapControlMode, ModuloDirection, SyncMode, SyncStrategy
 from openmotion.transport.parameters import CaGroupParameters
 
 GapControlModeName = _enum_by_name(GapControlMode)
 ModuloDirectionName = _enum_by_name(ModuloDirection)
 SyncStrategyName = _enum_by_name(SyncStrategy)
+SyncModeName = _enum_by_name(SyncMode)
 CA_MOVES = ("move_absolute_ca", "move_relative_ca")  #: the entries ``set_gap`` can change
 #: an OTCID input of a block: a UDINT; 0 = none (the absolute frame, the motor path)
 OidInput = Annotated[StrictInt, Field(ge=0, le=0xFFFFFFFF)]
@@ -228,6 +229,9 @@ class GearInPosCa(_CaMove):
     """Slave position at that moment [mm]."""
     sync_strategy: SyncStrategyName = SyncStrategy.LATE  # type: ignore[valid-type]
     """late, slow or early."""
+    sync_mode: SyncModeName = SyncMode.NON_MODULO  # type: ignore[valid-type]
+    """non_modulo; positive or negative: slave_sync_position is a ring position, the next one
+    from the mover in that direction."""
     master_start_distance: InputValue = MC_IGNORE
     """MC_IGNORE: sync at once; > 0: once master >= MSP - d; < 0: once master <= MSP - d."""
 

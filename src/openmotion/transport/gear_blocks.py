@@ -81,17 +81,12 @@ class MC_GearInPosCA(_ContinuousUpdate):
             if getattr(options, name) != 0:
                 raise CommandRejected(ErrorId.INVALID_MODE,
                                       f"options.{name}: only 0 (the motor path) for now")
-        try:
-            SyncMode(self.sync_mode)
-        except (ValueError, TypeError):
-            raise CommandRejected(ErrorId.INVALID_MODE,
-                                  f"sync_mode {self.sync_mode!r} is not a SyncMode") from None
         self._group = _group_of(axis)
         return self._group.gear_in_pos(
             self.master, axis, self.ratio_numerator, self.ratio_denominator,
             self.master_sync_position, self.slave_sync_position, self.sync_strategy,
-            self.master_start_distance, self.velocity, self.acceleration, self.deceleration,
-            self.jerk, self.gap, self.buffer_mode, options.after_sync_velocity,
+            self.sync_mode, self.master_start_distance, self.velocity, self.acceleration,
+            self.deceleration, self.jerk, self.gap, self.buffer_mode, options.after_sync_velocity,
             options.after_sync_acceleration, options.after_sync_deceleration,
             options.after_sync_jerk, options.master_velocity_undershoot_allowed,
             options.master_velocity_overshoot_allowed, options.minimal_slave_position,

@@ -32,6 +32,7 @@ from openmotion.transport.enums import (
     GroupState,
     GroupType,
     ModuloDirection,
+    SyncMode,
     SyncStrategy,
 )
 from openmotion.transport.gear import GearSync
@@ -387,6 +388,7 @@ class CaGroup(GroupCycle):
                     master_sync_position: InputValue = MC_INVALID,
                     slave_sync_position: InputValue = MC_INVALID,
                     sync_strategy: SyncStrategy = SyncStrategy.LATE,
+                    sync_mode: SyncMode = SyncMode.NON_MODULO,
                     master_start_distance: InputValue = MC_IGNORE,
                     velocity: InputValue = MC_INVALID, acceleration: InputValue = MC_DEFAULT,
                     deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT,
@@ -426,6 +428,14 @@ class CaGroup(GroupCycle):
                                   "sync_strategy")
             msp = position_input("master_sync_position", master_sync_position)
             ssp = position_input("slave_sync_position", slave_sync_position)
+            mode = enum_input(SyncMode, sync_mode, ErrorId.INVALID_MODE, "sync_mode")
+            if mode is not SyncMode.NON_MODULO:  # §9.4.1.4: SSP is a position on the ring
+                if not self.parameters.rail_is_ring:
+                    raise CommandRejected(ErrorId.MODULO_ON_OPEN_RAIL,
+                                          "a modulo sync mode needs a rail that is a ring")
+                # the next such position from the slave in the sync mode's direction
+                ssp = mc3_modulo_target(float(self.p[mover.slot]), ssp, int(mode), 0,
+                                        self.parameters.rail_length, 0.0)
             start = None if master_start_distance is MC_IGNORE else \
                 position_input("master_start_distance", master_start_distance)
             job = self._job(mover, "gear", command, velocity, acceleration, deceleration, jerk,
