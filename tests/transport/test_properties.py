@@ -175,8 +175,20 @@ def test_gaps_and_limits_hold_over_many_cases(case: dict) -> None:
     _run(case, liveness=False)
 
 
+_SOFT = {"max_velocity": 500.0, "acceleration": 500.0, "deceleration": 500.0, "jerk": 5000.0,
+         "max_acceleration": 500.0, "max_deceleration": 500.0, "max_jerk": 5000.0}
+#: head on: m1 forwards and m2 backwards into the same room, which only m1 may take (D-066)
+_HEAD_ON = {
+    "n": 4, "gap": 0.0, "ring": False, "length": 4.0, "starts": [0.0, 1.0, 2.0, 3.0],
+    "movers": [_SOFT, {**_SOFT, "jerk": 53549.0, "max_jerk": 53549.0},
+               {**_SOFT, "max_jerk": 8750.0}, _SOFT],
+    "commands": [(0, 1, "absolute", 1.0, 1.0, BufferMode.ABORTING, GapControlMode.STANDARD),
+                 (0, 2, "absolute", -1.0, 1.0, BufferMode.ABORTING, GapControlMode.STANDARD)]}
+
+
 @settings(deadline=None, max_examples=25)
 @given(case=cases())
+@example(case=_HEAD_ON)
 def test_commands_end_or_wait_in_their_queue(case: dict) -> None:
     _run(case)
 

@@ -116,18 +116,29 @@ class GroupCycle:
     def _waiting(self, held: np.ndarray, nxt: list[np.ndarray],
                  known: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
         """Held movers standing with no room at all towards their target stay as they are
-        (a queue behind a mover that stands or waits itself); returns the others."""
+        (a queue behind a mover that stands or waits itself), and so do standing movers that
+        want to go back into the room a successor wants to go forward into (head on: the
+        mover moving forwards takes it); returns the others."""
         still = (self.v[held] == 0.0) & (self.a[held] == 0.0) & ~self.halting[held]
         if not still.any():
             return held
         room_hi, room_lo = self._room(held)
         p = self.p[held]
-        room = np.where(self.target[held] >= p, room_hi - p, p - room_lo)
-        stay = still & (room <= TOLERANCE)
+        forward = self.target[held] >= p
+        room = np.where(forward, room_hi - p, p - room_lo)
+        stay = still & ((room <= TOLERANCE) | (~forward & self._head_on(held)))
         slots = held[stay]
         nxt[0][slots], nxt[1][slots], nxt[2][slots], nxt[3][slots] = self.p[slots], 0.0, 0.0, 0.0
         known[0][slots], known[1][slots], known[2][slots] = True, self.p[slots], self.p[slots]
         return held[~stay]
+
+    def _head_on(self, slots: np.ndarray) -> np.ndarray:
+        """The successor of each mover has a command that takes it forwards."""
+        succ = self.succ[slots]
+        waiting = succ >= 0
+        waiting[waiting] = (self.mode[succ[waiting]] != IDLE) & \
+            (self.target[succ[waiting]] > self.p[succ[waiting]] + TOLERANCE)
+        return waiting
 
     def _envelope(self) -> tuple[np.ndarray, np.ndarray]:
         """Brake envelope of the current states (cached from the last cycle)."""
@@ -285,10 +296,7 @@ class GroupCycle:
         # cannot stop there any more (a pair that started too close)
         queue &= np.where(forward, hi[held] <= goal + TOLERANCE, lo[held] >= goal - TOLERANCE)
         # head on: both want the same room; the mover moving forwards takes it
-        waiting = succ >= 0
-        waiting[waiting] = (self.mode[succ[waiting]] != IDLE) & \
-            (self.target[succ[waiting]] > self.p[succ[waiting]] + TOLERANCE)
-        queue &= forward | ~waiting
+        queue &= forward | ~self._head_on(held)
         for slot in held[halting & rest].tolist():
             self._finish_job(self.movers[slot])
         goals = np.where(free, target, goal)
