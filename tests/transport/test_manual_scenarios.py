@@ -249,3 +249,22 @@ def test_t1_cyclic_group_interface_after_enable() -> None:
     group.disable()
     assert group.nc_to_plc.group_state is GroupState.DISABLED
     assert not group.nc_to_plc.is_enable_requested
+
+
+@pytest.mark.parametrize("stop", [False, True])
+def test_t8_group_halt_with_standby_opens_the_gap_before_it_is_done(stop: bool) -> None:
+    """§9.3.1.2.1: with standby gap control an undershot gap is opened before MC_GroupHalt
+    is Done (we brake first, then open it, D-067); MC_GroupStop is Done at standstill."""
+    rt, group, axes = group_of([1000.0, 800.0], rail_is_ring=False, standby_gap_control=True)
+    group.move_absolute(axes[1], 960.0, 200.0, gap_control_mode=GapControlMode.NONE)
+    rt.run_until(lambda: axes[1].set_position >= 920.0, timeout=5.0)  # gap 80 < 100
+    command = group.stop() if stop else group.halt()
+    rt.run_until(lambda: command.done, timeout=10.0)
+    gap = axes[0].set_position - axes[1].set_position
+    if stop:
+        assert gap < 100.0 and group.state is GroupState.STOPPING
+        command.release()
+        rt.run(3.0)  # released: standby opens the gap now
+        assert axes[0].set_position - axes[1].set_position == pytest.approx(100.0, abs=1e-9)
+    else:
+        assert gap == pytest.approx(100.0, abs=1e-9) and group.all_axes_standing

@@ -260,8 +260,8 @@ class GroupCycle:
                 self._halt._end(CommandStatus.ABORTED, now,
                                 message="a member took another command")
                 self._halt = None
-            elif all(part.done for part in self._halt_parts):
-                self._halt._end(CommandStatus.DONE, now)
+            elif all(part.done for part in self._halt_parts) and idle:
+                self._halt._end(CommandStatus.DONE, now)  # after standby opened the gaps (T8)
                 self._halt = None
         if self._stop is not None:
             if self._stop.busy and idle:
@@ -325,7 +325,8 @@ class GroupCycle:
         (the push goes down the row). Movers with a command never give way.
         """
         idle = self.mode == IDLE
-        if not idle.any() or self.state is GroupState.STOPPING or self._halt is not None:
+        halting = self._halt is not None and not all(p.done for p in self._halt_parts)
+        if not idle.any() or self.state is GroupState.STOPPING or halting:
             return
         slots = np.flatnonzero(idle)
         room_hi, _ = self._room(slots)
