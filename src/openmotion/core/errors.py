@@ -79,6 +79,18 @@ class ErrorId(IntEnum):
     UNKNOWN_TEMPLATE = 0x7314  #: an OTCID that names no mover template of the group (§9.2)
     COMPENSATION_NOT_REGISTERED = 0x7315  #: a reference system the axis did not register
     INVALID_COMPENSATION_TYPE = 0x7316  #: MC_RegisterCompensation: CompensationType is not GEO
+    # planar (TF5430); 0x8186 is the manual's own number (§6.7.2), the rest are ours (0x74xx)
+    PLANAR_COLLISION = 0x8186  #: the command's area meets an area reserved in the group (§6.7.2)
+    PLANAR_WRONG_STATE = 0x7401  #: the object's state does not accept the command (§4.1)
+    PLANAR_WRONG_MODE = 0x7402  #: the mover's command mode does not accept the command (§4.2)
+    INVALID_REFERENCE_ID = 0x7403  #: names no part or coordinate system, or 0 is ambiguous (§5.3)
+    INVALID_MODULO_OPTIONS = 0x7404  #: turns without direction, tolerance with NonModulo (§6.1.1)
+    PLANAR_NOT_DISABLED = 0x7405  #: SetPosition on a mover that is not Disabled (§7.2.2.8)
+    PLANAR_POSITION_LIMIT = 0x7406  #: a target outside the mover's position limits
+    PLANAR_PART_NOT_ENABLED = 0x7407  #: the target's part position is not active (§6.6)
+    PLANAR_EXT_SETPOINT = 0x7408  #: an external setpoint is missing or beyond the limits (§6.1.6)
+    PLANAR_INVALID_INPUT = 0x7409  #: a dynamics or option value out of range (NaN, negative)
+    PLANAR_NOT_IN_GROUP = 0x740A  #: a group command for an object that is not a member (§6.3)
     # openmotion: axis errors raised by monitoring (0x72xx), these take the axis to ErrorStop
     FOLLOWING_ERROR = 0x7201  #: following error above 1020 for longer than 1021
     SOFT_LIMIT_REACHED = 0x7202  #: a velocity move stopped at an enabled software limit
