@@ -93,3 +93,15 @@ class SuperpositionMode(IntEnum):
     VELOREDUCTION_LIMITEDMOTION = 2
     LENGTHREDUCTION_ADDITIVEMOTION = 3
     LENGTHREDUCTION_LIMITEDMOTION = 4
+
+
+class ModuloDirection(IntEnum):
+    """MC_DIRECTION of Tc3_Mc3Definitions (TF5410 §9.4.1.3, TF5430 §7.2.1.1.2); NEGATIVE = 3.
+
+    The MC3 libraries (CA group, planar movers) share it; TcMC's ``Direction`` differs.
+    """
+
+    NON_MODULO = 0
+    POSITIVE = 1
+    SHORTEST_WAY = 2
+    NEGATIVE = 3

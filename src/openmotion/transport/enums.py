@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from enum import IntEnum
 
+from openmotion.core.enums import ModuloDirection as ModuloDirection  # the CA blocks take it
+
 
 class GapControlMode(IntEnum):
     """MC_GAP_CONTROL_MODE (§9.1.2.5); the group default is STANDARD or FAST only."""
@@ -19,15 +21,6 @@ class GapControlDirection(IntEnum):
 
     POSITIVE = 1  #: only the successor keeps the gap to its predecessor
     BOTH = 2  #: a mover moving backwards also keeps the gap to its successor
-
-
-class ModuloDirection(IntEnum):
-    """MC_DIRECTION of Tc3_Mc3Definitions (§9.4.1.3). Note NEGATIVE = 3."""
-
-    NON_MODULO = 0
-    POSITIVE = 1
-    SHORTEST_WAY = 2
-    NEGATIVE = 3
 
 
 class GroupState(IntEnum):
