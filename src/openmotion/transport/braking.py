@@ -25,27 +25,28 @@ Arrays = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 def brake_phases(v: np.ndarray, a: np.ndarray, dec: np.ndarray,
                  jerk: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(durations, jerks), each (N, 3): the time-optimal brake from (v, a) to rest."""
-    t1, t2, t3, j1, j3 = _phases(v, a, dec, jerk)
+    t1, t2, t3, j1, j3, _ = _phases(v, a, dec, jerk)
     zero = np.zeros_like(v)
     return np.stack((t1, t2, t3), axis=1), np.stack((j1, zero, j3), axis=1)
 
 
 def _phases(v: np.ndarray, a: np.ndarray, dec: np.ndarray,
             jerk: np.ndarray) -> tuple[np.ndarray, ...]:
-    """Durations t1, t2, t3 and jerks j1, j3 of the three phases (j2 = 0)."""
+    """Durations t1, t2, t3 and jerks j1, j3 of the three phases (j2 = 0), and the
+    velocity once the acceleration is taken away at once (its sign decides the brake)."""
     inv = 0.5 / jerk
-    release = v + a * np.abs(a) * inv  # velocity once a is taken away at once
+    release = v + a * np.abs(a) * inv
     d = -np.sign(release)  # direction of the velocity change
     peak_sq = 0.5 * a * a - jerk * d * v
     triangular = (peak_sq <= dec * dec) | (d == 0.0)
     peak = np.where(triangular, d * np.sqrt(np.maximum(peak_sq, 0.0)), d * dec)
     first = np.sign(peak - a)
     # velocity gained while the acceleration goes from a to the peak, then held
-    gained = (peak * peak - a * a) * inv * np.where(first == 0.0, 0.0, first)
+    gained = (peak * peak - a * a) * inv * first
     safe_peak = np.where(triangular, 1.0, peak)
     hold = np.where(triangular, 0.0, (-v - gained - peak * np.abs(peak) * inv) / safe_peak)
     return (np.abs(peak - a) / jerk, np.maximum(hold, 0.0), np.abs(peak) / jerk,
-            first * jerk, -d * jerk)
+            first * jerk, -d * jerk, release)
 
 
 def _boundaries(p: np.ndarray, v: np.ndarray, a: np.ndarray, durations: np.ndarray,
@@ -86,10 +87,11 @@ def brake_envelope(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
     """(lo, hi): lowest and highest position each mover passes while braking to rest.
 
     Usually the velocity keeps its sign while braking and the envelope is spanned by the
-    start and the stop point. Where the velocity changes sign inside a phase (a state that
-    brakes harder than it needs to), the turning points are added.
+    start and the stop point. The velocity can change sign only in a state that brakes harder
+    than it needs to: taking its acceleration away at once would already reverse it
+    (``release`` and ``v`` of opposite signs). There the turning points are added.
     """
-    t1, t2, t3, j1, j3 = _phases(v, a, dec, jerk)
+    t1, t2, t3, j1, j3, release = _phases(v, a, dec, jerk)
     # phase 1 (jerk j1), phase 2 (constant acceleration a1), phase 3 (jerk j3)
     p1 = p + t1 * (v + t1 * (0.5 * a + t1 * j1 / 6.0))
     v1 = v + t1 * (a + 0.5 * t1 * j1)
@@ -98,9 +100,7 @@ def brake_envelope(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
     v2 = v1 + t2 * a1
     p3 = p2 + t3 * (v2 + t3 * (0.5 * a1 + t3 * j3 / 6.0))
     lo, hi = np.minimum(p, p3), np.maximum(p, p3)
-    # the velocity can only change sign inside phase 1 or 2 (phase 3 ends at rest)
-    v_peak = v - 0.5 * a * a / np.where(j1 == 0.0, 1.0, j1)  # where a passes 0 in phase 1
-    turns = (v * v1 < 0.0) | (v1 * v2 < 0.0) | ((a * a1 < 0.0) & (v * v_peak < 0.0))
+    turns = v * release < 0.0
     if turns.any():
         rows = np.flatnonzero(turns)
         durations, jerks = brake_phases(v[rows], a[rows], dec[rows], jerk[rows])

@@ -95,7 +95,9 @@ def filter_steps(cur: tuple[np.ndarray, np.ndarray, np.ndarray],
         # keep the pair (its brake then moves on exactly as before)
         fast_pred = pairs.fast[bad] & braking[s] & ~braking[k]
         blamed = np.concatenate((blamed, k[fast_pred]))
-        blamed = np.unique(blamed)
+        flag = np.zeros(n, dtype=bool)
+        flag[blamed] = True
+        blamed = np.flatnonzero(flag)  # sorted, once each
         if blamed.size == 0:
             return braking, lo, hi  # only pairs that were unsafe before and do not get worse
         braking[blamed] = True
@@ -105,7 +107,7 @@ def filter_steps(cur: tuple[np.ndarray, np.ndarray, np.ndarray],
             field[blamed] = source
         lo[blamed], hi[blamed] = brake_envelope(
             nxt[0][blamed], nxt[1][blamed], nxt[2][blamed], dec[blamed], jerk[blamed])
-        check = np.isin(pairs.succ, blamed) | np.isin(pairs.pred, blamed)
+        check = flag[pairs.succ] | flag[pairs.pred]
 
 
 def _safe(state: tuple[np.ndarray, ...] | list[np.ndarray], pairs: Pairs, lo: np.ndarray,
