@@ -154,6 +154,7 @@ timeline:
   - {id: straight, at: 0, axis: d, command: move_absolute_ca, position: 2400, velocity: 500,
      dynamics_reference_system: 31}
   - {id: replace, when: tcp_1000.done, axis: c, command: register_compensation, template: 32}
+  - {id: halt_other, at: 0.01, axis: d, command: halt_ca, dynamics_reference_system: 32}
 record: {signals: [c.set_position, c.set_velocity, c.tcp_position, d.set_velocity,
                    d.tcp_position]}
 """
@@ -167,7 +168,7 @@ def geo() -> ScenarioResult:
 def test_compensation_errors_are_the_blocks_error_ids(geo: ScenarioResult) -> None:
     by_id = rows(geo)
     assert by_id["not_registered"].error == by_id["no_dynamics"].error == \
-        "COMPENSATION_NOT_REGISTERED"
+        by_id["halt_other"].error == "COMPENSATION_NOT_REGISTERED"
     assert by_id["unknown"].error == "UNKNOWN_TEMPLATE"
     assert [by_id[name].result for name in ("reg_c", "reg_d", "tcp_1000", "straight",
                                             "replace")] == ["DONE"] * 5

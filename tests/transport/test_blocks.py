@@ -324,11 +324,11 @@ TEMPLATE = 0x01010010  #: the OTCID of a mover template
                          "options": ST_MoveRelativeCAOptions(position_reference_system=TEMPLATE)},
      ErrorId.UNKNOWN_TEMPLATE),
     (MC_HaltCA, {"options": ST_HaltCAOptions(dynamics_reference_system=TEMPLATE)},
-     ErrorId.INVALID_MODE),
+     ErrorId.UNKNOWN_TEMPLATE),
 ], ids=["absolute-position", "absolute-dynamics", "relative-position", "halt-dynamics"])
 def test_a_reference_system_other_than_the_motor_path_is_an_error(make, inputs, error_id):
-    """Without a registered mover template (tests/transport/test_geo.py): MC_MoveAbsoluteCA
-    names no template, nor MC_MoveRelativeCA's; MC_HaltCA takes only 0 so far (INVALID_MODE)."""
+    """Without a mover template on the rail (tests/transport/test_geo.py) no reference
+    system but 0 names anything."""
     _, _, axes = ring(1000.0)
     fb = make(axes[0])
     fb(execute=True, **inputs)

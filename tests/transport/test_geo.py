@@ -20,11 +20,13 @@ from openmotion.transport import (
     CompensationType,
     MC_AddAxisToGroup,
     MC_GroupEnable,
+    MC_HaltCA,
     MC_MoveAbsoluteCA,
     MC_MoveRelativeCA,
     MC_RegisterCompensation,
     MC_TransformPosition,
     MoverTemplate,
+    ST_HaltCAOptions,
     ST_MoveAbsoluteCAOptions,
     ST_MoveRelativeCAOptions,
     StarterKitGeometry,
@@ -292,6 +294,49 @@ def test_a_compensated_move_on_a_straight_keeps_the_full_dynamics():
                            options=ST_MoveAbsoluteCAOptions(dynamics_reference_system=T))
     assert fb.done
     assert np.abs(samples[:, 1]).max() == pytest.approx(VELOCITY, rel=1e-9)
+
+
+def halt_in_curve(**options: Any) -> tuple[MC_HaltCA, np.ndarray, StarterKitGeometry]:
+    """A mover cruising into the right curve (1000 to 1500) halts at 1050: samples until
+    standstill."""
+    rt, group, (axis,) = starter_kit(500.0)
+    g = group.tracks.geo.geometry
+    move, halt = MC_MoveAbsoluteCA(axis), MC_HaltCA(axis)
+    move(execute=True, position=2500.0, velocity=VELOCITY, acceleration=ACCELERATION,
+         deceleration=ACCELERATION)
+    rt.run_until(lambda: axis.set_position >= 1050.0)
+    samples = []
+    for _ in range(5000):
+        halt(execute=True, deceleration=ACCELERATION, jerk=AXIS["max_jerk"],
+             options=ST_HaltCAOptions(**options))
+        if halt.done or halt.error:
+            return halt, np.array(samples), g
+        rt.step()
+        samples.append((axis.set_position, axis.set_velocity, axis.set_acceleration))
+    raise AssertionError("the halt did not end")
+
+
+def test_a_halt_with_tcp_dynamics_in_a_curve_keeps_the_tcp_deceleration():
+    """MC_HaltCA with DynamicsReferenceSystem = template (§9.1.2.4): the stop meets the curve,
+    so the motor brakes at R/(R+y) of the deceleration and the TCP at no more than it."""
+    halt, samples, g = halt_in_curve(dynamics_reference_system=T)
+    assert halt.done, halt.message
+    assert any("the stop meets a curve" in w for w in halt.command.warnings)
+    _, a_tcp = tcp_dynamics(samples, g)
+    assert a_tcp.max() <= ACCELERATION * (1 + 1e-9)
+    assert np.abs(samples[:, 2]).max() == pytest.approx(ACCELERATION * R / (R + Y), rel=1e-6)
+
+
+def test_a_halt_on_the_motor_path_in_a_curve_brakes_the_tcp_harder():
+    halt, samples, g = halt_in_curve()
+    assert halt.done
+    _, a_tcp = tcp_dynamics(samples, g)
+    assert a_tcp.max() == pytest.approx(ACCELERATION * (R + Y) / R, rel=1e-6)
+
+
+def test_a_halt_may_only_name_the_registered_template():
+    halt, _, _ = halt_in_curve(dynamics_reference_system=OTHER)
+    assert halt.error and halt.error_id is ErrorId.COMPENSATION_NOT_REGISTERED
 
 
 def test_the_gap_stays_on_the_motor_path_so_the_tcp_gap_is_larger_in_a_curve():

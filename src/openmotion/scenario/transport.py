@@ -254,6 +254,9 @@ class HaltCa(CaEntry):
     """Minimum gap to the predecessor [mm]."""
     gap_control_mode: GapControlModeName = GapControlMode.GROUP_DEFAULT
     """group_default, standard, fast or none."""
+    dynamics_reference_system: OidInput = 0
+    """ST_HaltCAOptions: 0 = the motor path; the registered template: a stop that meets a
+    curve brakes at R / (R + y_shift) of deceleration and jerk, so the TCP keeps them."""
 
 
 class ActivateTrack(CaEntry):

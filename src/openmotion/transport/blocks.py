@@ -69,18 +69,12 @@ class ST_HaltCAOptions:
     dynamics_reference_system: int = 0
 
 
-def _checked(block: Any, kind: type, motor_path_only: bool = True) -> Any:
-    """The block's ``options``; unless the block's group call takes reference systems
-    (MC_MoveAbsoluteCA), one other than the motor path is refused."""
+def _checked(block: Any, kind: type) -> Any:
+    """The block's ``options``, which must be the block's own struct."""
     options = block.options
     if not isinstance(options, kind):
         raise TypeError(f"{type(block).__name__}.options must be a {kind.__name__}, "
                         f"got {type(options).__name__}")
-    for name in ("position_reference_system", "dynamics_reference_system"):
-        if motor_path_only and getattr(options, name, 0) != 0:
-            raise CommandRejected(ErrorId.INVALID_MODE,
-                                  f"options.{name}: only 0 (the motor path); reference "
-                                  f"systems are not wired for {type(block).__name__} yet")
     return options
 
 
@@ -156,7 +150,7 @@ class MC_MoveAbsoluteCA(_ContinuousUpdate):
     }
 
     def _issue(self, axis: Axis) -> Command:
-        options = _checked(self, ST_MoveAbsoluteCAOptions, motor_path_only=False)
+        options = _checked(self, ST_MoveAbsoluteCAOptions)
         self._group = _group_of(axis)
         return self._group.move_absolute(
             axis, self.position, self.velocity, self.acceleration, self.deceleration,
@@ -176,7 +170,7 @@ class MC_MoveRelativeCA(_ContinuousUpdate):
     }
 
     def _issue(self, axis: Axis) -> Command:
-        options = _checked(self, ST_MoveRelativeCAOptions, motor_path_only=False)
+        options = _checked(self, ST_MoveRelativeCAOptions)
         self._group = _group_of(axis)
         return self._group.move_relative(
             axis, self.distance, self.velocity, self.acceleration, self.deceleration,
@@ -193,7 +187,8 @@ class MC_HaltCA(ExecuteBlock):
     (>= 100 or MC_DEFAULT), gap [mm], options (``ST_HaltCAOptions``). Always aborting.
     Outputs: done at standstill, busy, active, command_aborted, error, error_id.
     Error ids: AXIS_NOT_IN_GROUP, AXIS_DISABLED, GROUP_NOT_ENABLED, GROUP_STOPPING,
-    GROUP_IN_ERROR, INVALID_DECELERATION, INVALID_JERK, INVALID_GAP, INVALID_MODE.
+    GROUP_IN_ERROR, INVALID_DECELERATION, INVALID_JERK, INVALID_GAP,
+    COMPENSATION_NOT_REGISTERED, UNKNOWN_TEMPLATE.
     """
 
     INPUTS: ClassVar[dict[str, Any]] = {
@@ -204,7 +199,8 @@ class MC_HaltCA(ExecuteBlock):
     def _issue(self, axis: Axis) -> Command:
         options = _checked(self, ST_HaltCAOptions)
         return _group_of(axis).halt_axis(axis, self.deceleration, self.jerk, self.gap,
-                                         options.gap_control_mode)
+                                         options.gap_control_mode,
+                                         options.dynamics_reference_system)
 
 
 # -- group blocks (§9.3.1) ----------------------------------------------------------------------

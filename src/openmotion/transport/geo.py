@@ -23,7 +23,8 @@ import numpy as np
 
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
-from openmotion.trajectory.plan import Limits
+from openmotion.trajectory.plan import Limits, plan_stop
+from openmotion.trajectory.segments import KinematicState
 from openmotion.transport.enums import CompensationType
 
 if TYPE_CHECKING:
@@ -263,6 +264,24 @@ class GeoCompensation:
         job.command.warnings.append(
             f"dynamics refer to the TCP of mover template {template.template_id}: in curves "
             f"the motor path runs at {factor:.6g} of the limits")
+
+    def compensate_halt(self, axis: Axis, limits: Limits, start: KinematicState,
+                        dynamics_reference_system: int, warnings: list[str]) -> Limits:
+        """MC_HaltCA with a template as DynamicsReferenceSystem: if the stop meets a curve,
+        deceleration and jerk are scaled by R / (R + y) as for moves (D-072); the longer
+        stop this gives is then on the safe side for the TCP."""
+        template = self.reference(axis, dynamics_reference_system)
+        if template is None or template.y_shift == 0.0:
+            return limits
+        assert self.geometry is not None
+        geometry = self.geometry
+        stop = plan_stop(start, limits.deceleration, limits.jerk).end.position
+        if not geometry.touches_curve(start.position, stop):
+            return limits
+        factor = geometry.curve_radius / (geometry.curve_radius + template.y_shift)
+        warnings.append(f"dynamics refer to the TCP of mover template {template.template_id}: "
+                        f"the stop meets a curve and brakes at {factor:.6g} of the limits")
+        return scaled(limits, factor)
 
 
 def scaled(limits: Limits, factor: float) -> Limits:

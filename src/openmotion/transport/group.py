@@ -372,15 +372,18 @@ class CaGroup(GroupCycle):
 
     def halt_axis(self, axis: Axis, deceleration: InputValue = MC_DEFAULT,
                   jerk: InputValue = MC_DEFAULT, gap: InputValue = MC_DEFAULT,
-                  gap_control_mode: GapControlMode = GapControlMode.GROUP_DEFAULT) -> Command:
-        """MC_HaltCA: brake to rest; the axis is not locked (§9.1.1.1.3)."""
+                  gap_control_mode: GapControlMode = GapControlMode.GROUP_DEFAULT,
+                  dynamics_reference_system: int = 0) -> Command:
+        """MC_HaltCA: brake to rest; the axis is not locked (§9.1.1.1.3). With a mover
+        template as ``dynamics_reference_system`` the deceleration and jerk hold for its TCP."""
         command = self._command("halt_ca")
         try:
             self._admit_motion()
             mover = self._member(axis)
         except CommandRejected as rejected:
             return self._reject(command, rejected.error_id, rejected.message)
-        self._issue_halt(mover, command, deceleration, jerk, gap, gap_control_mode)
+        self._issue_halt(mover, command, deceleration, jerk, gap, gap_control_mode,
+                         dynamics_reference_system)
         return command
 
     def gear_in_pos(self, master: Axis, slave: Axis, ratio_numerator: float = 1.0,
@@ -562,9 +565,17 @@ class CaGroup(GroupCycle):
         return command
 
     def _issue_halt(self, mover: Mover, command: Command, deceleration: InputValue,
-                    jerk: InputValue, gap: InputValue, gap_control_mode: GapControlMode) -> None:
+                    jerk: InputValue, gap: InputValue, gap_control_mode: GapControlMode,
+                    dynamics_reference_system: int = 0) -> None:
         try:
             limits = halt_limits(mover.axis.parameters, command.warnings, deceleration, jerk)
+            if dynamics_reference_system != 0:
+                slot = mover.slot
+                start = KinematicState(float(self.p[slot]), float(self.v[slot]),
+                                       float(self.a[slot]))
+                limits = self.tracks.geo.compensate_halt(mover.axis, limits, start,
+                                                         dynamics_reference_system,
+                                                         command.warnings)
             job = CaJob(HALT, command, limits, ca_gap(gap, self.parameters.default_gap),
                         self._gap_mode(gap_control_mode))
         except CommandRejected as rejected:
