@@ -1,0 +1,54 @@
+"""Planar frames: 2-D rigid transforms between a part frame and its coordinate system.
+
+TF5430 §5.1 places every part in a coordinate system by the position of the part's own frame
+(origin at the part's lower-left corner). A ``Pose`` (x, y, c) is both a position of a mover
+and such a placement: composing the placement of a part with a pose given on the part gives
+the pose in the coordinate system. Rotations by multiples of 90° are exact, so that stator
+corners stay on the 240 mm grid after any number of round trips.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+_QUARTER_TURNS = ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))
+
+
+def cos_sin(c: float) -> tuple[float, float]:
+    """cos and sin of ``c`` [°]; exact at multiples of 90°, where libm is off by 6e-17."""
+    turns, rest = divmod(c, 90.0)
+    if rest == 0.0:
+        return _QUARTER_TURNS[int(turns) % 4]
+    radians = math.radians(c)
+    return math.cos(radians), math.sin(radians)
+
+
+class Pose(NamedTuple):
+    """A planar pose, or the placement of a child frame in its parent frame.
+
+    ``c`` is not wrapped: composing adds angles, so a round trip gives back the same c.
+    """
+
+    x: float = 0.0  #: [mm]
+    y: float = 0.0  #: [mm]
+    c: float = 0.0  #: rotation about the vertical axis, counter-clockwise [°]
+
+    def compose(self, inner: Pose) -> Pose:
+        """``inner``, given in the frame this pose places, expressed in the parent frame."""
+        cos, sin = cos_sin(self.c)
+        return Pose(
+            self.x + cos * inner.x - sin * inner.y,
+            self.y + sin * inner.x + cos * inner.y,
+            self.c + inner.c,
+        )
+
+    def inverse(self) -> Pose:
+        """The parent frame placed in the child frame, so that ``p.inverse().compose(p)`` is 0."""
+        cos, sin = cos_sin(self.c)
+        return Pose(-(cos * self.x + sin * self.y), sin * self.x - cos * self.y, -self.c)
+
+    def affine(self) -> list[float]:
+        """This placement as the matrix ``shapely.affinity.affine_transform`` takes."""
+        cos, sin = cos_sin(self.c)
+        return [cos, -sin, sin, cos, self.x, self.y]

@@ -1,0 +1,318 @@
+"""Planning of a planar mover's own motions: pure functions from the current kinematic state of
+each coordinate to one constant-jerk ``Profile`` per coordinate (TF5430 §6.1.9, §7.2.2.8).
+
+Dynamics (§6.1.1, §6.1.9): the planners take resolved ``Limits`` per coordinate group (XY, Z,
+A, B, C); options.py turns a command's constraint into them. The XY limits hold tangentially
+to the path.
+
+MoveToPosition: from rest, or while the mover already moves along the line to the target, the
+path is that straight line. One 1-D plan on the arc length s is mapped to x and y by the
+direction cosines, so both profiles are exact, the path is exactly straight, the tangential
+limits hold exactly and the duration is the 1-D time-optimal one. With a C target, the slower
+of path and C sets the duration and the other is replanned with ruckig's minimum duration, so
+both end together.
+
+Decision (§6.1.9, digest §8 q16): a target off the current line of motion (a new command while
+the mover moves in another direction) first brakes to rest along the current path with the XY
+deceleration and jerk, then takes the straight line. The route is then two known straight
+pieces, which the planar group can reserve exactly, and no tangential limit is exceeded at the
+corner; a blended 2-D curve (ruckig's multi-DoF synchronisation) would cut the corner through
+area nobody reserved and meets the tangential limits only with per-axis limits scaled by 1/√2.
+
+Decision (§4.2): with a C target the whole C motion of MoveToPosition must stay in one C window,
+since X and Y cannot move in a CRotation mode and only MoveC may enter one; otherwise the
+command is rejected with PLANAR_POSITION_LIMIT. The C target is absolute (NonModulo, MoveC's
+default): MoveToPosition has no modulo options.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from openmotion.core.enums import ModuloDirection
+from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.planar.rotation import CWindows, move_c_target
+from openmotion.trajectory.plan import Limits, plan_position, plan_position_in, plan_stop
+from openmotion.trajectory.segments import KinematicState, Profile
+
+_REST = 1e-12  #: relative to its limit, a smaller velocity or acceleration is rest
+_ACROSS = 1e-9  #: relative to its limit, a smaller component across the line is float residue
+_SYNC_TOLERANCE = 1e-9  #: [s] path and C ending this close together end together
+_SYNC_ROUNDS = 4  #: at most this many stretching rounds until path and C agree
+_PATH_TOLERANCE = 1e-9  #: relative: float residue of an extremum is no position-limit breach
+
+
+@dataclass(frozen=True, slots=True)
+class PositionLimits:
+    """The hidden Minimum/Maximum Position of one coordinate (§6.1.1, from V3.1.10.30)."""
+
+    minimum: float = -math.inf  #: [mm] or [°]
+    maximum: float = math.inf  #: [mm] or [°]
+
+    def check(self, profile: Profile, coordinate: str) -> None:
+        """Reject (PLANAR_POSITION_LIMIT) a target outside the limits, or a path that leaves
+        them further than its start lies outside (a mover outside may come back in)."""
+        end = float(profile.p[-1])
+        if not self.minimum <= end <= self.maximum:
+            raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
+                                  f"{coordinate} target {end:g} outside "
+                                  f"[{self.minimum:g}, {self.maximum:g}]")
+        start = float(profile.p[0])
+        low, high = profile.position_extrema()
+        slack = _PATH_TOLERANCE * max(1.0, abs(low), abs(high))
+        if low < min(self.minimum, start) - slack or high > max(self.maximum, start) + slack:
+            raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
+                                  f"{coordinate} path reaches [{low:g}, {high:g}], outside "
+                                  f"[{self.minimum:g}, {self.maximum:g}]")
+
+
+UNLIMITED = PositionLimits()
+
+
+@dataclass(frozen=True, slots=True)
+class PlanarMotion:
+    """The X, Y and (when commanded) C profiles of one motion, all starting at its start."""
+
+    x: Profile
+    y: Profile
+    c: Profile | None  #: None: the motion leaves C alone
+    c_start: float  #: [°] orientation at the start, reported by ``sample`` when ``c`` is None
+
+    @property
+    def duration(self) -> float:
+        """[s] until every coordinate has reached its end state."""
+        return max(p.duration for p in (self.x, self.y, self.c) if p is not None)
+
+    def sample(self, time_step: float) -> tuple[np.ndarray, np.ndarray]:
+        """Times [s] and (x, y, c) rows every ``time_step`` from start to end, plus every
+        segment boundary, so the polyline through the points has every corner of the path
+        (the planar group's swept-area check)."""
+        if not time_step > 0.0:
+            raise ValueError(f"time_step must be > 0, not {time_step}")
+        end = self.duration
+        profiles = [p for p in (self.x, self.y, self.c) if p is not None]
+        steps = np.arange(math.ceil(end / time_step)) * time_step
+        times = np.unique(np.concatenate([steps, [end], *(p.t[p.t <= end] for p in profiles)]))
+        c = _positions(self.c, times) if self.c is not None else np.full(times.size, self.c_start)
+        return times, np.column_stack((_positions(self.x, times), _positions(self.y, times), c))
+
+
+def _positions(profile: Profile, times: np.ndarray) -> np.ndarray:
+    k = np.maximum(np.searchsorted(profile.t, times, side="right") - 1, 0)
+    dt = times - profile.t[k]
+    return profile.p[k] + dt * (profile.v[k] + dt * (profile.a[k] / 2.0
+                                                     + dt * profile.j[k] / 6.0))
+
+
+def plan_move_to_position(
+    start: tuple[KinematicState, KinematicState, KinematicState],
+    target: Sequence[float],
+    limits: Limits,
+    c_limits: Limits | None = None,
+    *,
+    x_limits: PositionLimits = UNLIMITED,
+    y_limits: PositionLimits = UNLIMITED,
+    c_windows: CWindows | None = None,
+) -> PlanarMotion:
+    """MoveToPosition (§7.2.2.8.1) from ``start`` (x, y, c) to ``target`` (x, y) or (x, y, c).
+
+    ``limits`` are the tangential XY limits; ``c_limits`` are needed with a C target.
+    Rejections: PLANAR_INVALID_INPUT (target not finite), PLANAR_POSITION_LIMIT (x or y limits,
+    or a C motion leaving its window when ``c_windows`` is given).
+    """
+    x, y, c = start
+    if len(target) not in (2, 3) or (len(target) == 3 and c_limits is None):
+        raise ValueError("target is (x, y) or (x, y, c), and a C target needs c_limits")
+    tx, ty = _finite(target[0], "x"), _finite(target[1], "y")
+    lead = None if _on_line(x, y, tx, ty, limits) else _xy_brake(x, y, limits)
+    lead_time = 0.0 if lead is None else max(lead[0].duration, lead[1].duration)
+    line = _Line(x, y, tx, ty) if lead is None else _Line(lead[0].end, lead[1].end, tx, ty)
+    if len(target) == 2:
+        s, c_profile = plan_position(line.s_start, line.length, limits), None
+    else:
+        s, c_profile = _synchronise(line, limits, lead_time, c, _finite(target[2], "c"),
+                                    c_limits)
+        if c_windows is not None and not c_windows.contains_motion(c_profile):
+            raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
+                                  f"c {c.position:g} -> {c_profile.end.position:g} leaves its "
+                                  f"C window; only MoveC rotates outside the windows (§4.2)")
+    px, py = line.profiles(s)
+    if lead is not None:
+        px = Profile.concatenate(_pad(lead[0], lead_time), px)
+        py = Profile.concatenate(_pad(lead[1], lead_time), py)
+    x_limits.check(px, "x")
+    y_limits.check(py, "y")
+    return PlanarMotion(px, py, c_profile, c.position)
+
+
+class _Line:
+    """The straight line from (x, y) to the target, with the start state projected on it."""
+
+    def __init__(self, x: KinematicState, y: KinematicState, tx: float, ty: float) -> None:
+        self.x0, self.y0, self.tx, self.ty = x.position, y.position, tx, ty
+        self.length = math.hypot(tx - x.position, ty - y.position)
+        if self.length > 0.0:
+            self.ux, self.uy = (tx - x.position) / self.length, (ty - y.position) / self.length
+        else:
+            self.ux, self.uy = 1.0, 0.0
+        self.s_start = KinematicState(0.0, self.ux * x.velocity + self.uy * y.velocity,
+                                      self.ux * x.acceleration + self.uy * y.acceleration)
+
+    def profiles(self, s: Profile) -> tuple[Profile, Profile]:
+        """x and y of the arc-length profile ``s``, ending exactly on the target."""
+        px, py = _along(s, self.x0, self.ux), _along(s, self.y0, self.uy)
+        px.p[-1], py.p[-1] = self.tx, self.ty
+        return px, py
+
+
+def _along(s: Profile, origin: float, component: float) -> Profile:
+    """One coordinate of a motion along a unit direction: origin + component * s(t)."""
+    data = s.data * component
+    data[0] = s.t
+    data[1] += origin
+    return Profile.from_data(data)
+
+
+def _on_line(x: KinematicState, y: KinematicState, tx: float, ty: float, limits: Limits) -> bool:
+    """Whether the mover rests, or its velocity and acceleration point along the line to the
+    target (then that line is its path without a corner)."""
+    if _at_rest(x, y, limits):
+        return True
+    dx, dy = tx - x.position, ty - y.position
+    length = math.hypot(dx, dy)
+    if length == 0.0:
+        return False
+    across_v = (dx * y.velocity - dy * x.velocity) / length
+    across_a = (dx * y.acceleration - dy * x.acceleration) / length
+    return (abs(across_v) <= _ACROSS * limits.velocity
+            and abs(across_a) <= _ACROSS * max(limits.acceleration, limits.deceleration))
+
+
+def _at_rest(x: KinematicState, y: KinematicState, limits: Limits) -> bool:
+    return (math.hypot(x.velocity, y.velocity) <= _REST * limits.velocity
+            and math.hypot(x.acceleration, y.acceleration)
+            <= _REST * max(limits.acceleration, limits.deceleration))
+
+
+def _xy_brake(x: KinematicState, y: KinematicState, limits: Limits) -> tuple[Profile, Profile]:
+    """X and Y braked to rest along their current path with the XY deceleration and jerk.
+
+    A straight motion (velocity and acceleration parallel: every motion planned here) brakes
+    on its line. A curved one (a track arc, external setpoints) brakes each axis with the
+    limits divided by √2, so the vector of the two never exceeds the path limits.
+    """
+    if _at_rest(x, y, limits):
+        return Profile.hold(KinematicState(x.position)), Profile.hold(KinematicState(y.position))
+    speed = math.hypot(x.velocity, y.velocity)
+    if speed > _REST * limits.velocity:
+        ux, uy = x.velocity / speed, y.velocity / speed
+    else:
+        size = math.hypot(x.acceleration, y.acceleration)
+        ux, uy = x.acceleration / size, y.acceleration / size
+    across = ux * y.acceleration - uy * x.acceleration
+    if abs(across) <= _ACROSS * max(limits.acceleration, limits.deceleration):
+        s = KinematicState(0.0, ux * x.velocity + uy * y.velocity,
+                           ux * x.acceleration + uy * y.acceleration)
+        brake = plan_stop(s, limits.deceleration, limits.jerk)
+        return _along(brake, x.position, ux), _along(brake, y.position, uy)
+    deceleration, jerk = limits.deceleration / math.sqrt(2.0), limits.jerk / math.sqrt(2.0)
+    return plan_stop(x, deceleration, jerk), plan_stop(y, deceleration, jerk)
+
+
+def _pad(profile: Profile, duration: float) -> Profile:
+    """``profile`` resting at its end until ``duration`` (so a following piece starts then)."""
+    rest = duration - profile.duration
+    if rest <= 0.0:
+        return profile
+    end = profile.end.position
+    return Profile.concatenate(profile, Profile([0.0, rest], [end, end], [0.0, 0.0],
+                                                [0.0, 0.0], [0.0, 0.0]))
+
+
+def _synchronise(line: _Line, limits: Limits, lead_time: float, c: KinematicState,
+                 c_target: float, c_limits: Limits) -> tuple[Profile, Profile]:
+    """The arc-length and C profiles, the faster one stretched so that both end together.
+
+    A stretched duration inside one of ruckig's blocked intervals ends later than asked; the
+    other then follows it, so a few rounds settle any case.
+    """
+    s = plan_position(line.s_start, line.length, limits)
+    rotation = plan_position(c, c_target, c_limits)
+    for _ in range(_SYNC_ROUNDS):
+        end = max(lead_time + s.duration, rotation.duration)
+        if s.duration > 0.0 and lead_time + s.duration < end - _SYNC_TOLERANCE:
+            s = _plan_lasting(line.s_start, line.length, limits, end - lead_time)
+        if rotation.duration > 0.0 and rotation.duration < end - _SYNC_TOLERANCE:
+            rotation = _plan_lasting(c, c_target, c_limits, end)
+        if abs(lead_time + s.duration - rotation.duration) <= _SYNC_TOLERANCE:
+            break
+    return s, rotation
+
+
+def _plan_lasting(start: KinematicState, target: float, limits: Limits,
+                  duration: float) -> Profile:
+    """A move to ``target`` ending no sooner than ``duration`` (ruckig's minimum duration).
+
+    Unequal acceleration and deceleration map onto ruckig one direction at a time (plan.py),
+    so a stretched profile that reverses brakes to rest first and starts again from there.
+    """
+    profile = plan_position_in(start, target, limits, duration)
+    if limits.acceleration == limits.deceleration or not _reverses(profile):
+        return profile
+    brake = plan_stop(start, limits.deceleration, limits.jerk)
+    rest = KinematicState(brake.end.position)
+    remaining = max(duration - brake.duration, 0.0)
+    return Profile.concatenate(brake, plan_position_in(rest, target, limits, remaining))
+
+
+def _reverses(profile: Profile) -> bool:
+    low, high = profile.velocity_extrema()
+    tolerance = 1e-9 * max(abs(low), abs(high), 1.0)
+    return low < -tolerance and high > tolerance
+
+
+def plan_axis_move(start: KinematicState, target: float, limits: Limits,
+                   position_limits: PositionLimits = UNLIMITED, coordinate: str = "z") -> Profile:
+    """MoveZ, MoveA, MoveB (§6.1.5, §7.2.2.8.7-9): the time-optimal move of one auxiliary
+    coordinate, inside its position limits (PLANAR_POSITION_LIMIT)."""
+    profile = plan_position(start, _finite(target, coordinate), limits)
+    position_limits.check(profile, coordinate)
+    return profile
+
+
+def plan_move_c(start: KinematicState, position: float, limits: Limits,
+                direction: ModuloDirection = ModuloDirection.NON_MODULO,
+                additional_turns: int = 0, modulus: float = 360.0,
+                tolerance_window: float = 0.0) -> Profile:
+    """MoveC (§6.1.9, §7.2.2.8.10): the time-optimal rotation to the absolute C target that
+    ``position`` and the modulo options give (rotation.move_c_target). C has no position
+    limits; its windows decide the command mode (rotation.mode_during_c_motion)."""
+    target = move_c_target(start.position, position, direction, additional_turns, modulus,
+                           tolerance_window)
+    return plan_position(start, target, limits)
+
+
+def plan_halt(states: Mapping[str, KinematicState],
+              limits: Mapping[str, Limits]) -> dict[str, Profile]:
+    """Halt (§7.2.2.8.12): every coordinate in ``states`` ("x", "y", "z", "a", "b", "c")
+    brakes to rest with the deceleration and jerk of its group in ``limits`` ("xy", "z", "a",
+    "b", "c"); x and y brake together along their path with the tangential XY limits."""
+    halted = {}
+    for name, state in states.items():
+        if name in ("x", "y"):
+            if "x" not in halted:
+                halted["x"], halted["y"] = _xy_brake(states["x"], states["y"], limits["xy"])
+        else:
+            halted[name] = plan_stop(state, limits[name].deceleration, limits[name].jerk)
+    return halted
+
+
+def _finite(value: float, coordinate: str) -> float:
+    if not math.isfinite(value):
+        raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                              f"{coordinate} target {value} is not finite")
+    return float(value)

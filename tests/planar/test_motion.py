@@ -1,0 +1,350 @@
+"""Planning of free planar motions: dynamics resolution, MoveToPosition on a straight line with
+tangential limits and synchronised C, MoveZ/A/B/C and Halt (TF5430 §6.1.3, §6.1.5, §6.1.9,
+§7.2.2.8; digest-planar-concepts §3.10, §5.3, §5.6, §5.9). ruckig is the time-optimal oracle."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import assume, given
+from hypothesis import strategies as st
+from ruckig import InputParameter, Ruckig, Trajectory
+
+from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.planar.motion import (
+    PlanarMotion,
+    PositionLimits,
+    plan_axis_move,
+    plan_halt,
+    plan_move_to_position,
+)
+from openmotion.planar.rotation import CWindows
+from openmotion.trajectory.evaluate import SegmentTable
+from openmotion.trajectory.plan import Limits
+from openmotion.trajectory.segments import KinematicState, Profile
+
+XY = Limits(1000.0, 5000.0, 4000.0, 50000.0)  # [mm/s, mm/s², mm/s², mm/s³], acc != dec
+C = Limits(360.0, 3600.0, 3600.0, 36000.0)  # [°/s ...]
+REST = KinematicState(0.0)
+EPS = 1e-9
+
+
+def _at_rest(x: float = 0.0, y: float = 0.0, c: float = 0.0) -> tuple[KinematicState, ...]:
+    return KinematicState(x), KinematicState(y), KinematicState(c)
+
+
+def _evaluate(profile: Profile, times: np.ndarray) -> np.ndarray:
+    """Rows p, v, a, j of ``profile`` at ``times`` (the cubic of every segment)."""
+    k = np.maximum(np.searchsorted(profile.t, times, side="right") - 1, 0)
+    dt = times - profile.t[k]
+    p0, v0, a0, j = profile.p[k], profile.v[k], profile.a[k], profile.j[k]
+    return np.array((p0 + dt * (v0 + dt * (a0 / 2.0 + dt * j / 6.0)),
+                     v0 + dt * (a0 + dt * j / 2.0), a0 + dt * j, j))
+
+
+def _dense(motion: PlanarMotion, n: int = 4001) -> tuple[np.ndarray, np.ndarray]:
+    times = np.linspace(0.0, motion.duration, n)
+    return _evaluate(motion.x, times), _evaluate(motion.y, times)
+
+
+def _distance_from_line(points: np.ndarray, start: tuple[float, float],
+                        end: tuple[float, float]) -> np.ndarray:
+    direction = np.subtract(end, start) / math.dist(start, end)
+    rel = points - np.asarray(start)
+    return np.abs(rel[:, 0] * direction[1] - rel[:, 1] * direction[0])
+
+
+def _assert_tangential_limits(motion: PlanarMotion, limits: Limits) -> None:
+    """Path velocity, acceleration (speeding up / slowing down) and jerk within the limits."""
+    x, y = _dense(motion)
+    speed = np.hypot(x[1], y[1])
+    acc = np.hypot(x[2], y[2])
+    along = x[1] * x[2] + y[1] * y[2]  # > 0 speeding up
+    assert speed.max() <= limits.velocity * (1 + EPS)
+    assert acc[along > 0].max(initial=0.0) <= limits.acceleration * (1 + EPS)
+    assert acc[along < 0].max(initial=0.0) <= limits.deceleration * (1 + EPS)
+    assert np.hypot(x[3], y[3]).max() <= limits.jerk * (1 + EPS)
+
+
+def _ruckig_duration(distance: float, limits: Limits, velocity: float = 0.0) -> float:
+    """The oracle: ruckig's 1-DoF time-optimal duration from ``velocity`` >= 0 to rest
+    ``distance`` >= 0 ahead (one direction, so the signed acceleration limits are exact)."""
+    inp = InputParameter(1)
+    inp.current_position, inp.target_position = [0.0], [distance]
+    inp.current_velocity = [velocity]
+    inp.max_velocity, inp.max_jerk = [limits.velocity], [limits.jerk]
+    inp.max_acceleration, inp.min_acceleration = [limits.acceleration], [-limits.deceleration]
+    trajectory = Trajectory(1)
+    Ruckig(1).calculate(inp, trajectory)
+    return trajectory.duration
+
+
+# MoveToPosition ---------------------------------------------------------------------------------
+
+def test_manual_6_1_3_move_to_100_100():
+    """§6.1.3: from (0, 0) with default dynamics to (100, 100): exactly there, straight,
+    time-optimal, and C untouched."""
+    motion = plan_move_to_position(_at_rest(), (100.0, 100.0), XY)
+    assert (motion.x.end, motion.y.end) == (KinematicState(100.0), KinematicState(100.0))
+    assert motion.c is None
+    assert motion.duration == pytest.approx(_ruckig_duration(math.hypot(100, 100), XY), abs=EPS)
+    x, y = _dense(motion)
+    assert _distance_from_line(np.column_stack((x[0], y[0])), (0, 0), (100, 100)).max() <= EPS
+    _assert_tangential_limits(motion, XY)
+
+
+def test_samples_for_the_swept_area():
+    motion = plan_move_to_position(_at_rest(c=7.0), (300.0, -40.0), XY)
+    times, points = motion.sample(0.01)
+    assert times[0] == 0.0 and times[-1] == motion.duration
+    assert np.all(np.diff(times) <= 0.01 + EPS)
+    assert set(motion.x.t) <= set(times)  # every segment boundary is a sample
+    assert points[0].tolist() == [0.0, 0.0, 7.0] and points[-1].tolist() == [300.0, -40.0, 7.0]
+    with pytest.raises(ValueError):
+        motion.sample(0.0)
+
+
+def test_profiles_install_in_the_segment_table():
+    """A mover owns one table row per coordinate: the bulk evaluator reproduces the samples."""
+    motion = plan_move_to_position((KinematicState(0.0, 300.0), KinematicState(0.0),
+                                    KinematicState(0.0)), (0.0, 200.0, 10.0), XY, C)
+    table = SegmentTable(capacity=3)
+    for profile in (motion.x, motion.y, motion.c):
+        table.install(table.add(REST, 0.0), profile, 0.0)
+    times, points = motion.sample(0.005)
+    out = np.zeros((4, 3))
+    for time, point in zip(times, points, strict=True):
+        table.evaluate(time, *out)
+        assert out[0] == pytest.approx(point, abs=1e-9)
+
+
+@pytest.mark.parametrize(("xy_target", "c_target"), [
+    ((500.0, 0.0), 5.0),  # the path is slower: C is stretched
+    ((1.0, 1.0), 14.0),  # C is slower: the path is stretched
+])
+def test_c_ends_with_the_path(xy_target, c_target):
+    motion = plan_move_to_position(_at_rest(), (*xy_target, c_target), XY, C,
+                                   c_windows=CWindows())
+    assert motion.x.duration == pytest.approx(motion.c.duration, abs=EPS)
+    assert motion.c.end == KinematicState(c_target)
+    slower = max(_ruckig_duration(math.hypot(*xy_target), XY), _ruckig_duration(c_target, C))
+    assert motion.duration == pytest.approx(slower, abs=EPS)
+    x, y = _dense(motion)
+    points = np.column_stack((x[0], y[0]))
+    assert _distance_from_line(points, (0, 0), xy_target).max() <= EPS
+    _assert_tangential_limits(motion, XY)
+
+
+def test_c_leaving_its_window_is_rejected():
+    """Only MoveC may rotate out of a window (§4.2): X and Y are locked outside."""
+    with pytest.raises(CommandRejected) as rejected:
+        plan_move_to_position(_at_rest(), (100.0, 0.0, 90.0), XY, C, c_windows=CWindows())
+    assert rejected.value.error_id == ErrorId.PLANAR_POSITION_LIMIT
+
+
+def test_moving_along_the_line_keeps_going():
+    """A new target ahead on the current line: no stop, the 1-D plan from the moving state."""
+    start = (KinematicState(0.0, 600.0), KinematicState(0.0), KinematicState(0.0))
+    motion = plan_move_to_position(start, (400.0, 0.0), XY)
+    x, y = _dense(motion)
+    assert x[1].min() >= -EPS and np.abs(y[0]).max() == 0.0
+    assert motion.x.end == KinematicState(400.0)
+    assert motion.duration == pytest.approx(_ruckig_duration(400.0, XY, 600.0), abs=EPS)
+
+
+def test_stretched_c_heading_away_brakes_first():
+    """C turning away from its target while a long path sets the time: with unequal
+    acceleration and deceleration ruckig's stretched profile would reverse under the wrong
+    bound, so C brakes to rest first; it still ends with the path, within its limits."""
+    c_limits = Limits(360.0, 3600.0, 900.0, 36000.0)
+    start = (KinematicState(0.0), KinematicState(0.0), KinematicState(0.0, -200.0))
+    motion = plan_move_to_position(start, (1000.0, 0.0, 10.0), XY, c_limits)
+    assert motion.c.duration == pytest.approx(motion.x.duration, abs=EPS)
+    assert motion.c.end == KinematicState(10.0)
+    c = _evaluate(motion.c, np.linspace(0.0, motion.duration, 4001))
+    speeding_up = c[1] * c[2] > 0.0
+    assert np.abs(c[2][speeding_up]).max() <= c_limits.acceleration * (1 + EPS)
+    assert np.abs(c[2][~speeding_up]).max() <= c_limits.deceleration * (1 + EPS)
+
+
+def test_moving_off_the_line_brakes_then_goes_straight():
+    """Decision: a target off the line of motion brakes to rest along the current direction,
+    then the straight line (two known pieces for the planar group). Braking from 800 mm/s
+    with D = 4000 mm/s², J = 50000 mm/s³ takes 0.08 + 0.12 + 0.08 s over 400 mm/s * 0.28 s."""
+    start = (KinematicState(0.0, 800.0), KinematicState(0.0), KinematicState(0.0))
+    motion = plan_move_to_position(start, (0.0, 200.0), XY)
+    corner_time = _corner_time(motion)
+    corner = motion.x.at(corner_time)[0]
+    assert (corner_time, corner) == pytest.approx((0.28, 112.0), abs=EPS)
+    times, points = motion.sample(0.001)
+    braking = times <= corner_time
+    assert np.abs(points[braking, 1]).max() == 0.0
+    assert _distance_from_line(points[~braking, :2], (corner, 0.0), (0.0, 200.0)).max() <= EPS
+    assert (motion.x.end, motion.y.end) == (KinematicState(0.0), KinematicState(200.0))
+    _assert_tangential_limits(motion, XY)
+
+
+def test_moving_to_the_current_position_brakes_and_comes_back():
+    start = (KinematicState(10.0, 0.0), KinematicState(20.0, -500.0), KinematicState(0.0))
+    motion = plan_move_to_position(start, (10.0, 20.0), XY)
+    assert (motion.x.end, motion.y.end) == (KinematicState(10.0), KinematicState(20.0))
+    assert motion.x.position_extrema() == (10.0, 10.0)
+    _assert_tangential_limits(motion, XY)
+
+
+def test_curved_start_brakes_within_the_path_limits():
+    """Velocity and acceleration not parallel (a track arc, external setpoints): each axis
+    brakes with the limits / √2, so the vector stays within the path limits."""
+    start = (KinematicState(0.0, 500.0, 0.0), KinematicState(0.0, 0.0, 2000.0), REST)
+    motion = plan_move_to_position(start, (-300.0, 100.0), XY)
+    assert (motion.x.end, motion.y.end) == (KinematicState(-300.0), KinematicState(100.0))
+    _assert_tangential_limits(motion, XY)
+
+
+def _corner_time(motion: PlanarMotion) -> float:
+    """When the braking piece comes to rest (the first later segment boundary at rest)."""
+    at_rest = (motion.x.v == 0.0) & (motion.y.v == 0.0) & (motion.x.t > 0.0)
+    return float(motion.x.t[np.flatnonzero(at_rest)[0]])
+
+
+@pytest.mark.parametrize(("start", "target"), [
+    (_at_rest(), (600.0, 0.0)),  # the target is outside
+    ((KinematicState(400.0, 1000.0), REST, REST), (0.0, 300.0)),  # braking overshoots
+])
+def test_xy_position_limits(start, target):
+    limits = PositionLimits(-500.0, 500.0)
+    with pytest.raises(CommandRejected) as rejected:
+        plan_move_to_position(start, target, XY, x_limits=limits, y_limits=limits)
+    assert rejected.value.error_id == ErrorId.PLANAR_POSITION_LIMIT
+
+
+def test_xy_target_on_the_limit_is_allowed():
+    limits = PositionLimits(-500.0, 500.0)
+    motion = plan_move_to_position(_at_rest(), (500.0, -500.0), XY, x_limits=limits,
+                                   y_limits=limits)
+    assert motion.y.end == KinematicState(-500.0)
+
+
+@pytest.mark.parametrize("target", [(math.nan, 0.0), (0.0, math.inf), (0.0, 0.0, math.nan)])
+def test_target_must_be_finite(target):
+    with pytest.raises(CommandRejected) as rejected:
+        plan_move_to_position(_at_rest(), target, XY, C)
+    assert rejected.value.error_id == ErrorId.PLANAR_INVALID_INPUT
+
+
+def test_c_target_needs_c_limits():
+    with pytest.raises(ValueError):
+        plan_move_to_position(_at_rest(), (0.0, 0.0, 10.0), XY)
+
+
+# MoveZ / MoveA / MoveB and Halt -----------------------------------------------------------------
+
+@pytest.mark.parametrize(("coordinate", "target"), [("z", 5.0), ("a", 1.0), ("b", -1.0)])
+def test_manual_6_1_5_auxiliary_axes(coordinate, target):
+    """§6.1.5: z 5 mm, a 1°, b -1° reached exactly (the manual shows 0.9999999999)."""
+    profile = plan_axis_move(REST, target, Limits(50.0, 500.0, 500.0, 5000.0),
+                             PositionLimits(-5.0, 5.0), coordinate)
+    assert profile.end == KinematicState(target)
+
+
+def test_auxiliary_target_outside_its_limits():
+    with pytest.raises(CommandRejected) as rejected:
+        plan_axis_move(REST, 5.5, Limits(50.0, 500.0, 500.0, 5000.0), PositionLimits(0.0, 5.0))
+    assert rejected.value.error_id == ErrorId.PLANAR_POSITION_LIMIT
+
+
+def test_auxiliary_overshoot_beyond_its_limits():
+    with pytest.raises(CommandRejected) as rejected:
+        plan_axis_move(KinematicState(4.0, 50.0), 4.5, Limits(50.0, 500.0, 500.0, 5000.0),
+                       PositionLimits(0.0, 5.0))
+    assert rejected.value.error_id == ErrorId.PLANAR_POSITION_LIMIT
+
+
+def test_auxiliary_from_outside_may_come_back():
+    profile = plan_axis_move(KinematicState(7.0), 5.0, Limits(50.0, 500.0, 500.0, 5000.0),
+                             PositionLimits(0.0, 5.0))
+    assert profile.end == KinematicState(5.0)
+
+
+def test_halt_stops_xy_on_its_path_and_every_other_coordinate():
+    moving = plan_move_to_position(_at_rest(), (300.0, 400.0), XY)
+    t = moving.duration / 3.0
+    states = {name: KinematicState(*profile.at(t)[:3])
+              for name, profile in (("x", moving.x), ("y", moving.y))}
+    states |= {"z": KinematicState(1.0, 20.0, 0.0), "c": REST}
+    aux = Limits(50.0, 500.0, 400.0, 5000.0)
+    halted = plan_halt(states, {"xy": XY, "z": aux, "c": C})
+    assert list(halted) == ["x", "y", "z", "c"]
+    motion = PlanarMotion(halted["x"], halted["y"], None, 0.0)
+    x, y = _dense(motion)
+    assert _distance_from_line(np.column_stack((x[0], y[0])), (0, 0), (300, 400)).max() <= EPS
+    assert np.all(x[1] >= -EPS) and halted["x"].end.velocity == 0.0
+    _assert_tangential_limits(motion, XY)
+    assert halted["z"].end.velocity == 0.0 and halted["z"].end.position > 1.0
+    assert halted["c"].duration == 0.0
+
+
+# properties -------------------------------------------------------------------------------------
+
+def _limits() -> st.SearchStrategy[Limits]:
+    """Limits over several decades, acceleration and deceleration drawn apart."""
+    decades = st.floats(0.0, 3.0).map(lambda e: 10.0 ** e)
+    return st.builds(lambda v, a, d, j: Limits(10.0 * v, 100.0 * a, 100.0 * d, 1000.0 * j),
+                     decades, decades, decades, decades)
+
+
+coordinate = st.floats(-2000.0, 2000.0, allow_nan=False)
+
+
+speeds = st.one_of(st.just(0.0), st.floats(1e-3, 1.0), st.floats(-1.0, -1e-3))
+
+
+@given(limits=_limits(), x0=coordinate, y0=coordinate, tx=coordinate, ty=coordinate,
+       speed=speeds, along=st.booleans(), heading=st.floats(0.0, 2 * math.pi),
+       c_target=st.one_of(st.none(), st.just(0.0),
+                          st.floats(-14.0, 14.0).filter(lambda c: abs(c) > 1e-6)))
+def test_any_move_is_straight_within_limits_and_exact(limits, x0, y0, tx, ty, speed, along,
+                                                      heading, c_target):
+    """From rest or moving (along the line or in any other direction): the end is exact, the
+    tangential limits hold, the path is the line (or the current line of motion to a rest
+    point, then the line), C ends with the path, and from rest the duration is ruckig's 1-D
+    optimum."""
+    length = math.hypot(tx - x0, ty - y0)
+    assume(length > 1e-3)
+    angle = math.atan2(ty - y0, tx - x0) if along else heading
+    v = speed * limits.velocity
+    start = (KinematicState(x0, v * math.cos(angle)), KinematicState(y0, v * math.sin(angle)),
+             REST)
+    target = (tx, ty) if c_target is None else (tx, ty, c_target)
+    motion = plan_move_to_position(start, target, limits, C, c_windows=CWindows())
+    assert (motion.x.end, motion.y.end) == (KinematicState(tx), KinematicState(ty))
+    _assert_tangential_limits(motion, limits)
+    _assert_on_route(motion, (x0, y0), angle, (tx, ty))
+    if c_target is not None:
+        assert motion.c.end == KinematicState(c_target)
+        if c_target != 0.0:  # a C that does not move has nothing to synchronise
+            assert motion.c.duration == pytest.approx(motion.x.duration, abs=EPS)
+    if speed == 0.0:
+        optimum = _ruckig_duration(length, limits)
+        if c_target is not None:
+            optimum = max(optimum, _ruckig_duration(abs(c_target), C))
+        assert motion.duration == pytest.approx(optimum, abs=EPS * max(1.0, optimum))
+
+
+def _assert_on_route(motion: PlanarMotion, start: tuple[float, float], heading: float,
+                     target: tuple[float, float]) -> None:
+    """Before a rest inside the motion the mover stays on its line of motion; from the last
+    such rest (or from the start) it is on the straight line to the target."""
+    times, points = motion.sample(motion.duration / 500.0)
+    scale = EPS * max(1.0, *np.abs(points[:, :2]).ravel())
+    rests = (motion.x.v == 0.0) & (motion.y.v == 0.0) & (motion.x.t > 0.0) & (
+        motion.x.t < motion.x.duration)
+    corner_time = float(motion.x.t[rests][-1]) if rests.any() else 0.0
+    corner = tuple(points[np.searchsorted(times, corner_time), :2])
+    before, after = times <= corner_time, times >= corner_time
+    ahead = (start[0] + math.cos(heading), start[1] + math.sin(heading))
+    assert _distance_from_line(points[before, :2], start, ahead).max(initial=0.0) <= scale
+    if math.dist(corner, target) > 1e-6:
+        assert _distance_from_line(points[after, :2], corner, target).max() <= scale
