@@ -83,6 +83,13 @@ class PlanarCommand:
         """Sent, waiting or executing: the command has not ended."""
         return self.phase <= CommandPhase.ACTIVE
 
+    active = property(lambda self: self.phase is CommandPhase.ACTIVE)
+    done = property(lambda self: self.phase is CommandPhase.DONE)
+    error = property(lambda self: self.phase is CommandPhase.ERROR)
+
+    def __repr__(self) -> str:
+        return f"<PlanarCommand {self.kind} {self.phase.name}>"
+
     def accepted(self) -> None:
         """The object took the command; it waits before it executes."""
         if self.phase is CommandPhase.SENT:

@@ -1,0 +1,98 @@
+"""MC_PlanarGroup (TF5430 §6.3, §7.2.2.7): collision avoidance by area reservation.
+
+Members (movers, the environment; tracks later) hold areas in the group's
+``ReservationRegistry``. A member's motion command asks for the area it sweeps and is refused
+at once when another member holds any of it (§6.3); the environment holds the stator surface,
+so nothing may leave it (§6.4). Members join and leave with their own AddToGroup and
+RemoveFromGroup. Commands of members are refused while the group is not Enabled: collision
+avoidance is then not in force (docs/decisions.md).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.planar.enums import PlanarState
+from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand
+from openmotion.planar.options import CDT_MCTOPLC_PLANAR_GROUP_STD
+from openmotion.planar.reservation import MemberId, ReservationRegistry
+from openmotion.planar.states import PlanarStateMachine, StateCommand, title
+from openmotion.planar.system import PlanarObject, PlanarSystem
+
+if TYPE_CHECKING:
+    from shapely.geometry.base import BaseGeometry
+
+    from openmotion.runtime.runtime import Runtime
+
+
+class MC_PlanarGroup(PlanarObject):
+    """A planar group: Enable, Disable, Reset and the members' reserved areas."""
+
+    def __init__(self, runtime: Runtime, name: str | None = None) -> None:
+        system = PlanarSystem.of(runtime)
+        super().__init__(system, system.next_oid("object"))
+        self.name = name or f"group{self.oid & 0xFFF:x}"
+        self.registry = ReservationRegistry()
+        self._states = PlanarStateMachine()
+        self.mc_to_plc_std = CDT_MCTOPLC_PLANAR_GROUP_STD(group_oid=self.oid)
+        self.error = False
+        self.error_id = ErrorId.NO_ERROR
+        system.register(self)
+
+    def __repr__(self) -> str:
+        return f"<MC_PlanarGroup 16#{self.oid:08X} {self.state.name}>"
+
+    def enable(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(StateCommand.ENABLE, feedback)
+
+    def disable(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(StateCommand.DISABLE, feedback)
+
+    def reset(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(StateCommand.RESET, feedback)
+
+    @property
+    def state(self) -> PlanarState:
+        return self.mc_to_plc_std.state
+
+    @property
+    def members(self) -> tuple[MemberId, ...]:
+        return self.registry.members
+
+    def reserved(self, member: MemberId) -> BaseGeometry:
+        """The area ``member`` holds now (the environment: the stator surface)."""
+        return self.registry.reserved(member)
+
+    # -- for the members (motion phase) ----------------------------------------------------------
+
+    def _check_enabled(self, what: str) -> None:
+        if self._states.current is not PlanarState.ENABLED:
+            raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
+                                  f"{what}: group 16#{self.oid:08X} is "
+                                  f"{title(self._states.current)}, not Enabled (§6.3)")
+
+    def _admit(self, obj: PlanarObject, area: BaseGeometry | None, member: MemberId) -> None:
+        """AddToGroup: ``obj`` joins with ``area`` or is refused with the blocker (§6.3)."""
+        from openmotion.planar.mover import Collision
+
+        self._check_enabled("AddToGroup")
+        blocker = self.registry.add_member(member, area)
+        if blocker is not None:
+            raise Collision(blocker, "its footprint")
+
+    def _leave(self, member: MemberId) -> None:
+        self.registry.remove_member(member)
+
+    # -- cycle -----------------------------------------------------------------------------------
+
+    def _execute(self, command: PlanarCommand) -> None:
+        self._states.request(command)
+
+    def _publish(self) -> None:
+        self._states.update()
+        self.mc_to_plc_std = CDT_MCTOPLC_PLANAR_GROUP_STD(
+            group_oid=self.oid, state=self._states.state,
+            group_object_count=len(self.registry.members))
+        self.error, self.error_id = self._states.error, self._states.error_id
+        self._queue.publish()

@@ -1,0 +1,688 @@
+"""MC_PlanarMover (TF5430 §7.2.2.8): a maglev mover with six coordinates x, y, z, a, b, c.
+
+Methods record commands (system.py runs them in call order in the motion phase). A command
+drives some coordinates: MoveToPosition x and y (and c with ``use_orientation``), MoveC c,
+MoveZ/A/B one auxiliary axis, Halt all of them. Commands on different coordinates run side by
+side, as the manual's examples issue MoveZ, MoveA, MoveB and MoveC in one cycle (§6.1.5); a
+command on a coordinate another command drives aborts that command.
+
+In a planar group every motion of x, y or c first asks the group for the area it sweeps
+(``reservation.swept_area``); a refused command ends with PLANAR_COLLISION and the blocker in
+``object_info``, and the mover goes on as before (§6.3, §6.7.2). While it moves, the area
+behind it is released piece by piece; when it stands it keeps its footprint.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.planar.enums import (
+    ExternalSetPositionMode,
+    MoverCommandMode,
+    PlanarObjectType,
+    PlanarState,
+)
+from openmotion.planar.feedback import (
+    ExternalSetpointStream,
+    MC_PlanarFeedbackBase,
+    PlanarCommand,
+    PlanarObjectInfo,
+)
+from openmotion.planar.frames import Pose
+from openmotion.planar.motion import (
+    PositionLimits,
+    _positions,
+    plan_axis_move,
+    plan_halt,
+    plan_move_c,
+    plan_move_to_position,
+)
+from openmotion.planar.options import (
+    CDT_MCTOPLC_PLANAR_MOVER,
+    CDT_MCTOPLC_PLANAR_MOVER_ACT,
+    CDT_MCTOPLC_PLANAR_MOVER_SET,
+    CDT_MCTOPLC_PLANAR_MOVER_STD,
+    IPlcDynamicConstraint,
+    MoverBusy,
+    MoverVector,
+    PlanarMoverParameters,
+    ST_ExternalSetpointGenerationOptions,
+    ST_MoveCOptions,
+    ST_MoveToPositionOptions,
+    command_dynamics,
+)
+from openmotion.planar.positions import PositionXYC, finite
+from openmotion.planar.reservation import MemberId, footprint, swept_area
+from openmotion.planar.states import (
+    CommandModes,
+    ErrorReaction,
+    MoverCommand,
+    PlanarStateMachine,
+    StateCommand,
+    check_accepts,
+)
+from openmotion.planar.system import PlanarObject, PlanarSystem
+from openmotion.trajectory.plan import Limits
+from openmotion.trajectory.segments import KinematicState, Profile
+
+if TYPE_CHECKING:
+    from openmotion.planar.group import MC_PlanarGroup
+    from openmotion.runtime.runtime import Runtime
+
+COORDINATES = ("x", "y", "z", "a", "b", "c")
+_GROUP_OF = {"x": "xy", "y": "xy", "z": "z", "a": "a", "b": "b", "c": "c"}
+_AREA = frozenset("xyc")  #: coordinates whose motion changes the footprint
+_SAMPLE_CYCLES = 10  #: a path is sampled every this many cycles for its swept area
+_C = MoverCommand
+
+
+class Collision(CommandRejected):
+    """A command refused by the group: PLANAR_COLLISION with the blocking object (§6.7.2)."""
+
+    def __init__(self, blocker: MemberId, what: str) -> None:
+        info = PlanarObjectInfo(PlanarObjectType(blocker.object_type), blocker.id)
+        super().__init__(ErrorId.PLANAR_COLLISION,
+                         f"{what} meets the area of {info.object_type.name.lower()} "
+                         f"16#{info.id:08X} (§6.3)")
+        self.object_info = info
+
+
+@dataclass
+class _Motion:
+    """Profiles the mover follows for one command (or, without one, for a brake)."""
+
+    command: PlanarCommand | None
+    coordinates: set[str]
+    end: float  #: absolute time when every profile of the motion rests [s]
+    start: float = 0.0
+    samples: np.ndarray | None = None  #: times [s] after ``start`` of the swept-area samples
+    c_motion: bool = False  #: a C move that may end a CRotation mode
+    then: list[str] = field(default_factory=list)  #: work to do at the end ("disable", ...)
+
+
+class MC_PlanarMover(PlanarObject):
+    """A planar mover. ``MC_PlanarMover(rt)`` makes one with the manual's default init
+    parameters (``PlanarMoverParameters``); it starts Disabled at ``initial_position``.
+
+    Every command method takes ``feedback`` (None is the PLC's 0) and returns the
+    ``PlanarCommand``, which a Python script may poll (``command.done``).
+    """
+
+    def __init__(self, runtime: Runtime, parameters: PlanarMoverParameters | None = None,
+                 name: str | None = None) -> None:
+        system = PlanarSystem.of(runtime)
+        super().__init__(system, system.next_oid("mover"))
+        self.parameters = parameters or PlanarMoverParameters()
+        self.name = name or f"mover{len(system.movers) + 1}"
+        start = self.parameters.initial_position
+        rows = system.add_rows([getattr(start, name) for name in COORDINATES])
+        self._rows = dict(zip(COORDINATES, rows, strict=True))
+        self._profiles: dict[str, tuple[Profile, float]] = {}  #: last plan per coordinate
+        self._states = PlanarStateMachine(transition_done=self._transition_done,
+                                          on_enter=self._on_enter)
+        self._modes = CommandModes(self.parameters.c_windows)
+        self._motions: list[_Motion] = []
+        self._group: MC_PlanarGroup | None = None
+        self._joining: MC_PlanarGroup | None = None
+        self.coordinate_system = 0  #: OID of the coordinate system it is in (0: no parts)
+        self._offset = np.zeros(6)  #: relative external setpoints (§4.2)
+        self._stream: ExternalSetpointStream | None = None
+        self._fed = False  #: an external setpoint came this cycle
+        self._started_external = False
+        self.mc_to_plc = CDT_MCTOPLC_PLANAR_MOVER()
+        self.error = False
+        self.error_id = ErrorId.NO_ERROR
+        self.message = ""
+        system.movers.append(self)
+        system.register(self)
+        environment = system.environment()
+        if environment is not None:
+            environment._place(self)
+        self._publish_status()
+
+    def __repr__(self) -> str:
+        return f"<MC_PlanarMover {self.name} 16#{self.oid:08X} {self.mc_to_plc.std.state.name}>"
+
+    # -- the manual's methods (§7.2.2.8) -------------------------------------------------------
+
+    def enable(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(StateCommand.ENABLE, feedback)
+
+    def disable(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(StateCommand.DISABLE, feedback)
+
+    def reset(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(StateCommand.RESET, feedback)
+
+    def move_to_position(self, target: PositionXYC,
+                         constraint: IPlcDynamicConstraint | None = None,
+                         options: ST_MoveToPositionOptions | None = None,
+                         feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        """A straight move to ``target`` (x, y; and c with ``options.use_orientation``)."""
+        return self._send(_C.MOVE_TO_POSITION, feedback, _copy(target), constraint, options)
+
+    def move_c(self, target_position: float, constraint: IPlcDynamicConstraint | None = None,
+               options: ST_MoveCOptions | None = None,
+               feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(_C.MOVE_C, feedback, target_position, constraint, options)
+
+    def move_z(self, target_position: float, constraint: IPlcDynamicConstraint | None = None,
+               feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(_C.MOVE_Z, feedback, target_position, constraint)
+
+    def move_a(self, target_position: float, constraint: IPlcDynamicConstraint | None = None,
+               feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(_C.MOVE_A, feedback, target_position, constraint)
+
+    def move_b(self, target_position: float, constraint: IPlcDynamicConstraint | None = None,
+               feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(_C.MOVE_B, feedback, target_position, constraint)
+
+    def halt(self, constraint: IPlcDynamicConstraint | None = None,
+             feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        """Brake every coordinate to rest; the constraint limits x and y (§7.2.2.8.12)."""
+        return self._send(_C.HALT, feedback, constraint)
+
+    def set_position(self, position: PositionXYC,
+                     feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        """Overwrite x, y and c; only while Disabled (§7.2.2.8.17)."""
+        return self._send(_C.SET_POSITION, feedback, _copy(position))
+
+    def add_to_group(self, group: MC_PlanarGroup,
+                     feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(_C.ADD_TO_GROUP, feedback, group)
+
+    def remove_from_group(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(_C.REMOVE_FROM_GROUP, feedback)
+
+    def start_external_setpoint_generation(
+            self, options: ST_ExternalSetpointGenerationOptions | None = None,
+            feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        """From this cycle on a setpoint must come every cycle (§6.1.6). Absolute: the mover
+        follows only them; Relative: they are offsets to whatever else moves it (§4.2)."""
+        options = options or ST_ExternalSetpointGenerationOptions()
+        kind = (_C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION
+                if options.mode == ExternalSetPositionMode.RELATIVE
+                else _C.START_EXTERNAL_SETPOINT_GENERATION)
+        return self._send(kind, feedback, options)
+
+    def set_external_setpoint(self, set_position: MoverVector, set_velocity: MoverVector,
+                              set_acceleration: MoverVector) -> None:
+        """One setpoint, in the mover's coordinate system (reference id 0)."""
+        self._send(_C.SET_EXTERNAL_SETPOINT, None, set_position, set_velocity, set_acceleration,
+                   0, None)
+
+    def set_external_setpoint_reference_id(self, feedback: MC_PlanarFeedbackBase | None,
+                                           set_position: MoverVector, set_velocity: MoverVector,
+                                           set_acceleration: MoverVector,
+                                           reference_system_oid: int) -> None:
+        """One setpoint in the frame ``reference_system_oid``; pass the same feedback every
+        call: its errors show after the next call (§6.1.7)."""
+        self._send(_C.SET_EXTERNAL_SETPOINT, None, set_position, set_velocity, set_acceleration,
+                   reference_system_oid, feedback)
+
+    def stop_external_setpoint_generation(
+            self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        """End the setpoints; the mover brakes with its maximum dynamics (§6.1.6)."""
+        return self._send(_C.STOP_EXTERNAL_SETPOINT_GENERATION, feedback)
+
+    def get_position_on_current_part(self) -> PositionXYC:
+        """The set position in the frame of the part under the mover (§5.2)."""
+        environment = self._system.environment()
+        pose = self.pose
+        if environment is None or environment.layout is None:
+            return PositionXYC(*pose, self.coordinate_system)
+        part, local = environment.layout.position_on_current_part(self.coordinate_system, pose)
+        return PositionXYC(*local, part)
+
+    def get_planar_object_info(self) -> PlanarObjectInfo:
+        return PlanarObjectInfo(PlanarObjectType.MOVER, self.oid)
+
+    # -- Python conveniences ---------------------------------------------------------------------
+
+    @property
+    def state(self) -> PlanarState:
+        return self.mc_to_plc.std.state
+
+    @property
+    def command_mode(self) -> MoverCommandMode:
+        return self.mc_to_plc.std.command_mode
+
+    @property
+    def position(self) -> MoverVector:
+        """The published set position (x, y, z [mm]; a, b, c [°])."""
+        return self.mc_to_plc.set.set_pos
+
+    @property
+    def pose(self) -> Pose:
+        p = self.mc_to_plc.set.set_pos
+        return Pose(p.x, p.y, p.c)
+
+    @property
+    def member(self) -> MemberId:
+        return MemberId(PlanarObjectType.MOVER, self.oid)
+
+    def footprint(self, pose: Pose | None = None):  # noqa: ANN201 - a shapely Polygon
+        x, y, c = pose or self.pose
+        return footprint(x, y, c, self.parameters.mover_width, self.parameters.mover_height)
+
+    # -- execution (motion phase) ---------------------------------------------------------------
+
+    def _execute(self, command: PlanarCommand) -> None:
+        kind = command.kind
+        if kind in set(StateCommand):
+            self._states.request(command)
+            return
+        kind = MoverCommand(kind)
+        if kind is _C.SET_EXTERNAL_SETPOINT:
+            self._feed(command)
+            return
+        check_accepts(self._states.current, self._modes.mode, kind,
+                      external=self._modes.external)
+        handler = _HANDLERS[kind]
+        handler(self, command)
+
+    def _move_to_position(self, command: PlanarCommand) -> None:
+        target, constraint, options = command.args
+        options = options or ST_MoveToPositionOptions()
+        options.check()
+        parameters = self.parameters
+        limits = command_dynamics(constraint, parameters.default_dynamic_xy,
+                                  parameters.maximum_dynamic_xy, command.warnings)
+        system, pose = self._resolve(target)
+        del system  # one coordinate system per mover until parts move it (§6.6)
+        start = self._start_states()
+        low, high = parameters.minimum_position, parameters.maximum_position
+        goal = (pose.x, pose.y, pose.c) if options.use_orientation else (pose.x, pose.y)
+        motion = plan_move_to_position(
+            (start["x"], start["y"], start["c"]), goal, limits, parameters.default_dynamic_c,
+            x_limits=PositionLimits(low.x, high.x), y_limits=PositionLimits(low.y, high.y),
+            c_windows=parameters.c_windows if options.use_orientation else None)
+        profiles = {"x": motion.x, "y": motion.y}
+        if motion.c is not None:
+            profiles["c"] = motion.c
+        self._begin(command, profiles, "the move")
+
+    def _move_c(self, command: PlanarCommand) -> None:
+        target, constraint, options = command.args
+        options = options or ST_MoveCOptions()
+        options.check()
+        p = self.parameters
+        limits = command_dynamics(constraint, p.default_dynamic_c, p.maximum_dynamic_c,
+                                  command.warnings)
+        profile = plan_move_c(self._start_states()["c"], finite(target, "c"), limits,
+                              options.direction, options.additional_turns, p.c_coordinate_modulus,
+                              p.c_coordinate_modulo_tolerance_window)
+        self._begin(command, {"c": profile}, "the rotation", c_motion=True)
+
+    def _move_aux(self, command: PlanarCommand) -> None:
+        target, constraint = command.args
+        name = {_C.MOVE_Z: "z", _C.MOVE_A: "a", _C.MOVE_B: "b"}[MoverCommand(command.kind)]
+        p = self.parameters
+        limits = command_dynamics(constraint, getattr(p, f"default_dynamic_{name}"),
+                                  getattr(p, f"maximum_dynamic_{name}"), command.warnings)
+        bounds = PositionLimits(getattr(p.minimum_position, name),
+                                getattr(p.maximum_position, name))
+        profile = plan_axis_move(self._start_states()[name], finite(target, name), limits,
+                                 bounds, name)
+        self._begin(command, {name: profile}, "the move")
+
+    def _halt(self, command: PlanarCommand) -> None:
+        (constraint,) = command.args
+        p = self.parameters
+        limits = self._limits("default")
+        limits["xy"] = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
+                                        command.warnings)
+        profiles = plan_halt(self._start_states(), limits)
+        try:
+            self._begin(command, profiles, "the halt")
+        except Collision:  # the hardest brake stays on the path the mover has reserved
+            command.warnings.append("the halt's stop would leave the reserved area: it brakes "
+                                    "with the mover's maximum dynamics")
+            self._begin(command, plan_halt(self._start_states(), self._limits("maximum")),
+                        "the halt", admit=False)
+
+    def _set_position(self, command: PlanarCommand) -> None:
+        (target,) = command.args
+        _, pose = self._resolve(target)
+        start = {"x": pose.x, "y": pose.y, "c": pose.c}
+        if self._group is not None:
+            blocker = self._group.registry.request(self.member, self.footprint(pose))
+            if blocker is not None:
+                raise Collision(blocker, "the new position")
+        for name, value in start.items():
+            self._install(name, Profile.hold(KinematicState(value)), self._system.previous)
+        command.finished()
+
+    def _add_to_group(self, command: PlanarCommand) -> None:
+        (group,) = command.args
+        if self._group is not None:
+            raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
+                                  f"{self.name} is in group 16#{self._group.oid:08X} already: "
+                                  "RemoveFromGroup first (§6.3)")
+        group._admit(self, self.footprint(), self.member)
+        self._group = group
+        command.finished()
+
+    def _remove_from_group(self, command: PlanarCommand) -> None:
+        if self._group is None:
+            raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP, f"{self.name} is in no group")
+        self._group._leave(self.member)
+        self._group = None
+        command.finished()
+
+    def _start_external(self, command: PlanarCommand) -> None:
+        (options,) = command.args
+        options.check()
+        kind = MoverCommand(command.kind)
+        if kind is _C.START_EXTERNAL_SETPOINT_GENERATION:
+            self._abort_all("external setpoints take over")
+        self._modes.started(kind)
+        self._stream = ExternalSetpointStream()
+        self._started_external = True
+        command.started()
+        self._external_command = command
+
+    def _feed(self, command: PlanarCommand) -> None:
+        position, velocity, acceleration, reference, feedback = command.args
+        stream = self._stream
+        command.finished()  # SetExternalSetpoint has no feedback of its own
+        if stream is None or self._modes.external is ExternalSetPositionMode.NONE:
+            if feedback is not None:
+                other = ExternalSetpointStream()
+                other.report(ErrorId.PLANAR_WRONG_MODE, "no external setpoint generation runs "
+                             "(§6.1.6)")
+                other.call(feedback)
+                other.call(feedback)
+            return
+        if feedback is not None:
+            stream.call(feedback)
+        try:
+            values = [np.array([getattr(v, k) for k in COORDINATES], dtype=float)
+                      for v in (position, velocity, acceleration)]
+            if reference:
+                pose = self._resolve(PositionXYC(values[0][0], values[0][1], values[0][5],
+                                                 reference))[1]
+                values[0][0], values[0][1], values[0][5] = pose
+            self._check_setpoint(values)
+        except (CommandRejected, TypeError, AttributeError) as bad:
+            error_id = getattr(bad, "error_id", ErrorId.PLANAR_EXT_SETPOINT)
+            message = getattr(bad, "message", str(bad))
+            stream.report(error_id, message)
+            self._states.fail(error_id, ErrorReaction.QUICK_STOP, message)
+            return
+        self._fed = True
+        now = self._system.now
+        if self._modes.external is ExternalSetPositionMode.ABSOLUTE:
+            for k, name in enumerate(COORDINATES):
+                state = (values[0][k], values[1][k], values[2][k])
+                self._install(name, Profile(np.zeros(1), [state[0]], [state[1]], [state[2]],
+                                            np.zeros(1)), now)
+            if self._group is not None:
+                self._group.registry.settle(self.member, self.footprint(
+                    Pose(values[0][0], values[0][1], values[0][5])))
+        else:
+            self._offset = values[0]
+
+    def _stop_external(self, command: PlanarCommand) -> None:
+        kind = (_C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION
+                if self._modes.external is ExternalSetPositionMode.RELATIVE
+                else _C.START_EXTERNAL_SETPOINT_GENERATION)
+        self._end_external(kind)
+        command.finished()
+
+    def _end_external(self, kind: MoverCommand) -> None:
+        now = self._system.now
+        if kind is _C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION:
+            for k, name in enumerate(COORDINATES):  # the offset stays where it is
+                if self._offset[k]:
+                    self._system.table.shift(self._rows[name], float(self._offset[k]))
+            self._offset = np.zeros(6)
+        else:  # brake to rest with the maximum dynamics (§6.1.6)
+            states = {name: self._state_at(name, now) for name in COORDINATES}
+            profiles = plan_halt(states, self._limits("maximum"))
+            for name, profile in profiles.items():
+                self._install(name, profile, now)
+            end = now + max(p.duration for p in profiles.values())
+            self._motions.append(_Motion(None, set(COORDINATES), end, now))
+        self._modes.ended(kind, done=True, c=self._state_at("c", now).position)
+        self._stream = None
+        command = getattr(self, "_external_command", None)
+        if command is not None:
+            command.finished()
+            self._external_command = None
+
+    def _check_setpoint(self, values: list[np.ndarray]) -> None:
+        p = self.parameters
+        for k, name in enumerate(COORDINATES):
+            top: Limits = getattr(p, f"maximum_dynamic_{_GROUP_OF[name]}")
+            if not all(math.isfinite(v[k]) for v in values):
+                raise CommandRejected(ErrorId.PLANAR_EXT_SETPOINT,
+                                      f"external setpoint {name} is not finite")
+            if abs(values[1][k]) > top.velocity * (1 + 1e-9):
+                raise CommandRejected(ErrorId.PLANAR_EXT_SETPOINT,
+                                      f"external setpoint velocity {name} {values[1][k]:g} above "
+                                      f"the maximum {top.velocity:g} (§6.1.6)")
+
+    # -- motions ---------------------------------------------------------------------------------
+
+    def _begin(self, command: PlanarCommand, profiles: dict[str, Profile], what: str, *,
+               c_motion: bool = False, admit: bool = True) -> None:
+        """Admit (in a group) and start ``profiles`` for ``command``: the commands on the same
+        coordinates are aborted."""
+        previous = self._system.previous
+        samples = None
+        if _AREA & profiles.keys() and self._group is not None:
+            samples, path = self._future_path(profiles, previous)
+            area = swept_area(path, self.parameters.mover_width, self.parameters.mover_height)
+            if admit:
+                self._group._check_enabled(what)
+                blocker = self._group.registry.request(self.member, area)
+                if blocker is not None:
+                    raise Collision(blocker, what)
+            else:
+                self._group.registry.settle(self.member, area)
+        self._abort(set(profiles), f"aborted by {command.kind}")
+        for name, profile in profiles.items():
+            self._install(name, profile, previous)
+        end = previous + max(p.duration for p in profiles.values())
+        if samples is not None:  # the area covers every coordinate that shapes it
+            for motion in self._motions:
+                if motion.coordinates & _AREA:
+                    motion.samples = None
+        self._motions.append(_Motion(command, set(profiles), end, previous, samples, c_motion))
+        if c_motion:
+            self._modes.c_motion_started(profiles["c"])
+        command.started()
+
+    def _future_path(self, profiles: dict[str, Profile], start: float
+                     ) -> tuple[np.ndarray, np.ndarray]:
+        """Sample times and (x, y, c) of the footprint's future from ``start`` on, with the
+        new ``profiles`` and the plans still running on the other coordinates."""
+        plans = {}
+        for name in ("x", "y", "c"):
+            if name in profiles:
+                plans[name] = (profiles[name], start)
+            else:
+                plans[name] = self._profiles.get(name) or (
+                    Profile.hold(self._state_at(name, start)), start)
+        end = max(t0 + p.duration for p, t0 in plans.values())
+        step = self._system.cycle_time * _SAMPLE_CYCLES
+        times = np.unique(np.concatenate([
+            start + np.arange(math.ceil(max(end - start, 0.0) / step) + 1) * step,
+            *[t0 + p.t[t0 + p.t > start] for p, t0 in plans.values()], [end]]))
+        times = times[times <= end]
+        path = np.column_stack([_positions(p, np.maximum(times - t0, 0.0))
+                                for p, t0 in plans.values()])
+        return times - start, path
+
+    def _place(self, pose: Pose) -> None:
+        """Stand at ``pose`` (a new coordinate system, a part that carried the mover)."""
+        for name, value in zip(("x", "y", "c"), pose, strict=True):
+            self._install(name, Profile.hold(KinematicState(value)), self._system.previous)
+            self._system.set_value(self._rows[name], value)
+        self._publish_status()
+
+    def _install(self, name: str, profile: Profile, time: float) -> None:
+        self._system.table.install(self._rows[name], profile, time)
+        self._profiles[name] = (profile, time)
+
+    def _abort(self, coordinates: set[str], message: str) -> None:
+        for motion in list(self._motions):
+            if motion.coordinates & coordinates:
+                if motion.command is not None:
+                    motion.command.aborted()
+                motion.command = None
+                motion.coordinates -= coordinates
+                if not motion.coordinates:
+                    self._motions.remove(motion)
+        del message
+
+    def _abort_all(self, message: str) -> None:
+        self._abort(set(COORDINATES), message)
+
+    def _brake(self, dynamics: str) -> None:
+        """Stop every coordinate (Disable, QuickStop): no command, no area to ask for, as the
+        hardest brake stays on the reserved path."""
+        self._abort_all("the mover stops")
+        previous = self._system.previous
+        profiles = plan_halt(self._start_states(), self._limits(dynamics))
+        for name, profile in profiles.items():
+            self._install(name, profile, previous)
+        end = previous + max(p.duration for p in profiles.values())
+        self._motions.append(_Motion(None, set(COORDINATES), end, previous))
+
+    def _freeze(self) -> None:
+        """Abort reaction: the mover stops where it is (it lands, §4.1)."""
+        self._abort_all("error")
+        now = self._system.now
+        for name in COORDINATES:
+            p, _, _ = self._system.value(self._rows[name])
+            self._install(name, Profile.hold(KinematicState(p)), now)
+
+    def _after_motion(self, now: float) -> None:
+        if self._modes.external is not ExternalSetPositionMode.NONE:
+            if not self._fed:
+                message = "no external setpoint in this cycle (§6.1.6)"
+                if self._stream is not None:
+                    self._stream.report(ErrorId.PLANAR_EXT_SETPOINT, message)
+                kind = (_C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION
+                        if self._modes.external is ExternalSetPositionMode.RELATIVE
+                        else _C.START_EXTERNAL_SETPOINT_GENERATION)
+                self._end_external(kind)
+                self._states.fail(ErrorId.PLANAR_EXT_SETPOINT, ErrorReaction.QUICK_STOP, message)
+            self._fed = False
+        for motion in list(self._motions):
+            if motion.samples is not None and self._group is not None:
+                reached = int(np.searchsorted(motion.samples, now - motion.start, side="right"))
+                self._group.registry.release(self.member, reached - 1)
+            if now >= motion.end:
+                self._motions.remove(motion)
+                if motion.command is not None:
+                    motion.command.finished()
+                if motion.c_motion or "c" in motion.coordinates:
+                    self._modes.c_at_rest(self._system.value(self._rows["c"])[0])
+                if motion.coordinates & _AREA and self._group is not None and \
+                        not any(m.coordinates & _AREA for m in self._motions):
+                    self._group.registry.settle(self.member, self.footprint(self._set_pose()))
+
+    def _publish(self) -> None:
+        self._states.update()
+        self._publish_status()
+        self._queue.publish()
+
+    def _publish_status(self) -> None:
+        values = [self._system.value(self._rows[name]) for name in COORDINATES]
+        p, v, a = (np.array(column) for column in zip(*values, strict=True))
+        p, v = p + self._offset, v
+        states = self._states
+        std = CDT_MCTOPLC_PLANAR_MOVER_STD(
+            mover_oid=self.oid, group_oid=self._group.oid if self._group else 0,
+            state=states.state, command_mode=self._modes.mode,
+            busy=MoverBusy(bool(self._motions),
+                           any(m.coordinates & _AREA for m in self._motions)))
+        vectors = [MoverVector(*map(float, row)) for row in (p, v, a)]
+        self.mc_to_plc = CDT_MCTOPLC_PLANAR_MOVER(
+            std=std,
+            set=CDT_MCTOPLC_PLANAR_MOVER_SET(*vectors, physical_area_id=self.coordinate_system),
+            act=CDT_MCTOPLC_PLANAR_MOVER_ACT(*vectors, physical_area_id=self.coordinate_system))
+        self.error, self.error_id, self.message = states.error, states.error_id, states.message
+
+    # -- state machine hooks ---------------------------------------------------------------------
+
+    def _on_enter(self, state: PlanarState) -> None:
+        if state is PlanarState.ENABLED and self._states.reaction is ErrorReaction.QUICK_STOP:
+            if not self._motions:
+                self._modes.enabled(self._set_pose().c)
+        elif state is PlanarState.DISABLING:
+            self._brake("maximum")
+        elif state is PlanarState.ERROR_PENDING:
+            if self._modes.external is not ExternalSetPositionMode.NONE:
+                self._stream = None
+                self._modes.external = ExternalSetPositionMode.NONE
+            if self._states.reaction is ErrorReaction.ABORT:
+                self._freeze()
+            else:
+                self._brake("maximum")
+
+    def _transition_done(self, state: PlanarState) -> bool:
+        if state in (PlanarState.DISABLING, PlanarState.ERROR_PENDING):
+            return not self._motions
+        return True
+
+    # -- helpers ---------------------------------------------------------------------------------
+
+    def _limits(self, which: str) -> dict[str, Limits]:
+        p = self.parameters
+        return {g: getattr(p, f"{which}_dynamic_{g}") for g in ("xy", "z", "a", "b", "c")}
+
+    def _state_at(self, name: str, time: float) -> KinematicState:
+        return self._system.table.state(self._rows[name], time)
+
+    def _start_states(self) -> dict[str, KinematicState]:
+        previous = self._system.previous
+        return {name: self._state_at(name, previous) for name in COORDINATES}
+
+    def _set_pose(self) -> Pose:
+        x, y, c = (self._system.value(self._rows[k])[0] for k in ("x", "y", "c"))
+        return Pose(x, y, c)
+
+    def _resolve(self, target: PositionXYC) -> tuple[int, Pose]:
+        for name in ("x", "y", "c"):
+            finite(getattr(target, name), name)
+        environment = self._system.environment()
+        if environment is None:
+            if target.reference_id != 0:
+                raise CommandRejected(ErrorId.INVALID_REFERENCE_ID,
+                                      f"reference id 16#{target.reference_id:08X} names no part "
+                                      "or coordinate system: there are none (§5.3)")
+            return 0, target.pose
+        return environment._resolve(target, self.coordinate_system)
+
+
+def _copy(position: PositionXYC) -> PositionXYC:
+    """The PLC passes targets IN_OUT but the command keeps the values of the call."""
+    if not isinstance(position, PositionXYC):
+        raise TypeError(f"a target must be a PositionXYC, got {type(position).__name__}")
+    return PositionXYC(position.x, position.y, position.c, position.reference_id)
+
+
+_HANDLERS = {
+    _C.MOVE_TO_POSITION: MC_PlanarMover._move_to_position,
+    _C.MOVE_C: MC_PlanarMover._move_c,
+    _C.MOVE_Z: MC_PlanarMover._move_aux,
+    _C.MOVE_A: MC_PlanarMover._move_aux,
+    _C.MOVE_B: MC_PlanarMover._move_aux,
+    _C.HALT: MC_PlanarMover._halt,
+    _C.SET_POSITION: MC_PlanarMover._set_position,
+    _C.ADD_TO_GROUP: MC_PlanarMover._add_to_group,
+    _C.REMOVE_FROM_GROUP: MC_PlanarMover._remove_from_group,
+    _C.START_EXTERNAL_SETPOINT_GENERATION: MC_PlanarMover._start_external,
+    _C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION: MC_PlanarMover._start_external,
+    _C.STOP_EXTERNAL_SETPOINT_GENERATION: MC_PlanarMover._stop_external,
+}

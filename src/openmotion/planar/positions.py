@@ -1,0 +1,49 @@
+"""PositionXYC: a target or position in the plane with the frame it is given in (TF5430 §5.3,
+§7.2.1.2; Tc3_Physics).
+
+The reference id names a part or a coordinate system (§5.3); 0 is accepted only where one
+static coordinate system exists. The setters keep the manual's method names in snake_case.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.planar.frames import Pose
+
+
+@dataclass
+class PositionXYC:
+    """x, y [mm], c [°] and the OID of the frame they are given in (0: the only one)."""
+
+    x: float = 0.0
+    y: float = 0.0
+    c: float = 0.0
+    reference_id: int = 0
+
+    def set_values_xy(self, x: float, y: float) -> PositionXYC:
+        self.x, self.y = x, y
+        return self
+
+    def set_values_xyc(self, x: float, y: float, c: float) -> PositionXYC:
+        self.x, self.y, self.c = x, y, c
+        return self
+
+    def set_values_xyc_reference_id(self, x: float, y: float, c: float,
+                                    reference_id: int) -> PositionXYC:
+        self.x, self.y, self.c, self.reference_id = x, y, c, reference_id
+        return self
+
+    @property
+    def pose(self) -> Pose:
+        return Pose(float(self.x), float(self.y), float(self.c))
+
+
+def finite(value: object, name: str) -> float:
+    """A command's number input, or PLANAR_INVALID_INPUT (no exception leaves a cycle)."""
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                              f"{name}: must be a finite number, got {value!r}")
+    return float(value)

@@ -1,0 +1,497 @@
+"""Group collision avoidance by area reservation (TF5430 §6.3, §6.4, §6.7.2).
+
+Every member of a planar group holds a reserved area. A motion command asks the group for the
+area its motion needs; the command is rejected at once, without waiting, when that area meets
+an area another member holds, and otherwise the area becomes the member's reservation (§6.3).
+The environment is a member too: it blocks every area that leaves the stator surface (§6.4,
+§6.7.2). The rejection names the blocking object so that the caller can fill the feedback
+with ``ErrorId.PLANAR_COLLISION`` (0x8186) and ``objectInfo`` (§6.7.2).
+
+Footprint and swept area. A mover's footprint is its width x height rectangle (155 x 155 mm by
+default, §6.1.1) centred on (x, y) and turned by c. The planner hands over its path sampled at a
+fixed time step, an (k, 3) array of x, y, c. ``swept_area`` cuts the path into runs of
+consecutive samples and covers each run with one convex piece: the hull H of the run's first
+and last footprints, grown by g on every side (each corner replaced by the square of half-side
+g around it, which holds the disc of radius g), where
+
+    g = max over the run's samples of e  +  r * (largest turn between two samples, in rad)
+
+e is how far a sample's corners lie from the blend (1 - t) * first + t * last of the same
+corners at the run's ends (t from the sample's place along the chord, or from its angle when
+the run turns more than it travels; any t in [0, 1] keeps the argument below true), and r is
+the half diagonal. Runs are cut where the travel passes each ``release_step`` and halved until
+e <= ``tolerance`` or the run is a single pair of samples. A pair that turns by 30 degrees or
+more is covered by its segment grown by r instead (a disc holds the footprint at any angle).
+
+Why a piece contains the true swept area: we assume that between two samples the centre moves
+on the straight segment joining them and c moves monotonically (true to micrometres at a 1 ms
+sample step). A sample's footprint is the hull of its corners, each within e of H, so it lies
+within e of H (H grown by e is convex). Between samples a and a + 1, a point of the footprint
+is p_a + s (p_a+1 - p_a) + R(c) u for some s in [0, 1]; it differs from the blend
+(1 - s) (p_a + R(c_a) u) + s (p_a+1 + R(c_a+1) u) by at most |u| times the turn, and that blend
+lies within max e of H. So every footprint of the run lies within g of H, inside the piece. A
+straight move without rotation gives g = 0: its area is exactly the hull of the start and end
+footprints. Exactness: for translations, curves and turns in place sampled every cycle the
+area exceeds the exact one by about ``tolerance`` (sqrt 2 times that at H's corners); a move
+that turns a lot while it travels exceeds it by more, because H bridges the dent its trailing
+edge leaves (7 mm for 135 degrees over 360 mm). A safety ``margin`` widens the footprint on
+every side.
+
+Release while moving (our rule; the manual does not say when areas are freed, digest §8.21).
+Each piece knows the last sample it covers (``until``). The group calls
+``release(member, sample)`` with the index of the sample the member's setpoint has reached
+(every cycle is cheap: nothing happens until a piece lies wholly behind); pieces with
+``until < sample`` are dropped, and the last piece is never dropped. When the motion ends the
+group calls ``settle(member, footprint)``. Safety: the pieces kept cover the samples from the
+one reached to the end of the path, and the motion between them, so the reservation always
+contains the current footprint and every future footprint of the path; releasing only removes
+area, so it can never make two reservations meet. A follower is admitted once the pieces in its
+way are released, at most one ``release_step`` (plus a footprint) behind the leader.
+
+Determinism: requests are decided in call order (first caller wins, §6.3.2). When several
+members block, the one added to the group first is named, whether mover, track or environment.
+Touching is not meeting: areas that share only edges or corners do not block each other.
+
+Speed: the pieces of all members sit in flat numpy arrays (box, owner, until), updated in
+place on every change, so an admission check is one vectorised bounding-box scan, then the
+exact shapely test (``intersects`` and not ``touches``) on the few candidates in member order,
+stopping at the first meeting. An STRtree would need a rebuild after every accepted command
+and every release.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Collection
+from dataclasses import dataclass
+from functools import cached_property
+from typing import NamedTuple
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon
+from shapely.geometry.base import BaseGeometry
+
+from openmotion.core.errors import ConfigError
+from openmotion.planar.enums import PlanarObjectType
+
+MOVER_WIDTH = 155.0  #: default footprint extent in x at c = 0 [mm] (§6.1.1 "Mover width")
+MOVER_HEIGHT = 155.0  #: default footprint extent in y at c = 0 [mm] (§6.1.1 "Mover height")
+SWEEP_TOLERANCE = 0.5  #: how much a swept area may exceed the exact one [mm]
+RELEASE_STEP = 100.0  #: travel covered by one releasable piece of a swept area [mm]
+SURFACE_TOLERANCE = 1e-6  #: how far a footprint may overhang the stators (rounding) [mm]
+NOISE = 1e-9  #: distances below this are rounding noise [mm]
+NEVER = int(np.iinfo(np.int64).max)  #: ``until`` of a piece that progress never releases
+_DISC_VERTICES = 32  #: vertices of the polygon drawn around a disc (it encloses the disc)
+_FLIP = np.array([1.0, 1.0, -1.0, -1.0])  #: bounds to the stored box, keys to query keys
+_KEY_ORDER = np.array([2, 3, 0, 1])
+_DISC_TURN = 30.0  #: a sample pair turning this much [deg] is covered by a grown segment
+
+
+class MemberId(NamedTuple):
+    """A group member: its kind and object id (fills ``PlanarObjectInfo`` on a rejection)."""
+
+    object_type: PlanarObjectType
+    id: int
+
+
+def footprint(x: float, y: float, c: float = 0.0, width: float = MOVER_WIDTH,
+              height: float = MOVER_HEIGHT, margin: float = 0.0) -> Polygon:
+    """The mover's rectangle at (x, y) [mm] turned by c [deg], grown by ``margin`` [mm]."""
+    _check_size(width, height, margin)
+    turning = _exact_cos_sin(np.array([c], dtype=float))
+    half = (width / 2 + margin, height / 2 + margin)
+    return Polygon(_corners(np.array([[x, y]], dtype=float), turning, half)[0])
+
+
+@dataclass(frozen=True, eq=False)
+class SweptArea:
+    """An area as convex pieces in path order, each with the last sample it covers.
+
+    ``keys`` hold each piece's max x, max y, -min x, -min y: a stored box (min x, min y,
+    -max x, -max y) overlaps piece i with positive area exactly when it lies below
+    ``keys[i]`` in all four; ``key`` is the same for all pieces together. They are computed
+    here, with the area, so that the admission check only compares."""
+
+    pieces: np.ndarray  #: shapely polygons (object array)
+    until: np.ndarray  #: int64, the last path sample each piece covers
+    bounds: np.ndarray  #: (n, 4) min x, min y, max x, max y of each piece [mm]
+    keys: np.ndarray  #: (n, 4) query keys of the pieces
+    key: np.ndarray  #: (4,) query key of the whole area
+
+    @classmethod
+    def from_pieces(cls, pieces: np.ndarray, until: np.ndarray | list[int]) -> SweptArea:
+        bounds = shapely.bounds(pieces)
+        keys = bounds[:, _KEY_ORDER] * _FLIP
+        return cls(pieces, np.asarray(until, dtype=np.int64), bounds, keys, keys.max(axis=0))
+
+    @classmethod
+    def from_geometry(cls, geometry: BaseGeometry) -> SweptArea:
+        """One piece that progress never releases (a standing footprint, a track's band)."""
+        return cls.from_pieces(np.array([geometry], dtype=object), [NEVER])
+
+    @cached_property
+    def geometry(self) -> BaseGeometry:
+        """The union of the pieces (for views and tests; checks use the pieces)."""
+        return shapely.union_all(self.pieces)
+
+
+def swept_area(path: np.ndarray, width: float = MOVER_WIDTH, height: float = MOVER_HEIGHT,
+               margin: float = 0.0, tolerance: float = SWEEP_TOLERANCE,
+               release_step: float | None = RELEASE_STEP) -> SweptArea:
+    """The area a mover needs to follow ``path``, (k, 3) samples of x, y [mm], c [deg].
+
+    Contains every footprint along the path and, for a densely sampled path, exceeds the exact
+    swept area by about ``tolerance`` [mm] (see the module docstring). ``release_step`` [mm]
+    bounds the travel per piece, so that ``ReservationRegistry.release`` can free the area
+    behind the mover; None keeps whole runs.
+    """
+    _check_size(width, height, margin)
+    if not tolerance > 0.0 or (release_step is not None and not release_step > 0.0):
+        raise ConfigError(f"swept area: tolerance and release_step must be > 0, got "
+                          f"{tolerance}, {release_step}")
+    path = _checked_path(path)
+    half = (width / 2 + margin, height / 2 + margin)
+    xy, c = path[:, :2], path[:, 2]
+    if len(path) == 1:
+        return SweptArea.from_pieces(
+            np.array([footprint(*path[0], width, height, margin)], dtype=object), [0])
+    turning = _cos_sin(c)
+    starts, ends, grow, turn = _split_runs(xy, c, turning, *_cut_by_travel(xy, release_step),
+                                           math.hypot(*half), tolerance)
+    return SweptArea.from_pieces(_pieces(xy, turning, starts, ends, grow, turn, half), ends)
+
+
+def _check_size(width: float, height: float, margin: float) -> None:
+    if not (width > 0.0 and height > 0.0 and math.isfinite(width) and math.isfinite(height)):
+        raise ConfigError(f"footprint: width and height must be finite and > 0, got "
+                          f"{width} x {height}")
+    if not (margin >= 0.0 and math.isfinite(margin)):
+        raise ConfigError(f"footprint: margin must be finite and >= 0, got {margin}")
+
+
+def _checked_path(path: np.ndarray) -> np.ndarray:
+    path = np.asarray(path, dtype=float)
+    if path.ndim != 2 or path.shape[1] != 3 or len(path) == 0:
+        raise ValueError(f"path must be a (k, 3) array of x, y, c with k >= 1, got {path.shape}")
+    if not np.isfinite(path).all():
+        raise ValueError("path holds a value that is not finite")
+    return path
+
+
+def _cos_sin(c: np.ndarray) -> np.ndarray:
+    """(n, 2) cosine and sine of c [deg], exact at multiples of 90 deg (edges then meet)."""
+    if np.all(c == c[0]):  # no turn: one evaluation
+        return np.broadcast_to(_cos_sin(c[:1]) if len(c) > 1 else _exact_cos_sin(c), (len(c), 2))
+    return _exact_cos_sin(c)
+
+
+def _exact_cos_sin(c: np.ndarray) -> np.ndarray:
+    quarter = np.mod(c, 90.0) == 0.0
+    turns = np.mod(np.round(c / 90.0), 4).astype(int)
+    cos = np.where(quarter, np.array([1.0, 0.0, -1.0, 0.0])[turns], np.cos(np.radians(c)))
+    sin = np.where(quarter, np.array([0.0, 1.0, 0.0, -1.0])[turns], np.sin(np.radians(c)))
+    return np.stack([cos, sin], axis=1)
+
+
+def _corners(xy: np.ndarray, turning: np.ndarray, half: tuple[float, float]) -> np.ndarray:
+    """(n, 4, 2) corners of the footprints centred on ``xy``, turned by (cos, sin), ccw."""
+    local = np.array([(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]) * half
+    cos, sin = turning[:, 0, None], turning[:, 1, None]
+    x = cos * local[:, 0] - sin * local[:, 1]
+    y = sin * local[:, 0] + cos * local[:, 1]
+    return xy[:, None, :] + np.stack([x, y], axis=-1)
+
+
+def _cut_by_travel(xy: np.ndarray, release_step: float | None) -> tuple[np.ndarray, np.ndarray]:
+    """Runs (first, last sample) that each cover about ``release_step`` of centre travel."""
+    last = len(xy) - 1
+    if release_step is None:
+        return np.array([0]), np.array([last])
+    travel = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
+    step = np.floor(travel / release_step)
+    marks = np.unique(np.concatenate([[0], np.flatnonzero(np.diff(step)) + 1, [last]]))
+    return marks[:-1], marks[1:]
+
+
+def _split_runs(xy: np.ndarray, c: np.ndarray, turning: np.ndarray, starts: np.ndarray,
+                ends: np.ndarray, radius: float, tolerance: float) -> tuple[np.ndarray, ...]:
+    """Halve every run until its corners stray at most ``tolerance`` from the blends (or it is
+    one pair). The turn between two samples goes into the growth: splitting cannot shrink it.
+
+    Returns the runs' first and last samples, growths g and largest turns between samples."""
+    while True:
+        error, turn = _run_error(xy, c, turning, starts, ends, radius)
+        split = (error > tolerance) & (ends - starts >= 2)
+        if not split.any():
+            break
+        mid = (starts + ends) // 2
+        keep = np.stack([np.ones_like(split), split], axis=1).ravel()
+        starts = np.stack([starts, mid], axis=1).ravel()[keep]
+        ends = np.stack([np.where(split, mid, ends), ends], axis=1).ravel()[keep]
+    grow = error + radius * np.radians(turn)
+    grow[grow <= NOISE] = 0.0
+    return starts, ends, grow, turn
+
+
+def _run_error(xy: np.ndarray, c: np.ndarray, turning: np.ndarray, starts: np.ndarray,
+               ends: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per run: the largest e of its samples, and its largest turn between two samples [deg].
+
+    A corner is p + R(c) u, so its miss from the blend is the centre's miss plus the blend of
+    rotations' miss applied to u; a blend of rotations is a scaled rotation, and |u| <= r."""
+    lengths = ends - starts + 1
+    first = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    run = np.repeat(np.arange(len(starts)), lengths)
+    index = starts[run] + np.arange(lengths.sum()) - first[run]
+    j, last = starts[run], ends[run]
+    by_turn = radius * np.radians(np.abs(c[last] - c[j])) > np.hypot(*(xy[last] - xy[j]).T)
+    t = np.where(by_turn, _t_turned(c, index, j, last), _t_along(xy, index, j, last))[:, None]
+    centre_miss = xy[index] - xy[j] - t * (xy[last] - xy[j])
+    turn_miss = turning[index] - turning[j] - t * (turning[last] - turning[j])
+    e = np.hypot(*centre_miss.T) + radius * np.hypot(*turn_miss.T)
+    turn = np.abs(np.diff(c, append=c[-1]))[index]
+    turn[index == last] = 0.0  # the pair (last, last + 1) belongs to the next run
+    return np.maximum.reduceat(e, first), np.maximum.reduceat(turn, first)
+
+
+def _t_along(xy: np.ndarray, index: np.ndarray, j: np.ndarray, last: np.ndarray) -> np.ndarray:
+    """Blend weight of each sample from its centre's place along the run's chord."""
+    ab, ap = xy[last] - xy[j], xy[index] - xy[j]
+    length2 = np.einsum("ij,ij->i", ab, ab)
+    ratio = np.einsum("ij,ij->i", ap, ab) / np.where(length2 > 0.0, length2, 1.0)
+    return np.clip(ratio, 0.0, 1.0)
+
+
+def _t_turned(c: np.ndarray, index: np.ndarray, j: np.ndarray, last: np.ndarray) -> np.ndarray:
+    """Blend weight of each sample from how far it has turned between the run's ends."""
+    turn = c[last] - c[j]
+    return np.clip((c[index] - c[j]) / np.where(turn != 0.0, turn, 1.0), 0.0, 1.0)
+
+
+def _pieces(xy: np.ndarray, turning: np.ndarray, starts: np.ndarray, ends: np.ndarray,
+            grow: np.ndarray, turn: np.ndarray, half: tuple[float, float]) -> np.ndarray:
+    """One convex polygon per run that contains every footprint of the run."""
+    disc = (turn >= _DISC_TURN) & (ends - starts == 1)
+    pieces = np.empty(len(starts), dtype=object)
+    first, last = starts[~disc], ends[~disc]
+    ends_corners = np.concatenate([_corners(xy[first], turning[first], half),
+                                   _corners(xy[last], turning[last], half)], axis=1)
+    square = grow[~disc, None, None] * np.array([(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0),
+                                                 (-1.0, 1.0)])
+    pieces[~disc] = _hull(ends_corners, square)
+    angle = np.arange(_DISC_VERTICES) * (2.0 * math.pi / _DISC_VERTICES)
+    ring = np.stack([np.cos(angle), np.sin(angle)], axis=1) * (
+        math.hypot(*half) / math.cos(math.pi / _DISC_VERTICES))  # the polygon encloses the disc
+    pieces[disc] = _hull(np.stack([xy[starts[disc]], xy[ends[disc]]], axis=1),
+                         np.broadcast_to(ring, (int(disc.sum()), *ring.shape)))
+    return pieces
+
+
+def _hull(points: np.ndarray, offsets: np.ndarray) -> np.ndarray:
+    """Convex hull of every point plus every offset, one hull per row."""
+    if len(points) == 0:
+        return np.empty(0, dtype=object)
+    cloud = (points[:, :, None, :] + offsets[:, None, :, :]).reshape(len(points), -1, 2)
+    return shapely.convex_hull(shapely.multipoints(cloud))
+
+
+def _as_swept(area: SweptArea | BaseGeometry) -> SweptArea:
+    return area if isinstance(area, SweptArea) else SweptArea.from_geometry(area)
+
+
+class ReservationRegistry:
+    """The reserved areas of one planar group's members, decided in call order (§6.3)."""
+
+    def __init__(self, capacity: int = 64) -> None:
+        self._order: dict[MemberId, int] = {}  # member -> rank in member order
+        self._members: dict[int, MemberId] = {}
+        self._next_rank = 0
+        self._slots: dict[MemberId, np.ndarray] = {}  # member -> its pieces' slots, path order
+        self._environment: MemberId | None = None
+        self._surface: BaseGeometry | None = None
+        self._box = np.empty((0, 4))  # min x, min y, -max x, -max y of each slot's piece
+        self._geoms = np.empty(0, dtype=object)
+        self._owner = np.empty(0, dtype=np.int64)  # rank of the slot's member, -1 when free
+        self._until = np.empty(0, dtype=np.int64)
+        self._free: list[int] = []
+        self._grow(max(1, capacity))
+
+    @property
+    def members(self) -> tuple[MemberId, ...]:
+        """The members in member order (the order they were added)."""
+        return tuple(self._order)
+
+    def __contains__(self, member: object) -> bool:
+        return member in self._order
+
+    @property
+    def piece_count(self) -> int:
+        """Pieces reserved by all members together."""
+        return len(self._owner) - len(self._free)
+
+    def add_member(self, member: MemberId,
+                   area: SweptArea | BaseGeometry | None = None) -> MemberId | None:
+        """Add a member holding ``area`` (a mover: its standing footprint; the environment:
+        its stator surface, or None before a boundary exists). A mover whose area is blocked
+        is not added, and the blocker is returned, as for ``request``."""
+        if member in self._order:
+            raise ConfigError(f"{_name(member)}: is a member of this group already")
+        if member.object_type == PlanarObjectType.ENVIRONMENT:
+            if self._environment is not None:
+                raise ConfigError(f"{_name(member)}: the group holds "
+                                  f"{_name(self._environment)} already")
+            self._environment = member
+            self.set_surface(area)
+        elif area is not None:
+            swept = _as_swept(area)
+            block = self._blocker(swept, [])
+            if block is not None:
+                return block
+            self._slots[member] = self._store(swept, self._next_rank)
+        self._order[member] = self._next_rank
+        self._members[self._next_rank] = member
+        self._next_rank += 1
+        return None
+
+    def remove_member(self, member: MemberId) -> None:
+        """Drop a member and free its area (``RemoveFromGroup``, §7.2.2)."""
+        rank = self._order.pop(member)
+        del self._members[rank]
+        self._free_slots(self._slots.pop(member, np.empty(0, dtype=np.int64)))
+        if member == self._environment:
+            self._environment, self._surface = None, None
+
+    def set_surface(self, surface: BaseGeometry | None) -> None:
+        """The environment's stator surface (after ``CreateBoundary``); None: no boundary yet,
+        so nothing is checked against it (no boundary element to meet, §6.4)."""
+        if self._environment is None:
+            raise ConfigError("set_surface: the group holds no environment")
+        if surface is None or surface.is_empty:
+            self._surface = None
+            return
+        grown = shapely.buffer(surface, SURFACE_TOLERANCE, join_style="mitre")
+        shapely.prepare(grown)
+        self._surface = grown
+
+    def blocker(self, owner: MemberId, area: SweptArea | BaseGeometry,
+                ignore: Collection[MemberId] = ()) -> MemberId | None:
+        """The first member (in member order) that blocks ``area`` for ``owner``, or None.
+
+        ``owner``'s own reservation never blocks; nor do the members in ``ignore`` (e.g. the
+        movers on a track that reserves its band)."""
+        ranks = [self._mover_rank(owner)] + [self._order[m] for m in ignore if m in self._order]
+        return self._blocker(_as_swept(area), ranks)
+
+    def request(self, owner: MemberId, area: SweptArea | BaseGeometry,
+                ignore: Collection[MemberId] = ()) -> MemberId | None:
+        """Admit ``area`` for ``owner``: None and it replaces the owner's reservation, or the
+        blocking member and nothing changes (the caller reports ``PLANAR_COLLISION``)."""
+        swept = _as_swept(area)
+        block = self.blocker(owner, swept, ignore)
+        if block is None:
+            self.settle(owner, swept)
+        return block
+
+    def release(self, owner: MemberId, sample: int) -> None:
+        """Free the pieces wholly behind ``sample``, the index of the path sample the owner's
+        setpoint has reached (release while moving; the last piece always stays)."""
+        slots = self._slots.get(owner)
+        if slots is None or len(slots) < 2 or self._until[slots[0]] >= sample:
+            return
+        behind = self._until[slots[:-1]] < sample  # the last piece stays
+        self._free_slots(slots[:-1][behind])
+        self._slots[owner] = np.concatenate([slots[:-1][~behind], slots[-1:]])
+
+    def settle(self, owner: MemberId, area: SweptArea | BaseGeometry) -> None:
+        """Replace ``owner``'s reservation without a check: only for an area inside it, such
+        as the standing footprint at the end of the path (which the last piece contains)."""
+        rank = self._mover_rank(owner)
+        self._free_slots(self._slots.pop(owner, np.empty(0, dtype=np.int64)))
+        self._slots[owner] = self._store(_as_swept(area), rank)
+
+    def reserved(self, member: MemberId) -> BaseGeometry:
+        """The member's reserved area (the environment: its surface); empty if none."""
+        if member == self._environment:
+            return self._surface if self._surface is not None else Polygon()
+        slots = self._slots.get(member)
+        return Polygon() if slots is None else shapely.union_all(self._geoms[slots])
+
+    def _mover_rank(self, owner: MemberId) -> int:
+        """The rank of a member that may hold an area (any member but the environment)."""
+        if owner == self._environment:
+            raise ConfigError(f"{_name(owner)}: the environment holds its surface, not an area")
+        return self._order[owner]
+
+    def _blocker(self, swept: SweptArea, excluded: list[int]) -> MemberId | None:
+        rank = self._first_meeting(swept, excluded)
+        environment = self._environment
+        if environment is not None and (rank is None or self._order[environment] < rank) \
+                and not self._on_surface(swept):
+            return environment
+        return None if rank is None else self._members[rank]
+
+    def _first_meeting(self, swept: SweptArea, excluded: list[int]) -> int | None:
+        """Lowest rank among the members whose pieces meet (not only touch) ``swept``.
+
+        Boxes first, vectorised; then the exact test pair by pair in rank order, stopping at
+        the first meeting (scalar shapely calls beat its ufuncs for a handful of pairs)."""
+        near = np.flatnonzero(_below(self._box, swept.key))
+        for rank in excluded:
+            near = near[self._owner[near] != rank]
+        if near.size == 0:
+            return None
+        if len(swept.pieces) == 1:
+            mine, theirs = np.zeros(len(near), dtype=np.int64), near
+        else:
+            mine, index = np.nonzero(_below(self._box[near][None], swept.keys[:, None]))
+            theirs = near[index]
+        ranks = self._owner[theirs]
+        order = np.argsort(ranks, kind="stable")
+        pieces, geoms = swept.pieces, self._geoms
+        for i, j, rank in zip(mine[order].tolist(), theirs[order].tolist(),
+                              ranks[order].tolist(), strict=True):
+            if pieces[i].intersects(geoms[j]) and not pieces[i].touches(geoms[j]):
+                return rank
+        return None
+
+    def _on_surface(self, swept: SweptArea) -> bool:
+        return self._surface is None or bool(shapely.covers(self._surface, swept.pieces).all())
+
+    def _store(self, swept: SweptArea, rank: int) -> np.ndarray:
+        count = len(swept.pieces)
+        if count == 0:
+            return np.empty(0, dtype=np.int64)
+        if len(self._free) < count:
+            self._grow(max(len(self._owner), count))
+        slots = np.array(self._free[:-count - 1:-1], dtype=np.int64)
+        del self._free[-count:]
+        self._box[slots] = swept.bounds * _FLIP
+        self._geoms[slots] = swept.pieces
+        self._owner[slots] = rank
+        self._until[slots] = swept.until
+        return slots
+
+    def _free_slots(self, slots: np.ndarray) -> None:
+        self._box[slots] = np.inf
+        self._geoms[slots] = None
+        self._owner[slots] = -1
+        self._free.extend(slots[::-1].tolist())
+
+    def _grow(self, extra: int) -> None:
+        size = len(self._owner)
+        self._box = np.concatenate([self._box, np.full((extra, 4), np.inf)])  # free: meets none
+        self._geoms = np.concatenate([self._geoms, np.full(extra, None, dtype=object)])
+        self._owner = np.concatenate([self._owner, np.full(extra, -1, dtype=np.int64)])
+        self._until = np.concatenate([self._until, np.zeros(extra, dtype=np.int64)])
+        self._free.extend(range(size + extra - 1, size - 1, -1))
+
+
+def _below(box: np.ndarray, key: np.ndarray) -> np.ndarray:
+    """``(box < key).all(axis=-1)`` for a last axis of 4, without the slow axis reduction."""
+    less = np.ascontiguousarray(box < key)
+    return less.view(np.uint32)[..., 0] == 0x01010101  # four True bytes
+
+
+def _name(member: MemberId) -> str:
+    return f"{member.object_type.name.lower()} {member.id:#x}"

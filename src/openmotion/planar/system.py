@@ -1,0 +1,156 @@
+"""The MC side of planar motion: one ``PlanarSystem`` per runtime runs every planar object.
+
+The PLC-side objects (MC_PlanarMover, MC_PlanarGroup, MC_PlanarEnvironment) record method
+calls as commands. In the motion phase of the cycle (Runtime phase 2) the system takes the
+commands of all objects in call order, so that two movers commanded in one cycle are decided
+first come, first served (§6.3.2). Then it evaluates the profiles of all movers at once (one
+``SegmentTable`` row per mover coordinate), lets the movers end their motions and release area,
+advances the state machines and publishes every status. A program therefore reads the result
+of a call in the next cycle, as the manual's examples do (§6.7.1), and the runtime is what
+calls ``update()`` of every object: a user who calls it as well sees nothing new.
+"""
+
+from __future__ import annotations
+
+import weakref
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from openmotion.core.errors import CommandRejected
+from openmotion.planar.feedback import CommandQueue, MC_PlanarFeedbackBase, PlanarCommand
+from openmotion.trajectory.evaluate import SegmentTable
+from openmotion.trajectory.segments import KinematicState
+
+if TYPE_CHECKING:
+    from openmotion.planar.environment import MC_PlanarEnvironment
+    from openmotion.planar.mover import MC_PlanarMover
+    from openmotion.runtime.runtime import Runtime
+
+_MOVER_OIDS = 0x05110000  #: movers count up from 16#05110010 (§6.1.8 watch window)
+_OBJECT_OIDS = 0x05120000  #: tracks, groups and environments share 16#0512xxxx (§6.2, §6.7.2)
+_OID_STEP = 0x10
+_SYSTEMS: weakref.WeakKeyDictionary[Runtime, PlanarSystem] = weakref.WeakKeyDictionary()
+
+
+class PlanarObject:
+    """What every planar object has: an OID, a command queue and the cyclic hooks."""
+
+    def __init__(self, system: PlanarSystem, oid: int) -> None:
+        self._system = system
+        self.oid = oid
+        self._queue = CommandQueue()
+
+    def _send(self, kind: str, feedback: MC_PlanarFeedbackBase | None,
+              *args: Any) -> PlanarCommand:
+        """Record a method call; the system executes it in this cycle's motion phase."""
+        return self._system.send(self, kind, feedback, *args)
+
+    def _run(self, command: PlanarCommand) -> None:
+        """Execute one command; a rejection ends it with its error id, never raises."""
+        try:
+            self._execute(command)
+        except CommandRejected as rejected:
+            command.rejected(rejected.error_id, rejected.message,
+                             getattr(rejected, "object_info", None))
+
+    def _execute(self, command: PlanarCommand) -> None:
+        raise NotImplementedError
+
+    def _after_motion(self, now: float) -> None:
+        """After the profiles are evaluated: end motions, release area."""
+
+    def _publish(self) -> None:
+        """Advance the state machine and show the new status (read in the next cycle)."""
+        self._queue.publish()
+
+    def update(self) -> None:
+        """The manual's Update(): the runtime exchanges the data of every planar object each
+        cycle, so calling it changes nothing; PLC-style programs may keep the call."""
+
+
+class PlanarSystem:
+    """All planar objects of one runtime, their setpoint table and the cycle that runs them."""
+
+    def __init__(self, runtime: Runtime) -> None:
+        self.runtime = runtime
+        self.cycle_time = runtime.cycle_time
+        self.table = SegmentTable(capacity=48)
+        self._values = [np.zeros(48) for _ in range(4)]  # p, v, a, j of every row
+        self.objects: list[PlanarObject] = []  #: in creation order
+        self.movers: list[MC_PlanarMover] = []
+        self.environments: list[MC_PlanarEnvironment] = []
+        self._sent: list[tuple[PlanarObject, PlanarCommand]] = []
+        self._counts = {"mover": 0, "object": 0}
+        runtime._add_system(self._advance)
+
+    @classmethod
+    def of(cls, runtime: Runtime) -> PlanarSystem:
+        """The planar system of ``runtime``, made on first use."""
+        system = _SYSTEMS.get(runtime)
+        if system is None:
+            system = _SYSTEMS[runtime] = cls(runtime)
+        return system
+
+    @property
+    def now(self) -> float:
+        return self.runtime.now
+
+    @property
+    def previous(self) -> float:
+        """Time of the last published setpoints: new plans start there (docs D-001)."""
+        return self.runtime.now - self.cycle_time if self.runtime.cycle else 0.0
+
+    def register(self, obj: PlanarObject) -> None:
+        self.objects.append(obj)
+
+    def next_oid(self, kind: str) -> int:
+        """OIDs as TwinCAT hands them out: 16#05110010, 16#05110020, ... for movers."""
+        self._counts[kind] += 1
+        base = _MOVER_OIDS if kind == "mover" else _OBJECT_OIDS
+        return base + _OID_STEP * self._counts[kind]
+
+    def add_rows(self, positions: list[float]) -> list[int]:
+        """One table row per coordinate, standing at ``positions``."""
+        rows = [self.table.add(KinematicState(p), self.previous) for p in positions]
+        if self.table.capacity > self._values[0].size:
+            grown = [np.zeros(self.table.capacity) for _ in range(4)]
+            for new, old in zip(grown, self._values, strict=True):
+                new[:old.size] = old
+            self._values = grown
+        for row, position in zip(rows, positions, strict=True):
+            self._values[0][row] = position
+        return rows
+
+    def value(self, row: int) -> tuple[float, float, float]:
+        """Position, velocity and acceleration of ``row`` at the last evaluation."""
+        p, v, a, _ = self._values
+        return float(p[row]), float(v[row]), float(a[row])
+
+    def set_value(self, row: int, position: float) -> None:
+        """Show ``row`` standing at ``position`` before the next evaluation (a relocation)."""
+        p, v, a, _ = self._values
+        p[row], v[row], a[row] = position, 0.0, 0.0
+
+    def send(self, obj: PlanarObject, kind: str, feedback: MC_PlanarFeedbackBase | None,
+             *args: Any) -> PlanarCommand:
+        command = obj._queue.send(kind, feedback, *args)
+        self._sent.append((obj, command))
+        return command
+
+    def environment(self) -> MC_PlanarEnvironment | None:
+        """The environment that describes the stators and parts (the first one made)."""
+        return self.environments[0] if self.environments else None
+
+    def _advance(self, now: float) -> None:
+        for obj in self.objects:
+            obj._queue.take()
+        sent, self._sent = self._sent, []
+        for obj, command in sent:  # call order across all objects (§6.3.2)
+            obj._run(command)
+        if self.table.size:
+            self.table.evaluate(now, *self._values)
+        for obj in self.objects:
+            obj._after_motion(now)
+        for obj in self.objects:
+            obj._publish()

@@ -1,0 +1,96 @@
+"""MC_PlanarMover on the runtime: status one cycle after the call, group admission in call
+order, the environment boundary, C rotation modes (TF5430 §4.2, §6.3, §6.7)."""
+
+from __future__ import annotations
+
+import pytest
+
+import openmotion as om
+from openmotion.core.errors import ErrorId
+from openmotion.planar import (
+    MC_PlanarEnvironment,
+    MC_PlanarFeedback,
+    MC_PlanarGroup,
+    MC_PlanarMover,
+    MoverCommandMode,
+    MoverVector,
+    PlanarMoverParameters,
+    PlanarObjectType,
+    PlanarState,
+    PositionXYC,
+)
+
+
+def field(columns: int = 4, rows: int = 4, *starts: tuple[float, float]):
+    """A runtime with an enabled group holding the environment and enabled movers."""
+    rt = om.Runtime()
+    environment = MC_PlanarEnvironment(rt)
+    for i in range(columns):
+        for j in range(rows):
+            environment.add_stator(240.0 * i, 240.0 * j)
+    environment.create_boundary()
+    group = MC_PlanarGroup(rt)
+    group.enable()
+    movers = [MC_PlanarMover(rt, PlanarMoverParameters(initial_position=MoverVector(x, y)))
+              for x, y in starts]
+    for mover in movers:
+        mover.enable()
+    rt.run(0.002)
+    for mover in movers:
+        mover.add_to_group(group)
+    environment.add_to_group(group)
+    rt.step()
+    return rt, environment, group, movers
+
+
+def test_status_shows_one_cycle_after_the_call():
+    rt = om.Runtime()
+    mover = MC_PlanarMover(rt)
+    feedback = MC_PlanarFeedback()
+    mover.enable(feedback)
+    assert feedback.busy and not feedback.done and mover.state is PlanarState.DISABLED
+    rt.step()
+    assert mover.state is PlanarState.ENABLING and feedback.busy
+    rt.step()
+    assert mover.state is PlanarState.ENABLED and feedback.done
+    assert mover.command_mode is MoverCommandMode.FREE_MOVEMENT
+
+
+def test_two_movers_to_one_target_the_first_caller_wins():
+    rt, _, _, (first, second) = field(4, 4, (120.0, 120.0), (600.0, 120.0))
+    a, b = MC_PlanarFeedback(), MC_PlanarFeedback()
+    first.move_to_position(PositionXYC(600.0, 600.0), feedback=a)
+    second.move_to_position(PositionXYC(600.0, 600.0), feedback=b)
+    rt.step()
+    assert a.active and not a.error
+    assert b.error and b.error_id == ErrorId.PLANAR_COLLISION == 33158
+    assert b.object_info.object_type is PlanarObjectType.MOVER
+    assert b.object_info.id == first.oid
+    rt.run_until(lambda: a.done, timeout=5.0)
+    assert first.position.x == pytest.approx(600.0, abs=1e-9)
+    assert first.position.y == pytest.approx(600.0, abs=1e-9)
+
+
+def test_a_move_off_the_surface_is_blocked_by_the_environment():
+    rt, environment, _, (mover,) = field(2, 2, (120.0, 120.0))
+    feedback = MC_PlanarFeedback()
+    mover.move_to_position(PositionXYC(600.0, 120.0), feedback=feedback)
+    rt.step()
+    assert feedback.error and feedback.error_id == ErrorId.PLANAR_COLLISION
+    assert feedback.object_info.object_type is PlanarObjectType.ENVIRONMENT
+    assert feedback.object_info.id == environment.oid == 0x05120010
+
+
+def test_move_c_out_of_the_windows_locks_x_and_y():
+    rt, _, _, (mover,) = field(4, 4, (360.0, 360.0))
+    turn = mover.move_c(20.0)
+    rt.run_until(lambda: turn.done, timeout=5.0)
+    rt.step()
+    assert mover.command_mode is MoverCommandMode.C_ROTATION_FREE_MOVEMENT
+    move = mover.move_to_position(PositionXYC(600.0, 600.0))
+    rt.step()
+    assert move.error and move.error_id == ErrorId.PLANAR_WRONG_MODE
+    back = mover.move_c(90.0)
+    rt.run_until(lambda: back.done, timeout=5.0)
+    rt.step()
+    assert mover.command_mode is MoverCommandMode.FREE_MOVEMENT
