@@ -45,8 +45,7 @@ class MC_PlanarEnvironment(PlanarObject):
         self.field = StatorField()
         self.boundary: Boundary | None = None
         self._group: MC_PlanarGroup | None = None
-        self.mc_to_plc_std = CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD(environment_oid=self.oid)
-        self.error = False
+        self.error = False  #: the environment has no state machine (§7.2.2.1)
         self.error_id = ErrorId.NO_ERROR
         system.environments.append(self)
         system.register(self)
@@ -149,17 +148,23 @@ class MC_PlanarEnvironment(PlanarObject):
         assert self.layout is not None
         return self.layout.coordinate_systems[0]
 
-    def _publish(self) -> None:
+    def _publish(self) -> bool:
+        """Parts follow the movers of their coordinate system (§6.6): checked every cycle."""
         if self.layout is not None:
             active = {m.coordinate_system for m in self._system.movers
                       if m._states.current in _ACTIVE}
             self.layout.follow_movers(active)
             self.layout.update()
-        self.mc_to_plc_std = CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD(
+        self._queue.publish()
+        return self.layout is not None
+
+    @property
+    def mc_to_plc_std(self) -> CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD:
+        """EnvironmentOID, GroupOID, StatorCount, BoundaryElementCount (§6.4.2)."""
+        return CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD(
             environment_oid=self.oid, group_oid=self._group.oid if self._group else 0,
             stator_count=len(self.field),
             boundary_element_count=self.boundary.element_count if self.boundary else 0)
-        self._queue.publish()
 
     # -- reference ids and parts (§5.3, §6.6) ----------------------------------------------------
 

@@ -35,9 +35,6 @@ class MC_PlanarGroup(PlanarObject):
         self.name = name or f"group{self.oid & 0xFFF:x}"
         self.registry = ReservationRegistry()
         self._states = PlanarStateMachine()
-        self.mc_to_plc_std = CDT_MCTOPLC_PLANAR_GROUP_STD(group_oid=self.oid)
-        self.error = False
-        self.error_id = ErrorId.NO_ERROR
         system.register(self)
 
     def __repr__(self) -> str:
@@ -53,8 +50,22 @@ class MC_PlanarGroup(PlanarObject):
         return self._send(StateCommand.RESET, feedback)
 
     @property
+    def mc_to_plc_std(self) -> CDT_MCTOPLC_PLANAR_GROUP_STD:
+        """GroupOID, State and the member count, as the last motion phase left them."""
+        return CDT_MCTOPLC_PLANAR_GROUP_STD(group_oid=self.oid, state=self._states.state,
+                                            group_object_count=len(self.registry.members))
+
+    @property
     def state(self) -> PlanarState:
-        return self.mc_to_plc_std.state
+        return self._states.state
+
+    @property
+    def error(self) -> bool:
+        return self._states.error
+
+    @property
+    def error_id(self) -> ErrorId:
+        return self._states.error_id
 
     @property
     def members(self) -> tuple[MemberId, ...]:
@@ -89,10 +100,7 @@ class MC_PlanarGroup(PlanarObject):
     def _execute(self, command: PlanarCommand) -> None:
         self._states.request(command)
 
-    def _publish(self) -> None:
+    def _publish(self) -> bool:
         self._states.update()
-        self.mc_to_plc_std = CDT_MCTOPLC_PLANAR_GROUP_STD(
-            group_oid=self.oid, state=self._states.state,
-            group_object_count=len(self.registry.members))
-        self.error, self.error_id = self._states.error, self._states.error_id
         self._queue.publish()
+        return not self._states.settled

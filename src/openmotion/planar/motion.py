@@ -56,6 +56,8 @@ class PositionLimits:
     def check(self, profile: Profile, coordinate: str) -> None:
         """Reject (PLANAR_POSITION_LIMIT) a target outside the limits, or a path that leaves
         them further than its start lies outside (a mover outside may come back in)."""
+        if self.minimum == -math.inf and self.maximum == math.inf:
+            return
         end = float(profile.p[-1])
         if not self.minimum <= end <= self.maximum:
             raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,

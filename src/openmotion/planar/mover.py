@@ -102,7 +102,7 @@ class _Motion:
     start: float = 0.0
     samples: np.ndarray | None = None  #: times [s] after ``start`` of the swept-area samples
     c_motion: bool = False  #: a C move that may end a CRotation mode
-    then: list[str] = field(default_factory=list)  #: work to do at the end ("disable", ...)
+    releases: list[float] = field(default_factory=list)  #: [s] when a piece of area is behind
 
 
 class MC_PlanarMover(PlanarObject):
@@ -134,16 +134,13 @@ class MC_PlanarMover(PlanarObject):
         self._stream: ExternalSetpointStream | None = None
         self._fed = False  #: an external setpoint came this cycle
         self._started_external = False
-        self.mc_to_plc = CDT_MCTOPLC_PLANAR_MOVER()
-        self.error = False
-        self.error_id = ErrorId.NO_ERROR
-        self.message = ""
+        self._status: tuple[int, CDT_MCTOPLC_PLANAR_MOVER] | None = None
+        self._next_event = math.inf  #: [s] when ``_after_motion`` has work
         system.movers.append(self)
         system.register(self)
         environment = system.environment()
         if environment is not None:
             environment._place(self)
-        self._publish_status()
 
     def __repr__(self) -> str:
         return f"<MC_PlanarMover {self.name} 16#{self.oid:08X} {self.mc_to_plc.std.state.name}>"
@@ -296,13 +293,16 @@ class MC_PlanarMover(PlanarObject):
                                   parameters.maximum_dynamic_xy, command.warnings)
         system, pose = self._resolve(target)
         del system  # one coordinate system per mover until parts move it (§6.6)
-        start = self._start_states()
+        start = self._start_states("x", "y", "c")
         low, high = parameters.minimum_position, parameters.maximum_position
-        goal = (pose.x, pose.y, pose.c) if options.use_orientation else (pose.x, pose.y)
+        c = start["c"]
+        turn = options.use_orientation and not (pose.c == c.position and c.velocity == 0.0
+                                                 and c.acceleration == 0.0)
+        goal = (pose.x, pose.y, pose.c) if turn else (pose.x, pose.y)
         motion = plan_move_to_position(
             (start["x"], start["y"], start["c"]), goal, limits, parameters.default_dynamic_c,
             x_limits=PositionLimits(low.x, high.x), y_limits=PositionLimits(low.y, high.y),
-            c_windows=parameters.c_windows if options.use_orientation else None)
+            c_windows=parameters.c_windows if turn else None)
         profiles = {"x": motion.x, "y": motion.y}
         if motion.c is not None:
             profiles["c"] = motion.c
@@ -315,7 +315,7 @@ class MC_PlanarMover(PlanarObject):
         p = self.parameters
         limits = command_dynamics(constraint, p.default_dynamic_c, p.maximum_dynamic_c,
                                   command.warnings)
-        profile = plan_move_c(self._start_states()["c"], finite(target, "c"), limits,
+        profile = plan_move_c(self._start_states("c")["c"], finite(target, "c"), limits,
                               options.direction, options.additional_turns, p.c_coordinate_modulus,
                               p.c_coordinate_modulo_tolerance_window)
         self._begin(command, {"c": profile}, "the rotation", c_motion=True)
@@ -328,7 +328,7 @@ class MC_PlanarMover(PlanarObject):
                                   getattr(p, f"maximum_dynamic_{name}"), command.warnings)
         bounds = PositionLimits(getattr(p.minimum_position, name),
                                 getattr(p.maximum_position, name))
-        profile = plan_axis_move(self._start_states()[name], finite(target, name), limits,
+        profile = plan_axis_move(self._start_states(name)[name], finite(target, name), limits,
                                  bounds, name)
         self._begin(command, {name: profile}, "the move")
 
@@ -387,6 +387,7 @@ class MC_PlanarMover(PlanarObject):
         self._started_external = True
         command.started()
         self._external_command = command
+        self._reschedule()
 
     def _feed(self, command: PlanarCommand) -> None:
         position, velocity, acceleration, reference, feedback = command.args
@@ -450,6 +451,7 @@ class MC_PlanarMover(PlanarObject):
                 self._install(name, profile, now)
             end = now + max(p.duration for p in profiles.values())
             self._motions.append(_Motion(None, set(COORDINATES), end, now))
+        self._reschedule()
         self._modes.ended(kind, done=True, c=self._state_at("c", now).position)
         self._stream = None
         command = getattr(self, "_external_command", None)
@@ -476,7 +478,7 @@ class MC_PlanarMover(PlanarObject):
         """Admit (in a group) and start ``profiles`` for ``command``: the commands on the same
         coordinates are aborted."""
         previous = self._system.previous
-        samples = None
+        samples, releases = None, []
         if _AREA & profiles.keys() and self._group is not None:
             samples, path = self._future_path(profiles, previous)
             area = swept_area(path, self.parameters.mover_width, self.parameters.mover_height)
@@ -487,18 +489,22 @@ class MC_PlanarMover(PlanarObject):
                     raise Collision(blocker, what)
             else:
                 self._group.registry.settle(self.member, area)
+            # a piece is behind the mover once the sample after its last one is reached
+            behind = area.until[:-1] + 1
+            releases = (previous + samples[behind[behind < samples.size]]).tolist()
+            for motion in self._motions:  # the new area replaces theirs
+                if motion.coordinates & _AREA:
+                    motion.samples, motion.releases = None, []
         self._abort(set(profiles), f"aborted by {command.kind}")
         for name, profile in profiles.items():
             self._install(name, profile, previous)
         end = previous + max(p.duration for p in profiles.values())
-        if samples is not None:  # the area covers every coordinate that shapes it
-            for motion in self._motions:
-                if motion.coordinates & _AREA:
-                    motion.samples = None
-        self._motions.append(_Motion(command, set(profiles), end, previous, samples, c_motion))
+        self._motions.append(_Motion(command, set(profiles), end, previous, samples, c_motion,
+                                     releases))
         if c_motion:
             self._modes.c_motion_started(profiles["c"])
         command.started()
+        self._reschedule()
 
     def _future_path(self, profiles: dict[str, Profile], start: float
                      ) -> tuple[np.ndarray, np.ndarray]:
@@ -517,8 +523,9 @@ class MC_PlanarMover(PlanarObject):
             start + np.arange(math.ceil(max(end - start, 0.0) / step) + 1) * step,
             *[t0 + p.t[t0 + p.t > start] for p, t0 in plans.values()], [end]]))
         times = times[times <= end]
-        path = np.column_stack([_positions(p, np.maximum(times - t0, 0.0))
-                                for p, t0 in plans.values()])
+        path = np.column_stack([
+            np.full(times.size, p.p[0]) if p.data.shape[1] == 1 and p.v[0] == 0.0
+            else _positions(p, np.maximum(times - t0, 0.0)) for p, t0 in plans.values()])
         return times - start, path
 
     def _place(self, pose: Pose) -> None:
@@ -526,7 +533,7 @@ class MC_PlanarMover(PlanarObject):
         for name, value in zip(("x", "y", "c"), pose, strict=True):
             self._install(name, Profile.hold(KinematicState(value)), self._system.previous)
             self._system.set_value(self._rows[name], value)
-        self._publish_status()
+        self._status = None
 
     def _install(self, name: str, profile: Profile, time: float) -> None:
         self._system.table.install(self._rows[name], profile, time)
@@ -542,6 +549,7 @@ class MC_PlanarMover(PlanarObject):
                 if not motion.coordinates:
                     self._motions.remove(motion)
         del message
+        self._reschedule()
 
     def _abort_all(self, message: str) -> None:
         self._abort(set(COORDINATES), message)
@@ -556,6 +564,7 @@ class MC_PlanarMover(PlanarObject):
             self._install(name, profile, previous)
         end = previous + max(p.duration for p in profiles.values())
         self._motions.append(_Motion(None, set(COORDINATES), end, previous))
+        self._reschedule()
 
     def _freeze(self) -> None:
         """Abort reaction: the mover stops where it is (it lands, §4.1)."""
@@ -566,6 +575,8 @@ class MC_PlanarMover(PlanarObject):
             self._install(name, Profile.hold(KinematicState(p)), now)
 
     def _after_motion(self, now: float) -> None:
+        """A motion ended, a piece of area is behind the mover, or external setpoints run."""
+        self._awake = True
         if self._modes.external is not ExternalSetPositionMode.NONE:
             if not self._fed:
                 message = "no external setpoint in this cycle (§6.1.6)"
@@ -578,9 +589,12 @@ class MC_PlanarMover(PlanarObject):
                 self._states.fail(ErrorId.PLANAR_EXT_SETPOINT, ErrorReaction.QUICK_STOP, message)
             self._fed = False
         for motion in list(self._motions):
-            if motion.samples is not None and self._group is not None:
-                reached = int(np.searchsorted(motion.samples, now - motion.start, side="right"))
+            if motion.releases and now >= motion.releases[0] and self._group is not None:
+                elapsed = now - motion.start
+                reached = int(np.searchsorted(motion.samples, elapsed, side="right"))
                 self._group.registry.release(self.member, reached - 1)
+                while motion.releases and now >= motion.releases[0]:
+                    motion.releases.pop(0)
             if now >= motion.end:
                 self._motions.remove(motion)
                 if motion.command is not None:
@@ -590,28 +604,57 @@ class MC_PlanarMover(PlanarObject):
                 if motion.coordinates & _AREA and self._group is not None and \
                         not any(m.coordinates & _AREA for m in self._motions):
                     self._group.registry.settle(self.member, self.footprint(self._set_pose()))
+        self._reschedule()
 
-    def _publish(self) -> None:
+    def _reschedule(self) -> None:
+        """When ``_after_motion`` must run next: an end, a release, or every cycle."""
+        if self._modes.external is not ExternalSetPositionMode.NONE:
+            self._next_event = -math.inf
+            return
+        events = [m.end for m in self._motions]
+        events += [m.releases[0] for m in self._motions if m.releases]
+        self._next_event = min(events, default=math.inf)
+
+    def _publish(self) -> bool:
         self._states.update()
-        self._publish_status()
         self._queue.publish()
+        self._status = None
+        return not self._states.settled
 
-    def _publish_status(self) -> None:
-        values = [self._system.value(self._rows[name]) for name in COORDINATES]
-        p, v, a = (np.array(column) for column in zip(*values, strict=True))
-        p, v = p + self._offset, v
-        states = self._states
+    @property
+    def mc_to_plc(self) -> CDT_MCTOPLC_PLANAR_MOVER:
+        """The cyclic interface as the last motion phase left it (§7.2.1.2.1)."""
+        stamp = self._system.published
+        if self._status is None or self._status[0] != stamp:
+            self._status = (stamp, self._snapshot())
+        return self._status[1]
+
+    @property
+    def error(self) -> bool:
+        return self._states.error
+
+    @property
+    def error_id(self) -> ErrorId:
+        return self._states.error_id
+
+    @property
+    def message(self) -> str:
+        return self._states.message
+
+    def _snapshot(self) -> CDT_MCTOPLC_PLANAR_MOVER:
+        p, v, a, _ = self._system._values
+        rows = [self._rows[name] for name in COORDINATES]
+        position, velocity, acceleration = p[rows] + self._offset, v[rows], a[rows]
         std = CDT_MCTOPLC_PLANAR_MOVER_STD(
             mover_oid=self.oid, group_oid=self._group.oid if self._group else 0,
-            state=states.state, command_mode=self._modes.mode,
+            state=self._states.state, command_mode=self._modes.mode,
             busy=MoverBusy(bool(self._motions),
                            any(m.coordinates & _AREA for m in self._motions)))
-        vectors = [MoverVector(*map(float, row)) for row in (p, v, a)]
-        self.mc_to_plc = CDT_MCTOPLC_PLANAR_MOVER(
+        vectors = [MoverVector(*row.tolist()) for row in (position, velocity, acceleration)]
+        return CDT_MCTOPLC_PLANAR_MOVER(
             std=std,
             set=CDT_MCTOPLC_PLANAR_MOVER_SET(*vectors, physical_area_id=self.coordinate_system),
             act=CDT_MCTOPLC_PLANAR_MOVER_ACT(*vectors, physical_area_id=self.coordinate_system))
-        self.error, self.error_id, self.message = states.error, states.error_id, states.message
 
     # -- state machine hooks ---------------------------------------------------------------------
 
@@ -644,9 +687,10 @@ class MC_PlanarMover(PlanarObject):
     def _state_at(self, name: str, time: float) -> KinematicState:
         return self._system.table.state(self._rows[name], time)
 
-    def _start_states(self) -> dict[str, KinematicState]:
+    def _start_states(self, *names: str) -> dict[str, KinematicState]:
+        """The states new plans start from (all coordinates unless ``names`` are given)."""
         previous = self._system.previous
-        return {name: self._state_at(name, previous) for name in COORDINATES}
+        return {name: self._state_at(name, previous) for name in names or COORDINATES}
 
     def _set_pose(self) -> Pose:
         x, y, c = (self._system.value(self._rows[k])[0] for k in ("x", "y", "c"))

@@ -74,6 +74,7 @@ from shapely.geometry.base import BaseGeometry
 
 from openmotion.core.errors import ConfigError
 from openmotion.planar.enums import PlanarObjectType
+from openmotion.planar.frames import cos_sin
 
 MOVER_WIDTH = 155.0  #: default footprint extent in x at c = 0 [mm] (§6.1.1 "Mover width")
 MOVER_HEIGHT = 155.0  #: default footprint extent in y at c = 0 [mm] (§6.1.1 "Mover height")
@@ -156,10 +157,33 @@ def swept_area(path: np.ndarray, width: float = MOVER_WIDTH, height: float = MOV
     if len(path) == 1:
         return SweptArea.from_pieces(
             np.array([footprint(*path[0], width, height, margin)], dtype=object), [0])
+    cuts = _cut_by_travel(xy, release_step)
+    if _translation(xy, c):  # exact and cheap: each piece is the hull of two footprints
+        starts, ends = cuts
+        turning = np.array([cos_sin(float(c[0]))])
+        shape = _corners(np.zeros((1, 2)), turning, half)  # (1, 4, 2) around the centre
+        ends_corners = np.concatenate([xy[starts, None, :] + shape, xy[ends, None, :] + shape],
+                                      axis=1)
+        return SweptArea.from_pieces(shapely.convex_hull(shapely.multipoints(ends_corners)),
+                                     ends)
     turning = _cos_sin(c)
-    starts, ends, grow, turn = _split_runs(xy, c, turning, *_cut_by_travel(xy, release_step),
-                                           math.hypot(*half), tolerance)
+    starts, ends, grow, turn = _split_runs(xy, c, turning, *cuts, math.hypot(*half), tolerance)
     return SweptArea.from_pieces(_pieces(xy, turning, starts, ends, grow, turn, half), ends)
+
+
+def _translation(xy: np.ndarray, c: np.ndarray) -> bool:
+    """The path keeps its orientation and runs forward on one straight line (the usual free
+    move): then the hull of the first and last footprint of a run is its exact swept area."""
+    if not np.all(c == c[0]):
+        return False
+    chord = xy[-1] - xy[0]
+    length = math.hypot(*chord)
+    if length == 0.0:
+        return bool(np.all(xy == xy[0]))
+    offset = (xy - xy[0]) / length
+    across = chord[0] * offset[:, 1] - chord[1] * offset[:, 0]
+    along = offset @ chord
+    return bool(np.all(np.abs(across) <= NOISE) and np.all(np.diff(along) >= -NOISE))
 
 
 def _check_size(width: float, height: float, margin: float) -> None:

@@ -92,6 +92,12 @@ class PlanarStateMachine:
         self.error_id = ErrorId.NO_ERROR
         self.message = ""
 
+    @property
+    def settled(self) -> bool:
+        """Nothing to do in ``update()``: no transition runs and the state is published."""
+        return (self.current is self.state and not self._fresh
+                and self.current not in _TRANSITIONAL)
+
     def request(self, command: PlanarCommand) -> None:
         """Apply a sent Enable, Disable or Reset (``command.kind`` is a ``StateCommand``)."""
         {StateCommand.ENABLE: self._enable, StateCommand.DISABLE: self._disable,
