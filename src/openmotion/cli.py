@@ -161,7 +161,8 @@ def plot(
 
 @app.command()
 def bench(
-    name: Annotated[str, typer.Argument(help="Benchmark to run, e.g. axes, otg, fbcall.")],
+    name: Annotated[str, typer.Argument(help="Benchmark to run: axes, otg, fbcall, ca, "
+                                             "planar.")],
     json_output: JsonFlag = False,
     quick: Annotated[bool, typer.Option("--quick", help="Small sizes: a smoke run, not a "
                                                         "measurement.")] = False,

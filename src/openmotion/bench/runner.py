@@ -22,6 +22,7 @@ from openmotion.bench.axes import run_axes
 from openmotion.bench.ca import run_ca
 from openmotion.bench.fbcall import run_fbcall
 from openmotion.bench.otg import run_otg
+from openmotion.bench.planar import run_planar
 
 Progress = Callable[[str], None] | None
 
@@ -31,6 +32,9 @@ AXES_GOAL_US = 0.5
 FBCALL_GOAL_US = 2.0
 CA_GOAL_N = 1000
 CA_GOAL_P99_US = 500.0
+PLANAR_GOAL_N = 100
+PLANAR_ADMISSION_GOAL_US = 50.0
+PLANAR_GOAL_P99_US = 250.0
 
 
 def _axes(quick: bool, progress: Progress) -> dict[str, Any]:
@@ -56,11 +60,18 @@ def _ca(quick: bool, progress: Progress) -> dict[str, Any]:
     return run_ca(progress=progress)
 
 
+def _planar(quick: bool, progress: Progress) -> dict[str, Any]:
+    if quick:
+        return run_planar(counts=(4, 12), cycles=400, commands=100, progress=progress)
+    return run_planar(progress=progress)
+
+
 BENCHMARKS: dict[str, Callable[[bool, Progress], dict[str, Any]]] = {
     "axes": _axes,
     "otg": _otg,
     "fbcall": _fbcall,
     "ca": _ca,
+    "planar": _planar,
 }
 
 
@@ -145,11 +156,38 @@ def goals_ca(results: dict[str, Any]) -> dict[str, Any]:
     return goals
 
 
+def goals_planar(results: dict[str, Any]) -> dict[str, Any]:
+    rows = [*results["by_n"].values(), *results["translation"].values()]
+    overlaps = sum(r["overlaps"] for r in rows)
+    off = sum(r["off_surface"] for r in rows)
+    admissions = [r["admission"] for r in results["by_n"].values()]
+    wrong = sum(a["mismatches"] + a["overlaps"] for a in admissions)
+    goals = {
+        "overlaps": _goal("no two footprints overlap (all N, every cycle)", overlaps,
+                          overlaps == 0),
+        "off_surface": _goal("no footprint leaves the stator surface (all N, every cycle)", off,
+                             off == 0),
+        "admission_checked": _goal("admissions agree with the shapely reference, no reserved "
+                                   "areas overlap (all N)", wrong, wrong == 0),
+    }
+    row = results["by_n"].get(str(PLANAR_GOAL_N))
+    if row is not None:
+        admission = row["admission"]["admission_us_p50"]
+        goals["admission_us"] = _goal(
+            f"N={PLANAR_GOAL_N}: admission check p50 < {PLANAR_ADMISSION_GOAL_US:g} us",
+            admission, admission < PLANAR_ADMISSION_GOAL_US)
+        p99 = row["cycle_us_p99"]
+        goals["cycle_p99"] = _goal(f"N={PLANAR_GOAL_N}: cycle p99 < {PLANAR_GOAL_P99_US:g} us "
+                                   "(moves with c)", p99, p99 < PLANAR_GOAL_P99_US)
+    return goals
+
+
 GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "axes": goals_axes,
     "otg": goals_otg,
     "fbcall": goals_fbcall,
     "ca": goals_ca,
+    "planar": goals_planar,
 }
 
 
@@ -291,8 +329,42 @@ def _render_ca(results: dict[str, Any]) -> list[str]:
             "(Runtime.step with gap control)", *_table(header, rows)]
 
 
+def _render_planar(results: dict[str, Any]) -> list[str]:
+    header = ["N", "stators", "cycles", "commands", "accepted", "rejected", "cycle p50",
+              "cycle p99", "idle p99", "cmd cycle p50", "request p50", "overlaps",
+              "off surface"]
+
+    def cycle_rows(by_n: dict[str, Any]) -> list[list[Any]]:
+        return [[int(n), r["stators"], r["cycles"], r["commands"], r["accepted"], r["rejected"],
+                 r["cycle_us_p50"], r["cycle_us_p99"], r["idle_cycle_us_p99"],
+                 r["command_cycle_us_p50"], r["request_us_p50"], r["overlaps"],
+                 r["off_surface"]] for n, r in by_n.items()]
+
+    admission = [[int(n), a["stators"], a["commands"], a["accepted"], a["rejected"],
+                  a["area_us_p50"], a["admission_us_p50"], a["admission_us_p99"],
+                  a["release_us_p50"], a["mismatches"]]
+                 for n, a in ((n, r["admission"]) for n, r in results["by_n"].items())]
+    reads = ", ".join(f"N={n}: {_fmt(r['status_read_us_p50'])}"
+                      for n, r in results["by_n"].items())
+    return [
+        "admission check (planar_admission: ReservationRegistry.request alone), us",
+        *_table(["N", "stators", "commands", "accepted", "rejected", "area p50",
+                 "admission p50", "admission p99", "release p50", "mismatches"], admission),
+        "",
+        f"Runtime.step in us, one group with the environment, MoveToPosition to random free "
+        f"stators (c in +-{_fmt(results['c_range'])} deg); idle: cycles without a new command, "
+        "cmd cycle: cycles with one; request: admission inside the runtime",
+        *_table(header, cycle_rows(results["by_n"])),
+        "",
+        "the same with translations only (target c kept: the exact, cheap swept area)",
+        *_table(header, cycle_rows(results["translation"])),
+        "",
+        f"reading every mover's published position after a cycle, us p50: {reads}",
+    ]
+
+
 _RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
-           "ca": _render_ca}
+           "ca": _render_ca, "planar": _render_planar}
 
 
 def render(result: dict[str, Any]) -> str:
