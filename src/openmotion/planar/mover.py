@@ -122,6 +122,7 @@ class MC_PlanarMover(PlanarObject):
         start = self.parameters.initial_position
         rows = system.add_rows([getattr(start, name) for name in COORDINATES])
         self._rows = dict(zip(COORDINATES, rows, strict=True))
+        self._row0 = rows[0]  #: the six rows are consecutive: x, y, z, a, b, c
         self._profiles: dict[str, tuple[Profile, float]] = {}  #: last plan per coordinate
         self._states = PlanarStateMachine(transition_done=self._transition_done,
                                           on_enter=self._on_enter)
@@ -253,12 +254,17 @@ class MC_PlanarMover(PlanarObject):
     @property
     def position(self) -> MoverVector:
         """The published set position (x, y, z [mm]; a, b, c [°])."""
-        return self.mc_to_plc.set.set_pos
+        return MoverVector(*self._vector(0))
 
     @property
     def pose(self) -> Pose:
-        p = self.mc_to_plc.set.set_pos
-        return Pose(p.x, p.y, p.c)
+        x, y, _, _, _, c = self._vector(0)
+        return Pose(x, y, c)
+
+    def _vector(self, which: int) -> list[float]:
+        """Set position (0), velocity (1) or acceleration (2) of the six coordinates."""
+        values = self._system._values[which][self._row0:self._row0 + 6]
+        return (values + self._offset if which == 0 else values).tolist()
 
     @property
     def member(self) -> MemberId:
@@ -642,15 +648,12 @@ class MC_PlanarMover(PlanarObject):
         return self._states.message
 
     def _snapshot(self) -> CDT_MCTOPLC_PLANAR_MOVER:
-        p, v, a, _ = self._system._values
-        rows = [self._rows[name] for name in COORDINATES]
-        position, velocity, acceleration = p[rows] + self._offset, v[rows], a[rows]
         std = CDT_MCTOPLC_PLANAR_MOVER_STD(
             mover_oid=self.oid, group_oid=self._group.oid if self._group else 0,
             state=self._states.state, command_mode=self._modes.mode,
             busy=MoverBusy(bool(self._motions),
                            any(m.coordinates & _AREA for m in self._motions)))
-        vectors = [MoverVector(*row.tolist()) for row in (position, velocity, acceleration)]
+        vectors = [MoverVector(*self._vector(which)) for which in range(3)]
         return CDT_MCTOPLC_PLANAR_MOVER(
             std=std,
             set=CDT_MCTOPLC_PLANAR_MOVER_SET(*vectors, physical_area_id=self.coordinate_system),

@@ -9,33 +9,27 @@ with ``ErrorId.PLANAR_COLLISION`` (0x8186) and ``objectInfo`` (§6.7.2).
 
 Footprint and swept area. A mover's footprint is its width x height rectangle (155 x 155 mm by
 default, §6.1.1) centred on (x, y) and turned by c. The planner hands over its path sampled at a
-fixed time step, an (k, 3) array of x, y, c. ``swept_area`` cuts the path into runs of
-consecutive samples and covers each run with one convex piece: the hull H of the run's first
-and last footprints, grown by g on every side (each corner replaced by the square of half-side
-g around it, which holds the disc of radius g), where
+fixed time step, an (k, 3) array of x, y, c. ``swept_area`` cuts the path into runs where the
+travel passes each ``release_step`` and covers each run with one convex piece: the hull H of
+the footprints of all its samples, grown by g on every side (each corner replaced by the square
+of half-side g around it, which holds the disc of radius g), where
 
-    g = max over the run's samples of e  +  r * (largest turn between two samples, in rad)
+    g = r * (largest turn between two samples of the run, in rad)
 
-e is how far a sample's corners lie from the blend (1 - t) * first + t * last of the same
-corners at the run's ends (t from the sample's place along the chord, or from its angle when
-the run turns more than it travels; any t in [0, 1] keeps the argument below true), and r is
-the half diagonal. Runs are cut where the travel passes each ``release_step`` and halved until
-e <= ``tolerance`` or the run is a single pair of samples. A pair that turns by 30 degrees or
-more is covered by its segment grown by r instead (a disc holds the footprint at any angle).
+and r is the half diagonal. A run that turns 30 degrees or more between two samples (coarse
+input) is covered by the discs of radius r around its centres instead: a disc holds the
+footprint at any angle. A straight move without rotation needs only the run's first and
+last footprints, and its pieces are exact (g = 0).
 
 Why a piece contains the true swept area: we assume that between two samples the centre moves
-on the straight segment joining them and c moves monotonically (true to micrometres at a 1 ms
-sample step). A sample's footprint is the hull of its corners, each within e of H, so it lies
-within e of H (H grown by e is convex). Between samples a and a + 1, a point of the footprint
-is p_a + s (p_a+1 - p_a) + R(c) u for some s in [0, 1]; it differs from the blend
-(1 - s) (p_a + R(c_a) u) + s (p_a+1 + R(c_a+1) u) by at most |u| times the turn, and that blend
-lies within max e of H. So every footprint of the run lies within g of H, inside the piece. A
-straight move without rotation gives g = 0: its area is exactly the hull of the start and end
-footprints. Exactness: for translations, curves and turns in place sampled every cycle the
-area exceeds the exact one by about ``tolerance`` (sqrt 2 times that at H's corners); a move
-that turns a lot while it travels exceeds it by more, because H bridges the dent its trailing
-edge leaves (7 mm for 135 degrees over 360 mm). A safety ``margin`` widens the footprint on
-every side.
+on the straight segment joining them and c moves monotonically (true to micrometres at the
+planner's sample step, which includes every segment boundary). Every sample's footprint is in
+H. Between samples a and a + 1, a point of the footprint is p_a + s (p_a+1 - p_a) + R(c) u for
+some s in [0, 1]; it differs from the blend (1 - s) (p_a + R(c_a) u) + s (p_a+1 + R(c_a+1) u),
+which lies in H (H is convex), by at most |u| times the turn. So every footprint of the run
+lies within g of H, inside the piece. A bent path or a turning mover is covered by its hull,
+which bridges the dent a trailing edge leaves; a safety ``margin`` widens the footprint on every
+side.
 
 Release while moving (our rule; the manual does not say when areas are freed, digest §8.21).
 Each piece knows the last sample it covers (``until``). The group calls
@@ -74,19 +68,19 @@ from shapely.geometry.base import BaseGeometry
 
 from openmotion.core.errors import ConfigError
 from openmotion.planar.enums import PlanarObjectType
-from openmotion.planar.frames import cos_sin
 
 MOVER_WIDTH = 155.0  #: default footprint extent in x at c = 0 [mm] (§6.1.1 "Mover width")
 MOVER_HEIGHT = 155.0  #: default footprint extent in y at c = 0 [mm] (§6.1.1 "Mover height")
-SWEEP_TOLERANCE = 0.5  #: how much a swept area may exceed the exact one [mm]
 RELEASE_STEP = 100.0  #: travel covered by one releasable piece of a swept area [mm]
 SURFACE_TOLERANCE = 1e-6  #: how far a footprint may overhang the stators (rounding) [mm]
 NOISE = 1e-9  #: distances below this are rounding noise [mm]
+_DISC_TURN = 30.0  #: a run stepping this far [deg] between samples is covered by discs
+_SQUARE = np.array([(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)])
+_RING = np.stack([np.cos(np.arange(32) * math.pi / 16), np.sin(np.arange(32) * math.pi / 16)],
+                 axis=1) / math.cos(math.pi / 32)  #: a 32-gon that encloses the unit disc
 NEVER = int(np.iinfo(np.int64).max)  #: ``until`` of a piece that progress never releases
-_DISC_VERTICES = 32  #: vertices of the polygon drawn around a disc (it encloses the disc)
 _FLIP = np.array([1.0, 1.0, -1.0, -1.0])  #: bounds to the stored box, keys to query keys
 _KEY_ORDER = np.array([2, 3, 0, 1])
-_DISC_TURN = 30.0  #: a sample pair turning this much [deg] is covered by a grown segment
 
 
 class MemberId(NamedTuple):
@@ -138,19 +132,16 @@ class SweptArea:
 
 
 def swept_area(path: np.ndarray, width: float = MOVER_WIDTH, height: float = MOVER_HEIGHT,
-               margin: float = 0.0, tolerance: float = SWEEP_TOLERANCE,
-               release_step: float | None = RELEASE_STEP) -> SweptArea:
+               margin: float = 0.0, release_step: float | None = RELEASE_STEP) -> SweptArea:
     """The area a mover needs to follow ``path``, (k, 3) samples of x, y [mm], c [deg].
 
-    Contains every footprint along the path and, for a densely sampled path, exceeds the exact
-    swept area by about ``tolerance`` [mm] (see the module docstring). ``release_step`` [mm]
+    Contains every footprint along the path (see the module docstring). ``release_step`` [mm]
     bounds the travel per piece, so that ``ReservationRegistry.release`` can free the area
     behind the mover; None keeps whole runs.
     """
     _check_size(width, height, margin)
-    if not tolerance > 0.0 or (release_step is not None and not release_step > 0.0):
-        raise ConfigError(f"swept area: tolerance and release_step must be > 0, got "
-                          f"{tolerance}, {release_step}")
+    if release_step is not None and not release_step > 0.0:
+        raise ConfigError(f"swept area: release_step must be > 0, got {release_step}")
     path = _checked_path(path)
     half = (width / 2 + margin, height / 2 + margin)
     xy, c = path[:, :2], path[:, 2]
@@ -158,24 +149,40 @@ def swept_area(path: np.ndarray, width: float = MOVER_WIDTH, height: float = MOV
         return SweptArea.from_pieces(
             np.array([footprint(*path[0], width, height, margin)], dtype=object), [0])
     cuts = _cut_by_travel(xy, release_step)
-    if _translation(xy, c):  # exact and cheap: each piece is the hull of two footprints
-        starts, ends = cuts
-        turning = np.array([cos_sin(float(c[0]))])
-        shape = _corners(np.zeros((1, 2)), turning, half)  # (1, 4, 2) around the centre
-        ends_corners = np.concatenate([xy[starts, None, :] + shape, xy[ends, None, :] + shape],
-                                      axis=1)
-        return SweptArea.from_pieces(shapely.convex_hull(shapely.multipoints(ends_corners)),
-                                     ends)
-    turning = _cos_sin(c)
-    starts, ends, grow, turn = _split_runs(xy, c, turning, *cuts, math.hypot(*half), tolerance)
-    return SweptArea.from_pieces(_pieces(xy, turning, starts, ends, grow, turn, half), ends)
+    if _straight(xy):  # the usual free move: cheap, and exact without rotation
+        area = _straight_area(xy, c, *cuts, half)
+        if area is not None:
+            return area
+    starts, ends = cuts
+    radius = math.hypot(*half)
+    turn = np.maximum.reduceat(np.abs(np.diff(c)), starts)  # [deg] largest step of each run
+    grow = radius * np.radians(turn)
+    grow[grow <= NOISE] = 0.0
+    index = [np.arange(a, b + 1) for a, b in zip(starts.tolist(), ends.tolist(), strict=True)]
+    disc = turn >= _DISC_TURN  # coarse turns: the disc around the centre holds any angle
+    clouds = []
+    if (~disc).any():
+        keep = np.flatnonzero(~disc)
+        samples = np.concatenate([index[k] for k in keep])
+        runs = np.repeat(keep, [len(index[k]) for k in keep])
+        corners = _corners(xy[samples], _cos_sin(c[samples]), half)  # (n, 4, 2)
+        cloud = corners[:, :, None, :] + grow[runs][:, None, None, None] * _SQUARE
+        clouds.append((cloud.reshape(-1, 2), np.repeat(runs, 16)))
+    if disc.any():
+        keep = np.flatnonzero(disc)
+        samples = np.concatenate([index[k] for k in keep])
+        runs = np.repeat(keep, [len(index[k]) for k in keep])
+        cloud = xy[samples][:, None, :] + radius * _RING
+        clouds.append((cloud.reshape(-1, 2), np.repeat(runs, len(_RING))))
+    points = np.concatenate([cloud for cloud, _ in clouds])
+    runs = np.concatenate([run for _, run in clouds])
+    order = np.argsort(runs, kind="stable")  # shapely wants the pieces' points together
+    lines = shapely.linestrings(points[order], indices=runs[order])
+    return SweptArea.from_pieces(shapely.convex_hull(lines), ends)
 
 
-def _translation(xy: np.ndarray, c: np.ndarray) -> bool:
-    """The path keeps its orientation and runs forward on one straight line (the usual free
-    move): then the hull of the first and last footprint of a run is its exact swept area."""
-    if not np.all(c == c[0]):
-        return False
+def _straight(xy: np.ndarray) -> bool:
+    """The centre runs forward on one straight line (a free move from rest)."""
     chord = xy[-1] - xy[0]
     length = math.hypot(*chord)
     if length == 0.0:
@@ -185,6 +192,31 @@ def _translation(xy: np.ndarray, c: np.ndarray) -> bool:
     along = offset @ chord
     return bool(np.all(np.abs(across) <= NOISE) and np.all(np.diff(along) >= -NOISE))
 
+
+
+def _straight_area(xy: np.ndarray, c: np.ndarray, starts: np.ndarray, ends: np.ndarray,
+                   half: tuple[float, float]) -> SweptArea | None:
+    """Pieces for a centre on a straight line: K + segment, where K holds the footprint at
+    every angle the run takes. K is the hull of the footprints at the run's lowest and highest
+    c, grown by the sagitta r (1 - cos(span / 2)) of the arcs the corners travel between them;
+    without rotation K is the footprint and the piece is exact. None for spans of 90 degrees
+    or more (the general cover handles them)."""
+    lo = np.minimum(np.minimum.reduceat(c, starts), c[ends])
+    hi = np.maximum(np.maximum.reduceat(c, starts), c[ends])
+    span = hi - lo
+    if (span >= 90.0).any():
+        return None
+    angles = np.concatenate([lo, hi])
+    turning = _exact_cos_sin(angles) if (np.mod(angles, 90.0) == 0.0).any() and angles.any() \
+        else np.stack([np.cos(np.radians(angles)), np.sin(np.radians(angles))], axis=1)
+    corners = _corners(np.zeros((len(angles), 2)), turning, half)
+    m = len(starts)
+    shape = np.concatenate([corners[:m], corners[m:]], axis=1)  # (m, 8, 2) around the centre
+    sagitta = math.hypot(*half) * (1.0 - np.cos(np.radians(span) / 2.0))
+    if (sagitta > NOISE).any():
+        shape = (shape[:, :, None, :] + sagitta[:, None, None, None] * _SQUARE).reshape(m, -1, 2)
+    cloud = np.concatenate([xy[starts, None, :] + shape, xy[ends, None, :] + shape], axis=1)
+    return SweptArea.from_pieces(shapely.convex_hull(shapely.linestrings(cloud)), ends)
 
 def _check_size(width: float, height: float, margin: float) -> None:
     if not (width > 0.0 and height > 0.0 and math.isfinite(width) and math.isfinite(height)):
@@ -236,88 +268,6 @@ def _cut_by_travel(xy: np.ndarray, release_step: float | None) -> tuple[np.ndarr
     step = np.floor(travel / release_step)
     marks = np.unique(np.concatenate([[0], np.flatnonzero(np.diff(step)) + 1, [last]]))
     return marks[:-1], marks[1:]
-
-
-def _split_runs(xy: np.ndarray, c: np.ndarray, turning: np.ndarray, starts: np.ndarray,
-                ends: np.ndarray, radius: float, tolerance: float) -> tuple[np.ndarray, ...]:
-    """Halve every run until its corners stray at most ``tolerance`` from the blends (or it is
-    one pair). The turn between two samples goes into the growth: splitting cannot shrink it.
-
-    Returns the runs' first and last samples, growths g and largest turns between samples."""
-    while True:
-        error, turn = _run_error(xy, c, turning, starts, ends, radius)
-        split = (error > tolerance) & (ends - starts >= 2)
-        if not split.any():
-            break
-        mid = (starts + ends) // 2
-        keep = np.stack([np.ones_like(split), split], axis=1).ravel()
-        starts = np.stack([starts, mid], axis=1).ravel()[keep]
-        ends = np.stack([np.where(split, mid, ends), ends], axis=1).ravel()[keep]
-    grow = error + radius * np.radians(turn)
-    grow[grow <= NOISE] = 0.0
-    return starts, ends, grow, turn
-
-
-def _run_error(xy: np.ndarray, c: np.ndarray, turning: np.ndarray, starts: np.ndarray,
-               ends: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
-    """Per run: the largest e of its samples, and its largest turn between two samples [deg].
-
-    A corner is p + R(c) u, so its miss from the blend is the centre's miss plus the blend of
-    rotations' miss applied to u; a blend of rotations is a scaled rotation, and |u| <= r."""
-    lengths = ends - starts + 1
-    first = np.concatenate([[0], np.cumsum(lengths)[:-1]])
-    run = np.repeat(np.arange(len(starts)), lengths)
-    index = starts[run] + np.arange(lengths.sum()) - first[run]
-    j, last = starts[run], ends[run]
-    by_turn = radius * np.radians(np.abs(c[last] - c[j])) > np.hypot(*(xy[last] - xy[j]).T)
-    t = np.where(by_turn, _t_turned(c, index, j, last), _t_along(xy, index, j, last))[:, None]
-    centre_miss = xy[index] - xy[j] - t * (xy[last] - xy[j])
-    turn_miss = turning[index] - turning[j] - t * (turning[last] - turning[j])
-    e = np.hypot(*centre_miss.T) + radius * np.hypot(*turn_miss.T)
-    turn = np.abs(np.diff(c, append=c[-1]))[index]
-    turn[index == last] = 0.0  # the pair (last, last + 1) belongs to the next run
-    return np.maximum.reduceat(e, first), np.maximum.reduceat(turn, first)
-
-
-def _t_along(xy: np.ndarray, index: np.ndarray, j: np.ndarray, last: np.ndarray) -> np.ndarray:
-    """Blend weight of each sample from its centre's place along the run's chord."""
-    ab, ap = xy[last] - xy[j], xy[index] - xy[j]
-    length2 = np.einsum("ij,ij->i", ab, ab)
-    ratio = np.einsum("ij,ij->i", ap, ab) / np.where(length2 > 0.0, length2, 1.0)
-    return np.clip(ratio, 0.0, 1.0)
-
-
-def _t_turned(c: np.ndarray, index: np.ndarray, j: np.ndarray, last: np.ndarray) -> np.ndarray:
-    """Blend weight of each sample from how far it has turned between the run's ends."""
-    turn = c[last] - c[j]
-    return np.clip((c[index] - c[j]) / np.where(turn != 0.0, turn, 1.0), 0.0, 1.0)
-
-
-def _pieces(xy: np.ndarray, turning: np.ndarray, starts: np.ndarray, ends: np.ndarray,
-            grow: np.ndarray, turn: np.ndarray, half: tuple[float, float]) -> np.ndarray:
-    """One convex polygon per run that contains every footprint of the run."""
-    disc = (turn >= _DISC_TURN) & (ends - starts == 1)
-    pieces = np.empty(len(starts), dtype=object)
-    first, last = starts[~disc], ends[~disc]
-    ends_corners = np.concatenate([_corners(xy[first], turning[first], half),
-                                   _corners(xy[last], turning[last], half)], axis=1)
-    square = grow[~disc, None, None] * np.array([(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0),
-                                                 (-1.0, 1.0)])
-    pieces[~disc] = _hull(ends_corners, square)
-    angle = np.arange(_DISC_VERTICES) * (2.0 * math.pi / _DISC_VERTICES)
-    ring = np.stack([np.cos(angle), np.sin(angle)], axis=1) * (
-        math.hypot(*half) / math.cos(math.pi / _DISC_VERTICES))  # the polygon encloses the disc
-    pieces[disc] = _hull(np.stack([xy[starts[disc]], xy[ends[disc]]], axis=1),
-                         np.broadcast_to(ring, (int(disc.sum()), *ring.shape)))
-    return pieces
-
-
-def _hull(points: np.ndarray, offsets: np.ndarray) -> np.ndarray:
-    """Convex hull of every point plus every offset, one hull per row."""
-    if len(points) == 0:
-        return np.empty(0, dtype=object)
-    cloud = (points[:, :, None, :] + offsets[:, None, :, :]).reshape(len(points), -1, 2)
-    return shapely.convex_hull(shapely.multipoints(cloud))
 
 
 def _as_swept(area: SweptArea | BaseGeometry) -> SweptArea:
