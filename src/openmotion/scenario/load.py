@@ -18,7 +18,7 @@ import yaml
 from pydantic import BaseModel, ValidationError
 
 from openmotion.core.errors import ConfigError
-from openmotion.scenario.schema import CHECKS, COMMANDS, Scenario
+from openmotion.scenario.schema import CHECKS, TIMELINE_COMMANDS, Scenario
 
 
 class ScenarioLoader(yaml.SafeLoader):
@@ -100,7 +100,7 @@ def parse_scenario(text: str, file: str = "<string>") -> Scenario:
         loader.dispose()
     if root is None or not isinstance(data, dict):
         raise ScenarioError([Problem(file, 1, "", "the file must hold a mapping with at least "
-                                                  "'name' and 'axes'")])
+                                                  "'name' and 'axes' (or 'planar')")])
     problems = _duplicate_keys(root, (), file)
     try:
         scenario = Scenario.model_validate(data)
@@ -133,7 +133,8 @@ def _problem(error: Any, root: yaml.Node, file: str) -> Problem:
         tag = error["ctx"]["tag"]
         loc += ("command",)
         message = f"unknown command {tag!r}" + (
-            _suggestion(str(tag), list(COMMANDS)) or f" (commands: {', '.join(COMMANDS)})")
+            _suggestion(str(tag), list(TIMELINE_COMMANDS))
+            or f" (commands: {', '.join(TIMELINE_COMMANDS)})")
     elif kind == "union_tag_not_found":
         loc += ("command",)
         message = "required field is missing"
@@ -222,7 +223,7 @@ def _fields_at(raw_loc: tuple) -> list[str]:
                 and part in model.model_fields:
             model = _model_in(model.model_fields[part].annotation)
         else:
-            model = {**COMMANDS, **CHECKS}.get(str(part))
+            model = {**TIMELINE_COMMANDS, **CHECKS}.get(str(part))
         if model is None:
             return []
     return list(model.model_fields) if isinstance(model, type) else []

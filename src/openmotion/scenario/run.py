@@ -20,11 +20,18 @@ from typing import TYPE_CHECKING, Any
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.axis.probe import InputRef, abort_probe, arm_probe
 from openmotion.core.enums import AxisState
-from openmotion.core.errors import ErrorId
+from openmotion.core.errors import ConfigError, ErrorId
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.cyclic import BlockEntry
 from openmotion.scenario.groups import CaGroups, GroupRow, MoverRow
 from openmotion.scenario.load import load_scenario
+from openmotion.scenario.planar import PLANAR_ENTRIES
+from openmotion.scenario.planar_machine import (
+    PlanarMachine,
+    PlanarMoverRow,
+    SignalRecorder,
+    planar_table,
+)
 from openmotion.scenario.programs import BlockPrograms, cycle_of
 from openmotion.scenario.schema import (
     AbortTrigger,
@@ -38,7 +45,7 @@ from openmotion.scenario.schema import (
     TouchProbe,
 )
 from openmotion.scenario.transport import CA_ENTRIES, SetGap
-from openmotion.trace.record import Trace, TraceRecorder, read_signal, split_signal
+from openmotion.trace.record import Trace, read_signal, split_signal
 
 if TYPE_CHECKING:
     from rich.console import RenderableType
@@ -94,6 +101,7 @@ class ScenarioResult:
     end_time: float  #: simulated seconds
     ca_movers: list[MoverRow] = field(default_factory=list)  #: every CA mover at the end
     ca_groups: list[GroupRow] = field(default_factory=list)  #: each CA group's minimum gap
+    planar_movers: list[PlanarMoverRow] = field(default_factory=list)  #: each at the end
 
     @property
     def passed(self) -> bool:
@@ -112,6 +120,8 @@ class ScenarioResult:
                 **({"ca_groups": [clean(row) for row in self.ca_groups],
                     "ca_movers": [clean(row) for row in self.ca_movers]}
                    if self.ca_groups else {}),
+                **({"planar_movers": [clean(row) for row in self.planar_movers]}
+                   if self.planar_movers else {}),
                 "trace": {"rows": len(self.trace), "columns": list(self.trace.columns)}}
 
     def renderable(self) -> RenderableType:
@@ -122,9 +132,11 @@ class ScenarioResult:
         from rich.text import Text
 
         digits = _time_digits(self.scenario.cycle_time)
-        axes = len(self.scenario.axes)
-        header = Text(f"{self.scenario.name}: {axes} {'axis' if axes == 1 else 'axes'}, "
-                      f"{self.cycles} "
+        axes, movers = len(self.scenario.axes), len(self.planar_movers)
+        objects = [f"{axes} {'axis' if axes == 1 else 'axes'}"] if axes or not movers else []
+        if movers:
+            objects.append(f"{movers} planar mover{'' if movers == 1 else 's'}")
+        header = Text(f"{self.scenario.name}: {', '.join(objects)}, {self.cycles} "
                       f"cycles of {self.scenario.cycle_time * 1000:g} ms = "
                       f"{self.end_time:.{digits}f} s simulated")
         commands = Table(box=box.SIMPLE, title_justify="left", title="Commands")
@@ -146,6 +158,8 @@ class ScenarioResult:
         parts: list[RenderableType] = [header, commands]
         if self.ca_groups:
             parts += self._ca_renderables(digits)
+        if self.planar_movers:
+            parts.append(planar_table(self.planar_movers, _number))
         if self.checks:
             checks = Table(box=box.SIMPLE, title_justify="left", title="Checks")
             for name in ("check", "result", "detail"):
@@ -252,6 +266,12 @@ class _Run:
     def __init__(self, scenario: Scenario) -> None:
         self.scenario = scenario
         self.rt = rt = Runtime(scenario.cycle_time)
+        #: the planar objects, set up before t = 0: first, while nothing else is on the runtime
+        self.planar = PlanarMachine(rt, scenario.planar)
+        problems = self.planar.set_up()
+        if problems:  # the scenario's validation did the same on a scratch runtime
+            raise ConfigError("planar: " + "; ".join(
+                f"{'.'.join(map(str, loc))}: {message}" for loc, message in problems))
         for spec in scenario.axes:
             axis = rt.add_axis(spec.name, parameters=spec.parameters.build(),
                                drive=spec.drive.build(), position=spec.position)
@@ -271,7 +291,7 @@ class _Run:
             if isinstance(entry, TouchProbe)}
         #: the programs that call the blocks of block entries (jog, feed, filter, stepper)
         self.blocks = BlockPrograms(rt, self.holds)
-        self.recorder = TraceRecorder(rt, scenario.signals, scenario.record.every)
+        self.recorder = SignalRecorder(rt, scenario.signals, scenario.record.every, self.planar)
         self.checks = [_CheckState(check, self) for check in scenario.checks]
         self.quiet_since: int | None = None  #: first cycle of the current rest
 
@@ -295,6 +315,9 @@ class _Run:
     def issue(self, index: int, entry: Entry) -> None:
         if isinstance(entry, CA_ENTRIES):
             self._issued(index, entry, self.ca.issue(entry, self.by_id))
+            return
+        if isinstance(entry, PLANAR_ENTRIES):
+            self._issued(index, entry, self.planar.issue(entry))
             return
         axis = self.rt.axes[entry.axis]
         arguments = entry.arguments()
@@ -340,11 +363,14 @@ class _Run:
                 return self.ca.commands[command].sync_state(command)[1]  # InSync
             attribute = "active" if condition.attribute == "in_gear" else condition.attribute
             return command is not None and bool(getattr(command, attribute))
-        value = read_signal(self.rt.axes[condition.subject], condition.attribute)
+        value = self.planar.signal(condition.subject, condition.attribute)
+        if value is None:
+            value = read_signal(self.rt.axes[condition.subject], condition.attribute)
         return _OPERATORS[condition.operator](value, condition.value)
 
     def observe(self, runtime: Runtime) -> None:
         self.ca.watch()
+        self.planar.watch()
         for check in self.checks:
             check.observe()
 
@@ -369,7 +395,7 @@ class _Run:
             check.finish()
         return ScenarioResult(scenario, self.rows(), [c.row() for c in self.checks],
                               self.recorder.trace, rt.cycle, rt.now, self.ca.mover_rows(),
-                              self.ca.group_rows())
+                              self.ca.group_rows(), self.planar.rows())
 
     def finished(self) -> bool:
         """``duration`` is over; or ``settle_time`` after all came to rest, or the cap."""
@@ -386,15 +412,16 @@ class _Run:
 
     def at_rest(self) -> bool:
         """No ``at`` is still ahead, every command ended (or is at speed), no jog, feed or
-        timed stall runs, no group_stop holds, no axis moves. An override filter or a stepper
-        block, which run to the end, do not count; nor does a busy CA command whose group
-        stands still (a mover queued behind another stays Busy, TF5410 §9.1.1.1.1). A CA
-        mover stands with |v| and |a| at most 1e-9 of its maxima (groups.STANDING)."""
+        timed stall runs, no group_stop holds, no axis or planar mover moves. An override
+        filter or a stepper block, which run to the end, do not count; nor does a busy CA
+        command whose group stands still (a mover queued behind another stays Busy, TF5410
+        §9.1.1.1.1). A CA mover stands with |v| and |a| at most 1e-9 of its maxima
+        (groups.STANDING)."""
         cycle = self.rt.cycle
         if any(self.fire_cycle[i] is not None and self.fire_cycle[i] > cycle
                for i in self.pending) or any(c.waiting(cycle) for c in self.checks):
             return False
-        if self.blocks.busy or self.ca.busy or any(
+        if self.blocks.busy or self.ca.busy or self.planar.busy or any(
                 not (c.finished or c.in_velocity and c.kind not in _UNTIL_FINISHED)
                 and not self.ca.waiting(c)
                 for c in self.issued.values() if c.kind not in _TO_THE_END):
@@ -473,11 +500,16 @@ class _CheckState:
         self.detail = now + detail if not self.passed else detail
 
     def _signal(self, check: SignalCheck) -> tuple[bool, str]:
-        axis, prop = split_signal(check.signal)
-        value = read_signal(self.run.rt.axes[axis], prop)
-        named = prop in ("state", "axis_error_id")
-        shown = AxisState(int(value)).name.lower() if prop == "state" else \
-            ErrorId(int(value)).name if prop == "axis_error_id" else _number(value)
+        planar = self.run.planar.reading(check.signal)
+        if planar is not None:
+            value, shown, named = planar
+            shown = shown or _number(value)
+        else:
+            axis, prop = split_signal(check.signal)
+            value = read_signal(self.run.rt.axes[axis], prop)
+            named = prop in ("state", "axis_error_id")
+            shown = AxisState(int(value)).name.lower() if prop == "state" else \
+                ErrorId(int(value)).name if prop == "axis_error_id" else _number(value)
         expected = check.expected
         if expected is not None and not abs(value - expected) <= check.tolerance:
             return False, shown if named else f"{shown}, off by {_number(value - expected)}"

@@ -21,7 +21,16 @@ from collections import Counter
 from collections.abc import Iterator
 from contextvars import ContextVar
 from enum import Enum
-from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal, get_args, get_type_hints
+from typing import (
+    TYPE_CHECKING,
+    Annotated,
+    Any,
+    ClassVar,
+    Literal,
+    Union,
+    get_args,
+    get_type_hints,
+)
 
 from pydantic import (
     AfterValidator,
@@ -31,14 +40,17 @@ from pydantic import (
     Field,
     PlainSerializer,
     PlainValidator,
+    PrivateAttr,
     StrictBool,
     StrictFloat,
     StrictInt,
     StrictStr,
     Tag,
+    ValidationError,
     create_model,
     model_validator,
 )
+from pydantic_core import InitErrorDetails, PydanticCustomError
 
 from openmotion.axis.drive import DriveModel
 from openmotion.axis.parameters import AxisParameters
@@ -77,17 +89,19 @@ class _Names:
     groups: Counter[str] = dataclasses.field(default_factory=Counter)  #: CA group names
     members: dict[str, list[str]] = dataclasses.field(default_factory=dict)  #: axis ->
     #: the CA groups that list it (once per listing)
+    planar_movers: Counter[str] = dataclasses.field(default_factory=Counter)
+    planar_groups: Counter[str] = dataclasses.field(default_factory=Counter)
 
     @classmethod
     def of(cls, data: object) -> _Names:
         """The names in raw input, however malformed the rest of it is."""
-        def items(key: str) -> list[dict]:
-            found = data.get(key) if isinstance(data, dict) else None
+        def items(key: str, within: object = data) -> list[dict]:
+            found = within.get(key) if isinstance(within, dict) else None
             return [item for item in found if isinstance(item, dict)] \
                 if isinstance(found, list) else []
 
-        def names(key: str, field: str) -> Counter[str]:
-            return Counter(item[field] for item in items(key)
+        def names(key: str, field: str, within: object = data) -> Counter[str]:
+            return Counter(item[field] for item in items(key, within)
                            if isinstance(item.get(field), str))
 
         commands = {item["id"]: item.get("command") for item in items("timeline")
@@ -98,8 +112,10 @@ class _Names:
             for axis in axes if isinstance(axes, list) else []:
                 if isinstance(axis, str):
                     members.setdefault(axis, []).append(str(group.get("name")))
+        planar = data.get("planar") if isinstance(data, dict) else None
         return cls(names("axes", "name"), names("timeline", "id"), commands,
-                   names("ca_groups", "name"), members)
+                   names("ca_groups", "name"), members, names("movers", "name", planar),
+                   names("groups", "name", planar))
 
 
 _NAMES: ContextVar[_Names | None] = ContextVar("openmotion_scenario_names", default=None)
@@ -187,6 +203,8 @@ def _enum_by_name(enum: type[Enum]) -> Any:
 
 
 def _signal(name: str) -> str:
+    if is_planar(name.partition(".")[0]):
+        return check_planar_signal(name)
     axis, prop = split_signal(name)
     if prop in MOVER_SIGNALS:
         _check_mover(axis)
@@ -290,6 +308,9 @@ def parse_condition(text: object) -> Condition:
                              f"(states: {states})")
         return Condition(text.strip(), subject, attribute, operator,
                          float(GroupState[raw.upper()]))
+    planar = planar_condition(text, subject, attribute, operator, raw)
+    if planar is not None:
+        return planar
     if attribute not in AXIS_SIGNALS:
         raise ValueError(f"{text!r}: the signal must be one of {', '.join(AXIS_SIGNALS)}")
     if attribute in MOVER_SIGNALS:
@@ -801,6 +822,17 @@ from openmotion.scenario.cyclic import (  # noqa: E402 - needs Entry and the typ
     SetReferenceFlag,
 )
 
+# Planar movers and groups (TF5430): the planar block and the entries on movers and groups.
+from openmotion.scenario.planar import (  # noqa: E402 - needs Entry and the types above
+    PLANAR_COMMANDS,
+    PlanarSpec,
+    check_planar_signal,
+    default_planar_signals,
+    is_planar,
+    planar_condition,
+    planar_named_value,
+)
+
 # CA groups (TF5410): the ca_groups list and the entries on movers and groups.
 from openmotion.scenario.transport import (  # noqa: E402 - needs Entry and the types above
     ActivateTrack,
@@ -831,39 +863,12 @@ COMMANDS: dict[str, type[Entry]] = {
                   SetGap, GroupHalt, GroupStop, GroupEnable, GroupDisable,
                   GroupReset)  # type: ignore[misc]
 }
+#: every timeline entry's model by its ``command``: COMMANDS (on axes, CA movers and groups)
+#: and the planar ones (on planar movers and groups)
+TIMELINE_COMMANDS: dict[str, type] = {**COMMANDS, **PLANAR_COMMANDS}
 TimelineEntry = Annotated[
-    Annotated[Power, Tag("power")] | Annotated[PowerOff, Tag("power_off")]
-    | Annotated[Reset, Tag("reset")] | Annotated[SetOverride, Tag("set_override")]
-    | Annotated[MoveAbsolute, Tag("move_absolute")]
-    | Annotated[MoveRelative, Tag("move_relative")] | Annotated[MoveModulo, Tag("move_modulo")]
-    | Annotated[MoveVelocity, Tag("move_velocity")] | Annotated[Halt, Tag("halt")]
-    | Annotated[Stop, Tag("stop")] | Annotated[ChangeDynamics, Tag("change_dynamics")]
-    | Annotated[NewPosition, Tag("new_position")]
-    | Annotated[NewPositionAndVelocity, Tag("new_position_and_velocity")]
-    | Annotated[SetActualPosition, Tag("set_actual_position")] | Annotated[Home, Tag("home")]
-    | Annotated[GearIn, Tag("gear_in")] | Annotated[SetGearRatio, Tag("set_gear_ratio")]
-    | Annotated[GearOut, Tag("gear_out")] | Annotated[GearOutExt, Tag("gear_out_ext")]
-    | Annotated[OrientedStop, Tag("oriented_stop")]
-    | Annotated[SetActualPositionOnTheFly, Tag("set_actual_position_on_the_fly")]
-    | Annotated[TouchProbe, Tag("touch_probe")] | Annotated[AbortTrigger, Tag("abort_trigger")]
-    | Annotated[MoveSuperimposed, Tag("move_superimposed")]
-    | Annotated[AbortSuperposition, Tag("abort_superposition")] | Annotated[Jog, Tag("jog")]
-    | Annotated[EnableExternalSetpoints, Tag("enable_external_setpoints")]
-    | Annotated[DisableExternalSetpoints, Tag("disable_external_setpoints")]
-    | Annotated[OverrideFilter, Tag("override_filter")]
-    | Annotated[PowerStepper, Tag("power_stepper")] | Annotated[InjectStall, Tag("inject_stall")]
-    | Annotated[ReleaseStall, Tag("release_stall")]
-    | Annotated[SetReferenceFlag, Tag("set_reference_flag")]
-    | Annotated[ReadAxisComponents, Tag("read_axis_components")]
-    | Annotated[MoveAbsoluteCa, Tag("move_absolute_ca")]
-    | Annotated[MoveRelativeCa, Tag("move_relative_ca")] | Annotated[HaltCa, Tag("halt_ca")]
-    | Annotated[GearInPosCa, Tag("gear_in_pos_ca")]
-    | Annotated[ActivateTrack, Tag("activate_track")]
-    | Annotated[RegisterCompensation, Tag("register_compensation")]
-    | Annotated[SetGap, Tag("set_gap")] | Annotated[GroupHalt, Tag("group_halt")]
-    | Annotated[GroupStop, Tag("group_stop")] | Annotated[GroupEnable, Tag("group_enable")]
-    | Annotated[GroupDisable, Tag("group_disable")]
-    | Annotated[GroupReset, Tag("group_reset")],
+    Union[tuple(Annotated[model, Tag(name)]  # noqa: UP007 - a union built from the dict
+                for name, model in TIMELINE_COMMANDS.items())],
     Discriminator("command"),
 ]
 
@@ -909,36 +914,39 @@ class _Check(_Model):
 
 
 class SignalCheck(_Check):
-    """An axis signal must equal ``expect`` (± ``tolerance``) and/or lie in [min, max]."""
+    """A signal must equal ``expect`` (± ``tolerance``) and/or lie in [min, max]."""
 
     signal: SignalName
-    """``<axis>.<signal>``."""
+    """``<axis>.<signal>`` or ``<planar mover>.<signal>``."""
     expect: Annotated[float | str, PlainValidator(_expect_value)] | None = None
-    """Expected value; for ``.state`` also a state name such as standstill, for
-    ``.axis_error_id`` an ErrorId name such as STEPPER_STALL."""
+    """Expected value; for ``.state`` also a state name such as standstill (a planar mover's:
+    enabled), for ``.axis_error_id`` an ErrorId name such as STEPPER_STALL."""
     tolerance: Annotated[StrictFloat, Field(ge=0.0)] = 1e-9
     """Allowed |actual - expect|."""
     min: Number | None = None
     """Lower bound."""
     max: Number | None = None
     """Upper bound."""
+    _expected: float | None = PrivateAttr(default=None)  #: ``expect`` as a number
 
     @model_validator(mode="after")
     def _something_to_check(self) -> SignalCheck:
         if self.expect is None and self.min is None and self.max is None:
             raise ValueError("give 'expect', 'min' or 'max'")
-        _, signal = split_signal(self.signal)
-        if isinstance(self.expect, str) and named_value(signal, self.expect) is None:
-            raise ValueError(f"expect: {self.expect!r} is not a number" + {
-                "state": " or a state name", "axis_error_id": " or an ErrorId name"}.get(
+        subject, _, signal = self.signal.partition(".")
+        planar = is_planar(subject)
+        self._expected = self.expect if not isinstance(self.expect, str) else \
+            planar_named_value(signal, self.expect) if planar else named_value(signal, self.expect)
+        if isinstance(self.expect, str) and self._expected is None:
+            raise ValueError(f"expect: {self.expect!r} is not a number" + (
+                {"state": " or a planar state name"} if planar else
+                {"state": " or a state name", "axis_error_id": " or an ErrorId name"}).get(
                     signal, ""))
         return self
 
     @property
     def expected(self) -> float | None:
-        if isinstance(self.expect, str):
-            return named_value(split_signal(self.signal)[1], self.expect)
-        return self.expect
+        return self._expected
 
 
 class CommandCheck(_Check):
@@ -1000,10 +1008,12 @@ class Scenario(_Model):
     """Extra time [s] after everything came to rest, when ``duration`` is not given."""
     max_duration: PositiveSeconds = 60.0
     """Hard cap [s] on simulated time when ``duration`` is not given."""
-    axes: Annotated[list[AxisSpec], Field(min_length=1)]
-    """The axes, created in this order."""
+    axes: list[AxisSpec] = []
+    """The axes, created in this order; at least one unless there are planar movers."""
     ca_groups: list[CaGroupSpec] = []
     """CA groups (TF5410), built after the axes in this order."""
+    planar: PlanarSpec | None = None
+    """Planar movers on a stator surface (TF5430): scenario/planar.py."""
     timeline: list[TimelineEntry] = []
     """Commands, looked at in this order every cycle."""
     record: RecordSpec = RecordSpec()
@@ -1020,12 +1030,21 @@ class Scenario(_Model):
         finally:
             _NAMES.reset(token)
 
+    @model_validator(mode="after")
+    def _something_to_run(self) -> Scenario:
+        if not self.axes and self.planar is None:
+            raise ValidationError.from_exception_data(type(self).__name__, [InitErrorDetails(
+                type=PydanticCustomError("value_error", "give at least one axis (or planar "
+                                                        "movers)"), loc=("axes",), input=None)])
+        return self
+
     @property
     def signals(self) -> list[str]:
         """The recorded signals (the default set when ``record.signals`` is not given)."""
         if self.record.signals is not None:
             return list(self.record.signals)
-        return default_signals(axis.name for axis in self.axes)
+        return default_signals(axis.name for axis in self.axes) + \
+            default_planar_signals(self.planar)
 
     def entries(self) -> Iterator[tuple[str, Entry]]:
         """(label, entry) in timeline order; the label is the id or ``#<number>``."""
