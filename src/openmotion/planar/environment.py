@@ -15,9 +15,10 @@ from openmotion.planar.enums import PlanarObjectType, PlanarState
 from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand, PlanarObjectInfo
 from openmotion.planar.frames import Pose
 from openmotion.planar.options import CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD
-from openmotion.planar.parts import PartLayout, PartPosition
+from openmotion.planar.parts import Part, PartLayout, PartPosition
 from openmotion.planar.positions import PositionXYC, finite
 from openmotion.planar.reservation import MemberId
+from openmotion.planar.states import ErrorReaction
 from openmotion.planar.stators import Boundary, StatorField
 from openmotion.planar.system import PlanarObject, PlanarSystem
 
@@ -29,6 +30,7 @@ if TYPE_CHECKING:
     from openmotion.runtime.runtime import Runtime
 
 _ACTIVE = (PlanarState.ENABLING, PlanarState.ENABLED)
+_FAILED = (PlanarState.ERROR_PENDING, PlanarState.ERROR, PlanarState.RESETTING)
 
 
 class MC_PlanarEnvironment(PlanarObject):
@@ -149,14 +151,49 @@ class MC_PlanarEnvironment(PlanarObject):
         return self.layout.coordinate_systems[0]
 
     def _publish(self) -> bool:
-        """Parts follow the movers of their coordinate system (§6.6): checked every cycle."""
+        """Parts follow the movers of their coordinate system, and a part that fails or is
+        force-disabled takes the movers on it into error (§6.6): checked every cycle."""
         if self.layout is not None:
             active = {m.coordinate_system for m in self._system.movers
                       if m._states.current in _ACTIVE}
             self.layout.follow_movers(active)
             self.layout.update()
+            for mover in self._system.movers:
+                part = self._part_of(mover)
+                if mover._states.current is PlanarState.ENABLED and part is not None and \
+                        (part.disable_forced or part.state in _FAILED):
+                    why = "is force-disabled" if part.disable_forced else "has an error"
+                    mover._states.fail(ErrorId.PLANAR_PART_NOT_ENABLED, ErrorReaction.ABORT,
+                                       f"part 16#{part.oid:08X} under the mover {why} (§6.6)")
+                    mover._awake = True
         self._queue.publish()
         return self.layout is not None
+
+    def _part_of(self, mover: MC_PlanarMover) -> Part | None:
+        """The part under the mover's centre, in its coordinate system."""
+        if self.layout is None:
+            return None
+        return self.layout._part_under(mover.coordinate_system, mover.pose)
+
+    def _part_ready(self, mover: MC_PlanarMover) -> bool:
+        """Enable and Reset of a mover wait for the part under it (§6.6 rule 2 and 8); a part
+        that cannot be enabled fails the mover's command."""
+        part = self._part_of(mover)
+        if part is None:
+            return True
+        if part.disable_forced or part.state in _FAILED:
+            mover._states.fail(ErrorId.PLANAR_PART_NOT_ENABLED, ErrorReaction.ABORT,
+                               f"part 16#{part.oid:08X} under the mover cannot be enabled (§6.6)")
+            return False
+        return part.state is PlanarState.ENABLED
+
+    def _reset_parts(self, coordinate_system: int) -> None:
+        """A mover's Reset first resets the failed parts of its coordinate system (§6.6)."""
+        if self.layout is None:
+            return
+        for part in self.layout.parts_in(coordinate_system):
+            if part.state is PlanarState.ERROR:
+                part.reset()
 
     @property
     def mc_to_plc_std(self) -> CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD:

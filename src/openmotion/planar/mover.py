@@ -133,6 +133,7 @@ class MC_PlanarMover(PlanarObject):
         self.coordinate_system = 0  #: OID of the coordinate system it is in (0: no parts)
         self._offset = np.zeros(6)  #: relative external setpoints (§4.2)
         self._stream: ExternalSetpointStream | None = None
+        self._external_command: PlanarCommand | None = None
         self._fed = False  #: an external setpoint came this cycle
         self._started_external = False
         self._status: tuple[int, CDT_MCTOPLC_PLANAR_MOVER] | None = None
@@ -213,7 +214,7 @@ class MC_PlanarMover(PlanarObject):
                               set_acceleration: MoverVector) -> None:
         """One setpoint, in the mover's coordinate system (reference id 0)."""
         self._send(_C.SET_EXTERNAL_SETPOINT, None, set_position, set_velocity, set_acceleration,
-                   0, None)
+                   None, None)
 
     def set_external_setpoint_reference_id(self, feedback: MC_PlanarFeedbackBase | None,
                                            set_position: MoverVector, set_velocity: MoverVector,
@@ -279,6 +280,9 @@ class MC_PlanarMover(PlanarObject):
     def _execute(self, command: PlanarCommand) -> None:
         kind = command.kind
         if kind in set(StateCommand):
+            environment = self._system.environment()
+            if kind == StateCommand.RESET and environment is not None:
+                environment._reset_parts(self.coordinate_system)  # §6.6: parts first
             self._states.request(command)
             return
         kind = MoverCommand(kind)
@@ -399,20 +403,22 @@ class MC_PlanarMover(PlanarObject):
         position, velocity, acceleration, reference, feedback = command.args
         stream = self._stream
         command.finished()  # SetExternalSetpoint has no feedback of its own
-        if stream is None or self._modes.external is ExternalSetPositionMode.NONE:
-            if feedback is not None:
+        if self._modes.external is ExternalSetPositionMode.NONE:
+            if stream is not None:  # the stream ended (Stop or an error): it keeps its result
+                stream.call(feedback)
+            elif feedback is not None:
                 other = ExternalSetpointStream()
                 other.report(ErrorId.PLANAR_WRONG_MODE, "no external setpoint generation runs "
                              "(§6.1.6)")
                 other.call(feedback)
                 other.call(feedback)
             return
-        if feedback is not None:
+        if stream is not None and feedback is not None:
             stream.call(feedback)
         try:
             values = [np.array([getattr(v, k) for k in COORDINATES], dtype=float)
                       for v in (position, velocity, acceleration)]
-            if reference:
+            if reference is not None:  # SetExternalSetpointReferenceId: 0 follows §5.3 too
                 pose = self._resolve(PositionXYC(values[0][0], values[0][1], values[0][5],
                                                  reference))[1]
                 values[0][0], values[0][1], values[0][5] = pose
@@ -420,7 +426,8 @@ class MC_PlanarMover(PlanarObject):
         except (CommandRejected, TypeError, AttributeError) as bad:
             error_id = getattr(bad, "error_id", ErrorId.PLANAR_EXT_SETPOINT)
             message = getattr(bad, "message", str(bad))
-            stream.report(error_id, message)
+            if stream is not None:
+                stream.report(error_id, message)
             self._states.fail(error_id, ErrorReaction.QUICK_STOP, message)
             return
         self._fed = True
@@ -459,8 +466,7 @@ class MC_PlanarMover(PlanarObject):
             self._motions.append(_Motion(None, set(COORDINATES), end, now))
         self._reschedule()
         self._modes.ended(kind, done=True, c=self._state_at("c", now).position)
-        self._stream = None
-        command = getattr(self, "_external_command", None)
+        command = self._external_command
         if command is not None:
             command.finished()
             self._external_command = None
@@ -669,8 +675,7 @@ class MC_PlanarMover(PlanarObject):
             self._brake("maximum")
         elif state is PlanarState.ERROR_PENDING:
             if self._modes.external is not ExternalSetPositionMode.NONE:
-                self._stream = None
-                self._modes.external = ExternalSetPositionMode.NONE
+                self._modes.external = ExternalSetPositionMode.NONE  # the stream keeps its error
             if self._states.reaction is ErrorReaction.ABORT:
                 self._freeze()
             else:
@@ -679,6 +684,9 @@ class MC_PlanarMover(PlanarObject):
     def _transition_done(self, state: PlanarState) -> bool:
         if state in (PlanarState.DISABLING, PlanarState.ERROR_PENDING):
             return not self._motions
+        if state in (PlanarState.ENABLING, PlanarState.RESETTING):
+            environment = self._system.environment()
+            return environment is None or environment._part_ready(self)
         return True
 
     # -- helpers ---------------------------------------------------------------------------------
