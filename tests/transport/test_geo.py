@@ -339,13 +339,14 @@ def test_a_halt_may_only_name_the_registered_template():
     assert halt.error and halt.error_id is ErrorId.COMPENSATION_NOT_REGISTERED
 
 
-def test_the_gap_stays_on_the_motor_path_so_the_tcp_gap_is_larger_in_a_curve():
-    """T18 gap: not yet referenced to the TCP path (D-073). A mover queued one gap of 100 mm
-    behind a mover standing in the curve keeps 100 mm on the motor path, which is
-    100 (R+y)/R mm on the TCP path: never less than the gap, never the manual's tighter
-    spacing."""
-    rt, group, (ahead, behind) = starter_kit(1300.0, 500.0)
-    g = group.tracks.geo.geometry
+def queue_in_curve(register_behind: bool = True) -> tuple[float, float, StarterKitGeometry,
+                                                         CaGroup]:
+    """A mover queues one gap of 100 mm behind a mover standing at 1300 in the right curve
+    (1000 to 1500): the motor positions (ahead, behind) it ends at."""
+    rt, group, (ahead, behind) = starter_kit(1300.0, 500.0, register=False)
+    for axis in (ahead, behind) if register_behind else (ahead,):
+        MC_RegisterCompensation(axis)(execute=True, compensation_type=CompensationType.GEO,
+                                      compensation_id=T)
     fb = MC_MoveAbsoluteCA(behind)
     # deceleration and jerk as the CA brake's: with softer ones, a queued mover whose brake
     # was harder than its command currently reverses (a gap-control bug outside geo)
@@ -354,9 +355,23 @@ def test_the_gap_stays_on_the_motor_path_so_the_tcp_gap_is_larger_in_a_curve():
            jerk=1.0e6, gap=100.0)
         rt.step()
     assert fb.busy  # queued: Done only at its target (D-062)
-    assert ahead.set_position - behind.set_position == pytest.approx(100.0, abs=1e-6)
-    tcp_gap = g.motor_to_tcp(ahead.set_position, Y) - g.motor_to_tcp(behind.set_position, Y)
-    assert tcp_gap == pytest.approx(100.0 * (R + Y) / R, abs=1e-6)
+    return ahead.set_position, behind.set_position, group.tracks.geo.geometry, group
+
+
+def test_a_compensated_mover_keeps_its_gap_on_the_tcp_path():
+    """T18 gap (§9.1.1.1.1, D-073): the successor registered a template, so its gap is the
+    distance of the TCP paths; in the curve the motors come as close as 100 R/(R+y)."""
+    ahead, behind, g, group = queue_in_curve()
+    tcp_gap = g.motor_to_tcp(ahead, Y) - g.motor_to_tcp(behind, Y)
+    assert tcp_gap == pytest.approx(100.0, abs=1e-6)
+    assert ahead - behind == pytest.approx(100.0 * R / (R + Y), abs=1e-6)
+    assert group.gaps()[1] == pytest.approx(100.0, abs=1e-6)  # the gap signal is the TCP gap
+
+
+def test_without_a_template_the_gap_stays_on_the_motor_path():
+    ahead, behind, g, group = queue_in_curve(register_behind=False)
+    assert ahead - behind == pytest.approx(100.0, abs=1e-6)
+    assert group.gaps()[1] == pytest.approx(100.0, abs=1e-6)
 
 
 def test_a_relative_distance_on_the_tcp_path_ends_where_the_tcp_has_gone_that_far():

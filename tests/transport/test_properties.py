@@ -20,6 +20,8 @@ from openmotion.transport import (
     CaGroup,
     GapControlDirection,
     GapControlMode,
+    MoverTemplate,
+    StarterKitGeometry,
 )
 
 SETTLE_CYCLES = 30_000
@@ -53,9 +55,13 @@ def cases(draw: st.DrawFn) -> dict:
         st.sampled_from([BufferMode.ABORTING, BufferMode.BUFFERED]),
         st.sampled_from([GapControlMode.STANDARD, GapControlMode.FAST]),
     ), min_size=1, max_size=12))
+    # geo-compensation on a ring: some movers measure their gap on a TCP path (D-073)
+    y_shifts = [draw(st.sampled_from([0.0, 30.0, 100.0])) for _ in range(n)] \
+        if ring and draw(st.booleans()) else None
     return {"n": n, "gap": gap, "ring": ring, "length": max(length, n * spacing),
             "starts": starts, "movers": movers, "commands": sorted(commands,
-                                                                    key=lambda c: c[0])}
+                                                                    key=lambda c: c[0]),
+            "y_shifts": y_shifts}
 
 
 def _run(case: dict, liveness: bool = True) -> None:
@@ -68,6 +74,8 @@ def _run(case: dict, liveness: bool = True) -> None:
         axis.power()
         group.add_axis(axis, UDINT_TO_IDENTINGROUP(i + 1))
         axes.append(axis)
+    if case.get("y_shifts"):
+        _compensate(group, axes, case["y_shifts"])
     assert group.enable().done
     gap, length = case["gap"], case["length"]
     rows = np.array([a.row for a in axes])
@@ -112,6 +120,19 @@ def _run(case: dict, liveness: bool = True) -> None:
     if liveness:
         assert group.all_axes_standing, "the movers never came to rest"
         _assert_ended_or_queued(group, issued, gap)
+
+
+def _compensate(group: CaGroup, axes: list[om.Axis], y_shifts: list[float]) -> None:
+    """A starter-kit geometry on the ring (curves of R = length / 10) and a template per
+    y-shift; movers with y > 0 register theirs, so group.gaps() gives their TCP gap."""
+    geo = group.tracks.geo
+    geo.set_geometry(StarterKitGeometry(rail_length=group.parameters.rail_length,
+                                        curve_radius=group.parameters.rail_length / 10.0))
+    for template_id, y in enumerate(sorted(set(y_shifts)), 1):
+        geo.add_template(MoverTemplate(template_id, y_shift=y))
+        for axis, shift in zip(axes, y_shifts, strict=True):
+            if shift == y and y > 0.0:
+                assert geo.register_compensation(axis, template_id).done
 
 
 def _assert_ended_or_queued(group: CaGroup, issued: list, gap: float) -> None:

@@ -35,8 +35,9 @@ class GroupCycle:
         if self._pairs_dirty:
             succ = np.flatnonzero((self.pred >= 0) & (self.gmode != GapControlMode.NONE))
             both = self.parameters.gap_control_direction is GapControlDirection.BOTH
+            y, path = self.tracks.gap_paths(succ)
             self._pair_cache = Pairs(succ, self.pred[succ], self.offset[succ], self.gap[succ],
-                                     self.gmode[succ] == GapControlMode.FAST, both)
+                                     self.gmode[succ] == GapControlMode.FAST, both, y, path)
             self._pairs_dirty = False
         return self._pair_cache
 
@@ -247,6 +248,11 @@ class GroupCycle:
             room_hi[pairs.succ] = lo[pairs.pred] + pairs.offset - pairs.gap
             if pairs.both:  # a mover moving back stops in front of its successor's envelope
                 room_lo[pairs.pred] = hi[pairs.succ] + pairs.gap - pairs.offset
+            t = np.flatnonzero(pairs.on_tcp(np.arange(pairs.succ.size)))
+            if t.size:  # gaps on a TCP path (D-073)
+                room_hi[pairs.succ[t]] = pairs.behind(t, lo[pairs.pred[t]] + pairs.offset[t])
+                if pairs.both:
+                    room_lo[pairs.pred[t]] = pairs.ahead(t, hi[pairs.succ[t]]) - pairs.offset[t]
             self._room_all = (room_hi, room_lo)
             self._room_of = env
         room_hi, room_lo = self._room_all
@@ -360,7 +366,7 @@ class GroupCycle:
                 k = int(self.pred[slot])
                 if k < 0 or not idle[slot] or self.gmode[slot] == GapControlMode.NONE:
                     continue
-                limit = desired[k] + self.offset[slot] - self.gap[slot]
+                limit = self._behind(slot, desired[k] + self.offset[slot])
                 if limit < desired[slot] - 1e-9:
                     desired[slot] = limit
                     changed = True
@@ -368,6 +374,15 @@ class GroupCycle:
                 break
         for slot in np.flatnonzero(idle & (desired < self.p - 1e-6)).tolist():
             self._standby(self.movers[slot], float(desired[slot]))
+
+    def _behind(self, slot: int, ahead: float) -> float:
+        """Where ``slot`` stands one gap behind the motor position ``ahead`` of its
+        predecessor: on the motor path, or on its template's TCP path (D-073)."""
+        pairs = self._pairs()
+        m = np.flatnonzero(pairs.succ == slot)
+        if m.size and pairs.on_tcp(m)[0]:
+            return float(pairs.behind(m, np.array([ahead]))[0])
+        return ahead - float(self.gap[slot])
 
     def _standby(self, mover: Mover, target: float) -> None:
         p, group = mover.axis.parameters, self.parameters

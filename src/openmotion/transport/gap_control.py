@@ -20,6 +20,7 @@ has the safety argument.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
@@ -33,12 +34,22 @@ from openmotion.transport.braking import (
 TOLERANCE = 1e-9  #: [mm] float slack of the pair checks
 
 
+class TcpPath(Protocol):
+    """The monotone maps between the motor path and a TCP path (geo.StarterKitGeometry)."""
+
+    def motor_to_tcp(self, position: np.ndarray, y_shift: float) -> np.ndarray: ...
+
+    def tcp_to_motor(self, position: np.ndarray, y_shift: float) -> np.ndarray: ...
+
+
 @dataclass
 class Pairs:
     """Adjacent pairs of a group: successor ``succ[m]`` keeps ``gap[m]`` to ``pred[m]``.
 
     ``offset[m]`` is added to the predecessor's positions (a lap on a ring), ``fast[m]``
     selects the FAST check, ``both`` lets a predecessor moving backwards be blamed.
+    ``y[m] > 0`` measures the pair's gap on the TCP path of the successor's mover template
+    (geo-compensation, D-073) through ``path``; 0 on the motor path.
     """
 
     succ: np.ndarray
@@ -47,6 +58,31 @@ class Pairs:
     gap: np.ndarray
     fast: np.ndarray
     both: bool
+    y: np.ndarray | None = None
+    path: TcpPath | None = None
+
+    def on_tcp(self, m: np.ndarray) -> np.ndarray:
+        """Which of the pairs ``m`` measure their gap on a TCP path."""
+        return np.zeros(m.size, dtype=bool) if self.y is None else self.y[m] > 0.0
+
+    def behind(self, m: np.ndarray, ahead: np.ndarray) -> np.ndarray:
+        """Motor position one gap behind ``ahead`` (motor positions, in the successor's lap),
+        measured on the TCP path, for the TCP pairs ``m``."""
+        return self._shifted(m, ahead, -self.gap[m])
+
+    def ahead(self, m: np.ndarray, behind: np.ndarray) -> np.ndarray:
+        """Motor position one gap (on the TCP path) ahead of ``behind``, for the pairs ``m``."""
+        return self._shifted(m, behind, self.gap[m])
+
+    def _shifted(self, m: np.ndarray, position: np.ndarray, by: np.ndarray) -> np.ndarray:
+        assert self.y is not None and self.path is not None
+        out = np.empty(m.size)
+        y = self.y[m]
+        for shift in np.unique(y).tolist():
+            k = y == shift
+            out[k] = self.path.tcp_to_motor(self.path.motor_to_tcp(position[k], shift) + by[k],
+                                            shift)
+        return out
 
 
 def filter_steps(cur: tuple[np.ndarray, np.ndarray, np.ndarray],
@@ -117,6 +153,11 @@ def _safe(state: tuple[np.ndarray, ...] | list[np.ndarray], pairs: Pairs, lo: np
     m = np.flatnonzero(check)
     s, k = pairs.succ[m], pairs.pred[m]
     standard = hi[s] + pairs.gap[m] <= lo[k] + pairs.offset[m] + TOLERANCE
+    tcp = pairs.on_tcp(m)
+    if tcp.any():  # the gap on the TCP path: the monotone map keeps the argument (D-073)
+        t = m[tcp]
+        standard[tcp] = hi[pairs.succ[t]] <= pairs.behind(
+            t, lo[pairs.pred[t]] + pairs.offset[t]) + TOLERANCE
     ok[m] = standard
     fast = m[pairs.fast[m] & ~standard]
     if fast.size:

@@ -188,6 +188,8 @@ class GeoCompensation:
                 raise CommandRejected(ErrorId.AXIS_NOT_IN_GROUP,
                                       f"{axis.name} is not in CA group {self._group.name!r}")
             self._registered[axis.row] = self.template(template_id).template_id
+            self._group._pairs_dirty = True  # its gaps are now on the TCP path (D-073)
+            self._group._room_of = None
         except CommandRejected as rejected:
             command._end(CommandStatus.ERROR, command.issued_at, rejected.error_id,
                          rejected.message)

@@ -136,6 +136,12 @@ class CaGroup(GroupCycle):
         gaps = np.full(len(self.movers), np.inf)
         has = self.pred >= 0
         gaps[has] = p[self.pred[has]] + self.offset[has] - p[has]
+        y, path = self.tracks.gap_paths(np.arange(len(self.movers)))
+        if y is not None and path is not None:  # on the successor's TCP path (D-073)
+            for slot in np.flatnonzero(has & (y > 0.0)).tolist():
+                ahead = p[self.pred[slot]] + self.offset[slot]
+                gaps[slot] = float(path.motor_to_tcp(ahead, y[slot])
+                                   - path.motor_to_tcp(p[slot], y[slot]))
         return gaps
 
     @property

@@ -23,10 +23,12 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple
 
+import numpy as np
+
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.transport.enums import ModuloDirection
-from openmotion.transport.geo import GeoCompensation, MoverTemplate
+from openmotion.transport.geo import GeoCompensation, MoverTemplate, StarterKitGeometry
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
@@ -217,6 +219,19 @@ class TrackTable:
                                       f"track position {position:g} outside [0, {span:g}] of "
                                       f"open track {track.track_id}")
         return inverse(forward(p) + position - here)
+
+    def gap_paths(self, slots: np.ndarray
+                  ) -> tuple[np.ndarray | None, StarterKitGeometry | None]:
+        """The y-shift of the template each mover of ``slots`` registered (0: none) and the
+        geometry: gaps of registered successors are measured on their TCP path (D-073).
+        (None, None) when no mover of the group registered one."""
+        geo = self.geo
+        if geo.geometry is None or not geo._registered:
+            return None, None
+        movers = self._group.movers
+        y = np.array([getattr(geo.registered(movers[slot].axis), "y_shift", 0.0)
+                      for slot in slots.tolist()])
+        return (y, geo.geometry) if (y > 0.0).any() else (None, None)
 
     def compensate(self, axis: Axis, job: CaJob, dynamics_reference_system: int) -> None:
         """DynamicsReferenceSystem of a CA job (transport/geo.py, D-072)."""
