@@ -210,6 +210,40 @@ def test_undershoot_forbidden_fails_when_the_slave_would_be_slower() -> None:
     assert command.error_id is ErrorId.SYNC_FAILED and "Undershoot" in command.message
 
 
+def sync_with_lead(**options: object) -> tuple[object, list[tuple[float, float, float]]]:
+    """The master cruises at 500 mm/s; the slave stands far behind its coupled position, so
+    it is slower than the master when the command starts. Samples (t, v_master, v_slave)."""
+    rt, group, master, slave = setup()
+    master.move_velocity(500.0)
+    rt.run(0.3)
+    command = group.gear_in_pos(master, slave, 1.0, 1, master.set_position + 500.0, 1000.0,
+                                SyncStrategy.EARLY, velocity=3000.0, **options)
+    samples = []
+    for _ in range(3000):
+        rt.step()
+        samples.append((rt.now, master.set_velocity, slave.set_velocity))
+        if command.finished or group.sync_state(command)[1]:
+            break
+    return command, samples, group
+
+
+def test_undershoot_forbidden_first_brings_the_slave_to_the_master_velocity() -> None:
+    """MasterVelocityUndershootAllowed FALSE (§9.1.2.1): the slave, slower than the master at
+    the start, accelerates to the master's velocity as fast as it can and from then on is
+    never slower than the master while it catches up."""
+    command, samples, group = sync_with_lead(master_velocity_undershoot_allowed=False)
+    assert not command.error, command.message
+    assert group.sync_state(command)[1]  # in sync
+    reached = next(k for k, (_, vm, vs) in enumerate(samples) if vs >= vm - 1e-9)
+    assert all(vs >= vm - 1e-6 for _, vm, vs in samples[reached:])
+    assert any(vs > vm + 1.0 for _, vm, vs in samples[reached:])  # it did catch up
+
+
+def test_overshoot_forbidden_still_fails_when_the_slave_must_catch_up_after_the_lead() -> None:
+    command, _, _ = sync_with_lead(master_velocity_overshoot_allowed=False)
+    assert command.error and command.error_id is ErrorId.SYNC_FAILED
+
+
 @pytest.mark.parametrize(("minimum", "ok"), [(-300.0, True), (-100.0, False)])
 def test_minimal_slave_position(minimum: float, ok: bool) -> None:
     rt, group, master, slave = setup()

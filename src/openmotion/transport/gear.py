@@ -21,7 +21,7 @@ import math
 from dataclasses import dataclass
 
 from openmotion.core.errors import CommandRejected, ErrorId
-from openmotion.trajectory.plan import Limits, plan_position, plan_position_in
+from openmotion.trajectory.plan import Limits, plan_position, plan_position_in, plan_velocity
 from openmotion.trajectory.segments import KinematicState, Profile
 from openmotion.transport.enums import SyncStrategy
 
@@ -120,9 +120,10 @@ class GearSync:
         if remaining <= 0.0:
             return True
         try:
-            needed = self._error_profile(slave, master, self.limits).duration
+            lead, main = self._error_profiles(slave, master, self.limits)
         except CommandRejected:
             return True
+        needed = main.duration + (0.0 if lead is None else lead.duration)
         return needed >= remaining - cycle_time
 
     def _plan(self, now: float, cycle_time: float, slave: tuple[float, float, float],
@@ -136,20 +137,24 @@ class GearSync:
         remaining = (self.master_sync_position - mp) / mv + cycle_time if mv else math.inf
         timed = not early and self.strategy is not SyncStrategy.EARLY and \
             math.isfinite(remaining) and remaining > 0.0
-        self.profile = self._error_profile(slave, master_then, limits,
-                                           remaining if timed else None)
-        self._check_options(self.profile, slave, master_then)
+        lead, main = self._error_profiles(slave, master_then, limits,
+                                          remaining if timed else None)
+        self.profile = main if lead is None else Profile.concatenate(lead, main)
+        self._check_options(main, self.profile, slave, master_then)
 
-    def _check_options(self, profile: Profile, slave: tuple[float, float, float],
+    def _check_options(self, main: Profile, profile: Profile,
+                       slave: tuple[float, float, float],
                        master: tuple[float, float, float, float]) -> None:
         """The sync phase's restrictions of ST_GearInPosCAOptions, judged on the planned
         profile with the master at its present velocity; a profile that breaks one is
         SYNC_FAILED ("synchronisation impossible under the Options restrictions", §9.1.2.1).
+        Under- and overshoot are judged after the lead that first brings the slave to the
+        master's velocity (``main``); reversal and MinimalSlavePosition on all of it.
         """
         cp, cv, _, _ = self.coupled(*master)
         direction = 1.0 if cv > 0.0 else -1.0 if cv < 0.0 else 1.0
-        low, high = profile.velocity_extrema()  # of the sync error's velocity
         tolerance = 1e-9 * max(1.0, abs(cv), self.limits.velocity)
+        low, high = main.velocity_extrema()  # of the sync error's velocity
         error_low, error_high = (low, high) if direction > 0 else (-high, -low)
         if not self.undershoot_allowed and error_low < -tolerance:
             raise CommandRejected(ErrorId.SYNC_FAILED, "the slave would be slower than the "
@@ -157,6 +162,8 @@ class GearSync:
         if not self.overshoot_allowed and error_high > tolerance:
             raise CommandRejected(ErrorId.SYNC_FAILED, "the slave would be faster than the "
                                   "master (MasterVelocityOvershootAllowed FALSE)")
+        low, high = profile.velocity_extrema()
+        error_low = low if direction > 0 else -high
         if not self.reversal_allowed and abs(cv) + error_low < -tolerance:
             raise CommandRejected(ErrorId.SYNC_FAILED, "the slave would move against the "
                                   "sync direction (DirectionReversalAllowed FALSE)")
@@ -169,18 +176,31 @@ class GearSync:
                 raise CommandRejected(ErrorId.SYNC_FAILED, f"the slave would pass below "
                                       f"MinimalSlavePosition {self.minimal_slave_position:g}")
 
-    def _error_profile(self, slave: tuple[float, float, float],
-                       master: tuple[float, float, float, float], limits: Limits,
-                       duration: float | None = None) -> Profile:
+    def _error_profiles(self, slave: tuple[float, float, float],
+                        master: tuple[float, float, float, float], limits: Limits,
+                        duration: float | None = None) -> tuple[Profile | None, Profile]:
         """The sync error brought to rest at 0: time-optimal, or lasting ``duration`` (so
-        that the slave is in sync exactly when the master reaches MasterSyncPosition)."""
+        that the slave is in sync exactly when the master reaches MasterSyncPosition).
+
+        If the options forbid the slave to be slower (faster) than the master and it is so
+        now, a lead first brings it to the master's velocity as fast as the sync dynamics
+        allow (§9.1.2.1); the sync profile starts from there."""
         cp, cv, ca, _ = self.coupled(*master)
         e = KinematicState(slave[0] - cp, slave[1] - cv, slave[2] - ca)
         relative = Limits(max(limits.velocity - abs(cv), 1e-3 * limits.velocity),
                           limits.acceleration, limits.deceleration, limits.jerk)
-        if duration is not None:
+        lead = None
+        toward = e.velocity if cv >= 0.0 else -e.velocity  # > 0: the slave is faster
+        tolerance = 1e-9 * max(1.0, abs(cv), limits.velocity)
+        if (not self.undershoot_allowed and toward < -tolerance) or \
+                (not self.overshoot_allowed and toward > tolerance):
+            lead = plan_velocity(e, 0.0, relative)
+            e = lead.end
+            if duration is not None:
+                duration -= lead.duration
+        if duration is not None and duration > 0.0:
             try:
-                return plan_position_in(e, 0.0, relative, duration)
+                return lead, plan_position_in(e, 0.0, relative, duration)
             except CommandRejected:
                 pass  # cannot be stretched that far: as fast as possible
-        return plan_position(e, 0.0, relative)
+        return lead, plan_position(e, 0.0, relative)
