@@ -348,12 +348,10 @@ def queue_in_curve(register_behind: bool = True) -> tuple[float, float, StarterK
         MC_RegisterCompensation(axis)(execute=True, compensation_type=CompensationType.GEO,
                                       compensation_id=T)
     fb = MC_MoveAbsoluteCA(behind)
-    # deceleration and jerk as the CA brake's: with softer ones, a queued mover whose brake
-    # was harder than its command currently reverses (a gap-control bug outside geo)
     for _ in range(5000):
-        fb(execute=True, position=1350.0, velocity=VELOCITY, deceleration=20000.0,
-           jerk=1.0e6, gap=100.0)
+        fb(execute=True, position=1350.0, velocity=VELOCITY, gap=100.0)
         rt.step()
+        assert behind.set_velocity >= 0.0  # a queued mover never turns back (§3)
     assert fb.busy  # queued: Done only at its target (D-062)
     return ahead.set_position, behind.set_position, group.tracks.geo.geometry, group
 
