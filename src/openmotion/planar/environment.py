@@ -123,6 +123,12 @@ class MC_PlanarEnvironment(PlanarObject):
         command.finished()
 
     def _create_boundary(self) -> None:
+        try:
+            self._build_boundary()
+        except ConfigError as bad:  # parts off one stator grid: refuse, never raise (§6.4)
+            raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT, str(bad)) from None
+
+    def _build_boundary(self) -> None:
         if self.layout is not None:
             field = StatorField()
             for part in self.layout.parts_in(self._system_oid()):

@@ -316,6 +316,8 @@ class MC_PlanarMover(PlanarObject):
         profiles = {"x": motion.x, "y": motion.y}
         if motion.c is not None:
             profiles["c"] = motion.c
+        elif options.use_orientation:  # c is at its target already: the move still holds it
+            profiles["c"] = Profile.hold(c)
         self._begin(command, profiles, "the move")
 
     def _move_c(self, command: PlanarCommand) -> None:
@@ -428,6 +430,7 @@ class MC_PlanarMover(PlanarObject):
             message = getattr(bad, "message", str(bad))
             if stream is not None:
                 stream.report(error_id, message)
+            self._end_external(self._external_kind(), (error_id, message))
             self._states.fail(error_id, ErrorReaction.QUICK_STOP, message)
             return
         self._fed = True
@@ -444,13 +447,18 @@ class MC_PlanarMover(PlanarObject):
             self._offset = values[0]
 
     def _stop_external(self, command: PlanarCommand) -> None:
-        kind = (_C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION
-                if self._modes.external is ExternalSetPositionMode.RELATIVE
-                else _C.START_EXTERNAL_SETPOINT_GENERATION)
-        self._end_external(kind)
+        self._end_external(self._external_kind())
         command.finished()
 
-    def _end_external(self, kind: MoverCommand) -> None:
+    def _external_kind(self) -> MoverCommand:
+        """The start command of the external setpoint generation that runs."""
+        return (_C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION
+                if self._modes.external is ExternalSetPositionMode.RELATIVE
+                else _C.START_EXTERNAL_SETPOINT_GENERATION)
+
+    def _end_external(self, kind: MoverCommand,
+                      failure: tuple[ErrorId, str] | None = None) -> None:
+        """Stop external setpoints; ``failure`` ends the start command with an error."""
         now = self._system.now
         if kind is _C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION:
             for k, name in enumerate(COORDINATES):  # the offset stays where it is
@@ -468,7 +476,10 @@ class MC_PlanarMover(PlanarObject):
         self._modes.ended(kind, done=True, c=self._state_at("c", now).position)
         command = self._external_command
         if command is not None:
-            command.finished()
+            if failure is None:
+                command.finished()
+            else:
+                command.rejected(*failure)
             self._external_command = None
 
     def _check_setpoint(self, values: list[np.ndarray]) -> None:
@@ -594,10 +605,7 @@ class MC_PlanarMover(PlanarObject):
                 message = "no external setpoint in this cycle (§6.1.6)"
                 if self._stream is not None:
                     self._stream.report(ErrorId.PLANAR_EXT_SETPOINT, message)
-                kind = (_C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION
-                        if self._modes.external is ExternalSetPositionMode.RELATIVE
-                        else _C.START_EXTERNAL_SETPOINT_GENERATION)
-                self._end_external(kind)
+                self._end_external(self._external_kind(), (ErrorId.PLANAR_EXT_SETPOINT, message))
                 self._states.fail(ErrorId.PLANAR_EXT_SETPOINT, ErrorReaction.QUICK_STOP, message)
             self._fed = False
         for motion in list(self._motions):
