@@ -68,6 +68,7 @@ from shapely.geometry.base import BaseGeometry
 
 from openmotion.core.errors import ConfigError
 from openmotion.planar.enums import PlanarObjectType
+from openmotion.planar.frames import cos_sin
 
 MOVER_WIDTH = 155.0  #: default footprint extent in x at c = 0 [mm] (§6.1.1 "Mover width")
 MOVER_HEIGHT = 155.0  #: default footprint extent in y at c = 0 [mm] (§6.1.1 "Mover height")
@@ -94,9 +95,10 @@ def footprint(x: float, y: float, c: float = 0.0, width: float = MOVER_WIDTH,
               height: float = MOVER_HEIGHT, margin: float = 0.0) -> Polygon:
     """The mover's rectangle at (x, y) [mm] turned by c [deg], grown by ``margin`` [mm]."""
     _check_size(width, height, margin)
-    turning = _exact_cos_sin(np.array([c], dtype=float))
-    half = (width / 2 + margin, height / 2 + margin)
-    return Polygon(_corners(np.array([[x, y]], dtype=float), turning, half)[0])
+    cos, sin = cos_sin(float(c))  # exact at quarter turns, so edges of neighbours meet
+    hx, hy = width / 2 + margin, height / 2 + margin
+    return shapely.polygons([(x + cos * u - sin * v, y + sin * u + cos * v)
+                             for u, v in ((-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy))])
 
 
 @dataclass(frozen=True, eq=False)
