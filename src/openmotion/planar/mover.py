@@ -540,15 +540,20 @@ class MC_PlanarMover(PlanarObject):
             else:
                 plans[name] = self._profiles.get(name) or (
                     Profile.hold(self._state_at(name, start)), start)
-        end = max(t0 + p.duration for p, t0 in plans.values())
+        running = {name: (p, t0) for name, (p, t0) in plans.items()
+                   if t0 + p.duration > start or p.v[-1] != 0.0}
+        end = max((t0 + p.duration for p, t0 in running.values()), default=start)
         step = self._system.cycle_time * _SAMPLE_CYCLES
-        times = np.unique(np.concatenate([
+        times = np.concatenate([
             start + np.arange(math.ceil(max(end - start, 0.0) / step) + 1) * step,
-            *[t0 + p.t[t0 + p.t > start] for p, t0 in plans.values()], [end]]))
-        times = times[times <= end]
-        path = np.column_stack([
-            np.full(times.size, p.p[0]) if p.data.shape[1] == 1 and p.v[0] == 0.0
-            else _positions(p, np.maximum(times - t0, 0.0)) for p, t0 in plans.values()])
+            *[t0 + p.t[t0 + p.t > start] for p, t0 in running.values()], [end]])
+        times.sort()
+        times = times[(np.diff(times, prepend=-np.inf) > 1e-12) & (times <= end)]
+        path = np.empty((times.size, 3))
+        for column, name in enumerate(("x", "y", "c")):
+            profile, t0 = plans[name]
+            path[:, column] = _positions(profile, np.maximum(times - t0, 0.0)) \
+                if name in running else profile.p[-1]
         return times - start, path
 
     def _place(self, pose: Pose) -> None:

@@ -199,26 +199,29 @@ def _straight(xy: np.ndarray) -> bool:
 def _straight_area(xy: np.ndarray, c: np.ndarray, starts: np.ndarray, ends: np.ndarray,
                    half: tuple[float, float]) -> SweptArea | None:
     """Pieces for a centre on a straight line: K + segment, where K holds the footprint at
-    every angle the run takes. K is the hull of the footprints at the run's lowest and highest
-    c, grown by the sagitta r (1 - cos(span / 2)) of the arcs the corners travel between them;
-    without rotation K is the footprint and the piece is exact. None for spans of 90 degrees
-    or more (the general cover handles them)."""
+    every angle the run takes. A corner turning from the run's lowest c to its highest
+    travels an arc that lies in the triangle of the arc's chord and its two tangents, whose
+    apex is the corner at the middle angle pushed out by 1 / cos(span / 2): K is the hull of
+    the corners at the lowest, the highest and (pushed out) the middle angle. Without
+    rotation K is the footprint and the piece is exact. None for spans of 90 degrees or more
+    (the general cover handles them)."""
     lo = np.minimum(np.minimum.reduceat(c, starts), c[ends])
     hi = np.maximum(np.maximum.reduceat(c, starts), c[ends])
     span = hi - lo
     if (span >= 90.0).any():
         return None
-    angles = np.concatenate([lo, hi])
-    turning = _exact_cos_sin(angles) if (np.mod(angles, 90.0) == 0.0).any() and angles.any() \
-        else np.stack([np.cos(np.radians(angles)), np.sin(np.radians(angles))], axis=1)
-    corners = _corners(np.zeros((len(angles), 2)), turning, half)
     m = len(starts)
-    shape = np.concatenate([corners[:m], corners[m:]], axis=1)  # (m, 8, 2) around the centre
-    sagitta = math.hypot(*half) * (1.0 - np.cos(np.radians(span) / 2.0))
-    if (sagitta > NOISE).any():
-        shape = (shape[:, :, None, :] + sagitta[:, None, None, None] * _SQUARE).reshape(m, -1, 2)
+    turning = span > NOISE
+    angles = np.concatenate([lo, hi, (lo + hi)[turning] / 2.0])
+    cos_sin = _exact_cos_sin(angles) if (np.mod(angles, 90.0) == 0.0).any() and angles.any() \
+        else np.stack([np.cos(np.radians(angles)), np.sin(np.radians(angles))], axis=1)
+    corners = _corners(np.zeros((len(angles), 2)), cos_sin, half)  # (2m + t, 4, 2)
+    apex = corners[:m].copy()  # no turn: the lowest angle's corners once more
+    apex[turning] = corners[2 * m:] / np.cos(np.radians(span[turning]) / 2.0)[:, None, None]
+    shape = np.concatenate([corners[:m], corners[m:2 * m], apex], axis=1)  # (m, 12, 2)
     cloud = np.concatenate([xy[starts, None, :] + shape, xy[ends, None, :] + shape], axis=1)
     return SweptArea.from_pieces(shapely.convex_hull(shapely.linestrings(cloud)), ends)
+
 
 def _check_size(width: float, height: float, margin: float) -> None:
     if not (width > 0.0 and height > 0.0 and math.isfinite(width) and math.isfinite(height)):
@@ -268,7 +271,8 @@ def _cut_by_travel(xy: np.ndarray, release_step: float | None) -> tuple[np.ndarr
         return np.array([0]), np.array([last])
     travel = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
     step = np.floor(travel / release_step)
-    marks = np.unique(np.concatenate([[0], np.flatnonzero(np.diff(step)) + 1, [last]]))
+    cuts = np.flatnonzero(np.diff(step)) + 1  # increasing, in 1..last
+    marks = np.concatenate([[0], cuts if cuts.size and cuts[-1] == last else [*cuts, last]])
     return marks[:-1], marks[1:]
 
 
