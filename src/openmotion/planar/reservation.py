@@ -75,6 +75,7 @@ MOVER_HEIGHT = 155.0  #: default footprint extent in y at c = 0 [mm] (§6.1.1 "M
 RELEASE_STEP = 100.0  #: travel covered by one releasable piece of a swept area [mm]
 SURFACE_TOLERANCE = 1e-6  #: how far a footprint may overhang the stators (rounding) [mm]
 NOISE = 1e-9  #: distances below this are rounding noise [mm]
+_STRAIGHT_SPAN = 20.0  #: [deg] the largest turn of a run the straight-move cover takes
 _DISC_TURN = 30.0  #: a run stepping this far [deg] between samples is covered by discs
 _SQUARE = np.array([(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)])
 _RING = np.stack([np.cos(np.arange(32) * math.pi / 16), np.sin(np.arange(32) * math.pi / 16)],
@@ -203,12 +204,13 @@ def _straight_area(xy: np.ndarray, c: np.ndarray, starts: np.ndarray, ends: np.n
     travels an arc that lies in the triangle of the arc's chord and its two tangents, whose
     apex is the corner at the middle angle pushed out by 1 / cos(span / 2): K is the hull of
     the corners at the lowest, the highest and (pushed out) the middle angle. Without
-    rotation K is the footprint and the piece is exact. None for spans of 90 degrees or more
-    (the general cover handles them)."""
+    rotation K is the footprint and the piece is exact. None when a run turns more than
+    ``_STRAIGHT_SPAN`` (the apex then stands out by more than 1.5 %; the general cover, which
+    hulls every sample, is tighter for big turns)."""
     lo = np.minimum(np.minimum.reduceat(c, starts), c[ends])
     hi = np.maximum(np.maximum.reduceat(c, starts), c[ends])
     span = hi - lo
-    if (span >= 90.0).any():
+    if (span > _STRAIGHT_SPAN).any():
         return None
     m = len(starts)
     turning = span > NOISE
