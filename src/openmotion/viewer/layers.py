@@ -1,0 +1,101 @@
+"""What the viewer shows of one subsystem: a canvas panel, rows of the objects table, signals.
+
+A *layer factory* looks at a runtime and returns the layers of its subsystem (none when the
+runtime has none of it). The factories of the shipped subsystems (axes.py, rails.py,
+planar.py) are registered when ``openmotion.viewer`` is imported, in drawing order; a new
+subsystem plugs in with ``@register_layer``. Layers are read only by the session's kernel
+thread, between two cycles, so they need no locks.
+
+Every number a layer hands out must be JSON: finite floats or None (``finite``).
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, ClassVar
+
+if TYPE_CHECKING:
+    from openmotion.runtime.runtime import Runtime
+
+Reader = Callable[[], float]  #: reads one scope signal now
+LayerFactory = Callable[["Runtime"], Iterable["Layer"]]
+
+_FACTORIES: list[LayerFactory] = []
+
+
+@dataclass(frozen=True)
+class Row:
+    """One line of the objects table; every field is already text."""
+
+    kind: str  #: "axis", "CA mover", "planar mover", ...
+    name: str
+    state: str
+    position: str = ""
+    velocity: str = ""
+    command: str = ""  #: what the object is busy with; "" when idle
+    detail: str = ""  #: a gap, a lift, a member count ...
+    error: str = ""  #: error id and message; "" when there is none
+
+
+class Layer(ABC):
+    """One subsystem's part of a frame. ``kind`` names the page's drawing function."""
+
+    kind: ClassVar[str]
+    name: str
+
+    @abstractmethod
+    def panel(self) -> dict[str, Any]:
+        """What the canvas draws now, as JSON-ready data."""
+
+    def rows(self) -> list[Row]:
+        """The table rows of the layer's objects."""
+        return []
+
+    def signals(self) -> dict[str, Reader]:
+        """Scope signals by name (``object.property``), read only while selected."""
+        return {}
+
+
+def register_layer(factory: LayerFactory) -> LayerFactory:
+    """Show a subsystem in every session made from now on (usable as a decorator)."""
+    if factory not in _FACTORIES:
+        _FACTORIES.append(factory)
+    return factory
+
+
+def registered_layers() -> tuple[LayerFactory, ...]:
+    """The layer factories in drawing order."""
+    return tuple(_FACTORIES)
+
+
+def attached_systems(runtime: Runtime) -> list[object]:
+    """The motion systems on ``runtime`` (CA groups, the planar system) in creation order.
+
+    The runtime keeps them as the bound ``advance`` methods it calls every cycle; this is
+    the one place where the viewer reads that list.
+    """
+    return [getattr(advance, "__self__", None) for advance in runtime._systems]
+
+
+def finite(value: float) -> float | None:
+    """``value`` as JSON allows it: None for NaN and infinities."""
+    value = float(value)
+    return value if math.isfinite(value) else None
+
+
+def number(value: float, digits: int = 3) -> str:
+    """A value for the table: fixed decimals, "-" for NaN and infinities."""
+    if not math.isfinite(value):
+        return "-"
+    text = f"{value:.{digits}f}"
+    return text[1:] if text.startswith("-") and float(text) == 0.0 else text
+
+
+def error_text(error_id: Any, message: str) -> str:
+    """``NAME: message`` of an error id that is set, else ""."""
+    if not int(error_id):
+        return ""
+    return f"{error_id.name}: {message}" if message else error_id.name

@@ -1,0 +1,44 @@
+"""What a session runs: a runtime, whether it has ended, and the signals to show first.
+
+``scenario_machine`` sets a scenario file up as ``run_scenario`` does (objects, timeline,
+checks) but leaves the stepping to the session, cycle by cycle, and asks the run's own end
+rule before each cycle, so a scenario ends in the viewer at the cycle it ends in
+``openmotion run``. The trace recorder is left out: the viewer keeps no trace.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from openmotion.runtime.runtime import Runtime
+from openmotion.scenario import Scenario, load_scenario
+
+
+def _never() -> bool:
+    return False
+
+
+@dataclass
+class Machine:
+    """A runtime and how the session treats it."""
+
+    runtime: Runtime
+    name: str = "runtime"
+    finished: Callable[[], bool] = _never  #: asked once before every cycle
+    signals: list[str] = field(default_factory=list)  #: scope signals selected at the start
+
+
+def scenario_machine(source: str | Path | Scenario) -> Machine:
+    """A scenario file (or model) ready to step; raises ``ConfigError`` as ``run_scenario``."""
+    from openmotion.scenario.run import _Run  # the runner's set-up half, stepped by the viewer
+
+    scenario = source if isinstance(source, Scenario) else load_scenario(source)
+    run = _Run(scenario)
+    rt = run.rt
+    run.fire_due()  # entries at t = 0 act before the first cycle, as in _Run.run
+    run.observe(rt)
+    rt.add_program(run.program)
+    rt.add_observer(run.observe)
+    return Machine(rt, scenario.name, run.finished, list(scenario.signals))

@@ -1,0 +1,397 @@
+"""A viewer session: one machine on a kernel thread, paced against the wall clock.
+
+The kernel thread owns the runtime: it alone steps it and reads it. Each pass of its loop
+(``tick``) it applies the controls the pages sent (play, pause, step, speed, restart, scope
+signals), steps the cycles the wall clock asks for, samples the selected scope signals every
+``scope_every`` seconds of virtual time into a history and, ``frame_rate`` times a second
+of wall time, builds a frame: the state of every layer as one JSON text. Publishing a frame
+replaces one reference, so the server's tasks read frames without locks and the kernel never
+waits for them: a slow page only gets fewer frames. Scope samples are not part of the frames:
+each page asks for the samples it has not seen yet (``scope_since``), so a skipped frame loses
+none; the history's lock is held only to append or copy a few samples.
+
+Pacing is ``PacedRuntime``'s rule, virtual time = anchor + wall time since the anchor x speed,
+with the anchor set again at every play and speed change, so that a pause or a new speed never
+makes the kernel catch up in a burst. Cycles run in batches of at most half a frame period of
+wall time; when the kernel cannot keep up by more than ``MAX_LAG``, the anchor moves too: the
+machine runs as fast as it can and the frame says ``behind``. Virtual time is unaffected by
+all this: a scenario runs through exactly the cycles ``openmotion run`` gives it.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import queue
+import threading
+import time
+from collections import deque
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+from openmotion.core.errors import ConfigError
+from openmotion.runtime.paced import PacedRuntime
+from openmotion.runtime.runtime import Runtime
+from openmotion.scenario import Scenario
+from openmotion.viewer.layers import Layer, LayerFactory, Reader, finite, registered_layers
+from openmotion.viewer.machine import Machine, scenario_machine
+
+FRAME_RATE = 25.0  #: frames per second of wall time
+SCOPE_EVERY = 0.01  #: virtual seconds between two scope samples
+SCOPE_HISTORY = 2000  #: scope samples kept (a page that connects gets them all)
+SCOPE_SIGNALS = 6  #: most signals the scope shows at once
+MAX_ROWS = 200  #: table rows in one frame
+MAX_LAG = 0.25  #: wall seconds the kernel may be late before the clock slips
+MIN_SPEED, MAX_SPEED = 0.01, 1000.0
+MIN_WAIT = 0.002  #: shortest sleep of the kernel loop [s]
+_CLOCK_EVERY = 8  #: cycles between two looks at the wall clock inside a batch
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One published state: ``data`` and the same as JSON ``text``."""
+
+    seq: int
+    generation: int  #: counts machines: a restart makes a new one
+    data: dict[str, Any]
+    text: str
+
+
+class Session:
+    """Runs ``machine`` (a ``Machine``, a ``Runtime``, or a function that builds a Machine,
+    which makes the session restartable) paced at ``speed`` virtual seconds per wall second.
+
+    The controls (``play`` ... ``select``, ``control``) may be called from any thread; they
+    take effect at the kernel's next pass. ``start`` runs the kernel thread; tests may call
+    ``tick`` themselves instead, with a fake ``clock``.
+    """
+
+    def __init__(self, machine: Machine | Runtime | Callable[[], Machine], *,
+                 speed: float = 1.0, frame_rate: float = FRAME_RATE,
+                 scope_every: float = SCOPE_EVERY, paused: bool = False,
+                 layers: Sequence[LayerFactory] | None = None,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        if isinstance(machine, Runtime):
+            machine = Machine(machine)
+        self._build = None if isinstance(machine, Machine) else machine
+        self.speed = _speed(speed)
+        if not (isinstance(frame_rate, int | float) and 0 < frame_rate <= 1000):
+            raise ValueError(f"frame_rate: must be in (0, 1000] Hz, got {frame_rate!r}")
+        if not (isinstance(scope_every, int | float) and scope_every > 0):
+            raise ValueError(f"scope_every: must be > 0 s, got {scope_every!r}")
+        self.frame_rate = float(frame_rate)
+        self.paused = paused
+        self.finished = False  #: the machine has ended; only a restart goes on
+        self.behind = False  #: the last batch could not keep up with the wall clock
+        self.failure = ""  #: why the kernel stopped or a restart failed
+        self._period = 1.0 / self.frame_rate
+        self._scope_every = float(scope_every)
+        self._factories = tuple(layers) if layers is not None else registered_layers()
+        self._clock = clock
+        self._controls: queue.SimpleQueue[Callable[[float], None]] = queue.SimpleQueue()
+        self._wake = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._stopping = False
+        self._lock = threading.Lock()  #: guards the scope selection and history
+        self._history: deque[list[float | None]] = deque(maxlen=SCOPE_HISTORY)
+        self._scope_id = 0  #: counts selections
+        self._sampled = 0  #: samples taken since the selection
+        self._seq = 0
+        self._generation = 0
+        self._frame: Frame | None = None
+        self._next_frame = clock()
+        self._dirty = True
+        self._load(machine if isinstance(machine, Machine) else machine())
+
+    @classmethod
+    def for_scenario(cls, source: str | Path | Scenario, **options: Any) -> Session:
+        """A restartable session of a scenario file: a restart reads the file again."""
+        return cls(lambda: scenario_machine(source), **options)
+
+    # -- reading (any thread) --------------------------------------------------------------
+
+    @property
+    def frame(self) -> Frame | None:
+        """The latest frame; None before the kernel's first pass."""
+        return self._frame
+
+    @property
+    def restartable(self) -> bool:
+        return self._build is not None
+
+    def hello(self) -> str:
+        """What a page needs once per machine: its name and the signal list, as JSON."""
+        return self._hello
+
+    def scope_since(self, scope_id: int, count: int) -> tuple[dict[str, Any] | None, int, int]:
+        """The scope samples a page has not seen: it saw ``count`` samples of selection
+        ``scope_id``. Returns (message or None, the selection, its sample count); the message
+        has ``reset`` when the page must drop what it has (a new selection, or it fell more
+        than the history behind)."""
+        with self._lock:
+            current, total, history = self._scope_id, self._sampled, self._history
+            new = total - count
+            reset = scope_id != current or new > len(history)
+            if not reset and new <= 0:
+                return None, current, total
+            samples = list(history) if reset else list(history)[len(history) - new:]
+            names = self._scope_names
+        return {"type": "scope", "id": current, "names": names, "reset": reset,
+                "samples": samples}, current, total
+
+    # -- controls (any thread) -------------------------------------------------------------
+
+    def play(self) -> None:
+        self._send(self._play)
+
+    def pause(self) -> None:
+        self._send(self._pause)
+
+    def step(self) -> None:
+        """Pause and advance by one frame's worth of virtual time (at least one cycle)."""
+        self._send(self._step)
+
+    def set_speed(self, speed: float) -> None:
+        value = _speed(speed)
+        self._send(lambda now: self._set_speed(now, value))
+
+    def restart(self) -> None:
+        """Build the machine again (a scenario file is read again); keeps play or pause."""
+        if self._build is None:
+            raise ValueError("restart: this session runs a runtime it cannot build again")
+        self._send(self._restart)
+
+    def select(self, signals: Sequence[str]) -> None:
+        """Show these scope signals (unknown names are left out); the scope starts anew."""
+        if isinstance(signals, str) or not all(isinstance(name, str) for name in signals):
+            raise ValueError(f"signals: a list of names is needed, got {signals!r}")
+        names = list(signals)
+        self._send(lambda now: self._select(names))
+
+    def control(self, message: Mapping[str, Any]) -> None:
+        """A page's control message: ``{"op": "play" | "pause" | "step" | "restart"}``,
+        ``{"op": "speed", "value": 2.0}`` or ``{"op": "scope", "signals": [...]}``."""
+        op = message.get("op") if isinstance(message, Mapping) else None
+        if op in ("play", "pause", "step", "restart"):
+            getattr(self, op)()
+        elif op == "speed":
+            self.set_speed(message.get("value"))  # type: ignore[arg-type]
+        elif op == "scope":
+            self.select(message.get("signals"))  # type: ignore[arg-type]
+        else:
+            raise ValueError(f"unknown control {message!r}: op must be play, pause, step, "
+                             "speed, restart or scope")
+
+    def _send(self, apply: Callable[[float], None]) -> None:
+        self._controls.put(apply)
+        self._wake.set()
+
+    # -- the kernel thread -----------------------------------------------------------------
+
+    def start(self) -> None:
+        """Run the kernel loop on a daemon thread (once)."""
+        if self._thread is None:
+            self._stopping = False
+            self._anchor(self._clock())  # the wall clock counts from here, not from __init__
+            self._thread = threading.Thread(target=self._loop, name="openmotion-viewer",
+                                            daemon=True)
+            self._thread.start()
+
+    def stop(self) -> None:
+        """End the kernel loop and wait for it."""
+        thread, self._thread = self._thread, None
+        if thread is not None:
+            self._stopping = True
+            self._wake.set()
+            thread.join()
+
+    def _loop(self) -> None:
+        while not self._stopping:
+            try:
+                self.tick()
+            except Exception as exc:  # the page must say why the kernel stopped
+                self.failure, self.finished = f"{type(exc).__name__}: {exc}", True
+                self._frame = self._failure_frame()
+            self._wake.wait(self._wait())
+            self._wake.clear()
+
+    def tick(self) -> None:
+        """One pass: the controls, the cycles that are due, then a frame when one is due."""
+        now = self._clock()
+        while True:
+            try:
+                apply = self._controls.get_nowait()
+            except queue.Empty:
+                break
+            apply(now)
+            self._dirty = True
+        self._advance(now)
+        now = self._clock()
+        if self._dirty or now >= self._next_frame:
+            self._publish(now)
+            later = self._next_frame + self._period
+            self._next_frame = later if later > now else now + self._period
+            self._dirty = False
+
+    def _wait(self) -> float:
+        """Seconds until the next cycle or frame is due."""
+        now, until = self._clock(), self._next_frame
+        if not (self.paused or self.finished):
+            rt = self.machine.runtime
+            until = min(until, self._wall_of(rt.now + rt.cycle_time))
+        return min(max(until - now, MIN_WAIT), self._period)
+
+    # -- pacing ----------------------------------------------------------------------------
+
+    def _anchor(self, now: float) -> None:
+        self._anchor_wall, self._anchor_virtual = now, self.machine.runtime.now
+
+    def _wall_of(self, virtual: float) -> float:
+        return self._anchor_wall + (virtual - self._anchor_virtual) / self.speed
+
+    def _due(self, now: float) -> int:
+        """Cycles to run now: the pending steps when paused, else what the clock asks for."""
+        if self.paused:
+            return self._pending
+        rt = self.machine.runtime
+        target = self._anchor_virtual + (now - self._anchor_wall) * self.speed
+        return math.floor((target - rt.now) / rt.cycle_time + 1e-9)
+
+    def _advance(self, now: float) -> None:
+        due = 0 if self.finished else self._due(now)
+        if due <= 0:
+            self.behind = False
+            return
+        rt, deadline, done = self.machine.runtime, now + self._period / 2, 0
+        while done < due:
+            if self.machine.finished():
+                self.finished = self._dirty = True
+                break
+            rt.step()
+            done += 1
+            if rt.cycle % self._scope_cycles == 0:
+                self._sample()
+            if done % _CLOCK_EVERY == 0 and self._clock() > deadline:
+                break
+        if self.paused:
+            self._pending = 0 if self.finished else self._pending - done
+            return
+        late = (due - done) * rt.cycle_time / self.speed  # [s] of wall time
+        self.behind = late > self._period and not self.finished
+        if late > MAX_LAG:
+            self._anchor(self._clock())
+
+    def _play(self, now: float) -> None:
+        self.paused, self._pending = False, 0
+        self._anchor(now)
+
+    def _pause(self, now: float) -> None:
+        self.paused, self._pending = True, 0
+
+    def _step(self, now: float) -> None:
+        rt = self.machine.runtime
+        self.paused = True
+        self._pending += max(1, round(self.speed / self.frame_rate / rt.cycle_time))
+
+    def _set_speed(self, now: float, speed: float) -> None:
+        self._anchor(now)
+        self.speed = speed
+
+    def _restart(self, now: float) -> None:
+        assert self._build is not None
+        try:
+            machine = self._build()
+        except ConfigError as exc:
+            self.failure = f"restart failed: {exc}"
+            return
+        self._load(machine)
+
+    # -- machine, layers, scope ------------------------------------------------------------
+
+    def _load(self, machine: Machine) -> None:
+        rt = machine.runtime
+        if isinstance(rt, PacedRuntime):
+            raise ValueError("the session paces its runtime itself: give it a Runtime, not a "
+                             "PacedRuntime")
+        self.machine = machine
+        self._layers: list[Layer] = [layer for factory in self._factories
+                                     for layer in factory(rt)]
+        self._signals: dict[str, Reader] = {}
+        for layer in self._layers:
+            self._signals.update(layer.signals())
+        self.finished, self.behind, self.failure = False, False, ""
+        self._pending = 0
+        self._generation += 1
+        self._scope_cycles = max(1, round(self._scope_every / rt.cycle_time))
+        self._rates: deque[tuple[float, float]] = deque(maxlen=round(self.frame_rate) + 1)
+        self._anchor(self._clock())
+        self._hello = json.dumps({
+            "type": "hello", "generation": self._generation, "name": machine.name,
+            "cycle_time": rt.cycle_time, "frame_rate": self.frame_rate,
+            "restart": self.restartable, "signals": list(self._signals)})
+        chosen = [name for name in machine.signals if name in self._signals]
+        self._select(chosen or list(self._signals)[:2])
+
+    def _select(self, names: list[str]) -> None:
+        names = [name for name in dict.fromkeys(names) if name in self._signals]
+        with self._lock:
+            self._scope_names = names[:SCOPE_SIGNALS]
+            self._readers = [self._signals[name] for name in self._scope_names]
+            self._history.clear()
+            self._scope_id += 1
+            self._sampled = 0
+        self._sample()
+
+    def _sample(self) -> None:
+        sample = [self.machine.runtime.now, *(_read(reader) for reader in self._readers)]
+        with self._lock:
+            self._history.append(sample)
+            self._sampled += 1
+
+    # -- frames ----------------------------------------------------------------------------
+
+    def _publish(self, now: float) -> None:
+        rt = self.machine.runtime
+        self._rates.append((now, rt.now))
+        (wall0, virtual0), (wall1, virtual1) = self._rates[0], self._rates[-1]
+        rate = (virtual1 - virtual0) / (wall1 - wall0) if wall1 > wall0 else 0.0
+        rows = [asdict(row) for layer in self._layers for row in layer.rows()]
+        data = {**self._status(), "rate": finite(rate),
+                "panels": [{"kind": layer.kind, "name": layer.name, **layer.panel()}
+                           for layer in self._layers],
+                "rows": rows[:MAX_ROWS], "hidden_rows": max(0, len(rows) - MAX_ROWS)}
+        self._set_frame(data)
+
+    def _status(self) -> dict[str, Any]:
+        rt = self.machine.runtime
+        self._seq += 1
+        return {"type": "frame", "seq": self._seq, "generation": self._generation,
+                "name": self.machine.name, "time": rt.now, "cycle": rt.cycle,
+                "speed": self.speed, "paused": self.paused, "finished": self.finished,
+                "behind": self.behind, "failure": self.failure, "scope": self._scope_names}
+
+    def _failure_frame(self) -> Frame:
+        data = {**self._status(), "rate": 0.0, "panels": [], "rows": [], "hidden_rows": 0}
+        return Frame(self._seq, self._generation, data, json.dumps(data, default=str))
+
+    def _set_frame(self, data: dict[str, Any]) -> None:
+        text = json.dumps(data, separators=(",", ":"), allow_nan=False)
+        self._frame = Frame(data["seq"], data["generation"], data, text)
+
+
+def _read(reader: Reader) -> float | None:
+    """A scope value; None when the signal cannot be read now (an object left its group)."""
+    try:
+        return finite(reader())
+    except (LookupError, ArithmeticError, ValueError):
+        return None
+
+
+def _speed(value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or \
+            not MIN_SPEED <= value <= MAX_SPEED:
+        raise ValueError(f"speed: must be a number from {MIN_SPEED:g} to {MAX_SPEED:g}, "
+                         f"got {value!r}")
+    return float(value)
