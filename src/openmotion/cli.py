@@ -71,28 +71,35 @@ def run(
     scenario: Annotated[Path | None, typer.Argument(
         help="Scenario file. Default: the shipped examples/single_move.yaml.",
         show_default=False)] = None,
-    trace: Annotated[Path, typer.Option(help="Where to write the trace CSV.")] = Path("trace.csv"),
-    plot: Annotated[Path | None, typer.Option(help="Also draw the scope figure into this "
-                                                    "image file (PNG, SVG, PDF).")] = None,
+    trace: Annotated[Path, typer.Option(help="Where to write the trace: CSV, or NPZ (with the "
+                                             "command events and the layout) for a .npz "
+                                             "name.")] = Path("trace.csv"),
+    plot: Annotated[Path | None, typer.Option(help="Also draw the scenario's figure into this "
+                                                    "image file (.png, .svg, .pdf): the planar "
+                                                    "plot with planar movers, the rail plot "
+                                                    "with CA groups, else the scope. The run "
+                                                    "records what it needs.")] = None,
     json_output: JsonFlag = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print nothing but errors; the "
                                                               "exit code tells the result.")]
     = False,
 ) -> None:
-    """Run a scenario in virtual time: summary table on stdout, trace to a CSV file."""
+    """Run a scenario in virtual time: summary table on stdout, trace to a CSV or NPZ file."""
     from openmotion.scenario import default_scenario, run_scenario
-    from openmotion.trace import save_plot, write_csv
+    from openmotion.trace import image_format, save_plot, write_trace
 
     path = scenario or default_scenario()
     bar = _ProgressBar(enabled=not (json_output or quiet))
     try:
-        result = run_scenario(path, progress=bar)
+        if plot is not None:
+            image_format(plot)  # before the run, not after it
+        result = run_scenario(path, progress=bar, figure=plot is not None)
     except ConfigError as exc:
         raise _fail(f"ConfigError: {exc}") from None
     finally:
         bar.close()
     try:
-        write_csv(result.trace, trace)
+        write_trace(result.trace, trace)
         if plot is not None:
             save_plot(result.trace, plot, title=result.scenario.name)
     except OSError as exc:
@@ -142,20 +149,30 @@ def check(
 
 @app.command()
 def plot(
-    trace: Annotated[Path, typer.Argument(help="Trace CSV written by 'openmotion run'.")],
-    output: Annotated[Path | None, typer.Option(
-        "--output", "-o", help="Image file to write. Default: the trace's name with .png.",
+    trace: Annotated[Path, typer.Argument(help="Trace written by 'openmotion run': CSV, or NPZ "
+                                               "(with the command events and the layout).")],
+    signals: Annotated[list[str] | None, typer.Option(
+        "--signals", "-s", help="Draw the scope of these signals (x.set_position) or objects "
+        "(x: all its signals), comma-separated or repeated. Default: the trace's own figure.",
         show_default=False)] = None,
+    output: Annotated[Path | None, typer.Option(
+        "--output", "-o", help="Image file to write, .png, .svg or .pdf. Default: the trace's "
+        "name with .png.", show_default=False)] = None,
 ) -> None:
-    """Draw the scope figure of a trace: position, velocity, acceleration, jerk per axis."""
-    from openmotion.trace import read_csv, save_plot
+    """Draw a trace: the planar plot with planar movers, the rail plot with CA groups, else
+    the scope (stacked panels over time, command events marked)."""
+    from openmotion.trace import image_format, read_trace, save_plot
 
+    target = output or trace.with_suffix(".png")
+    names = [name.strip() for value in signals or () for name in value.split(",")]
     try:
-        data = read_csv(trace)
+        image_format(target)
+        data = read_trace(trace)
+        save_plot(data, target, title=trace.stem, signals=[name for name in names if name] or None)
     except ConfigError as exc:
         raise _fail(f"ConfigError: {exc}") from None
-    target = output or trace.with_suffix(".png")
-    save_plot(data, target, title=trace.stem)
+    except OSError as exc:
+        raise _fail(f"error: cannot write {exc.filename}: {exc.strerror}") from None
     typer.echo(f"plot: written to {target}", err=True)
 
 
@@ -186,6 +203,34 @@ def bench(
         bar.close()
     typer.echo(json.dumps(result, indent=2, default=str) if json_output
                else runner.render(result))
+
+
+@app.command()
+def view(
+    scenario: Annotated[Path | None, typer.Argument(
+        help="Scenario file. Default: the shipped examples/single_move.yaml.",
+        show_default=False)] = None,
+    speed: Annotated[float, typer.Option(help="Virtual seconds per wall second.")] = 1.0,
+    port: Annotated[int, typer.Option(help="TCP port of the page (0: a free one).")] = 8765,
+    host: Annotated[str, typer.Option(help="Interface to listen on.")] = "127.0.0.1",
+    no_open: Annotated[bool, typer.Option("--no-open", help="Do not open a browser.")] = False,
+) -> None:
+    """Watch a scenario live in the browser: paced runtime, machine, scope, controls."""
+    from openmotion.scenario import default_scenario
+    from openmotion.viewer import Session, serve
+
+    try:
+        session = Session.for_scenario(scenario or default_scenario(), speed=speed)
+    except ConfigError as exc:
+        raise _fail(f"ConfigError: {exc}") from None
+    except ValueError as exc:
+        raise _fail(f"error: {exc}") from None
+    try:
+        serve(session, host, port, open_browser=not no_open,
+              announce=lambda url: typer.echo(f"openmotion view: {url} (Ctrl+C stops)",
+                                              err=True))
+    except OSError as exc:
+        raise _fail(f"error: cannot listen on {host}:{port}: {exc.strerror or exc}") from None
 
 
 if __name__ == "__main__":

@@ -10,16 +10,22 @@ import pytest
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE
 from openmotion.planar import (
     DynamicConstraint_PathXY,
+    ExternalSetPositionMode,
     MC_PlanarGroup,
     MC_PlanarMover,
+    MC_PlanarPart,
     ModuloDirection,
+    PartPosition,
     PlanarState,
+    Pose,
     PositionXYC,
+    ST_ExternalSetpointGenerationOptions,
     ST_MoveCOptions,
     ST_MoveToPositionOptions,
 )
 from openmotion.scenario import ScenarioError, parse_scenario
 from openmotion.scenario.planar import PLANAR_COMMANDS, PlanarGroupEntry
+from openmotion.scenario.planar_parts import ActivatePartPosition
 from openmotion.scenario.schema import COMMANDS, TIMELINE_COMMANDS
 from openmotion.trajectory.plan import Limits
 
@@ -112,11 +118,90 @@ def test_planar_conditions_read_movers_and_groups() -> None:
     assert checks[0].expected == float(PlanarState.ENABLED)  # not AxisState's number
 
 
+#: TF5430 §6.6.1's processing unit: part 3 moves between CS 1 and CS 2; all part entries
+PARTS = """\
+name: parts
+axes: [{name: gen}]
+planar:
+  environment:
+    coordinate_systems: [16#01010060, 0x010100A0]
+    parts:
+      - {oid: 16#01010020, stators: [[0, 0]], positions: [{coordinate_system: 16#01010060}]}
+      - {oid: 16#0101_0030, stators: [[0, 0]], positions: [{coordinate_system: 16#010100A0}]}
+      - oid: 16#01010080
+        stators: [[0, 0]]
+        positions:
+          - {coordinate_system: 16#01010060, x: 0, y: 240}
+          - {coordinate_system: 16#010100A0, x: 0, y: 240, c: 180}
+        position_index: 2
+  movers:
+    - {name: m, part: 16#01010020, x: 120, y: 120}
+timeline:
+  - {id: go, at: 0, mover: m, command: move_to_position, x: 1, y: 2, reference_id: 16#01010080}
+  - {at: 0, mover: m, command: set_position, x: 1, y: 2, reference_id: 16842848}
+  - {at: 0, part: 16#01010080, command: activate_part_position, position_index: 1}
+  - id: ext
+    at: 0
+    mover: m
+    command: start_external_setpoint_generation
+    mode: relative
+    reference_id: 16#01010060
+    feed_for: 0.5
+    feed:
+      x: {ramp: {velocity: 100}}
+      y: {sine: {amplitude: 10, period: 2, offset: 1}}
+      c: {axis: gen}
+  - {at: 1, mover: m, command: start_external_setpoint_generation}
+  - {at: 1, mover: m, command: stop_external_setpoint_generation}
+  - {when: m.coordinate_system == 16#010100A0, mover: m, command: mover_halt}
+checks:
+  - {signal: m.coordinate_system, expect: 16#010100A0}
+"""
+
+
+def test_parts_and_coordinate_systems_load() -> None:
+    """OIDs as the manual prints them (16#..., with _ too) or as YAML integers."""
+    scenario = parse_scenario(PARTS)
+    environment = scenario.planar.environment
+    assert environment.coordinate_systems == [0x01010060, 0x010100A0]
+    assert environment.part_oids() == [0x01010020, 0x01010030, 0x01010080]
+    assert environment.corners() == [] and not environment.is_static
+    layout = environment.layout()
+    elevator = layout.part(0x01010080)
+    assert elevator.positions == (PartPosition(0x01010060, Pose(0.0, 240.0)),
+                                  PartPosition(0x010100A0, Pose(0.0, 240.0, 180.0)))
+    assert elevator.position_index == 2 and layout.part(0x01010030).is_static
+    assert environment.layout() is not layout  # each run moves its own parts
+    parameters = scenario.planar.movers[0].build()
+    assert parameters.part_oid == 0x01010020 and parameters.initial_position.x == 120.0
+
+
+def test_part_entries_build_the_method_arguments() -> None:
+    timeline = parse_scenario(PARTS).timeline
+    assert timeline[0].arguments()[0] == PositionXYC(1.0, 2.0, 0.0, 0x01010080)
+    assert timeline[1].arguments() == (PositionXYC(1.0, 2.0, 0.0, 0x01010060),)
+    assert timeline[2].arguments() == (1,) and timeline[2].axis == "16#01010080"
+    external = timeline[3]
+    assert external.arguments() == (
+        ST_ExternalSetpointGenerationOptions(ExternalSetPositionMode.RELATIVE),)
+    assert (external.reference_id, external.feed_for) == (0x01010060, 0.5)
+    assert list(external.sources()) == ["x", "y", "c"]
+    assert external.feed.y.sine.offset == 1.0 and external.feed.c.axis == "gen"
+    assert timeline[4].arguments()[0].mode is ExternalSetPositionMode.ABSOLUTE
+    assert timeline[4].sources() == {} and timeline[4].reference_id == 0
+    when = timeline[6].when
+    assert (when.attribute, when.value) == ("coordinate_system", float(0x010100A0))
+    assert parse_scenario(PARTS).checks[0].expected == float(0x010100A0)
+
+
 @pytest.mark.parametrize("command", sorted(PLANAR_COMMANDS))
 def test_planar_entry_arguments_fit_the_method(command: str) -> None:
-    """Each entry's arguments bind to the MC_PlanarMover (MC_PlanarGroup) method."""
-    entry = next(e for e in parse_scenario(VALID).timeline if e.command == command)
-    owner = MC_PlanarGroup if isinstance(entry, PlanarGroupEntry) else MC_PlanarMover
+    """Each entry's arguments bind to the MC_PlanarMover (MC_PlanarGroup, MC_PlanarPart)
+    method."""
+    entry = next(e for text in (VALID, PARTS) for e in parse_scenario(text).timeline
+                 if e.command == command)
+    owner = MC_PlanarGroup if isinstance(entry, PlanarGroupEntry) else MC_PlanarPart \
+        if isinstance(entry, ActivatePartPosition) else MC_PlanarMover
     signature = inspect.signature(getattr(owner, entry.method))
     signature.bind(None, *entry.arguments())  # self, then the inputs after the feedback
 
@@ -228,6 +313,123 @@ MOVER = "planar:\n  movers: [{name: a}]\n"
      "bad.yaml:5: checks[0].expect: 'standstill' is not a number or a planar state name"),
 ])
 def test_bad_planar_input_names_file_line_and_field(text: str, expected: str) -> None:
+    found = problems(BASE + text)
+    assert any(problem.startswith(expected) for problem in found), found
+
+
+CS1, CS2 = "16#01010060", "16#010100A0"
+
+
+def layout(*parts: str, systems: str = f"[{CS1}]", movers: str = "[{name: m}]") -> str:
+    """A planar block with ``parts`` (flow mappings) in ``systems``."""
+    return ("planar:\n  environment:\n    coordinate_systems: " + systems + "\n    parts:\n"
+            + "".join(f"      - {part}\n" for part in parts) + f"  movers: {movers}\n")
+
+
+ONE = f"{{oid: 16#01010020, stators: [[0, 0]], positions: [{{coordinate_system: {CS1}}}]}}"
+ELEVATOR = (f"{{oid: 16#01010080, stators: [[0, 0]], positions: [{{coordinate_system: {CS1}, "
+            f"y: 240}}, {{coordinate_system: {CS2}}}]}}")
+ON_ONE = "[{name: m, part: 16#01010020, x: 120, y: 120}]"
+
+
+@pytest.mark.parametrize(("text", "expected"), [
+    (f"planar:\n  environment: {{parts: [{ONE}]}}\n  movers: [{{name: a}}]\n",
+     "bad.yaml:3: planar.environment: 'parts' and 'coordinate_systems' go together"),
+    (f"planar:\n  environment: {{columns: 1, rows: 1, coordinate_systems: [{CS1}], parts: "
+     f"[{ONE}]}}\n  movers: [{{name: a}}]\n",
+     "bad.yaml:3: planar.environment: give 'columns' and 'rows', or 'stators' (a list of "
+     "[x, y]), or 'parts' with 'coordinate_systems'"),
+    ("planar:\n  environment:\n    origin: [0, 0]\n    coordinate_systems: [1]\n"
+     f"    parts: [{ONE.replace(CS1, '1')}]\n  movers: [{{name: a}}]\n",
+     "bad.yaml:3: planar.environment: 'origin' goes with columns and rows"),
+    (layout(ONE, systems="[16#0101006G]"),
+     "bad.yaml:4: planar.environment.coordinate_systems[0]: must be an object id (an integer "
+     "in 0..16#FFFFFFFF, written 16#01010060 or 0x01010060), got '16#0101006G'"),
+    (layout(ONE, systems="[0]"),
+     "bad.yaml:4: planar.environment.coordinate_systems[0]: must be an object id, not 0"),
+    (layout(ONE, systems="[0x1FFFFFFFF]"),
+     "bad.yaml:4: planar.environment.coordinate_systems[0]: must be an object id"),
+    (layout(ONE, systems="[]"),
+     "bad.yaml:4: planar.environment.coordinate_systems: must hold at least 1 item(s)"),
+    (layout(ONE, ONE.replace("16#01010020", CS1)),
+     "bad.yaml:7: planar.environment.parts[1].oid: 16#01010060 is used twice: parts and "
+     "coordinate systems share one id space (§5.3)"),
+    (layout(ONE.replace(f"coordinate_system: {CS1}", f"coordinate_system: {CS2}")),
+     "bad.yaml:6: planar.environment.parts[0].positions[0].coordinate_system: 16#010100A0 is "
+     "not one of coordinate_systems"),
+    (layout(ONE.replace("[[0, 0]]", "[[0, 0], [100, 0]]")),
+     "bad.yaml:6: planar.environment.parts[0].stators: corner (100.0, 0.0) is not on the 240 "
+     "mm grid of the part frame"),
+    (layout(ONE.replace("[[0, 0]]", "[[0, 0], [480, 0]]")),
+     "bad.yaml:6: planar.environment.parts[0].stators: (480, 0) shares no edge with the rest"),
+    (layout(ONE.replace("[[0, 0]]", "[[240, 0]]")),
+     "bad.yaml:6: planar.environment.parts[0].stators: the part frame's origin must be the "
+     "part's lower-left corner"),
+    (layout(ONE.replace("stators: [[0, 0]]", "stators: []")),
+     "bad.yaml:6: planar.environment.parts[0].stators: must hold at least 1 item(s)"),
+    (layout(ONE.replace("]}", "], position_index: 2}")),
+     "bad.yaml:6: planar.environment.parts[0].position_index: position index 2 is not in 1..1"),
+    (layout(ONE.replace(f"{CS1}}}", f"{CS1}, c: 45}}")),
+     "bad.yaml:6: planar.environment.parts[0].positions[0].c: must be a multiple of 90°, got 45"),
+    (layout(ONE, ONE.replace("20,", "30,").replace(f"{CS1}}}", f"{CS1}, x: 250}}")),
+     "bad.yaml:7: planar.environment.parts[1].positions[0]: the part's stators at (250, 0) are "
+     "off the 240 mm grid of coordinate system 16#01010060 (anchored at (0, 0))"),
+    (layout(ONE, ELEVATOR.replace("y: 240", "y: 0"), systems=f"[{CS1}, {CS2}]"),
+     "bad.yaml:7: planar.environment.parts[1].position_index: overlaps part 16#01010020 (§5.1)"),
+    (layout(ONE, movers="[{name: m, part: 16#01010030}]"),
+     "bad.yaml:7: planar.movers[0].part: 16#01010030 is no part of planar.environment.parts "
+     "(parts: 16#01010020)"),
+    ("planar:\n  movers: [{name: m, part: 16#01010030}]\n",
+     "bad.yaml:3: planar.movers[0].part: planar.environment has no parts"),
+    (layout(ONE, ELEVATOR, systems=f"[{CS1}, {CS2}]", movers="[{name: m, x: 120, y: 120}]"),
+     "bad.yaml:8: planar.movers[0]: give the 'part' it starts on: with 2 coordinate systems x "
+     "and y alone are no place (§5.1)"),
+    (layout(ONE, movers="[{name: m, part: 16#01010020, x: 300, y: 120}]"),
+     "bad.yaml:7: planar.movers[0]: (300, 120) lies off part 16#01010020: x and y are in the "
+     "part frame"),
+    (layout(ONE, movers="[{name: m, x: 120, y: 360}]"),
+     "bad.yaml:7: planar.movers[0]: the start (120, 360) in coordinate system 16#01010060 lies "
+     "on no part"),
+    (layout(ONE, ELEVATOR, systems=f"[{CS1}, {CS2}]", movers=ON_ONE)
+     + "  groups: [{name: g, environment: true}]\n",
+     "bad.yaml:9: planar.groups[0].environment: its boundary would not follow the parts"),
+    (layout(ONE, movers=ON_ONE) + "timeline:\n"
+     "  - {at: 0, part: 16#01010080, command: activate_part_position, position_index: 1}\n",
+     "bad.yaml:9: timeline[0].part: 16#01010080 is no part of planar.environment.parts "
+     "(parts: 16#01010020)"),
+    (layout(ONE, movers=ON_ONE) + "timeline:\n"
+     "  - {at: 0, part: 16#01010020, command: activate_part_position}\n",
+     "bad.yaml:9: timeline[0].position_index: required field is missing"),
+    (MOVER + "timeline:\n"
+     "  - {at: 0, mover: a, command: move_to_position, x: 1, y: 1, reference_id: part2}\n",
+     "bad.yaml:5: timeline[0].reference_id: must be an object id"),
+    (MOVER + "timeline:\n"
+     "  - {at: 0, mover: a, command: start_external_setpoint_generation, mode: sideways}\n",
+     "bad.yaml:5: timeline[0].mode: must be 'absolute' or 'relative'"),
+    (MOVER + "timeline:\n  - {at: 0, mover: a, command: start_external_setpoint_generation,\n"
+     "     feed: {x: {ramp: {velocity: 1}, sine: {amplitude: 1, period: 1}}}}\n",
+     "bad.yaml:6: timeline[0].feed.x: give exactly one of 'sine', 'ramp' or 'axis'"),
+    (MOVER + "timeline:\n  - {at: 0, mover: a, command: start_external_setpoint_generation,\n"
+     "     feed: {w: {ramp: {velocity: 1}}}}\n",
+     "bad.yaml:6: timeline[0].feed.w: unknown field 'w'"),
+    (MOVER + "timeline:\n  - {at: 0, mover: a, command: start_external_setpoint_generation,\n"
+     "     feed: {x: {ramp: {speed: 1}}}}\n",
+     "bad.yaml:6: timeline[0].feed.x.ramp.speed: unknown field 'speed'"),
+    (MOVER + "timeline:\n  - {at: 0, mover: a, command: start_external_setpoint_generation,\n"
+     "     feed: {x: {axis: q}}}\n",
+     "bad.yaml:6: timeline[0].feed.x.axis: unknown axis 'q' (axes: none)"),
+    (MOVER + "timeline:\n  - {at: 0, mover: a, command: start_external_setpoint_generation,\n"
+     "     feed: {c: {sine: {amplitude: 1, period: 0}}}}\n",
+     "bad.yaml:6: timeline[0].feed.c.sine.period: must be greater than 0"),
+    (MOVER + "timeline:\n  - {at: 0, mover: a, command: start_external_setpoint_generation,"
+     " feed_for: -1}\n",
+     "bad.yaml:5: timeline[0].feed_for: must be greater than or equal to 0"),
+    (MOVER + "timeline:\n  - {at: 0, mover: q, command: stop_external_setpoint_generation}\n",
+     "bad.yaml:5: timeline[0].mover: unknown planar mover 'q' (planar.movers: a)"),
+    (MOVER + "checks:\n  - {signal: a.coordinate_system, expect: 16#0101006G}\n",
+     "bad.yaml:5: checks[0].expect: '16#0101006G' is not a number"),
+])
+def test_bad_part_and_setpoint_input_names_file_line_and_field(text: str, expected: str) -> None:
     found = problems(BASE + text)
     assert any(problem.startswith(expected) for problem in found), found
 

@@ -92,7 +92,7 @@ def test_the_summary_and_json_show_the_planar_movers(manual: ScenarioResult) -> 
     data = json.loads(json.dumps(manual.to_dict()))
     assert data["planar_movers"][1] == {"mover": "two", "oid": 0x05110020, "group": "group",
                                         "state": "enabled", "x": 240.0, "y": 0.0, "z": 0.0,
-                                        "a": 0.0, "b": 0.0, "c": 0.0}
+                                        "a": 0.0, "b": 0.0, "c": 0.0, "coordinate_system": 0}
     assert data["commands"][1]["error"] == "PLANAR_COLLISION"
 
 
@@ -243,3 +243,271 @@ def test_the_docs_planar_example_runs_as_described() -> None:
     result = run_scenario(parse_scenario("name: docs\n" + block.group(1)))
     assert (rows(result)["go"].result, rows(result)["too"].message) == (
         "DONE", "rejected (33158) by mover 16#05110010")
+
+
+# -- parts and coordinate systems (§5, §6.6) ---------------------------------------------------
+
+CS_1, CS_2 = 0x01010060, 0x010100A0  #: the coordinate systems of §6.1.4 and §6.6.1
+PART_1, PART_2, PART_3 = 0x01010020, 0x01010030, 0x01010080
+
+#: §6.1.4: two static one-stator parts side by side in one coordinate system
+TWO_PARTS = """\
+name: two parts
+planar:
+  environment:
+    coordinate_systems: [16#01010060]
+    parts:
+      - {oid: 16#01010020, stators: [[0, 0]], positions: [{coordinate_system: 16#01010060}]}
+      - {oid: 16#01010030, stators: [[0, 0]],
+         positions: [{coordinate_system: 16#01010060, x: 240}]}
+  movers:
+    - {name: m, part: 16#01010020, x: 120, y: 120}
+record: {signals: [m.x, m.y, m.velocity, m.coordinate_system, m.state]}
+timeline:
+"""
+
+
+def run_passing(text: str) -> ScenarioResult:
+    result = run_scenario(parse_scenario(text))
+    assert result.passed, [check for check in result.checks if not check.passed]
+    return result
+
+
+def test_manual_614_a_target_on_the_right_part_is_reported_in_the_coordinate_system() -> None:
+    """§6.1.4: (100, 100) on part 16#01010030 is x = 340, y = 100 in the coordinate system,
+    PhysicalAreaID 16842848; crossing to the adjacent part is allowed."""
+    result = run_passing(TWO_PARTS + "  - {id: go, at: 0, mover: m, command: move_to_position, "
+                                     "x: 100, y: 100, reference_id: 16#01010030}\n")
+    movers = {row.mover: row for row in result.planar_movers}
+    assert (movers["m"].x, movers["m"].y, movers["m"].coordinate_system) == (340.0, 100.0,
+                                                                             16842848)
+    assert rows(result)["go"].result == "DONE"
+    assert set(result.trace["m.coordinate_system"]) == {float(CS_1)}
+
+
+def test_a_target_off_its_part_or_with_an_unknown_reference_fails() -> None:
+    result = run_passing(
+        TWO_PARTS + "  - {id: off, at: 0, mover: m, command: move_to_position, x: 300, y: 100,"
+        " reference_id: 16#01010020}\n"
+        "  - {id: unknown, at: 0, mover: m, command: move_to_position, x: 1, y: 1,"
+        " reference_id: 16#0BADF00D}\n"
+        "  - {id: zero, at: 0, mover: m, command: move_to_position, x: 300, y: 100}\n"
+        "checks:\n  - {command: off, result: error, error_id: INVALID_REFERENCE_ID}\n"
+        "  - {command: unknown, result: error, error_id: INVALID_REFERENCE_ID}\n"
+        "  - {command: zero, result: done}\n  - {signal: m.x, expect: 300}\n")
+    assert rows(result)["off"].message == (
+        "rejected (29699): target (300, 100) lies off part 16#01010020: give the part it lies "
+        "on or the coordinate system (§6.1.7)")
+    assert rows(result)["unknown"].message.startswith(
+        "rejected (29699): ReferenceId 16#0BADF00D names no part and no coordinate system")
+
+
+ELEVATOR = (Path(__file__).resolve().parents[2] / "examples" / "planar_parts.yaml").read_text()
+
+
+def test_the_elevator_carries_the_mover_into_the_other_coordinate_system() -> None:
+    """§6.6.1 (examples/planar_parts.yaml): the mover's numbers do not change when the
+    elevator moves, its coordinate system does, in the cycle of ActivatePosition."""
+    result = run_passing(ELEVATOR)
+    trace, ride = result.trace, rows(result)["ride"]
+    assert ride.issued_at == ride.ended_at
+    at = int(np.searchsorted(trace.time, ride.ended_at - 1e-9))
+    assert trace["mover.coordinate_system"][at - 1] == CS_1
+    assert trace["mover.coordinate_system"][at] == CS_2
+    assert trace["mover.y"][at - 1] == trace["mover.y"][at] == 360.0
+    assert result.planar_movers[0].coordinate_system == CS_2
+
+
+def test_coordinate_systems_are_connected_only_by_a_part_that_moves() -> None:
+    """Before the ride part 2 (CS 2) is out of reach; 0 is no reference with two coordinate
+    systems; a position index the part does not have is an invalid input."""
+    text = ELEVATOR.replace("  # states 8-9", """\
+  - {id: too_early, when: board.done, mover: mover, command: move_to_position, x: 120, y: 120,
+     reference_id: 16#01010030}
+  - {id: zero, when: board.done, mover: mover, command: move_to_position, x: 120, y: 120}
+  - {id: third, when: board.done, part: 16#01010080, command: activate_part_position,
+     position_index: 3}
+  # states 8-9""")
+    result = run_passing(text)
+    too_early, zero, third = (rows(result)[name] for name in ("too_early", "zero", "third"))
+    assert (too_early.error, too_early.message) == (
+        "PLANAR_PART_NOT_ENABLED", "rejected (29703): part 16#01010030 is in position 1, in "
+        "coordinate system 16#010100A0, not in the mover's (16#01010060)")
+    assert zero.error == "INVALID_REFERENCE_ID"
+    assert zero.message.startswith("rejected (29699): ReferenceId 0 needs one static "
+                                   "coordinate system (§5.3)")
+    assert (third.error, third.message) == (
+        "PLANAR_INVALID_INPUT", "rejected (29705): part 16#01010080: position index 3 is not "
+        "in 1..2")
+    assert rows(result)["leave"].result == "DONE"  # the later steps are unaffected
+
+
+def test_a_static_layout_lets_the_environment_guard_the_parts_in_a_group() -> None:
+    """One coordinate system, static parts: the environment joins the group by default and
+    its boundary is the parts' outline."""
+    text = TWO_PARTS.replace("record:", "  groups: [{name: g}]\nrecord:")
+    result = run_passing(text + "  - {id: out, at: 0, mover: m, command: move_to_position,"
+                                " x: 120, y: 200}\n"
+                                "checks:\n  - {command: out, result: error,"
+                                " error_id: PLANAR_COLLISION}\n")
+    assert rows(result)["out"].message == "rejected (33158) by environment 16#05120010"
+
+
+# -- external setpoints (§6.1.6, §6.1.7) -------------------------------------------------------
+
+
+def max_brake(speed: float) -> float:
+    """The time-optimal stopping distance from ``speed`` (no acceleration) with the default
+    maximum XY dynamics, where StopExternalSetpointGeneration brakes (§6.1.6)."""
+    limits = PlanarMoverParameters().maximum_dynamic_xy
+    if speed >= limits.deceleration ** 2 / limits.jerk:
+        return speed ** 2 / (2 * limits.deceleration) + speed * limits.deceleration / (
+            2 * limits.jerk)
+    return speed * (speed / limits.jerk) ** 0.5
+
+
+def test_a_ramp_is_followed_exactly_and_stop_brakes_after_the_cycles_setpoint() -> None:
+    """The first setpoint goes in the firing cycle (at 0: cycle 1), one per cycle after it;
+    the stop entry comes after its cycle's setpoint, then the mover brakes with its maximum
+    dynamics and is back in FreeMovement (a move is accepted)."""
+    result = run("  - {id: ext, at: 0, mover: a, command: start_external_setpoint_generation,"
+                 " feed: {x: {ramp: {velocity: 200}}}}\n"
+                 "  - {id: stop, at: 0.5, mover: a, command: stop_external_setpoint_generation}\n"
+                 "  - {id: free, at: 1, mover: a, command: move_to_position, x: 360,"
+                 " y: 240}\n",
+                 "checks:\n  - {command: ext, result: done}\n  - {command: stop, result: done}\n"
+                 "  - {command: free, result: done}\n")
+    trace = result.trace
+    fed = trace["a.x"][1:501]  # cycles 1..500
+    assert np.array_equal(fed, 120.0 + 200.0 * (np.arange(500) * 0.001))  # τ, then x
+    assert np.all(trace["a.velocity"][1:501] == 200.0) and trace["a.y"][500] == 120.0
+    ext = rows(result)["ext"]
+    assert (ext.issued_at, ext.ended_at) == (0.0, pytest.approx(0.5))
+    assert trace["a.velocity"][999] == 0.0
+    assert trace["a.x"][999] == pytest.approx(fed[-1] + max_brake(200.0), abs=1e-9)
+
+
+def test_a_sine_per_coordinate_and_held_coordinates() -> None:
+    """y: the raised cosine from the start position; c: one with an offset; x holds."""
+    result = run("  - {id: ext, at: 0.01, mover: a, command: start_external_setpoint_generation,"
+                 " feed: {y: {sine: {amplitude: 100, period: 0.4}},"
+                 " c: {sine: {amplitude: -10, period: 0.2, offset: 5}}}}\n"
+                 "  - {id: stop, at: 0.41, mover: a, command: stop_external_setpoint_generation}\n",
+                 "checks:\n  - {command: ext, result: done}\n  - {signal: a.y, expect: 120}\n"
+                 "  - {signal: a.x, expect: 120, at: always}\n")
+    trace = result.trace
+    tau = np.arange(401) * 0.001  # cycles 10..410
+    assert trace["a.y"][10:411] == pytest.approx(120.0 + 50.0 * (1 - np.cos(tau * np.pi / 0.2)),
+                                                 abs=1e-12)
+    assert trace["a.c"][10:411] == pytest.approx(5.0 - 5.0 * (1 - np.cos(tau * np.pi / 0.1)),
+                                                 abs=1e-12)
+    peak = 50.0 * 2 * np.pi / 0.4  # amplitude / 2 * ω
+    assert trace.peak("a.velocity") == pytest.approx(peak, rel=1e-4)
+
+
+def test_a_missing_setpoint_is_the_movers_error() -> None:
+    """feed_for 0.1 s: setpoints in cycles 1..100; cycle 101 has none: PLANAR_EXT_SETPOINT,
+    the mover brakes (QuickStop) and ends in Error; the row shows the mover's error."""
+    result = run("  - {id: ext, at: 0, mover: a, command: start_external_setpoint_generation,"
+                 " feed_for: 0.1, feed: {x: {ramp: {velocity: 100}}}}\n",
+                 "checks:\n  - {command: ext, result: error, error_id: PLANAR_EXT_SETPOINT}\n"
+                 "  - {signal: a.state, expect: error}\n")
+    ext = rows(result)["ext"]
+    assert (ext.ended_at, ext.message) == (pytest.approx(0.101),
+                                           "no external setpoint in this cycle (§6.1.6)")
+    assert result.trace["a.x"][100] == pytest.approx(129.9, abs=1e-9)
+    assert {row.mover: row.state for row in result.planar_movers}["a"] == "error"
+
+
+def test_a_setpoint_above_the_maximum_velocity_is_the_movers_error() -> None:
+    """The refused setpoint ends StartExternalSetpointGeneration with the mover's error."""
+    result = run("  - {id: ext, at: 0, mover: a, command: start_external_setpoint_generation,"
+                 " feed: {x: {ramp: {velocity: 5000}}}}\n",
+                 "checks:\n  - {command: ext, result: error, error_id: PLANAR_EXT_SETPOINT}\n")
+    ext = rows(result)["ext"]
+    assert (ext.ended_at, ext.message) == (pytest.approx(0.001), "external setpoint velocity "
+                                           "x 5000 above the maximum 4000 (§6.1.6)")
+
+
+def test_a_start_the_mover_refuses_is_the_rows_error() -> None:
+    text = FIELD.replace("- {name: a, x: 120, y: 120}", "- {name: a, x: 120, y: 120, "
+                                                        "enable: false}")
+    result = run_passing(text + "timeline:\n  - {id: ext, at: 0, mover: a, command: "
+                                "start_external_setpoint_generation}\n"
+                                "checks:\n  - {command: ext, result: error,"
+                                " error_id: PLANAR_WRONG_STATE}\n")
+    ext = rows(result)["ext"]
+    assert ext.message.startswith("rejected (29697)") and ext.ended_at == pytest.approx(0.001)
+
+
+def test_relative_setpoints_add_to_a_move_and_the_offset_stays() -> None:
+    """Relative: the ramp's offset is added to the move; Stop keeps the offset reached."""
+    result = run("  - {id: go, at: 0, mover: a, command: move_to_position, x: 360, y: 120}\n"
+                 "  - {id: ext, at: 0, mover: a, command: start_external_setpoint_generation,"
+                 " mode: relative, feed: {y: {ramp: {velocity: 50}}}}\n"
+                 "  - {id: stop, at: 0.2, mover: a, command: stop_external_setpoint_generation}\n",
+                 "checks:\n  - {command: go, result: done}\n  - {command: ext, result: done}\n"
+                 "  - {signal: a.x, expect: 360}\n")
+    trace = result.trace
+    assert np.array_equal(trace["a.y"][1:201], 120.0 + 50.0 * (np.arange(200) * 0.001))
+    assert trace["a.y"][-1] == pytest.approx(120.0 + 50.0 * 0.199, abs=1e-9)
+    assert trace["a.x"][100] > 120.0  # the move ran meanwhile
+
+
+def test_setpoints_in_a_part_frame_must_switch_parts_those_in_the_system_need_not() -> None:
+    """§6.1.7: with part 1's id the ramp fails past x = 240 (INVALID_REFERENCE_ID, the
+    mover's error); with the coordinate system's id it crosses onto part 2."""
+    ramp = ("  - {id: ext, at: 0, mover: m, command: start_external_setpoint_generation,"
+            " reference_id: REF, feed: {x: {ramp: {velocity: 200}}}}\n"
+            "  - {id: stop, at: 0.8, mover: m, command: stop_external_setpoint_generation}\n")
+    on_part = run_scenario(parse_scenario(TWO_PARTS + ramp.replace("REF", "16#01010020")))
+    ext = rows(on_part)["ext"]
+    assert (ext.result, ext.error) == ("ERROR", "INVALID_REFERENCE_ID")
+    assert ext.message.startswith("target (240.2, 120) lies off part 16#01010020")
+    assert ext.ended_at == pytest.approx(0.602)  # τ = 0.601 s: x = 240.2
+    in_system = run_scenario(parse_scenario(TWO_PARTS + ramp.replace("REF", "16#01010060")))
+    assert rows(in_system)["ext"].result == "DONE"
+    end = in_system.planar_movers[0].x
+    assert end == pytest.approx(120.0 + 200.0 * 0.799 + max_brake(200.0), abs=1e-9)
+
+
+def test_held_coordinates_and_default_offsets_are_in_the_frame_of_the_reference() -> None:
+    """A mover at (120, 120) on part 2 is at x = 360 in the system; fed in part 2's frame,
+    its held x is 120 there, which is 360 again."""
+    text = TWO_PARTS.replace("{name: m, part: 16#01010020", "{name: m, part: 16#01010030")
+    result = run_passing(text + "  - {id: ext, at: 0, mover: m, command: "
+                                "start_external_setpoint_generation, reference_id: 16#01010030,"
+                                " feed: {y: {ramp: {velocity: -100}}}}\n"
+                                "  - {id: stop, at: 0.5, mover: m, command: "
+                                "stop_external_setpoint_generation}\n"
+                                "checks:\n  - {command: ext, result: done}\n"
+                                "  - {signal: m.x, expect: 360, at: always}\n")
+    assert result.trace["m.y"][500] == pytest.approx(120.0 - 100.0 * 0.499, abs=1e-9)
+
+
+def test_an_axis_feeds_a_coordinate_one_cycle_late() -> None:
+    """feed: {x: {axis: gen}}: the mover's x is the virtual axis' set position of the cycle
+    before, a jerk-limited profile the mover follows exactly."""
+    text = FIELD.replace("name: field\n", "name: field\naxes: [{name: gen, position: 120}]\n")
+    text = text.replace("record: {signals: [", "record: {signals: [gen.set_position, ")
+    result = run_passing(text + "timeline:\n  - {at: 0, axis: gen, command: power}\n"
+                                "  - {id: ext, at: 0, mover: a, command: "
+                                "start_external_setpoint_generation, feed: {x: {axis: gen}}}\n"
+                                "  - {id: go, at: 0.01, axis: gen, command: move_absolute,"
+                                " position: 400, velocity: 500}\n"
+                                "  - {id: stop, when: go.done, mover: a, command: "
+                                "stop_external_setpoint_generation}\n"
+                                "checks:\n  - {command: ext, result: done}\n"
+                                "  - {signal: a.x, expect: 400}\n")
+    trace = result.trace
+    assert np.array_equal(trace["a.x"][2:], trace["gen.set_position"][1:-1])
+
+
+def test_the_docs_part_and_setpoint_examples_run_as_described() -> None:
+    """docs/scenarios.md#parts-and-coordinate-systems and #external-setpoints."""
+    text = (Path(__file__).resolve().parents[2] / "docs" / "scenarios.md").read_text()
+    for title in ("Parts and coordinate systems", "External setpoints"):
+        block = re.search(rf"### {title}\n\n.*?```yaml\n(.*?)```", text, re.S)
+        assert block is not None, title
+        result = run_scenario(parse_scenario("name: docs\n" + block.group(1)))
+        assert result.passed, (title, result.checks)

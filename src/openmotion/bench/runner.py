@@ -23,6 +23,7 @@ from openmotion.bench.ca import run_ca
 from openmotion.bench.fbcall import run_fbcall
 from openmotion.bench.otg import run_otg
 from openmotion.bench.planar import run_planar
+from openmotion.bench.trace import run_trace
 
 Progress = Callable[[str], None] | None
 
@@ -35,6 +36,7 @@ CA_GOAL_P99_US = 500.0
 PLANAR_GOAL_N = 100
 PLANAR_ADMISSION_GOAL_US = 50.0
 PLANAR_GOAL_P99_US = 250.0
+TRACE_GOAL_US = 1000.0  #: 100 axes, 100 signals recorded every 1 ms cycle: faster than real time
 
 
 def _axes(quick: bool, progress: Progress) -> dict[str, Any]:
@@ -66,12 +68,19 @@ def _planar(quick: bool, progress: Progress) -> dict[str, Any]:
     return run_planar(progress=progress)
 
 
+def _trace(quick: bool, progress: Progress) -> dict[str, Any]:
+    if quick:
+        return run_trace(samples=200, counts=(10, 100), cycles=200, progress=progress)
+    return run_trace(progress=progress)
+
+
 BENCHMARKS: dict[str, Callable[[bool, Progress], dict[str, Any]]] = {
     "axes": _axes,
     "otg": _otg,
     "fbcall": _fbcall,
     "ca": _ca,
     "planar": _planar,
+    "trace": _trace,
 }
 
 
@@ -182,12 +191,21 @@ def goals_planar(results: dict[str, Any]) -> dict[str, Any]:
     return goals
 
 
+def goals_trace(results: dict[str, Any]) -> dict[str, Any]:
+    goal = results["goal"]
+    cycle = goal["cycle_us"]["every_cycle"]
+    return {"real_time": _goal(f"{goal['axes']} axes + {goal['signals']} signals recorded "
+                               f"every cycle: cycle < {TRACE_GOAL_US:g} us (faster than real "
+                               "time)", cycle, cycle < TRACE_GOAL_US)}
+
+
 GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "axes": goals_axes,
     "otg": goals_otg,
     "fbcall": goals_fbcall,
     "ca": goals_ca,
     "planar": goals_planar,
+    "trace": goals_trace,
 }
 
 
@@ -363,8 +381,28 @@ def _render_planar(results: dict[str, Any]) -> list[str]:
     ]
 
 
+def _render_trace(results: dict[str, Any]) -> list[str]:
+    sampling = [[r["kind"], r["signals"], r["samples"], r["sample_us"], r["signal_sample_us"]]
+                for r in results["sampling"]]
+    goal = results["goal"]
+    variants = [[name, goal["cycle_us"][name], goal["real_time_factor"][name]]
+                for name in goal["cycle_us"]]
+    return [
+        "TraceRecorder.sample alone, us (kernel: one numpy gather per signal name; axis "
+        "state and planar: one reader per signal)",
+        *_table(["kind", "signals", "samples", "per sample", "per signal-sample"], sampling),
+        "",
+        f"{goal['axes']} axes, random commands, {goal['cycles']} cycles of "
+        f"{_fmt(goal['cycle_time_us'])} us; {goal['signals']} signals recorded (off, every "
+        "cycle, every 10th); Runtime.step wall time per cycle, us",
+        *_table(["recording", "cycle", "real-time factor"], variants),
+        f"recorder in that run: {_fmt(goal['sample_us'])} us per sample, "
+        f"{_fmt(goal['signal_sample_us'])} us per signal-sample",
+    ]
+
+
 _RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
-           "ca": _render_ca, "planar": _render_planar}
+           "ca": _render_ca, "planar": _render_planar, "trace": _render_trace}
 
 
 def render(result: dict[str, Any]) -> str:

@@ -10,7 +10,9 @@ MC_PlanarMover (MC_PlanarGroup) method of the same name; ``arguments()`` gives t
 inputs after the feedback (the run passes none: PLC 0). Signals of a mover (``<mover>.x``
 ...) read its published set values; see ``PLANAR_SIGNALS``. schema.py puts the block into its
 ``Scenario`` and the entries into ``TIMELINE_COMMANDS``; they share its value types,
-conditions and name checks.
+conditions and name checks. Parts and coordinate systems (the environment's ``parts``, the
+``activate_part_position`` entry) are in planar_parts.py, the external setpoint entries in
+planar_setpoints.py.
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ from openmotion.planar import (
     DynamicConstraint_PathXY,
     ModuloDirection,
     MoverVector,
+    PartLayout,
     PlanarMoverParameters,
     PlanarState,
     PositionXYC,
@@ -47,6 +50,16 @@ from openmotion.planar import (
 )
 from openmotion.planar.stators import STATOR_SIZE, StatorField
 from openmotion.runtime.runtime import Runtime
+from openmotion.scenario.planar_parts import (
+    ObjectId,
+    PartSpec,
+    ReferenceId,
+    build_layout,
+    is_static,
+    layout_problems,
+    oid_text,
+    parse_oid,
+)
 from openmotion.scenario.schema import (
     _NAMES,
     Condition,
@@ -62,8 +75,9 @@ from openmotion.scenario.transport import _Timed
 from openmotion.trajectory.plan import Limits
 
 #: what a trace, a check or a condition reads of a planar mover: the set position x, y, z
-#: [mm], a, b, c [°], the path velocity |(vx, vy)| [mm/s] and the PlanarState number
-PLANAR_SIGNALS = ("x", "y", "z", "a", "b", "c", "velocity", "state")
+#: [mm], a, b, c [°], the path velocity |(vx, vy)| [mm/s], the PlanarState number and the OID
+#: of the coordinate system the position is in (PhysicalAreaID; 0 without parts)
+PLANAR_SIGNALS = ("x", "y", "z", "a", "b", "c", "velocity", "state", "coordinate_system")
 DEFAULT_PLANAR_SIGNALS = ("x", "y", "c")  #: recorded for every mover when none are named
 Loc = tuple[str | int, ...]
 ModuloDirectionName = _enum_by_name(ModuloDirection)
@@ -139,9 +153,13 @@ def planar_condition(text: str, subject: str, attribute: str, operator: str,
 
 
 def planar_named_value(signal: str, name: str) -> float | None:
-    """The PlanarState number of ``name`` for the ``state`` signal, else None."""
+    """The PlanarState number of ``name`` for the ``state`` signal, the OID of ``16#...``
+    for ``coordinate_system``, else None."""
     if signal == "state" and name.upper() in PlanarState.__members__:
         return float(PlanarState[name.upper()])
+    if signal == "coordinate_system" and name.startswith("16#") and \
+            (oid := parse_oid(name)) is not None:
+        return float(oid)
     return None
 
 
@@ -154,7 +172,8 @@ Corner = tuple[Number, Number]
 
 class EnvironmentSpec(_Model):
     """MC_PlanarEnvironment (§6.4): a block of ``columns`` x ``rows`` stators from ``origin``,
-    or the lower-left corners of the ``stators`` one by one (AddStator, §6.4.2)."""
+    the lower-left corners of the ``stators`` one by one (AddStator, §6.4.2), or the ``parts``
+    of a processing unit in its ``coordinate_systems`` (§5.2, planar_parts.py)."""
 
     columns: Annotated[StrictInt, Field(ge=1)] | None = None
     """Stators along x (with ``rows``)."""
@@ -164,16 +183,28 @@ class EnvironmentSpec(_Model):
     """Lower-left corner of the block [mm]."""
     stators: Annotated[list[Corner], Field(min_length=1)] | None = None
     """Instead of columns and rows: the corners [mm] on one 240 mm grid, no two alike."""
+    coordinate_systems: Annotated[list[ObjectId], Field(min_length=1)] | None = None
+    """With ``parts``: the OIDs of the coordinate systems (a group checks in the first, D-088)."""
+    parts: Annotated[list[PartSpec], Field(min_length=1)] | None = None
+    """Instead of stators: the parts (§5.1), each with its stators in the part frame and its
+    positions in the coordinate systems. Targets then take a ``reference_id`` (§5.3)."""
 
     @model_validator(mode="after")
     def _one_layout(self) -> EnvironmentSpec:
         block = self.columns is not None or self.rows is not None
-        if block == (self.stators is not None):
-            raise ValueError("give 'columns' and 'rows', or 'stators' (a list of [x, y])")
+        if (self.parts is None) != (self.coordinate_systems is None):
+            raise ValueError("'parts' and 'coordinate_systems' go together")
+        if block + (self.stators is not None) + (self.parts is not None) != 1:
+            raise ValueError("give 'columns' and 'rows', or 'stators' (a list of [x, y]), or "
+                             "'parts' with 'coordinate_systems'")
         if block and (self.columns is None or self.rows is None):
             raise ValueError("give both 'columns' and 'rows'")
-        if self.stators is not None and "origin" in self.model_fields_set:
-            raise ValueError("'origin' goes with columns and rows; stators give their corners")
+        if not block and "origin" in self.model_fields_set:
+            raise ValueError("'origin' goes with columns and rows; stators and parts give "
+                             "their corners")
+        if self.parts is not None and self.coordinate_systems is not None:
+            _raise(self, layout_problems(self.coordinate_systems, self.parts))
+            return self
         problems = []
         field = StatorField()
         for index, (x, y) in enumerate(self.corners()):
@@ -185,12 +216,28 @@ class EnvironmentSpec(_Model):
         return self
 
     def corners(self) -> list[tuple[float, float]]:
-        """The stators' lower-left corners [mm] in AddStator order (row by row)."""
+        """The stators' lower-left corners [mm] in AddStator order (row by row); none with
+        parts, whose stators the environment takes from the layout."""
         if self.stators is not None:
             return [(float(x), float(y)) for x, y in self.stators]
         x0, y0 = self.origin
         return [(x0 + i * STATOR_SIZE, y0 + j * STATOR_SIZE)
                 for j in range(self.rows or 0) for i in range(self.columns or 0)]
+
+    def layout(self) -> PartLayout | None:
+        """A new PartLayout of the parts (each run needs its own); None without parts."""
+        if self.parts is None or self.coordinate_systems is None:
+            return None
+        return build_layout(self.coordinate_systems, self.parts)
+
+    @property
+    def is_static(self) -> bool:
+        """No parts, or one coordinate system and no part with several positions: the
+        boundary holds for the whole run, so the environment can join a group."""
+        return self.parts is None or is_static(self.coordinate_systems or [], self.parts)
+
+    def part_oids(self) -> list[int]:
+        return [part.oid for part in self.parts or []]
 
 
 # -- planar.movers -------------------------------------------------------------------------
@@ -240,19 +287,20 @@ class _MoverParametersBase(_Model):
             _raise(self, [(tuple(filter(None, match.groups()[:2])), match.group(3))])
         return self
 
-    def build(self, initial_position: MoverVector) -> PlanarMoverParameters:
+    def build(self, initial_position: MoverVector, part_oid: int = 0) -> PlanarMoverParameters:
         values = {}
         for name in self.model_fields_set:
             value = getattr(self, name)
             values[name] = value.over(_DEFAULTS[name]) if isinstance(value, _Partial) else value
-        return PlanarMoverParameters(**values, initial_position=initial_position)
+        return PlanarMoverParameters(**values, initial_position=initial_position,
+                                     part_oid=part_oid)
 
 
 _DEFAULTS = {f.name: f.default for f in fields(PlanarMoverParameters)}
 _HINTS = get_type_hints(PlanarMoverParameters)
 _SPEC_TYPES: dict[Any, Any] = {float: Number, bool: StrictBool, Limits: LimitsSpec | None,
                                MoverVector: VectorSpec | None}
-#: the init parameters a scenario sets (§6.1.1); the start position is the mover's x, y, c
+#: the init parameters a scenario sets (§6.1.1); the start is the mover's part, x, y, c
 _SCENARIO_PARAMETERS = [f.name for f in fields(PlanarMoverParameters)
                         if f.name not in ("initial_position", "part_oid", "simulation_mode")]
 PlanarMoverParametersSpec = create_model(
@@ -271,6 +319,9 @@ class PlanarMoverSpec(_Model):
 
     name: Annotated[Identifier, _unique("planar_movers"), _own_name("axes", "groups")]
     """Unique, not an axis or CA group name; entries, signals and conditions refer to it."""
+    part: ObjectId | None = None
+    """The part it starts on (PlanarMoverParameters.part_oid, §6.1.1); x, y and c are then
+    in the part frame. Needed when planar.environment has several coordinate systems."""
     x: Number = 0.0
     """Start position [mm]."""
     y: Number = 0.0
@@ -283,7 +334,7 @@ class PlanarMoverSpec(_Model):
     """Enable the mover in the setup; false: a ``mover_enable`` entry does it."""
 
     def build(self) -> PlanarMoverParameters:
-        return self.parameters.build(MoverVector(self.x, self.y, c=self.c))
+        return self.parameters.build(MoverVector(self.x, self.y, c=self.c), self.part or 0)
 
 
 # -- planar.groups -------------------------------------------------------------------------
@@ -320,7 +371,7 @@ class PlanarSpec(_Model):
         """Memberships first; then the setup on a scratch runtime, each failure at its field."""
         from openmotion.scenario.planar_machine import PlanarMachine  # it builds on the specs
 
-        problems = list(self._membership_problems())
+        problems = [*self._membership_problems(), *self._part_problems()]
         if not problems:
             problems = PlanarMachine(Runtime(), self).set_up()
         _raise(self, problems)
@@ -335,7 +386,7 @@ class PlanarSpec(_Model):
 
     def has_environment(self, index: int) -> bool:
         group = self.groups[index]
-        default = self.environment is not None and group.enable
+        default = self.environment is not None and self.environment.is_static and group.enable
         return default if group.environment is None else group.environment
 
     def _membership_problems(self) -> Iterator[tuple[Loc, str]]:
@@ -356,10 +407,28 @@ class PlanarSpec(_Model):
                 yield loc, "there is no planar.environment"
             elif not group.enable:
                 yield loc, "the environment joins in the setup, which needs enable: true"
+            elif not self.environment.is_static:
+                yield loc, "its boundary would not follow the parts: with movable parts or " \
+                           "several coordinate systems the environment joins no group (D-088)"
             elif environment:
                 yield loc, f"the environment is in group {environment!r} already: set " \
                            "environment: false"
             environment = environment or group.name
+
+    def _part_problems(self) -> Iterator[tuple[Loc, str]]:
+        """A mover's ``part`` names a part; with several coordinate systems each has one."""
+        environment = self.environment
+        parts = environment.part_oids() if environment is not None else []
+        systems = len(environment.coordinate_systems or []) if environment is not None else 0
+        for index, mover in enumerate(self.movers):
+            if mover.part is not None and mover.part not in parts:
+                known = ", ".join(map(oid_text, parts))
+                yield ("movers", index, "part"), \
+                    f"{oid_text(mover.part)} is no part of planar.environment.parts " \
+                    f"(parts: {known})" if parts else "planar.environment has no parts"
+            elif mover.part is None and systems > 1:
+                yield ("movers", index), f"give the 'part' it starts on: with {systems} " \
+                                         "coordinate systems x and y alone are no place (§5.1)"
 
 
 def _raise(model: _Model, problems: Iterable[tuple[Loc, str]]) -> None:
@@ -421,6 +490,9 @@ class MoveToPosition(_Constrained):
     """Target orientation [°]."""
     use_orientation: StrictBool | None = None
     """ST_MoveToPositionOptions: also reach ``c``; default: true when c is given."""
+    reference_id: ReferenceId = 0
+    """The frame of x, y, c (§5.3): a part (the target must lie on it), a coordinate system,
+    or 0 (no parts, or one static coordinate system). A wrong one fails the command."""
 
     @model_validator(mode="after")
     def _orientation_needs_c(self) -> MoveToPosition:
@@ -430,7 +502,7 @@ class MoveToPosition(_Constrained):
 
     def arguments(self) -> tuple[Any, ...]:
         orientation = self.c is not None if self.use_orientation is None else self.use_orientation
-        return (PositionXYC(self.x, self.y, self.c or 0.0), self.constraint(),
+        return (PositionXYC(self.x, self.y, self.c or 0.0, self.reference_id), self.constraint(),
                 ST_MoveToPositionOptions(use_orientation=orientation))
 
 
@@ -523,9 +595,11 @@ class SetPosition(PlanarEntry):
     """[mm]."""
     c: Number = 0.0
     """[°]."""
+    reference_id: ReferenceId = 0
+    """The frame of x, y, c, as move_to_position's."""
 
     def arguments(self) -> tuple[Any, ...]:
-        return (PositionXYC(self.x, self.y, self.c),)
+        return (PositionXYC(self.x, self.y, self.c, self.reference_id),)
 
 
 class AddToGroup(PlanarEntry):
@@ -584,10 +658,18 @@ class PlanarGroupReset(PlanarGroupEntry):
     command: Literal["planar_group_reset"]
 
 
+# Parts (§6.6) and external setpoints (§6.1.6): the latter build on PlanarEntry above.
+from openmotion.scenario.planar_parts import ActivatePartPosition  # noqa: E402
+from openmotion.scenario.planar_setpoints import (  # noqa: E402
+    StartExternalSetpointGeneration,
+    StopExternalSetpointGeneration,
+)
+
 PLANAR_ENTRIES: tuple[type, ...] = (
     MoveToPosition, MoveC, MoveZ, MoveA, MoveB, MoverHalt, MoverEnable, MoverDisable,
-    MoverReset, SetPosition, AddToGroup, RemoveFromGroup, PlanarGroupEnable,
-    PlanarGroupDisable, PlanarGroupReset)
+    MoverReset, SetPosition, AddToGroup, RemoveFromGroup, StartExternalSetpointGeneration,
+    StopExternalSetpointGeneration, PlanarGroupEnable, PlanarGroupDisable, PlanarGroupReset,
+    ActivatePartPosition)
 #: the planar entries by their ``command`` (schema.TIMELINE_COMMANDS holds them all)
 PLANAR_COMMANDS: dict[str, type] = {
     get_args(model.model_fields["command"].annotation)[0]: model for model in PLANAR_ENTRIES}

@@ -9,9 +9,16 @@ the next cycle, so the setup takes three cycles; they run before anything else i
 runtime, and the clock then starts again at 0, so that every object is ready at t = 0, as an
 enabled CA group is (docs/scenarios.md). Only standing planar objects saw those cycles.
 
+With parts (§5.2) the environment takes a new ``PartLayout`` and the run initialises one
+MC_PlanarPart per part; the setup then only creates the boundary, and a mover must start on a
+part in its active position.
+
 A timeline entry's row is a ``Command`` that mirrors the method's PlanarCommand once per cycle
 (observer phase): BUSY while sent or active, then DONE, ABORTED or ERROR; a refused command
-says ``rejected (33158) by mover 16#05110010``: the error number and the blocking object.
+says ``rejected (33158) by mover 16#05110010``: the error number and the blocking object. A
+start_external_setpoint_generation entry is a ``SetpointFeed``: ``feed`` sends its setpoint in
+the program phase of every cycle (run.py calls it before the entries fire), its row follows the
+generation and the mover's errors.
 """
 
 from __future__ import annotations
@@ -21,17 +28,20 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from openmotion.axis.commands import Command, CommandStatus
+from openmotion.core.errors import CommandRejected
 from openmotion.planar import (
     CommandPhase,
     MC_PlanarEnvironment,
+    MC_PlanarFeedback,
     MC_PlanarGroup,
     MC_PlanarMover,
+    MC_PlanarPart,
+    MoverVector,
     PlanarCommand,
     PlanarObjectType,
     PlanarState,
+    Pose,
 )
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.planar import (
@@ -41,7 +51,10 @@ from openmotion.scenario.planar import (
     PlanarGroupEntry,
     PlanarSpec,
 )
-from openmotion.trace.record import TIME, Trace, TraceRecorder
+from openmotion.scenario.planar_parts import ActivatePartPosition, oid_text
+from openmotion.scenario.planar_setpoints import COORDINATES, StartExternalSetpointGeneration
+from openmotion.scenario.programs import _motion_cycle, cycle_of
+from openmotion.trace.signals import read_planar_signal
 
 if TYPE_CHECKING:
     from rich.table import Table
@@ -63,6 +76,7 @@ class PlanarMoverRow:
     a: float  #: [°]
     b: float  #: [°]
     c: float  #: [°]
+    coordinate_system: int  #: OID of the coordinate system x, y, c are in; 0 without parts
 
 
 class PlanarMachine:
@@ -74,12 +88,17 @@ class PlanarMachine:
         self.environment: MC_PlanarEnvironment | None = None
         self.movers: dict[str, MC_PlanarMover] = {}
         self.groups: dict[str, MC_PlanarGroup] = {}
+        self.parts: dict[int, MC_PlanarPart] = {}  #: by part OID
         self._group_names: dict[int, str] = {}  #: OID -> name, for the rows
         self._open: list[tuple[PlanarCommand, Command]] = []  #: issued, not yet ended
+        self._feeds: list[SetpointFeed] = []  #: external setpoints being fed
         if spec is None:
             return
         if spec.environment is not None:
-            self.environment = MC_PlanarEnvironment(rt)
+            self.environment = MC_PlanarEnvironment(rt, layout=spec.environment.layout())
+            for oid in spec.environment.part_oids():
+                self.parts[oid] = MC_PlanarPart()
+                self.parts[oid].initialize(oid, self.environment)
         for group in spec.groups:
             self.groups[group.name] = MC_PlanarGroup(rt, group.name)
             self._group_names[self.groups[group.name].oid] = group.name
@@ -92,6 +111,7 @@ class PlanarMachine:
         spec, rt = self.spec, self.rt
         if spec is None:
             return []
+        placement = self._placement_problems()
         steps: list[tuple[Loc, str, PlanarCommand]] = []
         if self.environment is not None and spec.environment is not None:
             for index, corner in enumerate(spec.environment.corners()):
@@ -115,8 +135,30 @@ class PlanarMachine:
                               self.movers[name].add_to_group(target)))
         self._settle(steps)
         rt.cycle, rt.now = 0, 0.0  # the setup happened before t = 0 (module docstring)
-        return [(loc, f"{what}: {self._failure(command)}") for loc, what, command in steps
-                if not command.done]
+        return placement + [(loc, f"{what}: {self._failure(command)}")
+                            for loc, what, command in steps if not command.done]
+
+    def _placement_problems(self) -> list[tuple[Loc, str]]:
+        """With parts: each mover starts on a part in its active position (on its ``part``)."""
+        layout = self.environment.layout if self.environment is not None else None
+        if layout is None or self.spec is None:
+            return []
+        problems: list[tuple[Loc, str]] = []
+        for index, spec in enumerate(self.spec.movers):
+            mover = self.movers[spec.name]
+            try:
+                part, _ = layout.position_on_current_part(mover.coordinate_system, mover.pose,
+                                                          spec.part)
+            except CommandRejected as exc:  # "(500, 120) in coordinate system ... on no part"
+                part, problem = 0, f"the start {exc.message}"
+            else:
+                problem = ""
+            if spec.part is not None and part != spec.part:
+                problem = f"({spec.x:g}, {spec.y:g}) lies off part {oid_text(spec.part)}: x " \
+                          "and y are in the part frame"
+            if problem:
+                problems.append((("movers", index), problem))
+        return problems
 
     def _failure(self, command: PlanarCommand) -> str:
         """Why a setup command did not end Done, naming the blocking object."""
@@ -139,9 +181,14 @@ class PlanarMachine:
 
     # -- the timeline ------------------------------------------------------------------------
 
-    def issue(self, entry: PlanarEntry | PlanarGroupEntry) -> Command:
+    def issue(self, entry: PlanarEntry | PlanarGroupEntry | ActivatePartPosition) -> Command:
         """Call the entry's method now; the row follows its PlanarCommand (``watch``)."""
+        if isinstance(entry, StartExternalSetpointGeneration):
+            feed = SetpointFeed(self, entry)
+            self._feeds.append(feed)
+            return feed.row
         target: Any = self.groups[entry.group] if isinstance(entry, PlanarGroupEntry) \
+            else self.parts[entry.part] if isinstance(entry, ActivatePartPosition) \
             else self.movers[entry.mover]
         arguments = tuple(self.groups[name] for name in entry.arguments()) \
             if isinstance(entry, AddToGroup) else entry.arguments()
@@ -150,8 +197,14 @@ class PlanarMachine:
         self._open.append((planar, command))
         return command
 
+    def feed(self) -> None:
+        """Send this cycle's external setpoints (program phase, before the entries fire)."""
+        for feed in self._feeds:
+            feed.feed()
+
     def watch(self) -> None:
         """Mirror every open PlanarCommand onto its row's Command (observer phase)."""
+        self._feeds = [feed for feed in self._feeds if feed.watch()]
         still = []
         for planar, command in self._open:
             command.warnings = list(planar.warnings)
@@ -179,9 +232,10 @@ class PlanarMachine:
 
     @property
     def busy(self) -> bool:
-        """A mover moves (or brakes) or a transition runs: the run goes on."""
-        return any(mover.mc_to_plc.std.busy.busy_mover or mover.state in _TRANSITIONAL
-                   for mover in self.movers.values()) or any(
+        """A mover moves (or brakes), a feed runs or a transition runs: the run goes on."""
+        return bool(self._feeds) or any(
+            mover.mc_to_plc.std.busy.busy_mover or mover.state in _TRANSITIONAL
+            for mover in self.movers.values()) or any(
             group.state in _TRANSITIONAL for group in self.groups.values())
 
     # -- signals -----------------------------------------------------------------------------
@@ -193,14 +247,7 @@ class PlanarMachine:
         if group is not None:
             return float(group.state)
         mover = self.movers.get(subject)
-        if mover is None:
-            return None
-        if prop == "state":
-            return float(mover.state)
-        if prop == "velocity":
-            velocity = mover.mc_to_plc.set.set_velo
-            return math.hypot(velocity.x, velocity.y)
-        return float(getattr(mover.position, prop))
+        return None if mover is None else read_planar_signal(mover, prop)
 
     def reading(self, name: str) -> tuple[float, str, bool] | None:
         """(value, its text, whether it is a name) of a planar signal; None for others."""
@@ -210,6 +257,8 @@ class PlanarMachine:
             return None
         if prop == "state":
             return value, PlanarState(int(value)).name.lower(), True
+        if prop == "coordinate_system":
+            return value, oid_text(int(value)), True
         return value, "", False
 
     def rows(self) -> list[PlanarMoverRow]:
@@ -218,8 +267,103 @@ class PlanarMachine:
             p = mover.position
             rows.append(PlanarMoverRow(name, mover.oid,
                                        self._group_names.get(mover.mc_to_plc.std.group_oid, ""),
-                                       mover.state.name.lower(), p.x, p.y, p.z, p.a, p.b, p.c))
+                                       mover.state.name.lower(), p.x, p.y, p.z, p.a, p.b, p.c,
+                                       mover.mc_to_plc.set.physical_area_id))
         return rows
+
+
+class SetpointFeed:
+    """A start_external_setpoint_generation entry at run time (§6.1.6, §6.1.7): the start,
+    one setpoint per cycle from the entry's sources, and the row that follows the generation.
+
+    The firing cycle's setpoint is sent right after the start; ``feed`` sends the later ones in
+    the program phase, before the entries fire, so that a stop entry comes after its cycle's
+    setpoint (§7.2.2.8.19). τ counts whole cycles from the first setpoint.
+    """
+
+    def __init__(self, machine: PlanarMachine, entry: StartExternalSetpointGeneration) -> None:
+        rt = machine.rt
+        self.machine, self.entry, self.rt = machine, entry, rt
+        self.mover = machine.movers[entry.mover]
+        #: where each coordinate holds and what the offsets default to: the start position in
+        #: the frame of ``reference_id`` (absolute), 0 (relative)
+        self.hold = self._start() if entry.mode == "absolute" else [0.0] * len(COORDINATES)
+        self.start = self.mover.start_external_setpoint_generation(*entry.arguments())
+        self.row = Command(entry.command, rt.now)
+        self.first = _motion_cycle(rt)  #: the cycle of the first setpoint
+        self.until = None if entry.feed_for is None \
+            else self.first + cycle_of(entry.feed_for, rt.cycle_time)
+        self.fed = 0  #: the cycle of the last setpoint
+        self.feedback = MC_PlanarFeedback() if entry.reference_id else None
+        self.feed()
+
+    def _start(self) -> list[float]:
+        p = self.mover.position
+        values = [p.x, p.y, p.z, p.a, p.b, p.c]
+        environment = self.machine.environment
+        layout = environment.layout if environment is not None else None
+        if layout is not None and self.entry.reference_id:
+            try:
+                _, frame = layout.to_coordinate_system(self.entry.reference_id, Pose())
+            except CommandRejected:
+                return values  # the first setpoint fails with INVALID_REFERENCE_ID
+            values[0], values[1], values[5] = frame.inverse().compose(self.mover.pose)
+        return values
+
+    def feed(self) -> None:
+        """This cycle's setpoint, unless sent already or the generation is over."""
+        cycle = _motion_cycle(self.rt)
+        if self.row.finished or cycle == self.fed or not self.start.busy or self.mover.error \
+                or self.until is not None and cycle >= self.until:
+            return
+        self.fed = cycle
+        tau = (cycle - self.first) * self.rt.cycle_time
+        columns = zip(*(self._setpoint(k, name, tau) for k, name in enumerate(COORDINATES)),
+                      strict=True)
+        position, velocity, acceleration = (MoverVector(*column) for column in columns)
+        if self.feedback is None:
+            self.mover.set_external_setpoint(position, velocity, acceleration)
+        else:
+            self.mover.set_external_setpoint_reference_id(
+                self.feedback, position, velocity, acceleration, self.entry.reference_id)
+
+    def _setpoint(self, k: int, name: str, tau: float) -> tuple[float, float, float]:
+        """Position, velocity, acceleration of one coordinate at τ."""
+        source, hold = getattr(self.entry.feed, name), self.hold[k]
+        if source is None:
+            return hold, 0.0, 0.0
+        if source.axis is not None:  # the set values of the cycle before
+            axis = self.rt.axes[source.axis]
+            return axis.set_position, axis.set_velocity, axis.set_acceleration
+        if source.ramp is not None:
+            ramp = source.ramp
+            offset = hold if ramp.offset is None else ramp.offset
+            return offset + ramp.velocity * tau, ramp.velocity, 0.0
+        sine = source.sine
+        assert sine is not None  # one source each (CoordinateFeed)
+        offset = hold if sine.offset is None else sine.offset
+        omega = 2.0 * math.pi / sine.period
+        half, phase = sine.amplitude / 2.0, omega * tau
+        return (offset + half * (1.0 - math.cos(phase)), half * omega * math.sin(phase),
+                half * omega * omega * math.cos(phase))
+
+    def watch(self) -> bool:
+        """Mirror the generation onto the row (observer phase); False once the row ended.
+
+        A mover error ends the row with the mover's error id and message (a missing or
+        refused setpoint also ends the start command with that error).
+        """
+        start, row, mover, now = self.start, self.row, self.mover, self.rt.now
+        if mover.error and start.phase is not CommandPhase.SENT:
+            row._end(CommandStatus.ERROR, now, mover.error_id, mover.message)
+        elif start.error:
+            row._end(CommandStatus.ERROR, now, start.error_id,
+                     self.machine.outcome(start, row.active))
+        elif not start.busy:
+            row._end(_STATUS[start.phase], now)
+        elif start.active:
+            row.status = CommandStatus.ACTIVE
+        return not row.finished
 
 
 _STATUS = {CommandPhase.DONE: CommandStatus.DONE, CommandPhase.ABORTED: CommandStatus.ABORTED,
@@ -244,41 +388,4 @@ def planar_table(rows: list[PlanarMoverRow], number: Callable[[float], str]) -> 
         table.add_row(row.mover, f"16#{row.oid:08X}", row.group or "-", row.state,
                       *(number(value) for value in (row.x, row.y, row.z, row.a, row.b, row.c)))
     return table
-
-
-class SignalRecorder:
-    """A TraceRecorder for the axis signals plus the planar ones, as one Trace in the order
-    of ``signals`` (a runtime observer, like TraceRecorder)."""
-
-    def __init__(self, rt: Runtime, signals: list[str], every: int,
-                 machine: PlanarMachine) -> None:
-        self.signals = signals
-        self.planar = [(name, *name.split(".", 1)) for name in signals
-                       if name.split(".", 1)[0] in machine.movers]
-        names = {name for name, _, _ in self.planar}
-        self.axes = TraceRecorder(rt, [name for name in signals if name not in names], every)
-        self.machine = machine
-        self.every = every
-        self._rows: list[list[float]] = []
-
-    def __call__(self, runtime: Runtime) -> None:
-        if runtime.cycle % self.every == 0:
-            self.sample(runtime)
-
-    def sample(self, runtime: Runtime) -> None:
-        self.axes.sample(runtime)
-        if self.planar:
-            self._rows.append([self.machine.signal(subject, prop)  # type: ignore[misc]
-                               for _, subject, prop in self.planar])
-
-    @property
-    def trace(self) -> Trace:
-        axes = self.axes.trace
-        if not self.planar:
-            return axes
-        planar = np.array(self._rows, dtype=np.float64).reshape(len(axes), len(self.planar))
-        columns = {name: planar[:, k] for k, (name, _, _) in enumerate(self.planar)}
-        columns.update({name: axes[name] for name in axes.signals})
-        return Trace((TIME, *self.signals), np.column_stack(
-            [axes.time, *(columns[name] for name in self.signals)]))
 

@@ -26,12 +26,7 @@ from openmotion.scenario.cyclic import BlockEntry
 from openmotion.scenario.groups import CaGroups, GroupRow, MoverRow
 from openmotion.scenario.load import load_scenario
 from openmotion.scenario.planar import PLANAR_ENTRIES
-from openmotion.scenario.planar_machine import (
-    PlanarMachine,
-    PlanarMoverRow,
-    SignalRecorder,
-    planar_table,
-)
+from openmotion.scenario.planar_machine import PlanarMachine, PlanarMoverRow, planar_table
 from openmotion.scenario.programs import BlockPrograms, cycle_of
 from openmotion.scenario.schema import (
     AbortTrigger,
@@ -45,7 +40,9 @@ from openmotion.scenario.schema import (
     TouchProbe,
 )
 from openmotion.scenario.transport import CA_ENTRIES, SetGap
-from openmotion.trace.record import Trace, read_signal, split_signal
+from openmotion.trace.plot import figure_signals
+from openmotion.trace.record import Trace, TraceRecorder
+from openmotion.trace.signals import describe, read_signal, split_signal
 
 if TYPE_CHECKING:
     from rich.console import RenderableType
@@ -209,11 +206,14 @@ class ScenarioResult:
         return "\n".join(line.rstrip() for line in buffer.getvalue().splitlines()) + "\n"
 
 
-def run_scenario(source: str | Path | Scenario, progress: Progress | None = None) \
-        -> ScenarioResult:
-    """Run a scenario file (or model) to its end; ``progress`` is called now and then."""
+def run_scenario(source: str | Path | Scenario, progress: Progress | None = None,
+                 figure: bool = False) -> ScenarioResult:
+    """Run a scenario file (or model) to its end; ``progress`` is called now and then. With
+    ``figure`` the trace also records what the scenario's default figure needs (x, y, c of
+    every planar mover, else set position and gap of every CA mover: ``figure_signals``),
+    after the scenario's own signals."""
     scenario = source if isinstance(source, Scenario) else load_scenario(source)
-    return _Run(scenario).run(progress)
+    return _Run(scenario, figure).run(progress)
 
 
 def _time_digits(cycle_time: float) -> int:
@@ -263,7 +263,7 @@ def _result_of(command: Command | None) -> str:
 
 
 class _Run:
-    def __init__(self, scenario: Scenario) -> None:
+    def __init__(self, scenario: Scenario, figure: bool = False) -> None:
         self.scenario = scenario
         self.rt = rt = Runtime(scenario.cycle_time)
         #: the planar objects, set up before t = 0: first, while nothing else is on the runtime
@@ -291,15 +291,24 @@ class _Run:
             if isinstance(entry, TouchProbe)}
         #: the programs that call the blocks of block entries (jog, feed, filter, stepper)
         self.blocks = BlockPrograms(rt, self.holds)
-        self.recorder = SignalRecorder(rt, scenario.signals, scenario.record.every, self.planar)
+        planar = self.planar
+        objects = [*filter(None, [planar.environment]), *planar.movers.values(),
+                   *planar.groups.values()]
+        signals = list(scenario.signals)
+        if figure:
+            needed = figure_signals(describe([*rt.axes.values(), *objects]))
+            signals += [name for name in needed if name not in signals]
+        self.recorder = TraceRecorder(rt, signals, scenario.record.every, objects=objects)
         self.checks = [_CheckState(check, self) for check in scenario.checks]
         self.quiet_since: int | None = None  #: first cycle of the current rest
 
     # -- the cycle ---------------------------------------------------------------------------
 
     def program(self) -> None:
-        """Runtime program: call the running blocks, then issue every entry that is due."""
+        """Runtime program: call the running blocks, feed the planar movers' external
+        setpoints, then issue every entry that is due."""
         self.blocks()
+        self.planar.feed()
         self.ca.release_due()
         self.fire_due()
 
@@ -350,6 +359,9 @@ class _Run:
         self.issued[index] = command
         if entry.id is not None:
             self.by_id[entry.id] = command
+        target = entry.axis if not isinstance(entry, SetGap) else next(
+            (other.axis for _, other in self.entries if other.id == entry.move), "")
+        self.recorder.follow(command, target, self.entries[index][0])
 
     def holds(self, condition: Condition | None) -> bool:
         if condition is None:

@@ -91,6 +91,7 @@ class _Names:
     #: the CA groups that list it (once per listing)
     planar_movers: Counter[str] = dataclasses.field(default_factory=Counter)
     planar_groups: Counter[str] = dataclasses.field(default_factory=Counter)
+    planar_parts: set[int] = dataclasses.field(default_factory=set)  #: part OIDs
 
     @classmethod
     def of(cls, data: object) -> _Names:
@@ -115,7 +116,7 @@ class _Names:
         planar = data.get("planar") if isinstance(data, dict) else None
         return cls(names("axes", "name"), names("timeline", "id"), commands,
                    names("ca_groups", "name"), members, names("movers", "name", planar),
-                   names("groups", "name", planar))
+                   names("groups", "name", planar), part_oids(planar))
 
 
 _NAMES: ContextVar[_Names | None] = ContextVar("openmotion_scenario_names", default=None)
@@ -832,6 +833,7 @@ from openmotion.scenario.planar import (  # noqa: E402 - needs Entry and the typ
     planar_condition,
     planar_named_value,
 )
+from openmotion.scenario.planar_parts import part_oids  # noqa: E402 - as planar above
 
 # CA groups (TF5410): the ca_groups list and the entries on movers and groups.
 from openmotion.scenario.transport import (  # noqa: E402 - needs Entry and the types above

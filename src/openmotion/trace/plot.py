@@ -1,67 +1,135 @@
-"""The scope figure: position, velocity, acceleration, jerk (and following error) per axis.
+"""A trace's figures: the scope (scope.py), the rail of a CA group (rail.py), the planar
+surface (planar.py), and which of them is a trace's default.
 
-matplotlib is imported inside the functions, never with the package, and the figure is drawn
-on an Agg canvas of its own: no pyplot, no global backend, no GUI and no warnings.
+matplotlib is imported inside the functions, never with the package, and every figure is
+drawn on an Agg canvas of its own: no pyplot, no global backend, no GUI and no warnings.
+``save_plot`` takes the image format from the file's suffix: PNG, SVG or PDF.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
+from openmotion.core.errors import ConfigError
 from openmotion.trace.record import Trace
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-#: One panel per quantity: (title, [(signal, line style, label)]).
-PANELS = (
-    ("position [mm]", (("set_position", "-", "set"), ("position", "--", "actual"))),
-    ("velocity [mm/s]", (("set_velocity", "-", "set"), ("velocity", "--", "actual"))),
-    ("acceleration [mm/s²]", (("set_acceleration", "-", "set"),)),
-    ("jerk [mm/s³]", (("set_jerk", "-", "set"),)),
-    ("following error [mm]", (("following_error", "-", "set - actual"),)),
-)
+IMAGE_FORMATS = ("png", "svg", "pdf")  #: by the file's suffix
+DPI = 110  #: dots per inch of a PNG (SVG and PDF are vector images)
+FIGURES = ("planar", "rail", "scope")  #: in the order ``default_figure`` considers them
+#: what each figure needs of a planar mover and of a CA mover
+PLANAR_FIGURE_SIGNALS = ("x", "y", "c")
+RAIL_FIGURE_SIGNALS = ("set_position", "gap")
+#: colour of an event by its result
+RESULT_COLORS = {"ISSUED": "0.45", "DONE": "tab:green", "ABORTED": "tab:orange",
+                 "ERROR": "tab:red"}
 
 
-def plot_trace(trace: Trace, title: str | None = None) -> Figure:
-    """A figure with one column per axis and one row per recorded quantity."""
+def image_format(path: str | Path) -> str:
+    """The image format of ``path`` by its suffix; ConfigError for any other suffix."""
+    suffix = Path(path).suffix.lower().lstrip(".")
+    if suffix not in IMAGE_FORMATS:
+        raise ConfigError(f"{path}: the image format comes from the suffix: "
+                          f"{', '.join('.' + name for name in IMAGE_FORMATS)}")
+    return suffix
+
+
+def new_figure(width: float, height: float, title: str | None = None) -> Figure:
+    """An empty figure on an Agg canvas of its own, laid out by matplotlib (constrained)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    axes = trace.axes
-    rows = [(name, lines) for name, lines in PANELS
-            if any(f"{axis}.{signal}" in trace for axis in axes for signal, _, _ in lines)]
-    figure = Figure(figsize=(4.5 * max(len(axes), 1) + 1.5, 1.9 * max(len(rows), 1) + 0.8),
-                    layout="constrained")
+    figure = Figure(figsize=(width, height), layout="constrained")
     FigureCanvasAgg(figure)
     if title:
         figure.suptitle(title)
-    if not rows:
-        figure.add_subplot().text(0.5, 0.5, "no position, velocity, acceleration or jerk "
-                                  "signals recorded", ha="center", va="center")
-        return figure
-    grid = figure.subplots(len(rows), len(axes), sharex=True, squeeze=False)
-    for column, axis in enumerate(axes):
-        for row, (name, lines) in enumerate(rows):
-            panel = grid[row][column]
-            for signal, style, label in lines:
-                key = f"{axis}.{signal}"
-                if key in trace:
-                    panel.plot(trace.time, trace[key], style, linewidth=1.0, label=label)
-            panel.grid(True, alpha=0.3)
-            if column == 0:
-                panel.set_ylabel(name)
-            if row == 0:
-                panel.set_title(axis)
-            if len(panel.get_lines()) > 1:
-                panel.legend(loc="best", fontsize="small")
-        grid[-1][column].set_xlabel("time [s]")
     return figure
 
 
-def save_plot(trace: Trace, path: str | Path, title: str | None = None) -> Path:
-    """Draw the scope figure of ``trace`` into ``path`` (the suffix picks the format)."""
+def planar_movers(trace: Trace) -> list[str]:
+    """The planar movers of the layout whose x and y the trace holds."""
+    movers = trace.layout.get("planar", {}).get("movers", {})
+    return [name for name in movers if f"{name}.x" in trace and f"{name}.y" in trace]
+
+
+def ca_groups(trace: Trace) -> dict[str, dict[str, Any]]:
+    """The CA groups of the layout with at least one mover whose set position is recorded."""
+    return {name: group for name, group in trace.layout.get("ca_groups", {}).items()
+            if any(f"{mover}.set_position" in trace for mover in group["movers"])}
+
+
+def default_figure(trace: Trace) -> str:
+    """``planar`` when the trace holds planar movers' x and y, ``rail`` when it holds CA
+    movers' set positions, else ``scope``."""
+    if planar_movers(trace):
+        return "planar"
+    return "rail" if ca_groups(trace) else "scope"
+
+
+def figure_signals(layout: dict[str, Any]) -> list[str]:
+    """What the default figure of a run with this layout needs recorded: x, y, c of every
+    planar mover (and its coordinate system when there are parts); else set position and
+    gap of every CA mover; else nothing beyond the recorded signals (the scope)."""
+    planar = layout.get("planar", {})
+    movers = planar.get("movers", {})
+    if movers:
+        props = (*PLANAR_FIGURE_SIGNALS, "coordinate_system") if planar.get("parts") \
+            else PLANAR_FIGURE_SIGNALS
+        return [f"{name}.{prop}" for name in movers for prop in props]
+    return [f"{mover}.{prop}" for group in layout.get("ca_groups", {}).values()
+            for mover in group["movers"] for prop in RAIL_FIGURE_SIGNALS]
+
+
+def plot_trace(trace: Trace, title: str | None = None,
+               signals: Sequence[str] | None = None) -> Figure:
+    """The trace's default figure (``default_figure``); with ``signals``, the scope figure
+    of those signals (or objects: every recorded signal of each)."""
+    from openmotion.trace.planar import planar_figure
+    from openmotion.trace.rail import rail_figure
+    from openmotion.trace.scope import scope_figure
+
+    if signals:
+        return scope_figure(trace, signals, title)
+    kind = default_figure(trace)
+    if kind == "planar":
+        return planar_figure(trace, title)
+    return rail_figure(trace, title) if kind == "rail" else scope_figure(trace, None, title)
+
+
+def save_plot(trace: Trace, path: str | Path, title: str | None = None,
+              signals: Sequence[str] | None = None, dpi: float = DPI) -> Path:
+    """Draw ``plot_trace(trace, title, signals)`` into ``path`` (PNG, SVG or PDF by suffix)."""
     path = Path(path)
-    plot_trace(trace, title).savefig(path, dpi=110)
+    kind = image_format(path)
+    plot_trace(trace, title, signals).savefig(path, format=kind, dpi=dpi,
+                                              metadata=_METADATA[kind])
     return path
+
+
+#: no creation date or tool version in the files, so that a figure is reproducible
+_METADATA: dict[str, dict[str, Any]] = {
+    "png": {"Software": None},
+    "svg": {"Date": None, "Creator": None},
+    "pdf": {"CreationDate": None, "Creator": None, "Producer": None},
+}
+
+
+def value_at(trace: Trace, name: str, time: float) -> float:
+    """The value of column ``name`` at the last sample at or before ``time`` (the first
+    sample before the trace starts; NaN for an empty trace)."""
+    times = trace.time
+    if not times.size:
+        return float("nan")
+    index = max(int(np.searchsorted(times, time, side="right")) - 1, 0)
+    return float(trace[name][index])
+
+
+def event_text(event: Any) -> str:
+    """How a figure labels an event: its label, else its command."""
+    return event.label or event.command

@@ -1,89 +1,70 @@
-"""Record axis signals once per cycle into growable numpy arrays.
+"""Record signals of any object into columnar numpy buffers, and the commands' events.
 
 A ``TraceRecorder`` is a runtime observer (architecture §cycle, phase 4): it samples after
 drives and monitoring, so a row shows the state a PLC would read at the start of the next
-cycle. Every value is a float64; an axis state is stored as its ``AxisState`` number, an axis
-error as its ``ErrorId`` number.
+cycle. It samples every ``every``-th cycle (decimation; ``every=1``: every cycle). Each signal
+has a column of its own (one row of a ``(columns, capacity)`` float64 buffer); the objects'
+signal sources (signals.py) give the readers, and the axes' kinematic signals are read for
+all axes in one numpy gather per signal kind.
+
+Beside the columns a trace holds the command events, (time, object, command, result), of the
+commands the recorder follows, and a ``layout``: what its figures need to know of the objects
+(stators, footprints, CA rails and gaps; ``signals.describe``).
 """
 
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterable, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from openmotion.core.errors import CommandRejected, ConfigError
+from openmotion.core.errors import ConfigError
+from openmotion.trace.signals import (
+    AXIS_SIGNALS,
+    MOVER_SIGNALS,
+    BulkReader,
+    Reader,
+    SignalSource,
+    compact_index,
+    default_signals,
+    describe,
+    read_signal,
+    source_of,
+    split_signal,
+)
 
 if TYPE_CHECKING:
-    from openmotion.axis.axis import Axis
+    from openmotion.axis.commands import Command
     from openmotion.runtime.runtime import Runtime
 
-#: Axis properties a trace can record, in the order ``default_signals`` lists them.
-AXIS_SIGNALS = ("set_position", "set_velocity", "set_acceleration", "set_jerk", "position",
-                "velocity", "following_error", "state", "override", "homed", "axis_error_id",
-                "gap", "track_position", "tcp_position")
-#: The signals only members of a CA group have (NaN for other axes).
-MOVER_SIGNALS = ("gap", "track_position", "tcp_position")
-#: What a scenario records when it names no signals: setpoint and actual position.
-DEFAULT_AXIS_SIGNALS = ("set_position", "set_velocity", "set_acceleration", "position")
+#: with the axis signals of signals.py, which scenario/schema.py and tests import from here
+__all__ = ["AXIS_SIGNALS", "MOVER_SIGNALS", "RESULTS", "TIME", "Event", "Trace",
+           "TraceRecorder", "default_signals", "read_signal", "split_signal"]
+
 TIME = "time"
-_WHOLE_SIGNALS = frozenset({"state", "homed", "axis_error_id"})
-_SIGNAL = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)\.([a-z_]+)$")
+#: an event's result: the command was issued, or how it ended
+RESULTS = ("ISSUED", "DONE", "ABORTED", "ERROR")
 
 
-def split_signal(name: str) -> tuple[str, str]:
-    """``"x.set_position"`` -> ``("x", "set_position")``; ValueError for anything else."""
-    match = _SIGNAL.match(name)
-    if match is None or match.group(2) not in AXIS_SIGNALS:
-        raise ValueError(f"{name!r} is not '<axis>.<signal>' with a signal among "
-                         f"{', '.join(AXIS_SIGNALS)}")
-    return match.group(1), match.group(2)
+class Event(NamedTuple):
+    """One command event."""
 
-
-def read_signal(axis: Axis, prop: str) -> float:
-    """One signal of ``axis`` as a float: the state as its AxisState number, the override in
-    percent (0-100), homed as 0 or 1, the axis error as its ErrorId number (0: none). The
-    signals of a CA mover (transport/; NaN for an axis in no CA group):
-
-    - ``gap``: the setpoint gap [mm] to the predecessor in the group (inf: no predecessor);
-    - ``track_position``: the set position on the active track, as MC_ReadTrackPositions
-      gives it; the absolute set position without one; NaN once off an (open) track;
-    - ``tcp_position``: the TCP arc length [mm] of the set position on the path of the
-      registered mover template (MC_TransformPosition from 0 to it); NaN without one.
-    """
-    if prop in MOVER_SIGNALS:
-        group = axis.group
-        return math.nan if group is None else _mover_signal(group, axis, prop)
-    value = getattr(axis, prop)
-    if prop == "override":
-        return float(value) * 100.0
-    return float(int(value)) if prop in _WHOLE_SIGNALS else float(value)
-
-
-def _mover_signal(group: Any, axis: Axis, prop: str) -> float:
-    if prop == "gap":
-        return float(group.gaps()[group.mover_of(axis).slot])
-    if prop == "track_position":
-        try:
-            return float(group.tracks.read_track_positions(axis).track_position)
-        except CommandRejected:  # NOT_ON_TRACK: the mover left its open track
-            return math.nan
-    geo = group.tracks.geo
-    template = geo.registered(axis)
-    return math.nan if template is None else geo.to_tcp(template, axis.set_position)
-
-
-def default_signals(axis_names: Iterable[str]) -> list[str]:
-    return [f"{axis}.{prop}" for axis in axis_names for prop in DEFAULT_AXIS_SIGNALS]
+    time: float  #: [s]
+    object: str  #: the axis, mover or group the command went to
+    command: str  #: the command (``move_absolute``, ``move_to_position``, ...)
+    result: str  #: one of RESULTS
+    label: str = ""  #: the timeline entry's id (``#<number>`` without one); "" from Python
+    detail: str = ""  #: error name and message, or why it was aborted
 
 
 class Trace:
-    """Recorded columns: ``time`` first, then one column per signal, in recording order."""
+    """Recorded columns (``time`` first, then one per signal, in recording order), the command
+    events in time order, and the layout of the recorded objects (JSON-able)."""
 
-    def __init__(self, columns: Sequence[str], data: np.ndarray) -> None:
+    def __init__(self, columns: Sequence[str], data: np.ndarray, events: Iterable[Event] = (),
+                 layout: dict[str, Any] | None = None) -> None:
         data = np.asarray(data, dtype=np.float64)
         if data.ndim != 2 or data.shape[1] != len(columns):
             raise ValueError(f"data of shape {data.shape} does not fit {len(columns)} columns")
@@ -91,6 +72,8 @@ class Trace:
             raise ValueError(f"the first column must be {TIME!r}")
         self.columns = tuple(columns)
         self.data = data
+        self.events = tuple(Event(*event) for event in events)
+        self.layout: dict[str, Any] = layout or {}
         self._index = {name: i for i, name in enumerate(self.columns)}
 
     def __getitem__(self, name: str) -> np.ndarray:
@@ -107,7 +90,7 @@ class Trace:
         return self.data.shape[0]
 
     def __repr__(self) -> str:
-        return f"<Trace {len(self)} rows: {', '.join(self.columns)}>"
+        return f"<Trace {len(self)} rows, {len(self.events)} events: {', '.join(self.columns)}>"
 
     @property
     def time(self) -> np.ndarray:
@@ -118,8 +101,8 @@ class Trace:
         return self.columns[1:]
 
     @property
-    def axes(self) -> list[str]:
-        """Axis names in the order their first signal appears."""
+    def objects(self) -> list[str]:
+        """Object names in the order their first signal appears."""
         return list(dict.fromkeys(name.split(".", 1)[0] for name in self.signals))
 
     def peak(self, name: str) -> float:
@@ -128,34 +111,37 @@ class Trace:
         return float(np.max(np.abs(column))) if column.size else 0.0
 
     def equals(self, other: Trace) -> bool:
-        """Bit-identical: same columns and exactly the same numbers."""
-        return self.columns == other.columns and np.array_equal(self.data, other.data)
+        """Bit-identical columns: same names and the same float64 bits (NaN equals NaN, 0.0
+        differs from -0.0). Events and layout are not compared (a CSV holds neither)."""
+        return self.columns == other.columns and self.data.shape == other.data.shape \
+            and self.data.tobytes() == other.data.tobytes()
 
 
 class TraceRecorder:
-    """Runtime observer that records ``signals`` every ``every`` cycles.
+    """Runtime observer that records ``signals`` every ``every``-th cycle.
 
-    Construct it, then ``runtime.add_observer(recorder)``; call ``sample(runtime)`` once more
-    before the first cycle for a row at t = 0.
+    ``signals`` are ``<object>.<signal>`` names of the runtime's axes and of ``objects``
+    (planar movers, groups, the environment: anything with a ``name`` whose type has a
+    signal source, signals.py). Construct it, then ``runtime.add_observer(recorder)``; call
+    ``sample(runtime)`` once more before the first cycle for a row at t = 0. ``follow`` a
+    command to record its events.
     """
 
     def __init__(self, runtime: Runtime, signals: Sequence[str], every: int = 1,
-                 capacity: int = 1024) -> None:
+                 capacity: int = 1024, objects: Iterable[Any] = ()) -> None:
         if isinstance(every, bool) or not isinstance(every, int) or every < 1:
             raise ConfigError(f"every: must be an integer >= 1, got {every!r}")
-        self._getters: list[tuple[Axis, str]] = []
-        for name in signals:
-            try:
-                axis_name, prop = split_signal(name)
-            except ValueError as exc:
-                raise ConfigError(f"signals: {exc}") from None
-            if axis_name not in runtime.axes:
-                raise ConfigError(f"signals: {name!r} names no axis of the runtime")
-            self._getters.append((runtime.axes[axis_name], prop))
+        named: dict[str, Any] = dict(runtime.axes)
+        named.update((obj.name, obj) for obj in objects)
+        self._objects = list(named.values())
+        self._bulk, self._single = _readers(runtime, named, signals)
         self.columns = (TIME, *signals)
         self.every = every
-        self._data = np.empty((max(capacity, 1), len(self.columns)))
+        self._buffer = np.empty((len(self.columns), max(capacity, 1)))
         self._rows = 0
+        self._events: list[tuple[int, Event]] = []  #: (sequence, event)
+        self._open: list[tuple[int, Command, str, str]] = []  #: followed, not yet ended
+        self._sequence = 0  #: counts follow and add_event calls
 
     def __call__(self, runtime: Runtime) -> None:
         if runtime.cycle % self.every == 0:
@@ -163,17 +149,98 @@ class TraceRecorder:
 
     def sample(self, runtime: Runtime) -> None:
         """Append one row with the values now."""
-        if self._rows == self._data.shape[0]:
-            grown = np.empty((2 * self._rows, len(self.columns)))
-            grown[: self._rows] = self._data
-            self._data = grown
-        row = self._data[self._rows]
-        row[0] = runtime.now
-        for i, (axis, prop) in enumerate(self._getters, start=1):
-            row[i] = read_signal(axis, prop)
-        self._rows += 1
+        row = self._rows
+        if row == self._buffer.shape[1]:
+            grown = np.empty((len(self.columns), 2 * row))
+            grown[:, :row] = self._buffer
+            self._buffer = grown
+        buffer = self._buffer
+        buffer[0, row] = runtime.now
+        for columns, read_all in self._bulk:
+            buffer[columns, row] = read_all()
+        for column, read in self._single:
+            buffer[column, row] = read()
+        self._rows = row + 1
+        if self._open:
+            self._poll()
+
+    # -- events --------------------------------------------------------------------------------
+
+    def follow(self, command: Command, object: str, label: str = "") -> None:
+        """Record ``command``'s events: ISSUED at its issue time, and its end (DONE, ABORTED,
+        ERROR) at its end time once it has ended. ``object`` names what it went to."""
+        self._sequence += 1
+        self._events.append((self._sequence, Event(command.issued_at, object, command.kind,
+                                                   "ISSUED", label)))
+        self._open.append((self._sequence, command, object, label))
+        if command.finished:
+            self._poll()
+
+    def add_event(self, event: Event) -> None:
+        """Record an event of your own (a program's, say)."""
+        self._sequence += 1
+        self._events.append((self._sequence, Event(*event)))
+
+    def _poll(self) -> None:
+        still = []
+        for sequence, command, obj, label in self._open:
+            if not command.finished:
+                still.append((sequence, command, obj, label))
+                continue
+            detail = f"{command.error_id.name}: {command.message}" if command.error \
+                else command.message
+            ended = command.ended_at if command.ended_at is not None else math.nan
+            self._events.append((sequence, Event(ended, obj, command.kind, command.status.name,
+                                                 label, detail)))
+        self._open = still
 
     @property
     def trace(self) -> Trace:
-        """A copy of what has been recorded so far."""
-        return Trace(self.columns, self._data[: self._rows].copy())
+        """A copy of what has been recorded so far. Events are in time order, and at one time
+        in the order the commands were followed (ISSUED before the end): the same whatever
+        the decimation, since an end is looked for only now and then."""
+        self._poll()
+        events = sorted(self._events, key=lambda item: (item[1].time, item[0]))
+        return Trace(self.columns, self._buffer[:, :self._rows].T.copy(),
+                     [event for _, event in events], describe(self._objects))
+
+
+def _readers(runtime: Runtime, named: dict[str, Any], signals: Sequence[str]) \
+        -> tuple[list[tuple[slice | np.ndarray, BulkReader]], list[tuple[int, Reader]]]:
+    """(columns, bulk reader) for each signal name whose source reads all its objects at
+    once, and (column, reader) for every other signal."""
+    wanted: dict[tuple[int, str], list[tuple[int, Any]]] = {}  # (source, prop) -> columns
+    sources: dict[int, SignalSource] = {}
+    for column, name in enumerate(signals, start=1):
+        obj, source, prop = _resolve(named, name)
+        sources[id(source)] = source
+        wanted.setdefault((id(source), prop), []).append((column, obj))
+    bulk: list[tuple[slice | np.ndarray, BulkReader]] = []
+    single: list[tuple[int, Reader]] = []
+    for (key, prop), targets in wanted.items():
+        source = sources[key]
+        read_all = source.bulk(runtime, [obj for _, obj in targets], prop)
+        if read_all is not None:
+            bulk.append((compact_index([column for column, _ in targets]), read_all))
+        else:
+            single += [(column, source.reader(obj, prop)) for column, obj in targets]
+    return bulk, single
+
+
+def _resolve(named: dict[str, Any], name: str) -> tuple[Any, SignalSource, str]:
+    subject, _, prop = name.partition(".")
+    if not prop:
+        raise ConfigError(f"signals: {name!r} is not '<object>.<signal>'")
+    obj = named.get(subject)
+    if obj is None:
+        raise ConfigError(f"signals: {name!r} names no object of the runtime "
+                          f"(known: {', '.join(named) or 'none'})")
+    source = source_of(obj)
+    if source is None:
+        raise ConfigError(f"signals: {name!r}: no signal source for {type(obj).__name__} "
+                          "(signals.register_source)")
+    if prop not in source.signals:
+        raise ConfigError(f"signals: {name!r}: a signal of {source.kind} {subject!r} is one "
+                          f"of {', '.join(source.signals) or 'none'}")
+    return obj, source, prop
+

@@ -1,0 +1,52 @@
+"""Smoke test of ``openmotion bench trace``: tiny sizes, structure and the goal's shape, never
+timings."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from openmotion.bench import trace
+from openmotion.bench.runner import BENCHMARKS, render, run_benchmark
+
+
+@pytest.fixture(scope="module")
+def result() -> dict:
+    seen: list[str] = []
+    out = run_benchmark("trace", quick=True, progress=seen.append)
+    assert seen and all(line.startswith("trace: ") for line in seen)
+    return out
+
+
+def test_trace_is_a_benchmark() -> None:
+    assert "trace" in BENCHMARKS
+
+
+def test_the_goal_records_100_signals_of_60_axes() -> None:
+    names = [f"a{i}" for i in range(100)]
+    signals = trace.goal_signals(names)
+    assert len(signals) == trace.GOAL_SIGNALS == len(set(signals))
+    assert {name.split(".")[0] for name in signals} == set(names[:60])
+
+
+def test_result_shape_is_json_and_renders(result: dict) -> None:
+    figures = result["results"]
+    assert [(r["kind"], r["signals"]) for r in figures["sampling"]] == [
+        ("kernel", 10), ("kernel", 100), ("axis state", 100), ("planar", 30)]
+    for row in figures["sampling"]:
+        assert row["sample_us"] > 0.0
+        assert row["signal_sample_us"] == pytest.approx(row["sample_us"] / row["signals"])
+    goal = figures["goal"]
+    assert set(goal["cycle_us"]) == {"off", "every_cycle", "every_10"}
+    assert goal["signal_sample_us"] > 0.0 and isinstance(goal["faster_than_real_time"], bool)
+    assert set(result["goals"]) == {"real_time"}
+    json.loads(json.dumps(result, allow_nan=False))
+    text = render(result)
+    assert "bench trace" in text and "per signal-sample" in text and "passed:" in text
+
+
+def test_wide_traces_take_fewer_samples() -> None:
+    assert trace.samples_for(10, 20_000) == 20_000
+    assert trace.samples_for(1000, 20_000) == trace.SAMPLE_VALUES // 1000
+    assert trace.samples_for(10**7, 20_000) == 100
