@@ -14,11 +14,11 @@ from typing import TYPE_CHECKING
 
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar.enums import PlanarState
-from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand
+from openmotion.planar.feedback import PlanarCommand
 from openmotion.planar.options import CDT_MCTOPLC_PLANAR_GROUP_STD
 from openmotion.planar.reservation import MemberId, ReservationRegistry
-from openmotion.planar.states import PlanarStateMachine, StateCommand, title
-from openmotion.planar.system import PlanarObject, PlanarSystem
+from openmotion.planar.states import PlanarStateMachine, title
+from openmotion.planar.system import PlanarObject, PlanarSystem, StatefulObject
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -26,7 +26,7 @@ if TYPE_CHECKING:
     from openmotion.runtime.runtime import Runtime
 
 
-class MC_PlanarGroup(PlanarObject):
+class MC_PlanarGroup(StatefulObject):
     """A planar group: Enable, Disable, Reset and the members' reserved areas."""
 
     def __init__(self, runtime: Runtime, name: str | None = None) -> None:
@@ -39,15 +39,6 @@ class MC_PlanarGroup(PlanarObject):
 
     def __repr__(self) -> str:
         return f"<MC_PlanarGroup 16#{self.oid:08X} {self.state.name}>"
-
-    def enable(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send(StateCommand.ENABLE, feedback)
-
-    def disable(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send(StateCommand.DISABLE, feedback)
-
-    def reset(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send(StateCommand.RESET, feedback)
 
     @property
     def mc_to_plc_std(self) -> CDT_MCTOPLC_PLANAR_GROUP_STD:

@@ -66,7 +66,7 @@ from openmotion.planar.states import (
     StateCommand,
     check_accepts,
 )
-from openmotion.planar.system import PlanarObject, PlanarSystem
+from openmotion.planar.system import PlanarSystem, StatefulObject
 from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 
@@ -105,7 +105,7 @@ class _Motion:
     releases: list[float] = field(default_factory=list)  #: [s] when a piece of area is behind
 
 
-class MC_PlanarMover(PlanarObject):
+class MC_PlanarMover(StatefulObject):
     """A planar mover. ``MC_PlanarMover(rt)`` makes one with the manual's default init
     parameters (``PlanarMoverParameters``); it starts Disabled at ``initial_position``.
 
@@ -148,15 +148,6 @@ class MC_PlanarMover(PlanarObject):
         return f"<MC_PlanarMover {self.name} 16#{self.oid:08X} {self.mc_to_plc.std.state.name}>"
 
     # -- the manual's methods (§7.2.2.8) -------------------------------------------------------
-
-    def enable(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send(StateCommand.ENABLE, feedback)
-
-    def disable(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send(StateCommand.DISABLE, feedback)
-
-    def reset(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send(StateCommand.RESET, feedback)
 
     def move_to_position(self, target: PositionXYC,
                          constraint: IPlcDynamicConstraint | None = None,

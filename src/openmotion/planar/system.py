@@ -19,6 +19,7 @@ import numpy as np
 
 from openmotion.core.errors import CommandRejected
 from openmotion.planar.feedback import CommandQueue, MC_PlanarFeedbackBase, PlanarCommand
+from openmotion.planar.states import StateCommand
 from openmotion.trajectory.evaluate import SegmentTable
 from openmotion.trajectory.segments import KinematicState
 
@@ -73,6 +74,19 @@ class PlanarObject:
         """The manual's Update(): the runtime exchanges the data of every planar object each
         cycle, so calling it changes nothing; PLC-style programs may keep the call."""
 
+
+
+class StatefulObject(PlanarObject):
+    """A planar object with the planar state machine (§4.1): Enable, Disable, Reset."""
+
+    def enable(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(StateCommand.ENABLE, feedback)
+
+    def disable(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(StateCommand.DISABLE, feedback)
+
+    def reset(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send(StateCommand.RESET, feedback)
 
 class PlanarSystem:
     """All planar objects of one runtime, their setpoint table and the cycle that runs them."""
