@@ -9,19 +9,9 @@ corners stay on the 240 mm grid after any number of round trips.
 
 from __future__ import annotations
 
-import math
 from typing import NamedTuple
 
-_QUARTER_TURNS = ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))
-
-
-def cos_sin(c: float) -> tuple[float, float]:
-    """cos and sin of ``c`` [°]; exact at multiples of 90°, where libm is off by 6e-17."""
-    turns, rest = divmod(c, 90.0)
-    if rest == 0.0:
-        return _QUARTER_TURNS[int(turns) % 4]
-    radians = math.radians(c)
-    return math.cos(radians), math.sin(radians)
+from openmotion.core.angles import cos_sin as cos_sin  # the planar frames' trigonometry
 
 
 class Pose(NamedTuple):
