@@ -19,7 +19,7 @@ from openmotion.coordinated.kinematics import (
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 
 TOL = 1e-9  #: [mm] and [rad]; angles are compared in degrees, so the check is stricter
-UNREACHABLE = ErrorId.INVALID_PARAMETER_VALUE  # until ErrorId has a TARGET_UNREACHABLE id
+UNREACHABLE = ErrorId.TARGET_UNREACHABLE
 
 SCARA = Scara(300.0, 250.0, z_axis=True, c_axis=True)
 DELTA = DeltaRobot(base_radius=200.0, effector_radius=50.0, upper_arm=300.0, forearm=800.0)
@@ -129,7 +129,7 @@ def test_scara_inverse_velocity_is_rejected_where_singular(elbow):
     arm = Scara(300.0, 300.0)
     with pytest.raises(CommandRejected, match="singular") as caught:
         arm.inverse_velocity([20.0, elbow], [10.0, 0.0])
-    assert caught.value.error_id is ErrorId.INVALID_PARAMETER_VALUE
+    assert caught.value.error_id is ErrorId.KINEMATICS_SINGULAR
     assert np.all(np.isfinite(arm.forward_velocity([20.0, elbow], [10.0, 5.0])))
 
 
@@ -224,7 +224,7 @@ def test_delta_has_no_configuration_to_choose():
     assert DELTA.configuration([10.0, 20.0, 30.0]) is None
     with pytest.raises(CommandRejected, match="no configuration") as caught:
         DELTA.inverse([0.0, 0.0, -800.0], Configuration.ELBOW_UP)
-    assert caught.value.error_id is ErrorId.INVALID_PARAMETER_VALUE
+    assert caught.value.error_id is ErrorId.INVALID_CONFIGURATION
 
 
 # --- all models: Jacobian, velocities, vectorisation, bad input ---------------------------------

@@ -163,8 +163,8 @@ CELLS = {
     "MC_TrackRotaryTable": "n.h.se",
 }
 BUFFERED_CELLS = {"MC_GroupHome": "n.h.se", "MC_GroupSetPosition": "n.h.se"}  # §5.7
-CODES = {"n": ErrorId.GROUP_NOT_ENABLED, "x": ErrorId.NOTHING_TO_DO, "h": ErrorId.AXIS_HOMING,
-         "m": ErrorId.AXIS_MOVING, "s": ErrorId.GROUP_STOPPING, "e": ErrorId.GROUP_IN_ERROR}
+CODES = {"n": ErrorId.GROUP_NOT_ENABLED, "x": ErrorId.NOTHING_TO_DO, "h": ErrorId.GROUP_HOMING,
+         "m": ErrorId.GROUP_MOVING, "s": ErrorId.GROUP_STOPPING, "e": ErrorId.GROUP_IN_ERROR}
 
 
 def cells(table: dict[str, str], mode: BufferMode) -> list[tuple[str, BufferMode, G, str]]:

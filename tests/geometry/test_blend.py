@@ -183,7 +183,7 @@ def test_straight_continuation_gives_a_straight_contour():
 def rejected(call) -> str:
     with pytest.raises(CommandRejected) as info:
         call()
-    assert info.value.error_id == ErrorId.INVALID_PARAMETER_VALUE
+    assert info.value.error_id == ErrorId.INVALID_PATH_GEOMETRY
     return info.value.message
 
 

@@ -48,7 +48,7 @@ def on_circle(center, radius, normal, u, angle):
     return center + radius * (math.cos(angle) * u + math.sin(angle) * np.cross(normal, u))
 
 
-def rejected(call, error_id=ErrorId.INVALID_PARAMETER_VALUE) -> str:
+def rejected(call, error_id=ErrorId.INVALID_PATH_GEOMETRY) -> str:
     with pytest.raises(CommandRejected) as info:
         call()
     assert info.value.error_id == error_id

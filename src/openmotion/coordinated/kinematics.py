@@ -11,7 +11,7 @@ MCS vectors hold only the coordinates a model drives, in the fixed order of ``CO
 (x, y, z, a, b, c); ``Kinematics.coordinates`` names them.
 
 Rejections raise ``CommandRejected`` so that the group FB can report them. Targets out of
-reach and singular poses use INVALID_PARAMETER_VALUE until ``ErrorId`` gains ids of their own.
+reach and singular poses are TARGET_UNREACHABLE and KINEMATICS_SINGULAR.
 """
 
 from __future__ import annotations
@@ -30,8 +30,8 @@ Array = NDArray[np.float64]
 Limits = Sequence[tuple[float, float] | None]  #: per ACS axis: (minimum, maximum) or None
 
 COORDINATES = ("x", "y", "z", "a", "b", "c")  #: MCS slots in their fixed order (§4)
-_UNREACHABLE = ErrorId.INVALID_PARAMETER_VALUE  #: to become a TARGET_UNREACHABLE id
-_SINGULAR = ErrorId.INVALID_PARAMETER_VALUE  #: to become a KINEMATICS_SINGULAR id
+_UNREACHABLE = ErrorId.TARGET_UNREACHABLE
+_SINGULAR = ErrorId.KINEMATICS_SINGULAR
 _SINGULAR_CONDITION = 1e12  #: a Jacobian worse conditioned than this is not inverted
 _REACH_TOLERANCE = 1e-9  #: [mm] rounding beyond the workspace border still counts as inside
 _DEG = math.pi / 180.0  #: [rad/°] scales the Jacobian's angle columns to the public units
@@ -144,7 +144,7 @@ class Kinematics(ABC):
             return self.default_configuration
         if configuration not in self.configurations:
             offered = ", ".join(c.name for c in self.configurations) or "none"
-            raise CommandRejected(ErrorId.INVALID_PARAMETER_VALUE,
+            raise CommandRejected(ErrorId.INVALID_CONFIGURATION,
                                   f"{type(self).__name__}: no configuration {configuration!r}; "
                                   f"it offers: {offered}")
         return configuration

@@ -183,9 +183,9 @@ START_EVENT: dict[str, GroupEvent] = {
     "MC_GroupReset": E.RESET,
 }
 
-# Stand-ins until ErrorId has GROUP_MOVING and GROUP_HOMING (reported, not added here).
-_MOVING_ID = ErrorId.AXIS_MOVING
-_HOMING_ID = ErrorId.AXIS_HOMING
+# the refusals of a group that is busy (Part 4 §3.1)
+_MOVING_ID = ErrorId.GROUP_MOVING
+_HOMING_ID = ErrorId.GROUP_HOMING
 
 _REFUSAL: dict[AxesGroupState, tuple[ErrorId, str]] = {
     G.DISABLED: (ErrorId.GROUP_NOT_ENABLED, "enable the group first (MC_GroupEnable)"),

@@ -91,6 +91,13 @@ class ErrorId(IntEnum):
     PLANAR_EXT_SETPOINT = 0x7408  #: an external setpoint is missing or beyond the limits (§6.1.6)
     PLANAR_INVALID_INPUT = 0x7409  #: a dynamics or option value out of range (NaN, negative)
     PLANAR_NOT_IN_GROUP = 0x740A  #: a group command for an object that is not a member (§6.3)
+    # coordinated motion (PLCopen Part 4; ours)
+    GROUP_MOVING = 0x7317  #: the block needs the axes group at rest (GroupStandby)
+    GROUP_HOMING = 0x7318  #: the axes group is homing
+    TARGET_UNREACHABLE = 0x7501  #: no axis solution: outside the workspace or an axis limit
+    KINEMATICS_SINGULAR = 0x7502  #: a velocity asked for at a singular pose
+    INVALID_CONFIGURATION = 0x7503  #: a kinematic configuration the model does not offer
+    INVALID_PATH_GEOMETRY = 0x7504  #: no unique circle, a zero-length segment, no blend possible
     # openmotion: axis errors raised by monitoring (0x72xx), these take the axis to ErrorStop
     FOLLOWING_ERROR = 0x7201  #: following error above 1020 for longer than 1021
     SOFT_LIMIT_REACHED = 0x7202  #: a velocity move stopped at an enabled software limit

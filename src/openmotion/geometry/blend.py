@@ -77,7 +77,7 @@ def _monomial(degree: int) -> NDArray[np.float64]:
 
 
 def _reject(message: str) -> CommandRejected:
-    return CommandRejected(ErrorId.INVALID_PARAMETER_VALUE, message)
+    return CommandRejected(ErrorId.INVALID_PATH_GEOMETRY, message)
 
 
 class Contour:

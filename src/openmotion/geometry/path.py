@@ -60,7 +60,7 @@ def as_point(value: ArrayLike, name: str) -> Vector:
 
 
 def _reject(message: str) -> CommandRejected:
-    return CommandRejected(ErrorId.INVALID_PARAMETER_VALUE, message)
+    return CommandRejected(ErrorId.INVALID_PATH_GEOMETRY, message)
 
 
 def _clamped(s: ArrayLike, length: float) -> NDArray[np.float64]:
