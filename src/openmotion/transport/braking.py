@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from openmotion.transport.kernels import brake_states, envelopes
+
 Arrays = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 
 
@@ -68,18 +70,10 @@ def _boundaries(p: np.ndarray, v: np.ndarray, a: np.ndarray, durations: np.ndarr
 
 def brake_state(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
                 jerk: np.ndarray, t: float) -> Arrays:
-    """(p, v, a, j) a time ``t`` [s] into the brake of each mover; at rest after its end."""
-    durations, jerks = brake_phases(v, a, dec, jerk)
-    P, V, A = _boundaries(p, v, a, durations, jerks)  # noqa: N806
-    ends = np.cumsum(durations, axis=1)
-    phase = (t >= ends).sum(axis=1)  # 0..3; 3 = at rest
-    rows = np.arange(p.shape[0])
-    start = np.where(phase == 0, 0.0, ends[rows, np.maximum(phase - 1, 0)])
-    tau = t - start
-    j = np.where(phase < 3, jerks[rows, np.minimum(phase, 2)], 0.0)
-    p0, v0, a0 = P[rows, phase], V[rows, phase], A[rows, phase]
-    return (p0 + tau * (v0 + tau * (0.5 * a0 + tau * j / 6.0)),
-            v0 + tau * (a0 + 0.5 * tau * j), a0 + tau * j, j)
+    """(p, v, a, j) a time ``t`` [s] into the brake of each mover; at rest after its end
+    (one compiled loop, kernels.py)."""
+    return brake_states(*(np.ascontiguousarray(x, dtype=float) for x in (p, v, a, dec, jerk)),
+                        float(t))
 
 
 def brake_envelope(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
@@ -89,44 +83,7 @@ def brake_envelope(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
     Usually the velocity keeps its sign while braking and the envelope is spanned by the
     start and the stop point. The velocity can change sign only in a state that brakes harder
     than it needs to: taking its acceleration away at once would already reverse it
-    (``release`` and ``v`` of opposite signs). There the turning points are added.
+    (``release`` and ``v`` of opposite signs). There the turning points are added. One
+    compiled loop over the movers (kernels.py), the same arithmetic as ``_phases``.
     """
-    t1, t2, t3, j1, j3, release = _phases(v, a, dec, jerk)
-    # phase 1 (jerk j1), phase 2 (constant acceleration a1), phase 3 (jerk j3)
-    p1 = p + t1 * (v + t1 * (0.5 * a + t1 * j1 / 6.0))
-    v1 = v + t1 * (a + 0.5 * t1 * j1)
-    a1 = a + t1 * j1
-    p2 = p1 + t2 * (v1 + 0.5 * t2 * a1)
-    v2 = v1 + t2 * a1
-    p3 = p2 + t3 * (v2 + t3 * (0.5 * a1 + t3 * j3 / 6.0))
-    lo, hi = np.minimum(p, p3), np.maximum(p, p3)
-    turns = v * release < 0.0
-    if turns.any():
-        rows = np.flatnonzero(turns)
-        durations, jerks = brake_phases(v[rows], a[rows], dec[rows], jerk[rows])
-        P, V, A = _boundaries(p[rows], v[rows], a[rows], durations, jerks)  # noqa: N806
-        for k in range(3):
-            for tau in _velocity_roots(V[:, k], A[:, k], jerks[:, k], durations[:, k]):
-                inside = np.isfinite(tau)
-                tau = np.where(inside, tau, 0.0)
-                pos = P[:, k] + tau * (V[:, k] + tau * (0.5 * A[:, k] + tau * jerks[:, k] / 6.0))
-                pos = np.where(inside, pos, P[:, k])
-                lo[rows] = np.minimum(lo[rows], pos)
-                hi[rows] = np.maximum(hi[rows], pos)
-    return lo, hi
-
-
-def _velocity_roots(v0: np.ndarray, a0: np.ndarray, j: np.ndarray,
-                    duration: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Times in [0, duration] where v0 + a0 t + j t²/2 = 0 (nan where there is none)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        disc = np.sqrt(np.maximum(a0 * a0 - 2.0 * j * v0, 0.0))
-        quadratic = j != 0.0
-        r1 = np.where(quadratic, (-a0 - disc) / j, -v0 / a0)
-        r2 = np.where(quadratic, (-a0 + disc) / j, np.nan)
-    roots = []
-    for r in (r1, r2):
-        ok = np.isfinite(r) & (r >= 0.0) & (r <= duration)
-        roots.append(np.where(ok, r, np.nan))
-    return roots[0], roots[1]
-
+    return envelopes(*(np.ascontiguousarray(x, dtype=float) for x in (p, v, a, dec, jerk)))

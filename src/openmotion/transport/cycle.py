@@ -21,6 +21,7 @@ from openmotion.transport.braking import brake_envelope, brake_state
 from openmotion.transport.enums import GapControlDirection, GapControlMode, GroupState
 from openmotion.transport.gap_control import TOLERANCE, Pairs, filter_steps
 from openmotion.transport.gear import GearSync
+from openmotion.transport.kernels import candidates
 from openmotion.transport.movers import FOLLOW, GEAR, HALT, HELD, IDLE, MOVING_STATES, CaJob, Mover
 
 if TYPE_CHECKING:
@@ -196,46 +197,17 @@ class GroupCycle:
                     room: tuple[np.ndarray, np.ndarray], out: list[np.ndarray],
                     known: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
         """Write the first fitting step (+J, 0, -J) of each of ``rows`` into ``out``; returns
-        the rows that no step fits."""
-        r = rows.size
-        idx = np.tile(rows, 3)  # candidate c of row k is entry c * r + k
-        p, v, a, sign, target = (x[idx] for x in state)
-        vmax, acc, dec, jm, bdec, bjerk = (x[idx] for x in limits)
-        room_lo, room_hi = room[0][idx], room[1][idx]
-        j = np.repeat(np.array((1.0, 0.0, -1.0)), r) * sign * jm
-        p1 = p + dt * (v + dt * (0.5 * a + dt * j / 6.0))
-        v1 = v + dt * (a + 0.5 * dt * j)
-        a1 = a + dt * j
-        u, b = sign * v1, sign * a1
-        release = u + b * np.abs(b) / (2.0 * jm)  # velocity once b is taken away
-        ok = (b <= acc * (1 + 1e-12)) & (b >= -dec * (1 + 1e-12))
-        ok &= (release <= vmax * (1 + 1e-12)) & (u >= 0.0) & (release >= 0.0)
-        # the target: a cheap bound on the command's stop distance first, exact if needed
-        # (the velocity stays below max(u, release) while braking, which lasts at most
-        # b+/J to take b away, 2 dec/J for the ramps and v/dec at full deceleration)
-        top = np.maximum(u, release)
-        t_stop = (np.maximum(b, 0.0) + 2.0 * dec) / jm + top / dec
-        near = ok & (top * t_stop >= sign * (target - p1))
-        if near.any():
-            i = np.flatnonzero(near)
-            c_lo, c_hi = brake_envelope(p1[i], v1[i], a1[i], dec[i], jm[i])
-            ok[i] = np.where(sign[i] > 0.0, c_hi <= target[i] + TOLERANCE,
-                             c_lo >= target[i] - TOLERANCE)
-        i = np.flatnonzero(ok)  # the neighbours, with the mover's own (hardest) brake
-        b_lo, b_hi = brake_envelope(p1[i], v1[i], a1[i], bdec[i], bjerk[i])
-        fits = (b_hi <= room_hi[i]) & (b_lo >= room_lo[i])
-        ok[i] = fits
-        env_lo, env_hi = np.empty(3 * r), np.empty(3 * r)
-        env_lo[i], env_hi[i] = b_lo, b_hi
-        ok = ok.reshape(3, r)
-        fitting = ok.any(axis=0)
-        pick = (ok.argmax(axis=0) * r + np.arange(r))[fitting]  # the first that fits
-        chosen = rows[fitting]
-        for o, value in zip(out, (p1, v1, a1, j), strict=True):
-            o[chosen] = value[pick]
+        the rows that no step fits (one compiled loop, kernels.candidates)."""
+        m = held.size
+        steps, env = np.empty((4, m)), np.empty((2, m))
+        arrays = (np.ascontiguousarray(x, dtype=float) for x in (*state, *limits, *room))
+        fitted = candidates(rows, dt, *arrays, steps, env)
+        chosen = rows[fitted]
+        for o, value in zip(out, steps, strict=True):
+            o[chosen] = value[chosen]
         slots = held[chosen]  # their envelope is the gap filter's too
-        known[0][slots], known[1][slots], known[2][slots] = True, env_lo[pick], env_hi[pick]
-        return rows[~fitting]
+        known[0][slots], known[1][slots], known[2][slots] = True, env[0, chosen], env[1, chosen]
+        return rows[~fitted]
 
     def _room(self, slots: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Where each mover may stop, given its neighbours' current brake envelopes

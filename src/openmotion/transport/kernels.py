@@ -1,0 +1,172 @@
+"""Compiled loops of gap control (numba): the brake envelope and the held movers' steps.
+
+Gap control asks the same few dozen arithmetic questions of every mover in every cycle.
+As numpy passes each question is an array operation with its own overhead; at 1000 movers
+that overhead, not the arithmetic, set the cycle time (docs/collision-avoidance.md,
+Performance). These loops do the same arithmetic per mover in one compiled pass. Every
+expression keeps the operation order of the numpy formulation in braking.py and cycle.py, so
+the results are the same bit for bit (tests/transport/test_kernels.py compares them).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+TOLERANCE = 1e-9  #: [mm] as gap_control.TOLERANCE
+_SLACK = 1 + 1e-12  #: relative float slack of the limit checks
+
+
+@njit(cache=True)
+def _sign(x: float) -> float:
+    if x > 0.0:
+        return 1.0
+    if x < 0.0:
+        return -1.0
+    return x  # 0.0, -0.0 or nan, as numpy.sign
+
+
+@njit(cache=True)
+def _phases(v: float, a: float, dec: float, jerk: float) -> tuple[float, ...]:
+    """braking._phases for one mover: t1, t2, t3, j1, j3 and the release velocity."""
+    inv = 0.5 / jerk
+    release = v + a * abs(a) * inv
+    d = -_sign(release)
+    peak_sq = 0.5 * a * a - jerk * d * v
+    triangular = (peak_sq <= dec * dec) or (d == 0.0)
+    peak = d * math.sqrt(max(peak_sq, 0.0)) if triangular else d * dec
+    first = _sign(peak - a)
+    gained = (peak * peak - a * a) * inv * first
+    hold = 0.0 if triangular else (-v - gained - peak * abs(peak) * inv) / peak
+    return (abs(peak - a) / jerk, max(hold, 0.0), abs(peak) / jerk, first * jerk, -d * jerk,
+            release)
+
+
+@njit(cache=True)
+def envelope(p: float, v: float, a: float, dec: float, jerk: float) -> tuple[float, float]:
+    """braking.brake_envelope for one mover: the lowest and highest position of its brake."""
+    t1, t2, t3, j1, j3, release = _phases(v, a, dec, jerk)
+    p1 = p + t1 * (v + t1 * (0.5 * a + t1 * j1 / 6.0))
+    v1 = v + t1 * (a + 0.5 * t1 * j1)
+    a1 = a + t1 * j1
+    p2 = p1 + t2 * (v1 + 0.5 * t2 * a1)
+    v2 = v1 + t2 * a1
+    p3 = p2 + t3 * (v2 + t3 * (0.5 * a1 + t3 * j3 / 6.0))
+    lo, hi = min(p, p3), max(p, p3)
+    if v * release < 0.0:  # it turns: add the phase boundaries and the turning points
+        durations = (t1, t2, t3)
+        jerks = (j1, 0.0, j3)
+        pk, vk, ak = p, v, a
+        for k in range(3):
+            t, j = durations[k], jerks[k]
+            for root in _roots(vk, ak, j, t):
+                position = pk
+                if not math.isnan(root):
+                    position = pk + root * (vk + root * (0.5 * ak + root * j / 6.0))
+                lo, hi = min(lo, position), max(hi, position)
+            pk, vk, ak = (pk + t * (vk + t * (0.5 * ak + t * j / 6.0)),
+                          vk + t * (ak + 0.5 * t * j), ak + t * j)
+    return lo, hi
+
+
+@njit(cache=True)
+def _roots(v0: float, a0: float, j: float, duration: float) -> tuple[float, float]:
+    """Times in [0, duration] where v0 + a0 t + j t²/2 = 0 (nan: none)."""
+    disc = math.sqrt(max(a0 * a0 - 2.0 * j * v0, 0.0))
+    if j != 0.0:
+        r1, r2 = (-a0 - disc) / j, (-a0 + disc) / j
+    else:
+        r1 = -v0 / a0 if a0 != 0.0 else (math.nan if v0 == 0.0 else math.inf)
+        r2 = math.nan
+    out1 = r1 if math.isfinite(r1) and 0.0 <= r1 <= duration else math.nan
+    out2 = r2 if math.isfinite(r2) and 0.0 <= r2 <= duration else math.nan
+    return out1, out2
+
+
+@njit(cache=True)
+def envelopes(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
+              jerk: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``envelope`` for every mover."""
+    n = p.shape[0]
+    lo, hi = np.empty(n), np.empty(n)
+    for i in range(n):
+        lo[i], hi[i] = envelope(p[i], v[i], a[i], dec[i], jerk[i])
+    return lo, hi
+
+
+@njit(cache=True)
+def candidates(rows: np.ndarray, dt: float, p: np.ndarray, v: np.ndarray, a: np.ndarray,
+               sign: np.ndarray, target: np.ndarray, vmax: np.ndarray, acc: np.ndarray,
+               dec: np.ndarray, jm: np.ndarray, bdec: np.ndarray, bjerk: np.ndarray,
+               room_lo: np.ndarray, room_hi: np.ndarray, out: np.ndarray,
+               env: np.ndarray) -> np.ndarray:
+    """GroupCycle._candidates for the held movers ``rows`` (indices into the other arrays):
+    the first of the steps +J, 0, -J that keeps the command's limits, does not pass the
+    target and whose brake (with the mover's hardest dynamics) stays in its room. Writes the
+    step into ``out`` (4, m) and its envelope into ``env`` (2, m); returns the mask of the
+    rows that got one."""
+    fitted = np.zeros(rows.shape[0], dtype=np.bool_)
+    for r in range(rows.shape[0]):
+        k = rows[r]
+        s, jk = sign[k], jm[k]
+        for step in (1.0, 0.0, -1.0):
+            j = step * s * jk
+            p1 = p[k] + dt * (v[k] + dt * (0.5 * a[k] + dt * j / 6.0))
+            v1 = v[k] + dt * (a[k] + 0.5 * dt * j)
+            a1 = a[k] + dt * j
+            u, b = s * v1, s * a1
+            release = u + b * abs(b) / (2.0 * jk)
+            if not (b <= acc[k] * _SLACK and b >= -dec[k] * _SLACK
+                    and release <= vmax[k] * _SLACK and u >= 0.0 and release >= 0.0):
+                continue
+            top = max(u, release)
+            t_stop = (max(b, 0.0) + 2.0 * dec[k]) / jk + top / dec[k]
+            if top * t_stop >= s * (target[k] - p1):  # near the target: stop before it
+                c_lo, c_hi = envelope(p1, v1, a1, dec[k], jk)
+                if not (c_hi <= target[k] + TOLERANCE if s > 0.0
+                        else c_lo >= target[k] - TOLERANCE):
+                    continue
+            b_lo, b_hi = envelope(p1, v1, a1, bdec[k], bjerk[k])
+            if b_hi <= room_hi[k] and b_lo >= room_lo[k]:
+                out[0, k], out[1, k], out[2, k], out[3, k] = p1, v1, a1, j
+                env[0, k], env[1, k] = b_lo, b_hi
+                fitted[r] = True
+                break
+    return fitted
+
+
+@njit(cache=True)
+def brake_states(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
+                 jerk: np.ndarray, t: float) -> tuple[np.ndarray, ...]:
+    """braking.brake_state: (p, v, a, j) a time ``t`` into each mover's brake."""
+    n = p.shape[0]
+    po, vo, ao, jo = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    for i in range(n):
+        t1, t2, t3, j1, j3, _ = _phases(v[i], a[i], dec[i], jerk[i])
+        durations = (t1, t2, t3)
+        jerks = (j1, 0.0, j3)
+        pk, vk, ak = p[i], v[i], a[i]
+        start = 0.0
+        end = 0.0
+        j = 0.0
+        rest = True
+        for k in range(3):
+            end = end + durations[k] if k else durations[k]
+            if t < end:  # inside phase k
+                j = jerks[k]
+                rest = False
+                break
+            tk, jk = durations[k], jerks[k]
+            pk, vk, ak = (pk + tk * (vk + tk * (0.5 * ak + tk * jk / 6.0)),
+                          vk + tk * (ak + 0.5 * tk * jk), ak + tk * jk)
+            start = end
+        if rest:  # the brake has ended: at rest where it stopped
+            vk, ak, j = 0.0, 0.0, 0.0
+        tau = t - start
+        po[i] = pk + tau * (vk + tau * (0.5 * ak + tau * j / 6.0))
+        vo[i] = vk + tau * (ak + 0.5 * tau * j)
+        ao[i] = ak + tau * j
+        jo[i] = j
+    return po, vo, ao, jo
