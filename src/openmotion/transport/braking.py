@@ -19,36 +19,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from openmotion.transport.kernels import brake_states, envelopes
+from openmotion.transport.kernels import brake_states, envelopes, phase_table
 
 Arrays = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 
 
 def brake_phases(v: np.ndarray, a: np.ndarray, dec: np.ndarray,
                  jerk: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(durations, jerks), each (N, 3): the time-optimal brake from (v, a) to rest."""
-    t1, t2, t3, j1, j3, _ = _phases(v, a, dec, jerk)
-    zero = np.zeros_like(v)
-    return np.stack((t1, t2, t3), axis=1), np.stack((j1, zero, j3), axis=1)
-
-
-def _phases(v: np.ndarray, a: np.ndarray, dec: np.ndarray,
-            jerk: np.ndarray) -> tuple[np.ndarray, ...]:
-    """Durations t1, t2, t3 and jerks j1, j3 of the three phases (j2 = 0), and the
-    velocity once the acceleration is taken away at once (its sign decides the brake)."""
-    inv = 0.5 / jerk
-    release = v + a * np.abs(a) * inv
-    d = -np.sign(release)  # direction of the velocity change
-    peak_sq = 0.5 * a * a - jerk * d * v
-    triangular = (peak_sq <= dec * dec) | (d == 0.0)
-    peak = np.where(triangular, d * np.sqrt(np.maximum(peak_sq, 0.0)), d * dec)
-    first = np.sign(peak - a)
-    # velocity gained while the acceleration goes from a to the peak, then held
-    gained = (peak * peak - a * a) * inv * first
-    safe_peak = np.where(triangular, 1.0, peak)
-    hold = np.where(triangular, 0.0, (-v - gained - peak * np.abs(peak) * inv) / safe_peak)
-    return (np.abs(peak - a) / jerk, np.maximum(hold, 0.0), np.abs(peak) / jerk,
-            first * jerk, -d * jerk, release)
+    """(durations, jerks), each (N, 3): the time-optimal brake from (v, a) to rest: jerk
+    towards the peak deceleration, hold it, jerk back to zero (kernels._phases)."""
+    return phase_table(*(np.ascontiguousarray(x, dtype=float) for x in (v, a, dec, jerk)))
 
 
 def _boundaries(p: np.ndarray, v: np.ndarray, a: np.ndarray, durations: np.ndarray,
@@ -84,6 +64,6 @@ def brake_envelope(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
     start and the stop point. The velocity can change sign only in a state that brakes harder
     than it needs to: taking its acceleration away at once would already reverse it
     (``release`` and ``v`` of opposite signs). There the turning points are added. One
-    compiled loop over the movers (kernels.py), the same arithmetic as ``_phases``.
+    compiled loop over the movers (kernels.envelope).
     """
     return envelopes(*(np.ascontiguousarray(x, dtype=float) for x in (p, v, a, dec, jerk)))

@@ -4,8 +4,9 @@ Gap control asks the same few dozen arithmetic questions of every mover in every
 As numpy passes each question is an array operation with its own overhead; at 1000 movers
 that overhead, not the arithmetic, set the cycle time (docs/collision-avoidance.md,
 Performance). These loops do the same arithmetic per mover in one compiled pass. Every
-expression keeps the operation order of the numpy formulation in braking.py and cycle.py, so
-the results are the same bit for bit (tests/transport/test_kernels.py compares them).
+expression keeps the operation order of the numpy formulation they replaced, so the results
+were the same bit for bit (D-105); tests/transport/test_braking.py checks the brake against
+the planner's own stop (trajectory.plan.plan_stop).
 """
 
 from __future__ import annotations
@@ -30,7 +31,8 @@ def _sign(x: float) -> float:
 
 @njit(cache=True)
 def _phases(v: float, a: float, dec: float, jerk: float) -> tuple[float, ...]:
-    """braking._phases for one mover: t1, t2, t3, j1, j3 and the release velocity."""
+    """The brake from (v, a) for one mover: durations t1, t2, t3, jerks j1, j3 (j2 = 0) and the
+    velocity once the acceleration is taken away at once (its sign decides the brake)."""
     inv = 0.5 / jerk
     release = v + a * abs(a) * inv
     d = -_sign(release)
@@ -170,3 +172,16 @@ def brake_states(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
         ao[i] = ak + tau * j
         jo[i] = j
     return po, vo, ao, jo
+
+
+@njit(cache=True)
+def phase_table(v: np.ndarray, a: np.ndarray, dec: np.ndarray,
+                jerk: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """braking.brake_phases: durations and jerks of the three phases, each (N, 3)."""
+    n = v.shape[0]
+    durations, jerks = np.empty((n, 3)), np.zeros((n, 3))
+    for i in range(n):
+        t1, t2, t3, j1, j3, _ = _phases(v[i], a[i], dec[i], jerk[i])
+        durations[i, 0], durations[i, 1], durations[i, 2] = t1, t2, t3
+        jerks[i, 0], jerks[i, 2] = j1, j3
+    return durations, jerks
