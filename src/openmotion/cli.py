@@ -179,7 +179,7 @@ def plot(
 @app.command()
 def bench(
     name: Annotated[str, typer.Argument(help="Benchmark to run: axes, otg, fbcall, ca, "
-                                             "planar.")],
+                                             "planar, trace.")],
     json_output: JsonFlag = False,
     quick: Annotated[bool, typer.Option("--quick", help="Small sizes: a smoke run, not a "
                                                         "measurement.")] = False,
