@@ -37,8 +37,9 @@ class GroupCycle:
             succ = np.flatnonzero((self.pred >= 0) & (self.gmode != GapControlMode.NONE))
             both = self.parameters.gap_control_direction is GapControlDirection.BOTH
             y, path = self.tracks.gap_paths(succ)
+            fast = (self.gmode[succ] == GapControlMode.FAST) | self.fast_grace[succ]
             self._pair_cache = Pairs(succ, self.pred[succ], self.offset[succ], self.gap[succ],
-                                     self.gmode[succ] == GapControlMode.FAST, both, y, path)
+                                     fast, both, y, path)
             self._pairs_dirty = False
         return self._pair_cache
 
@@ -75,12 +76,30 @@ class GroupCycle:
         k.set_p[rows], k.set_v[rows], k.set_a[rows], k.set_j[rows] = nxt
         self.p, self.v, self.a = nxt[0], nxt[1], nxt[2]
         self._env = (lo, hi)
+        if self.fast_grace.any():
+            self._end_fast_grace(lo, hi)
         self.mode[braking & (self.mode == FOLLOW)] = HELD
         for slot in np.flatnonzero(braking & (self.mode == GEAR)).tolist():
             sync = self.movers[slot].job.extra  # type: ignore[union-attr]
             sync.held(now, (float(self.p[slot]), float(self.v[slot]), float(self.a[slot])),
                       self._master(sync))
         self._events(now)
+
+    def _end_fast_grace(self, lo: np.ndarray, hi: np.ndarray) -> None:
+        """Pairs switched from FAST to STANDARD become STANDARD once safe in that sense."""
+        pairs = self._pairs()
+        m = np.flatnonzero(self.fast_grace[pairs.succ])
+        s, k = pairs.succ[m], pairs.pred[m]
+        safe = hi[s] + pairs.gap[m] <= lo[k] + pairs.offset[m] + TOLERANCE
+        tcp = pairs.on_tcp(m)
+        if tcp.any():
+            safe[tcp] = hi[s[tcp]] <= pairs.behind(m[tcp], lo[k[tcp]] + pairs.offset[m[tcp]]) \
+                + TOLERANCE
+        if safe.any():
+            self.fast_grace[s[safe]] = False
+            self._pairs_dirty = True
+            self._room_of = None
+        self.fast_grace[self.pred < 0] = False  # no pair at all
 
     def _master(self, sync: GearSync) -> tuple[float, float, float, float]:
         k, row = self._k, sync.master_row

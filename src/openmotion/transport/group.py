@@ -628,13 +628,23 @@ class CaGroup(GroupCycle):
         if job.gap_mode is not GapControlMode.NONE:
             mover.gap = job.gap
         self.gap[slot] = mover.gap
-        self.gmode[slot] = int(job.gap_mode)
+        self._set_gap_mode(slot, int(job.gap_mode))
         lim = job.limits
         self.target[slot] = job.target
         self.lim[:, slot] = (lim.velocity, lim.acceleration, lim.deceleration, lim.jerk)
         self.halting[slot] = job.kind == HALT
         self._pairs_dirty = True
         self._room_of = None
+
+    def _set_gap_mode(self, slot: int, mode: int) -> None:
+        """A mover's gap control mode changes. From FAST to STANDARD its pair may be safe only
+        in the FAST sense (both braking together); it stays checked as FAST until it is safe
+        in the STANDARD sense too, so the switch never breaks the invariant (D-106)."""
+        if self.gmode[slot] == GapControlMode.FAST and mode == GapControlMode.STANDARD:
+            self.fast_grace[slot] = True
+        elif mode != GapControlMode.STANDARD:
+            self.fast_grace[slot] = False
+        self.gmode[slot] = mode
 
     def _abort(self, mover: Mover, reason: str) -> None:
         now = self._rt.now
@@ -652,7 +662,7 @@ class CaGroup(GroupCycle):
         mover.job = None
         slot = mover.slot
         self.mode[slot] = IDLE
-        self.gmode[slot] = int(self.parameters.default_gap_control_mode)
+        self._set_gap_mode(slot, int(self.parameters.default_gap_control_mode))
         self._pairs_dirty = True
         self._room_of = None
         if mover.queue:
@@ -711,6 +721,8 @@ class CaGroup(GroupCycle):
             ordered = ordered[first:] + ordered[:first]
         running = {id(m): (self.mode[m.slot], self.goal[m.slot]) for m in ordered
                    if m.job is not None and 0 <= m.slot < self.mode.size}
+        grace = {id(m): (self.gmode[m.slot], self.fast_grace[m.slot]) for m in ordered
+                 if 0 <= m.slot < self.mode.size}
         self.movers = ordered
         self._arrays(len(ordered))
         for slot, mover in enumerate(ordered):
@@ -719,6 +731,8 @@ class CaGroup(GroupCycle):
             if mover.job is not None:  # keeps following its profile, or stays held
                 self._load_job(mover)
                 self.mode[slot], self.goal[slot] = running.get(id(mover), (FOLLOW, np.nan))
+            if id(mover) in grace:  # the gap mode as it was, before and after a reorder
+                self.gmode[slot], self.fast_grace[slot] = grace[id(mover)]
         self._sync_states()
         self._pairs_dirty = True
         self._room_of = None
@@ -734,6 +748,7 @@ class CaGroup(GroupCycle):
         self.halting = np.zeros(n, dtype=bool)
         self.gap = np.full(n, self.parameters.default_gap)
         self.gmode = np.full(n, int(self.parameters.default_gap_control_mode), dtype=np.int8)
+        self.fast_grace = np.zeros(n, dtype=bool)  #: STANDARD pairs still checked as FAST
         self.bdec = np.array([m.axis.parameters.max_deceleration for m in self.movers]) \
             if n else np.zeros(0)
         self.bjerk = np.array([m.axis.parameters.max_jerk for m in self.movers]) \
