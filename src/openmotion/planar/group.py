@@ -51,14 +51,6 @@ class MC_PlanarGroup(StatefulObject):
         return self._states.state
 
     @property
-    def error(self) -> bool:
-        return self._states.error
-
-    @property
-    def error_id(self) -> ErrorId:
-        return self._states.error_id
-
-    @property
     def members(self) -> tuple[MemberId, ...]:
         return self.registry.members
 

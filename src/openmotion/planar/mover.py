@@ -645,18 +645,6 @@ class MC_PlanarMover(StatefulObject):
             self._status = (stamp, self._snapshot())
         return self._status[1]
 
-    @property
-    def error(self) -> bool:
-        return self._states.error
-
-    @property
-    def error_id(self) -> ErrorId:
-        return self._states.error_id
-
-    @property
-    def message(self) -> str:
-        return self._states.message
-
     def _snapshot(self) -> CDT_MCTOPLC_PLANAR_MOVER:
         std = CDT_MCTOPLC_PLANAR_MOVER_STD(
             mover_oid=self.oid, group_oid=self._group.oid if self._group else 0,

@@ -17,9 +17,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from openmotion.core.errors import CommandRejected
+from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar.feedback import CommandQueue, MC_PlanarFeedbackBase, PlanarCommand
-from openmotion.planar.states import StateCommand
+from openmotion.planar.states import PlanarStateMachine, StateCommand
 from openmotion.trajectory.evaluate import SegmentTable
 from openmotion.trajectory.segments import KinematicState
 
@@ -77,7 +77,22 @@ class PlanarObject:
 
 
 class StatefulObject(PlanarObject):
-    """A planar object with the planar state machine (§4.1): Enable, Disable, Reset."""
+    """A planar object with the planar state machine (§4.1): Enable, Disable, Reset, and the
+    FB outputs Error and ErrorId (with openmotion's readable ``message``)."""
+
+    _states: PlanarStateMachine
+
+    @property
+    def error(self) -> bool:
+        return self._states.error
+
+    @property
+    def error_id(self) -> ErrorId:
+        return self._states.error_id
+
+    @property
+    def message(self) -> str:
+        return self._states.message
 
     def enable(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         return self._send(StateCommand.ENABLE, feedback)
