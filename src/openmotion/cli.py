@@ -76,9 +76,10 @@ def run(
                                              "name.")] = Path("trace.csv"),
     plot: Annotated[Path | None, typer.Option(help="Also draw the scenario's figure into this "
                                                     "image file (.png, .svg, .pdf): the planar "
-                                                    "plot with planar movers, the rail plot "
-                                                    "with CA groups, else the scope. The run "
-                                                    "records what it needs.")] = None,
+                                                    "plot with planar movers, the path plot "
+                                                    "with axes groups, the rail plot with CA "
+                                                    "groups, else the scope. The run records "
+                                                    "what it needs.")] = None,
     json_output: JsonFlag = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print nothing but errors; the "
                                                               "exit code tells the result.")]
@@ -159,8 +160,9 @@ def plot(
         "--output", "-o", help="Image file to write, .png, .svg or .pdf. Default: the trace's "
         "name with .png.", show_default=False)] = None,
 ) -> None:
-    """Draw a trace: the planar plot with planar movers, the rail plot with CA groups, else
-    the scope (stacked panels over time, command events marked)."""
+    """Draw a trace: the planar plot with planar movers, the path plot with axes groups, the
+    rail plot with CA groups, else the scope (stacked panels over time, command events
+    marked)."""
     from openmotion.trace import image_format, read_trace, save_plot
 
     target = output or trace.with_suffix(".png")

@@ -49,7 +49,7 @@ def test_every_example_gets_its_default_figure_as_a_valid_image(runs, name: str)
     result, image = runs[name]
     assert is_image(image, image.suffix[1:]), image
     expected = "planar" if name.startswith("planar") else "rail" if name.startswith("ca_") \
-        else "scope"
+        else "path" if result.scenario.axes_groups else "scope"
     assert default_figure(result.trace) == expected
 
 

@@ -287,7 +287,7 @@ def test_a_misspelt_input_is_a_type_error_with_a_suggestion(make, inputs, hint):
 
 def test_group_blocks_take_the_group_first_and_no_axis():
     _, group, axes = ring(1000.0)
-    with pytest.raises(TypeError, match="needs a CA group"):
+    with pytest.raises(TypeError, match="needs an axes group"):
         MC_GroupEnable()(execute=True)
     with pytest.raises(TypeError, match="has no input 'axis'"):
         MC_GroupEnable(group)(execute=True, axis=axes[0])

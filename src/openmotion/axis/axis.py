@@ -988,11 +988,12 @@ class Axis:
     # -- internals: starting, replacing and ending jobs ---------------------------------------
 
     def _admit(self, family: str) -> None:
-        """PLCopen state check; a CA group member only moves through its group (TF5410)."""
+        """PLCopen state check; a group member only moves through its group (TF5410; Part 4
+        §3.2 option 1)."""
         if self.group is not None:
             raise CommandRejected(ErrorId.AXIS_IN_GROUP,
-                                  f"the axis is in CA group {getattr(self.group, 'name', '')!r}: "
-                                  "use the CA blocks")
+                                  f"the axis is in group {getattr(self.group, 'name', '')!r}: "
+                                  "use the group's blocks")
         admit(self.state, family)
 
     def _move(self, kind: str, target_of: Callable[[float], float], velocity: InputValue,

@@ -22,6 +22,7 @@ from openmotion.bench.axes import run_axes
 from openmotion.bench.ca import run_ca
 from openmotion.bench.fbcall import run_fbcall
 from openmotion.bench.otg import run_otg
+from openmotion.bench.path import run_path
 from openmotion.bench.planar import run_planar
 from openmotion.bench.trace import run_trace
 
@@ -36,6 +37,8 @@ CA_GOAL_P99_US = 500.0
 PLANAR_GOAL_N = 100
 PLANAR_ADMISSION_GOAL_US = 50.0
 PLANAR_GOAL_P99_US = 250.0
+PATH_GOAL_SEGMENTS = 10_000
+PATH_GOAL_P99_US = 200.0  #: issue #7: planner work per cycle on a 10 000-segment path
 TRACE_GOAL_US = 1000.0  #: 100 axes, 100 signals recorded every 1 ms cycle: faster than real time
 
 
@@ -68,6 +71,10 @@ def _planar(quick: bool, progress: Progress) -> dict[str, Any]:
     return run_planar(progress=progress)
 
 
+def _path(quick: bool, progress: Progress) -> dict[str, Any]:
+    return run_path(segments=200 if quick else PATH_GOAL_SEGMENTS, progress=progress)
+
+
 def _trace(quick: bool, progress: Progress) -> dict[str, Any]:
     if quick:
         return run_trace(samples=200, counts=(10, 100), cycles=200, progress=progress)
@@ -80,6 +87,7 @@ BENCHMARKS: dict[str, Callable[[bool, Progress], dict[str, Any]]] = {
     "fbcall": _fbcall,
     "ca": _ca,
     "planar": _planar,
+    "path": _path,
     "trace": _trace,
 }
 
@@ -191,6 +199,21 @@ def goals_planar(results: dict[str, Any]) -> dict[str, Any]:
     return goals
 
 
+def goals_path(results: dict[str, Any]) -> dict[str, Any]:
+    goals = {
+        "limit_violations": _goal("no axis beyond its velocity, acceleration or jerk limit",
+                                  results["limit_violations"], results["limit_violations"] == 0),
+        "end": _goal("the path ends at its last point (< 1e-9 mm)", results["end_error_mm"],
+                     results["done"] and results["end_error_mm"] < 1e-9),
+    }
+    if results["segments"] >= PATH_GOAL_SEGMENTS:
+        p99 = results["planner_us_p99"]
+        goals["planner_p99"] = _goal(f"{PATH_GOAL_SEGMENTS} segments: planner work per cycle "
+                                     f"p99 < {PATH_GOAL_P99_US:g} us", p99,
+                                     p99 is not None and p99 < PATH_GOAL_P99_US)
+    return goals
+
+
 def goals_trace(results: dict[str, Any]) -> dict[str, Any]:
     goal = results["goal"]
     cycle = goal["cycle_us"]["every_cycle"]
@@ -205,6 +228,7 @@ GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "fbcall": goals_fbcall,
     "ca": goals_ca,
     "planar": goals_planar,
+    "path": goals_path,
     "trace": goals_trace,
 }
 
@@ -401,8 +425,21 @@ def _render_trace(results: dict[str, Any]) -> list[str]:
     ]
 
 
+def _render_path(results: dict[str, Any]) -> list[str]:
+    r = results
+    return _table(
+        ["segments", "cycles", "select ms", "start us", "planner p50", "planner p99",
+         "planner max", "mean v", "commanded v", "at v", "duration s", "1-profile s",
+         "violations"],
+        [[r["segments"], r["cycles"], r["select_ms"], r["start_us"], r["planner_us_p50"],
+          r["planner_us_p99"], r["planner_us_max"], r["mean_path_velocity"],
+          r["commanded_velocity"], r["time_at_commanded_speed"], r["duration_s"],
+          r["single_profile_s"], r["limit_violations"]]])
+
+
 _RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
-           "ca": _render_ca, "planar": _render_planar, "trace": _render_trace}
+           "ca": _render_ca, "planar": _render_planar, "path": _render_path,
+           "trace": _render_trace}
 
 
 def render(result: dict[str, Any]) -> str:

@@ -58,6 +58,11 @@ _NEWTON = 3  #: Newton steps from arc length to curve parameter: two reach round
 _SAMPLES = 257  #: samples before refining an extremum
 _ZOOMS = 6  #: zoom steps around a sampled extremum, 16x finer each
 _REGULAR = 1e-6  #: smallest parametric speed, relative to the largest, before we call it a cusp
+_PEAKS_SAMPLES = 513  #: samples of ``_peaks``
+_CANDIDATES = 3  #: sampled peaks per column that ``_peaks`` refines
+_MAX_ZOOMS = 12  #: zoom steps of ``_peaks`` at most, 4x finer each
+_BEND = 2e-4  #: ``_peaks`` zooms until its curvature allowance is below this share of the peak
+BOUND_MARGIN = 1e-9  #: relative, added to the refined peaks of ``Contour.derivative_bounds``
 
 
 def _bernstein(degree: int, u: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -189,10 +194,74 @@ class Contour:
         """[1/mm], the peak over the whole contour (sampled, then refined)."""
         return _peak(lambda u: np.linalg.norm(self._curvature_vector_at(u), axis=-1))
 
+    def _frame_at(self, u: NDArray[np.float64]) -> tuple[Vector, Vector, Vector]:
+        """Unit tangent, curvature vector and its arc-length rate at curve parameters ``u``.
+
+        With r1, r2, r3 the u-derivatives of the curve and σ = |r1| = ds/du:
+        k = N/σ⁴ with N = σ²·r2 - (r1·r2)·r1, and dk/ds = (N'/σ⁴ - 4(r1·r2)·N/σ⁶)/σ with
+        N' = (r1·r2)·r2 + σ²·r3 - (r2·r2 + r1·r3)·r1.
+        """
+        u = np.asarray(u, dtype=float)
+        powers = np.empty(u.shape + (5,))
+        powers[..., 0], powers[..., 1], powers[..., 2] = 1.0, u, u * u
+        powers[..., 3], powers[..., 4] = powers[..., 2] * u, powers[..., 2] * powers[..., 2]
+        r = powers @ self._derivatives_in_powers
+        r1, r2, r3 = r[..., 0:3], r[..., 3:6], r[..., 6:9]
+        speed2, d12 = _dot(r1, r1), _dot(r1, r2)
+        n = speed2 * r2 - d12 * r1
+        n_rate = d12 * r2 + speed2 * r3 - (_dot(r2, r2) + _dot(r1, r3)) * r1
+        speed, speed4 = np.sqrt(speed2), speed2 * speed2
+        return r1 / speed, n / speed4, (n_rate - 4.0 * d12 * n / speed2) / (speed4 * speed)
+
+    @cached_property
+    def _derivatives_in_powers(self) -> NDArray[np.float64]:
+        """B', B'', B''' side by side in powers of u: (5, 9), one product evaluates all three."""
+        third = 3.0 * np.diff(self._second, axis=0)  # 60 x third differences of the points
+        table = np.zeros((5, 9))
+        table[:, 0:3] = self._power
+        table[:4, 3:6] = _monomial(3) @ self._second
+        table[:3, 6:9] = _monomial(2) @ third
+        return table
+
+    def curvature_rate(self, s: ArrayLike) -> Vector:
+        """d(curvature_vector)/ds [1/mm²]: the axis jerk has a term v³·dk/ds."""
+        return self._frame_at(self._parameter(s)[1])[2]
+
+    @cached_property
+    def max_curvature_rate(self) -> float:
+        """[1/mm²], the peak of ``|curvature_rate|`` over the whole contour (sampled, refined)."""
+        return _peak(lambda u: np.linalg.norm(self._frame_at(u)[2], axis=-1))
+
+    def derivative_bounds(self) -> Vector:
+        """Per coordinate, the largest |dx/ds|, |d²x/ds²|, |d³x/ds³| on the contour: (3, 3).
+
+        Row 0 bounds the tangent, row 1 the curvature vector, row 2 its rate; the axis limits
+        of a Cartesian group follow from them (coordinated/limits.py). Sampled, not proven:
+        each of the nine functions is sampled at 513 curve parameters, and each sampled peak
+        gets an allowance for the curve between samples (``_peaks``), which puts the bound at
+        most ~2e-4 above the true peak; ``BOUND_MARGIN`` covers the round-off where a peak
+        is sampled exactly (the ends). A peak could only be missed if it hid between two
+        samples without lifting either; the coordinates are smooth rational functions of the
+        curve parameter, which even near a cusp vary on a scale far above the spacing.
+        """
+        return self._derivative_bounds.copy()
+
+    @cached_property
+    def _derivative_bounds(self) -> Vector:
+        def magnitudes(u: NDArray[np.float64]) -> NDArray[np.float64]:
+            return np.abs(np.concatenate(self._frame_at(u), axis=-1))
+
+        return (1.0 + BOUND_MARGIN) * _peaks(magnitudes).reshape(3, 3)
+
     def distance_to(self, target: ArrayLike) -> float:
         """Shortest distance [mm] from ``target`` to the contour."""
         offset = as_point(target, "point") - self.start
         return -_peak(lambda u: -np.linalg.norm(_bernstein(5, u) @ self._local - offset, axis=-1))
+
+
+def _dot(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Dot products over the last axis, kept as a length-1 axis for broadcasting."""
+    return np.einsum("...i,...i->...", a, b)[..., None]
 
 
 def _peak(f: Callable[[NDArray[np.float64]], NDArray[np.float64]]) -> float:
@@ -216,6 +285,57 @@ def _peak(f: Callable[[NDArray[np.float64]], NDArray[np.float64]]) -> float:
         best = max(best, float(values.max()))
         width /= 16.0
     return best
+
+
+def _peaks(f: Callable[[NDArray[np.float64]], NDArray[np.float64]]) -> NDArray[np.float64]:
+    """An upper bound of each column of f on [0, 1]: ``_peak`` for several functions at once.
+
+    f maps parameters of any shape to values of that shape plus one axis of m columns.
+    Between two samples δ apart a smooth function exceeds the larger by at most
+    max|f''|·δ²/8. At each sampled peak the second difference estimates |f''|·δ², an average
+    over two intervals, and we add a quarter of it (``_bent_peaks``): twice the worst case,
+    for f'' that grows towards the peak. That holds while f'' changes little between
+    samples, which a small allowance shows: up to ``_BEND`` of the column's peak we accept it
+    (at most ~2e-4, mostly ~1e-5, on contours at 513 samples: one call of f). Otherwise, as
+    near a cusp, we zoom in on the ``_CANDIDATES`` best peaks of each column, 4x finer each
+    time, until the allowance is that small. Sampled, not proven: a peak narrower than the
+    spacing that no sample notices is missed (contours have none, tests/coordinated).
+    """
+    u = np.linspace(0.0, 1.0, _PEAKS_SAMPLES)
+    y = f(u).T
+    bound, bend, totals = _bent_peaks(y)
+    if np.all(bend <= _BEND * bound):
+        return bound
+    centre = u[np.argsort(totals, axis=1)[:, -_CANDIDATES:]]  # (m, candidates)
+    width = 1.0 / (_PEAKS_SAMPLES - 1)
+    columns = np.arange(len(bound))
+    offsets = np.linspace(-1.0, 1.0, 9)
+    for _ in range(_MAX_ZOOMS):
+        centre = np.clip(centre, width, 1.0 - width)  # windows inside [0, 1]: no repeats
+        grid = centre[..., None] + width * offsets  # (m, candidates, 9)
+        values = f(grid)[columns, :, :, columns]  # each column at its own points
+        zoomed, bends, _ = _bent_peaks(values)
+        pick = np.argmax(values, axis=2)[..., None]
+        centre, width = np.take_along_axis(grid, pick, axis=2)[..., 0], width / 4.0
+        best = zoomed.max(axis=1)
+        if np.all(bends <= _BEND * best[:, None]):
+            break
+    return np.maximum(y.max(axis=1), best)  # the samples, and the zoomed peaks with allowance
+
+
+def _bent_peaks(values: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+    """Along the last axis (equally spaced samples): the largest sample at a local peak plus
+    a quarter of the second difference there, that allowance, and the sum at every sample
+    (-inf off the peaks), see ``_peaks``."""
+    edge = np.full(values.shape[:-1] + (1,), -np.inf)
+    padded = np.concatenate([edge, values, edge], axis=-1)
+    peak = (values >= padded[..., :-2]) & (values >= padded[..., 2:])
+    k = np.clip(np.arange(values.shape[-1]), 1, values.shape[-1] - 2)
+    bend = np.maximum(2.0 * values[..., k] - values[..., k - 1] - values[..., k + 1], 0.0) / 4.0
+    total = np.where(peak, values + bend, -np.inf)
+    best = np.argmax(total, axis=-1)[..., None]
+    return (np.take_along_axis(total, best, -1)[..., 0],
+            np.take_along_axis(bend, best, -1)[..., 0], total)
 
 
 @dataclass(frozen=True, eq=False)

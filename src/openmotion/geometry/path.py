@@ -105,6 +105,25 @@ class Line:
         """Curvature times the principal normal [1/mm]: zero on a line."""
         return np.zeros(np.shape(s) + (3,))
 
+    def curvature_rate(self, s: ArrayLike) -> Vector:
+        """d(curvature_vector)/ds [1/mm²]: zero on a line."""
+        return np.zeros(np.shape(s) + (3,))
+
+    @property
+    def max_curvature_rate(self) -> float:
+        """[1/mm²], the peak of ``|curvature_rate|``: zero."""
+        return 0.0
+
+    def derivative_bounds(self) -> Vector:
+        """Per coordinate, the largest |dx/ds|, |d²x/ds²|, |d³x/ds³| on the segment: (3, 3).
+
+        Row 0 bounds the tangent, row 1 the curvature vector, row 2 its rate; the axis limits
+        of a Cartesian group follow from them (coordinated/limits.py). Exact on a line.
+        """
+        bounds = np.zeros((3, 3))
+        bounds[0] = np.abs(self.direction)
+        return bounds
+
     def substring(self, s_start: float, s_end: float) -> Line:
         """The part between two arc lengths (shapely's name), for trimming at blends."""
         return Line(self.position(s_start), self.position(s_end))
@@ -258,6 +277,28 @@ class Arc:
         radial = np.cos(phi)[..., None] * self._u + np.sin(phi)[..., None] * self._v
         return -radial / self.radius
 
+    def curvature_rate(self, s: ArrayLike) -> Vector:
+        """d(curvature_vector)/ds [1/mm²]: -tangent/radius², length 1/radius²."""
+        return -self.tangent(s) / self.radius**2
+
+    @property
+    def max_curvature_rate(self) -> float:
+        """[1/mm²], the peak of ``|curvature_rate|``: 1/radius² everywhere."""
+        return 1.0 / self.radius**2
+
+    def derivative_bounds(self) -> Vector:
+        """Per coordinate, the largest |dx/ds|, |d²x/ds²|, |d³x/ds³| on the arc: (3, 3).
+
+        Exact: each coordinate of the tangent and of the curvature vector is a sinusoid
+        ``ρ·cos(φ - α)`` of the angle φ in [0, sweep]; its largest magnitude is ρ when a crest
+        (φ = α + mπ) lies in the sweep, else the larger end value. The rate is -tangent/R².
+        """
+        bounds = np.empty((3, 3))
+        bounds[0] = _sinusoid_peak(self._v, -self._u, self.sweep)
+        bounds[1] = _sinusoid_peak(-self._u, -self._v, self.sweep) / self.radius
+        bounds[2] = bounds[0] / self.radius**2
+        return bounds
+
     def substring(self, s_start: float, s_end: float) -> Arc:
         """The part between two arc lengths on the same circle, for trimming at blends."""
         s0, s1 = float(_clamped(s_start, self.length)), float(_clamped(s_end, self.length))
@@ -270,6 +311,13 @@ class Arc:
         part._set(self.position(s0), self.position(s1), self.center, self.radius, u, v,
                   (s1 - s0) / self.radius)
         return part
+
+
+def _sinusoid_peak(a: Vector, b: Vector, sweep: float) -> Vector:
+    """Largest |a·cos φ + b·sin φ| over φ in [0, sweep], per coordinate."""
+    crest = np.remainder(np.arctan2(b, a), math.pi)  # first φ >= 0 where |value| = amplitude
+    ends = np.maximum(np.abs(a), np.abs(a * math.cos(sweep) + b * math.sin(sweep)))
+    return np.where(crest <= sweep, np.hypot(a, b), ends)
 
 
 Segment: TypeAlias = Line | Arc

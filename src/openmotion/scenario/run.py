@@ -22,6 +22,7 @@ from openmotion.axis.probe import InputRef, abort_probe, arm_probe
 from openmotion.core.enums import AxisState
 from openmotion.core.errors import ConfigError, ErrorId
 from openmotion.runtime.runtime import Runtime
+from openmotion.scenario.coordinated_machine import AxesGroupRow, AxesGroups, axes_group_table
 from openmotion.scenario.cyclic import BlockEntry
 from openmotion.scenario.groups import CaGroups, GroupRow, MoverRow
 from openmotion.scenario.load import load_scenario
@@ -99,6 +100,7 @@ class ScenarioResult:
     ca_movers: list[MoverRow] = field(default_factory=list)  #: every CA mover at the end
     ca_groups: list[GroupRow] = field(default_factory=list)  #: each CA group's minimum gap
     planar_movers: list[PlanarMoverRow] = field(default_factory=list)  #: each at the end
+    axes_groups: list[AxesGroupRow] = field(default_factory=list)  #: each at the end
 
     @property
     def passed(self) -> bool:
@@ -119,6 +121,8 @@ class ScenarioResult:
                    if self.ca_groups else {}),
                 **({"planar_movers": [clean(row) for row in self.planar_movers]}
                    if self.planar_movers else {}),
+                **({"axes_groups": [clean(row) for row in self.axes_groups]}
+                   if self.axes_groups else {}),
                 "trace": {"rows": len(self.trace), "columns": list(self.trace.columns)}}
 
     def renderable(self) -> RenderableType:
@@ -133,6 +137,9 @@ class ScenarioResult:
         objects = [f"{axes} {'axis' if axes == 1 else 'axes'}"] if axes or not movers else []
         if movers:
             objects.append(f"{movers} planar mover{'' if movers == 1 else 's'}")
+        if self.axes_groups:
+            count = len(self.axes_groups)
+            objects.append(f"{count} axes group{'' if count == 1 else 's'}")
         header = Text(f"{self.scenario.name}: {', '.join(objects)}, {self.cycles} "
                       f"cycles of {self.scenario.cycle_time * 1000:g} ms = "
                       f"{self.end_time:.{digits}f} s simulated")
@@ -157,6 +164,8 @@ class ScenarioResult:
             parts += self._ca_renderables(digits)
         if self.planar_movers:
             parts.append(planar_table(self.planar_movers, _number))
+        if self.axes_groups:
+            parts.append(axes_group_table(self.axes_groups, _number))
         if self.checks:
             checks = Table(box=box.SIMPLE, title_justify="left", title="Checks")
             for name in ("check", "result", "detail"):
@@ -279,6 +288,8 @@ class _Run:
                 spec.probe.build(axis)
         #: the CA groups, built after the axes (and enabled before the first cycle)
         self.ca = CaGroups(rt, scenario.ca_groups)
+        #: the axes groups (Part 4), built after the CA groups
+        self.coordinated = AxesGroups(rt, scenario.axes_groups)
         self.entries = list(scenario.entries())
         self.fire_cycle = [None if entry.at is None else cycle_of(entry.at, rt.cycle_time)
                            for _, entry in self.entries]
@@ -293,7 +304,7 @@ class _Run:
         self.blocks = BlockPrograms(rt, self.holds)
         planar = self.planar
         objects = [*filter(None, [planar.environment]), *planar.movers.values(),
-                   *planar.groups.values()]
+                   *planar.groups.values(), *self.coordinated.groups.values()]
         signals = list(scenario.signals)
         if figure:
             needed = figure_signals(describe([*rt.axes.values(), *objects]))
@@ -310,6 +321,7 @@ class _Run:
         self.blocks()
         self.planar.feed()
         self.ca.release_due()
+        self.coordinated.release_due()
         self.fire_due()
 
     def fire_due(self) -> None:
@@ -322,6 +334,9 @@ class _Run:
                 self.issue(index, entry)
 
     def issue(self, index: int, entry: Entry) -> None:
+        if self.coordinated.owns(entry):
+            self._issued(index, entry, self.coordinated.issue(entry))  # type: ignore[arg-type]
+            return
         if isinstance(entry, CA_ENTRIES):
             self._issued(index, entry, self.ca.issue(entry, self.by_id))
             return
@@ -377,6 +392,8 @@ class _Run:
             return command is not None and bool(getattr(command, attribute))
         value = self.planar.signal(condition.subject, condition.attribute)
         if value is None:
+            value = self.coordinated.signal(condition.subject, condition.attribute)
+        if value is None:
             value = read_signal(self.rt.axes[condition.subject], condition.attribute)
         return _OPERATORS[condition.operator](value, condition.value)
 
@@ -407,7 +424,8 @@ class _Run:
             check.finish()
         return ScenarioResult(scenario, self.rows(), [c.row() for c in self.checks],
                               self.recorder.trace, rt.cycle, rt.now, self.ca.mover_rows(),
-                              self.ca.group_rows(), self.planar.rows())
+                              self.ca.group_rows(), self.planar.rows(),
+                              self.coordinated.rows())
 
     def finished(self) -> bool:
         """``duration`` is over; or ``settle_time`` after all came to rest, or the cap."""
@@ -428,14 +446,16 @@ class _Run:
         filter or a stepper block, which run to the end, do not count; nor does a busy CA
         command whose group stands still (a mover queued behind another stays Busy, TF5410
         §9.1.1.1.1). A CA mover stands with |v| and |a| at most 1e-9 of its maxima
-        (groups.STANDING)."""
+        (groups.STANDING). A tracking or syncing command of an axes group runs in the
+        background and does not count either; a group_stop that holds an axes group or a
+        group that homes does."""
         cycle = self.rt.cycle
         if any(self.fire_cycle[i] is not None and self.fire_cycle[i] > cycle
                for i in self.pending) or any(c.waiting(cycle) for c in self.checks):
             return False
-        if self.blocks.busy or self.ca.busy or self.planar.busy or any(
+        if self.blocks.busy or self.ca.busy or self.planar.busy or self.coordinated.busy or any(
                 not (c.finished or c.in_velocity and c.kind not in _UNTIL_FINISHED)
-                and not self.ca.waiting(c)
+                and not self.ca.waiting(c) and not self.coordinated.waiting(c)
                 for c in self.issued.values() if c.kind not in _TO_THE_END):
             return False
         if not all(map(self.ca.standing, self.ca.groups.values())):
@@ -513,6 +533,8 @@ class _CheckState:
 
     def _signal(self, check: SignalCheck) -> tuple[bool, str]:
         planar = self.run.planar.reading(check.signal)
+        if planar is None:
+            planar = self.run.coordinated.reading(check.signal)
         if planar is not None:
             value, shown, named = planar
             shown = shown or _number(value)

@@ -92,6 +92,9 @@ class _Names:
     planar_movers: Counter[str] = dataclasses.field(default_factory=Counter)
     planar_groups: Counter[str] = dataclasses.field(default_factory=Counter)
     planar_parts: set[int] = dataclasses.field(default_factory=set)  #: part OIDs
+    axes_groups: Counter[str] = dataclasses.field(default_factory=Counter)  #: Part 4 groups
+    group_axes: dict[str, list[str]] = dataclasses.field(default_factory=dict)  #: axis ->
+    #: the axes groups that list it (once per listing)
 
     @classmethod
     def of(cls, data: object) -> _Names:
@@ -113,10 +116,17 @@ class _Names:
             for axis in axes if isinstance(axes, list) else []:
                 if isinstance(axis, str):
                     members.setdefault(axis, []).append(str(group.get("name")))
+        group_axes: dict[str, list[str]] = {}
+        for group in items("axes_groups"):
+            axes = group.get("axes")
+            for axis in axes if isinstance(axes, list) else []:
+                if isinstance(axis, str):
+                    group_axes.setdefault(axis, []).append(str(group.get("name")))
         planar = data.get("planar") if isinstance(data, dict) else None
         return cls(names("axes", "name"), names("timeline", "id"), commands,
                    names("ca_groups", "name"), members, names("movers", "name", planar),
-                   names("groups", "name", planar), part_oids(planar))
+                   names("groups", "name", planar), part_oids(planar),
+                   names("axes_groups", "name"), group_axes)
 
 
 _NAMES: ContextVar[_Names | None] = ContextVar("openmotion_scenario_names", default=None)
@@ -140,10 +150,15 @@ def _check_mover(name: str) -> str:
 
 
 def _check_group(name: str) -> str:
+    """A CA group or an axes group: the group commands both share (MC_GroupEnable ...)."""
     names = _NAMES.get()
-    if names is not None and name not in names.groups:
+    if names is not None and name not in names.groups and name not in names.axes_groups:
         known = ", ".join(sorted(names.groups)) or "none"
-        raise ValueError(f"unknown CA group {name!r} (ca_groups: {known})")
+        if not names.axes_groups:
+            raise ValueError(f"unknown CA group {name!r} (ca_groups: {known})")
+        axes_groups = ", ".join(sorted(names.axes_groups))
+        raise ValueError(f"unknown group {name!r} (ca_groups: {known}; axes_groups: "
+                         f"{axes_groups})")
     return name
 
 
@@ -206,6 +221,8 @@ def _enum_by_name(enum: type[Enum]) -> Any:
 def _signal(name: str) -> str:
     if is_planar(name.partition(".")[0]):
         return check_planar_signal(name)
+    if is_axes_group(name.partition(".")[0]):
+        return check_group_signal(name)
     axis, prop = split_signal(name)
     if prop in MOVER_SIGNALS:
         _check_mover(axis)
@@ -312,6 +329,9 @@ def parse_condition(text: object) -> Condition:
     planar = planar_condition(text, subject, attribute, operator, raw)
     if planar is not None:
         return planar
+    group = axes_group_condition(text, subject, attribute, operator, raw)
+    if group is not None:
+        return group
     if attribute not in AXIS_SIGNALS:
         raise ValueError(f"{text!r}: the signal must be one of {', '.join(AXIS_SIGNALS)}")
     if attribute in MOVER_SIGNALS:
@@ -809,6 +829,17 @@ class AbortSuperposition(Entry):
     command: Literal["abort_superposition"]
 
 
+# Axes groups (PLCopen Part 4): the axes_groups list and the entries on axes groups.
+from openmotion.scenario.coordinated import (  # noqa: E402 - needs Entry and the types above
+    COORDINATED_COMMANDS,
+    AxesGroupSpec,
+    axes_group_condition,
+    check_group_signal,
+    default_group_signals,
+    group_named_value,
+    is_axes_group,
+)
+
 # The entries that a function block carries out (jog, external setpoints, override filter,
 # stepper, reference flag) build on Entry above; they live in their own module.
 from openmotion.scenario.cyclic import (  # noqa: E402 - needs Entry and the types above
@@ -865,9 +896,9 @@ COMMANDS: dict[str, type[Entry]] = {
                   SetGap, GroupHalt, GroupStop, GroupEnable, GroupDisable,
                   GroupReset)  # type: ignore[misc]
 }
-#: every timeline entry's model by its ``command``: COMMANDS (on axes, CA movers and groups)
-#: and the planar ones (on planar movers and groups)
-TIMELINE_COMMANDS: dict[str, type] = {**COMMANDS, **PLANAR_COMMANDS}
+#: every timeline entry's model by its ``command``: COMMANDS (on axes, CA movers and groups),
+#: the planar ones (on planar movers and groups) and the axes-group ones
+TIMELINE_COMMANDS: dict[str, type] = {**COMMANDS, **PLANAR_COMMANDS, **COORDINATED_COMMANDS}
 TimelineEntry = Annotated[
     Union[tuple(Annotated[model, Tag(name)]  # noqa: UP007 - a union built from the dict
                 for name, model in TIMELINE_COMMANDS.items())],
@@ -936,12 +967,15 @@ class SignalCheck(_Check):
         if self.expect is None and self.min is None and self.max is None:
             raise ValueError("give 'expect', 'min' or 'max'")
         subject, _, signal = self.signal.partition(".")
-        planar = is_planar(subject)
+        planar, group = is_planar(subject), is_axes_group(subject)
         self._expected = self.expect if not isinstance(self.expect, str) else \
-            planar_named_value(signal, self.expect) if planar else named_value(signal, self.expect)
+            planar_named_value(signal, self.expect) if planar else \
+            group_named_value(signal, self.expect) if group else \
+            named_value(signal, self.expect)
         if isinstance(self.expect, str) and self._expected is None:
             raise ValueError(f"expect: {self.expect!r} is not a number" + (
                 {"state": " or a planar state name"} if planar else
+                {"state": " or an axes group state name"} if group else
                 {"state": " or a state name", "axis_error_id": " or an ErrorId name"}).get(
                     signal, ""))
         return self
@@ -1016,6 +1050,8 @@ class Scenario(_Model):
     """CA groups (TF5410), built after the axes in this order."""
     planar: PlanarSpec | None = None
     """Planar movers on a stator surface (TF5430): scenario/planar.py."""
+    axes_groups: list[AxesGroupSpec] = []
+    """Axes groups (PLCopen Part 4), built after the CA groups: scenario/coordinated.py."""
     timeline: list[TimelineEntry] = []
     """Commands, looked at in this order every cycle."""
     record: RecordSpec = RecordSpec()
@@ -1046,7 +1082,7 @@ class Scenario(_Model):
         if self.record.signals is not None:
             return list(self.record.signals)
         return default_signals(axis.name for axis in self.axes) + \
-            default_planar_signals(self.planar)
+            default_planar_signals(self.planar) + default_group_signals(self.axes_groups)
 
     def entries(self) -> Iterator[tuple[str, Entry]]:
         """(label, entry) in timeline order; the label is the id or ``#<number>``."""

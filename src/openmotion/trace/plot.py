@@ -1,5 +1,6 @@
 """A trace's figures: the scope (scope.py), the rail of a CA group (rail.py), the planar
-surface (planar.py), and which of them is a trace's default.
+surface (planar.py), the path of an axes group (path.py), and which of them is a trace's
+default.
 
 matplotlib is imported inside the functions, never with the package, and every figure is
 drawn on an Agg canvas of its own: no pyplot, no global backend, no GUI and no warnings.
@@ -22,10 +23,13 @@ if TYPE_CHECKING:
 
 IMAGE_FORMATS = ("png", "svg", "pdf")  #: by the file's suffix
 DPI = 110  #: dots per inch of a PNG (SVG and PDF are vector images)
-FIGURES = ("planar", "rail", "scope")  #: in the order ``default_figure`` considers them
-#: what each figure needs of a planar mover and of a CA mover
+FIGURES = ("planar", "path", "rail", "scope")  #: in the order ``default_figure`` considers
+#: them; what each figure needs of a planar mover, of a CA mover, of an axes group and of
+#: each of its members
 PLANAR_FIGURE_SIGNALS = ("x", "y", "c")
 RAIL_FIGURE_SIGNALS = ("set_position", "gap")
+PATH_FIGURE_SIGNALS = ("x", "y", "path_velocity")
+PATH_MEMBER_SIGNALS = ("set_position", "set_velocity", "set_acceleration")
 #: colour of an event by its result
 RESULT_COLORS = {"ISSUED": "0.45", "DONE": "tab:green", "ABORTED": "tab:orange",
                  "ERROR": "tab:red"}
@@ -64,24 +68,39 @@ def ca_groups(trace: Trace) -> dict[str, dict[str, Any]]:
             if any(f"{mover}.set_position" in trace for mover in group["movers"])}
 
 
+def axes_groups(trace: Trace) -> dict[str, dict[str, Any]]:
+    """The axes groups of the layout whose TCP x and y the trace holds."""
+    return {name: group for name, group in trace.layout.get("axes_groups", {}).items()
+            if f"{name}.x" in trace and f"{name}.y" in trace}
+
+
 def default_figure(trace: Trace) -> str:
-    """``planar`` when the trace holds planar movers' x and y, ``rail`` when it holds CA
-    movers' set positions, else ``scope``."""
+    """``planar`` when the trace holds planar movers' x and y, ``path`` when it holds axes
+    groups' TCP x and y, ``rail`` when it holds CA movers' set positions, else ``scope``."""
     if planar_movers(trace):
         return "planar"
+    if axes_groups(trace):
+        return "path"
     return "rail" if ca_groups(trace) else "scope"
 
 
 def figure_signals(layout: dict[str, Any]) -> list[str]:
     """What the default figure of a run with this layout needs recorded: x, y, c of every
-    planar mover (and its coordinate system when there are parts); else set position and
-    gap of every CA mover; else nothing beyond the recorded signals (the scope)."""
+    planar mover (and its coordinate system when there are parts); else x, y and path
+    velocity of every axes group and set position, velocity and acceleration of its members;
+    else set position and gap of every CA mover; else nothing beyond the recorded signals
+    (the scope)."""
     planar = layout.get("planar", {})
     movers = planar.get("movers", {})
     if movers:
         props = (*PLANAR_FIGURE_SIGNALS, "coordinate_system") if planar.get("parts") \
             else PLANAR_FIGURE_SIGNALS
         return [f"{name}.{prop}" for name in movers for prop in props]
+    groups = layout.get("axes_groups", {})
+    if groups:
+        return [*(f"{name}.{prop}" for name in groups for prop in PATH_FIGURE_SIGNALS),
+                *(f"{axis}.{prop}" for group in groups.values() for axis in group["axes"]
+                  for prop in PATH_MEMBER_SIGNALS)]
     return [f"{mover}.{prop}" for group in layout.get("ca_groups", {}).values()
             for mover in group["movers"] for prop in RAIL_FIGURE_SIGNALS]
 
@@ -90,6 +109,7 @@ def plot_trace(trace: Trace, title: str | None = None,
                signals: Sequence[str] | None = None) -> Figure:
     """The trace's default figure (``default_figure``); with ``signals``, the scope figure
     of those signals (or objects: every recorded signal of each)."""
+    from openmotion.trace.path import path_figure
     from openmotion.trace.planar import planar_figure
     from openmotion.trace.rail import rail_figure
     from openmotion.trace.scope import scope_figure
@@ -99,6 +119,8 @@ def plot_trace(trace: Trace, title: str | None = None,
     kind = default_figure(trace)
     if kind == "planar":
         return planar_figure(trace, title)
+    if kind == "path":
+        return path_figure(trace, title)
     return rail_figure(trace, title) if kind == "rail" else scope_figure(trace, None, title)
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
+from openmotion.coordinated.states import AxesGroupState
 from openmotion.core.enums import AxisState
 from openmotion.core.errors import ConfigError
 from openmotion.planar import PlanarState
@@ -25,8 +26,8 @@ if TYPE_CHECKING:
 QUANTITIES = (
     ("position [mm]", ("set_position", "position", "track_position", "tcp_position", "x",
                        "y")),
-    ("velocity [mm/s]", ("set_velocity", "velocity")),
-    ("acceleration [mm/s²]", ("set_acceleration",)),
+    ("velocity [mm/s]", ("set_velocity", "velocity", "path_velocity")),
+    ("acceleration [mm/s²]", ("set_acceleration", "path_acceleration")),
     ("jerk [mm/s³]", ("set_jerk",)),
     ("following error [mm]", ("following_error",)),
     ("gap [mm]", ("gap",)),
@@ -38,10 +39,11 @@ QUANTITIES = (
     ("homed", ("homed",)),
     ("error id", ("axis_error_id",)),
 )
-_STYLES = {"position": "--", "velocity": "--", "y": "-.", "b": "--", "c": "-.",
-           "tcp_position": ":", "track_position": "-."}
+_STYLES = {"position": "--", "velocity": "--", "path_velocity": "--", "y": "-.", "b": "--",
+           "c": "-.", "tcp_position": ":", "track_position": "-."}
 _STEPS = frozenset({"state", "homed", "axis_error_id", "coordinate_system"})
-_STATES = {"axis": AxisState, "planar_mover": PlanarState, "planar_group": PlanarState}
+_STATES = {"axis": AxisState, "planar_mover": PlanarState, "planar_group": PlanarState,
+           "axes_group": AxesGroupState}
 MAX_LABELS = 40  #: issue events labelled by name at most; more are only marked
 
 

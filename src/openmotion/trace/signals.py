@@ -9,7 +9,8 @@ recorder looks the object up by name and asks the source registered for its type
 - ``PlanarMoverSignals`` for ``MC_PlanarMover`` (``PLANAR_MOVER_SIGNALS``);
 - ``PlanarGroupSignals`` for ``MC_PlanarGroup`` (``state``);
 - ``PlanarEnvironmentSignals`` for ``MC_PlanarEnvironment`` (no signals: it only describes
-  the stators and parts a planar figure draws).
+  the stators and parts a planar figure draws);
+- ``AxesGroupSignals`` for a Part 4 ``AxesGroup`` (``GROUP_SIGNALS``).
 
 ``register_source(kind, source)`` adds a kind of object. A source may also read all its
 objects' values of one signal in one numpy operation (``bulk``), and ``describe`` an object
@@ -21,12 +22,14 @@ from __future__ import annotations
 
 import math
 import re
+import weakref
 from collections.abc import Callable, Iterable, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from openmotion.axis.axis import Axis
+from openmotion.coordinated.group import AxesGroup
 from openmotion.core.errors import CommandRejected
 from openmotion.planar import MC_PlanarEnvironment, MC_PlanarGroup, MC_PlanarMover
 from openmotion.planar.stators import STATOR_SIZE
@@ -48,6 +51,11 @@ DEFAULT_AXIS_SIGNALS = ("set_position", "set_velocity", "set_acceleration", "pos
 #: A planar mover's signals: its published set position, path velocity, PlanarState and the
 #: coordinate system its position is in (with parts).
 PLANAR_MOVER_SIGNALS = ("x", "y", "z", "a", "b", "c", "velocity", "state", "coordinate_system")
+#: An axes group's signals (Part 4): its TCP's set position x, y, z in the MCS [mm], the path
+#: velocity and acceleration of its time law [mm/s, mm/s²] and its AxesGroupState number.
+GROUP_SIGNALS = ("x", "y", "z", "path_velocity", "path_acceleration", "state")
+#: What a scenario records of each axes group when it names no signals.
+DEFAULT_GROUP_SIGNALS = ("x", "y", "z", "path_velocity")
 _WHOLE_SIGNALS = frozenset({"state", "homed", "axis_error_id"})
 _SIGNAL = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)\.([a-z_]+)$")
 #: signals kept in the axis kernel's arrays, read for all axes at once
@@ -78,7 +86,8 @@ def read_signal(axis: Axis, prop: str) -> float:
     """
     if prop in MOVER_SIGNALS:
         group = axis.group
-        return math.nan if group is None else _mover_signal(group, axis, prop)
+        return math.nan if group is None or isinstance(group, AxesGroup) \
+            else _mover_signal(group, axis, prop)
     value = getattr(axis, prop)
     if prop == "override":
         return float(value) * 100.0
@@ -115,6 +124,39 @@ def read_planar_signal(mover: MC_PlanarMover, prop: str) -> float:
     if prop == "coordinate_system":
         return float(mover.mc_to_plc.set.physical_area_id)
     return float(getattr(mover.position, prop))
+
+
+def read_group_signal(group: AxesGroup, prop: str) -> float:
+    """One signal of an axes group: ``x``, ``y``, ``z`` (the TCP's set position in the MCS;
+    0 for a coordinate its kinematics lacks, NaN without members), ``path_velocity`` and
+    ``path_acceleration`` (of its time law, along the path in the frame the path runs in:
+    0 while the TCP only rides on a moving PCS), ``state`` (the AxesGroupState number)."""
+    if prop == "state":
+        return float(group.state)
+    if prop in ("path_velocity", "path_acceleration"):
+        return float(getattr(group.motion, prop))
+    if not group.members:
+        return math.nan
+    return float(_tcp(group)["xyz".index(prop)])
+
+
+#: group -> (set positions, kinematics, MCS offset, TCP) of its last TCP reading
+_TCP_CACHE: weakref.WeakKeyDictionary[AxesGroup, tuple[bytes, Any, bytes, np.ndarray]] = \
+    weakref.WeakKeyDictionary()
+
+
+def _tcp(group: AxesGroup) -> np.ndarray:
+    """The TCP's set position in the MCS; x, y and z read in one sample share one forward
+    transform (the cache is keyed by all it depends on)."""
+    spaces = group.spaces
+    acs = group.acs_set()
+    acs_key, offset_key = acs.tobytes(), spaces.mcs_offset.tobytes()
+    cached = _TCP_CACHE.get(group)
+    if cached is None or cached[0] != acs_key or cached[1] is not spaces.kinematics \
+            or cached[2] != offset_key:
+        cached = acs_key, spaces.kinematics, offset_key, spaces.xyz(spaces.to_mcs(acs))
+        _TCP_CACHE[group] = cached
+    return cached[3]
 
 
 # -- the registry ------------------------------------------------------------------------------
@@ -167,7 +209,7 @@ class AxisSignals(SignalSource):
 
     def describe(self, obj: Axis) -> dict[str, Any]:
         group: Any = obj.group
-        if group is None:
+        if group is None or isinstance(group, AxesGroup):
             return {}
         parameters = group.parameters
         return {"ca_groups": {group.name: {
@@ -221,6 +263,22 @@ class PlanarEnvironmentSignals(SignalSource):
         return {"planar": planar}
 
 
+class AxesGroupSignals(SignalSource):
+    """A Part 4 axes group: its members (IdentInGroup order) and MCS coordinates describe it
+    for the path figure."""
+
+    kind = "axes_group"
+    signals = GROUP_SIGNALS
+
+    def read(self, obj: AxesGroup, prop: str) -> float:
+        return read_group_signal(obj, prop)
+
+    def describe(self, obj: AxesGroup) -> dict[str, Any]:
+        return {"axes_groups": {obj.name: {
+            "axes": [axis.name for axis in obj.axes],
+            "coordinates": list(obj.kinematics.coordinates)}}}
+
+
 _SOURCES: dict[type, SignalSource] = {}
 
 
@@ -269,3 +327,4 @@ register_source(Axis, AxisSignals())
 register_source(MC_PlanarMover, PlanarMoverSignals())
 register_source(MC_PlanarGroup, PlanarGroupSignals())
 register_source(MC_PlanarEnvironment, PlanarEnvironmentSignals())
+register_source(AxesGroup, AxesGroupSignals())

@@ -206,8 +206,16 @@ class MC_HaltCA(ExecuteBlock):
 # -- group blocks (§9.3.1) ----------------------------------------------------------------------
 
 
+#: what the group blocks call: CaGroup (TF5410) and AxesGroup (Part 4) both offer it
+_GROUP_API = ("add_axis", "remove_axis", "ungroup_all", "enable", "disable", "reset", "halt",
+              "stop", "state", "error_id")
+
+
 class _OnGroup(FunctionBlock):
-    """A block whose reference is a CA group, given first: ``fb(group, ...)``.
+    """A block whose reference is an axes group, given first: ``fb(group, ...)``.
+
+    One set of group blocks serves both kinds of group: the CA group of TF5410 and the
+    coordinated-motion group of PLCopen Part 4 (coordinated/group.py).
 
     The group is the input ``axes_group`` (AXES_GROUP_REF); ``axis`` is no input unless the
     block names one (MC_AddAxisToGroup).
@@ -230,9 +238,11 @@ class _OnGroup(FunctionBlock):
         super().__call__(None, **inputs)  # type: ignore[misc] - ExecuteBlock/EnableBlock
 
     def _axis(self) -> Any:  # the reference the handshake hands to _issue/_enabled
-        if not isinstance(self.axes_group, CaGroup):
-            raise TypeError(f"{type(self).__name__} needs a CA group: call it as fb(group, ...)")
-        return self.axes_group
+        group = self.axes_group
+        if not all(hasattr(group, name) for name in _GROUP_API):
+            raise TypeError(f"{type(self).__name__} needs an axes group (a CA group or a "
+                            "Part 4 AxesGroup): call it as fb(group, ...)")
+        return group
 
 
 class _GroupCommand(_OnGroup, ExecuteBlock):
@@ -361,6 +371,7 @@ class _GroupRead(_OnGroup, EnableBlock):
         self.valid = self.busy = False
 
     def _enabled(self, group: CaGroup, rising: bool) -> None:  # type: ignore[override]
+        self.valid = False  # a read that fails shows Error, not an old value as valid
         self._read(group)
         self.valid = self.busy = True
 
@@ -377,8 +388,9 @@ class MC_GroupReadStatus(_GroupRead):
 
     Outputs: valid, busy, group_moving, group_homing, group_error_stop, group_not_ready,
     group_standby, group_stopping, group_disabled, all_axes_standing (no member moves:
-    v = 0 and a = 0, command or not), error, error_id. ConstantVelocity, Accelerating,
-    Decelerating and InPosition are not supported by TF5410 and left out.
+    v = 0 and a = 0, command or not), error, error_id; constant_velocity, accelerating,
+    decelerating and in_position of the path (Part 4 §5.17) for a Part 4 AxesGroup. TF5410
+    does not support those four, so they stay FALSE for a CA group.
     """
 
     _STATE_FLAG: ClassVar[dict[GroupState, str]] = {
@@ -393,11 +405,20 @@ class MC_GroupReadStatus(_GroupRead):
         for flag in self._STATE_FLAG.values():
             setattr(self, flag, False)
         self.all_axes_standing = False
+        self.constant_velocity = self.accelerating = self.decelerating = False
+        self.in_position = False
 
     def _read(self, group: CaGroup) -> None:
-        for state, flag in self._STATE_FLAG.items():
-            setattr(self, flag, group.state is state)
+        for state, flag in self._STATE_FLAG.items():  # both groups number their states alike
+            setattr(self, flag, int(group.state) == int(state))
         self.all_axes_standing = group.all_axes_standing
+        flags = getattr(group, "status_flags", None)  # Part 4's motion flags (§5.17)
+        if flags is not None:
+            values = flags()
+            self.constant_velocity = values["ConstantVelocity"]
+            self.accelerating = values["Accelerating"]
+            self.decelerating = values["Decelerating"]
+            self.in_position = values["InPosition"]
 
 
 class MC_GroupReadError(_GroupRead):

@@ -1,0 +1,896 @@
+"""The axes group of PLCopen Part 4: members, state, coordinate systems and the path cycle.
+
+Members are ordinary axes. While the group moves it owns their setpoints: every cycle, right
+after the profiles are evaluated, it samples its path time law (timing.py), turns the path
+point into axis positions through the kinematics, and writes them into the kernel rows of
+its members. Between motions the rows hold still on a profile of their own.
+
+State: one ``GroupStateMachine`` (states.py) decides what may start; this class fires its
+events and keeps the members' single-axis states coupled (§3.2, Table 5). Path commands are
+built in moves.py; this module carries out what they planned.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from openmotion.axis.commands import Command, CommandStatus
+from openmotion.coordinated.frames import Frame
+from openmotion.coordinated.inputs import (
+    CoordSystem,
+    PathDynamics,
+    TransitionMode,
+    dynamic_value,
+    enum_value,
+)
+from openmotion.coordinated.inputs import buffer_mode as part4_buffer_mode
+from openmotion.coordinated.kinematics import Kinematics
+from openmotion.coordinated.moves import PathMotion
+from openmotion.coordinated.requests import build_request
+from openmotion.coordinated.spaces import Spaces, default_kinematics
+from openmotion.coordinated.states import (
+    AxesGroupState,
+    ExecutionMode,
+    GroupEvent,
+    GroupStateMachine,
+    member_event,
+    member_state,
+)
+from openmotion.coordinated.tracking import (
+    AxisSync,
+    ConveyorFrame,
+    GroupFrame,
+    RotaryTableFrame,
+)
+from openmotion.core.enums import AxisState, BufferMode
+from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.core.special_values import MC_DEFAULT, InputValue
+from openmotion.geometry.path import CircMode, PathChoice
+from openmotion.trajectory.segments import KinematicState, Profile
+
+if TYPE_CHECKING:
+    from openmotion.axis.axis import Axis
+    from openmotion.runtime.runtime import Runtime
+
+G = AxesGroupState
+
+
+def ident_number(ident: Any) -> int:
+    """IdentInGroup as a number: an ``IdentInGroup`` (TF5410 style) or a plain int >= 0."""
+    value = getattr(ident, "value", ident)
+    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+        raise CommandRejected(ErrorId.INVALID_IDENT,
+                              f"IdentInGroup must be an integer >= 0, got {ident!r}")
+    return value
+
+
+class AxesGroup:
+    """An AXES_GROUP_REF (Part 4 §4): axes that move together on a path.
+
+    ``AxesGroup(rt, "xy")`` makes an empty, disabled group; add axes, enable it, move it. The
+    Python methods return a ``Command``, as the axis methods do; the FBs (blocks.py) call them.
+    """
+
+    def __init__(self, runtime: Runtime, name: str = "group",
+                 dynamics: PathDynamics | None = None) -> None:
+        self.name = name
+        self._rt = runtime
+        self._k = runtime._kernel
+        self.machine = GroupStateMachine()
+        self.members: dict[int, Axis] = {}  #: IdentInGroup -> axis, in insertion order
+        self.dynamics = dynamics or PathDynamics()
+        self.spaces = Spaces(default_kinematics(0))
+        self.error_id = ErrorId.NO_ERROR  #: the group error behind GroupErrorStop
+        self.error_message = ""
+        self.factors = (1.0, 1.0, 1.0)  #: MC_GroupSetOverride: velocity, acceleration, jerk
+        self.motion = PathMotion(self)
+        self._stop: Command | None = None
+        self._home: list[Command] = []
+        self._home_command: Command | None = None
+        self._pending: list[tuple[Command, set[int], Callable[[], None]]] = []
+        self._last_axis_states: dict[int, AxisState] = {}
+        self._syncs: dict[int, AxisSync] = {}  #: MC_SyncAxisToGroup slaves by kernel row
+        self._written: tuple[float, np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._reset: tuple[Command, list[Command]] | None = None
+        runtime._add_system(self._advance)
+
+    # -- reading -------------------------------------------------------------------------------
+
+    @property
+    def state(self) -> AxesGroupState:
+        return self.machine.state
+
+    @property
+    def axes(self) -> list[Axis]:
+        """Members in IdentInGroup order (the ACS order, §5.10)."""
+        return [self.members[i] for i in sorted(self.members)]
+
+    @property
+    def rows(self) -> np.ndarray:
+        return np.array([a.row for a in self.axes], dtype=np.int64)
+
+    @property
+    def kinematics(self) -> Kinematics:
+        return self.spaces.kinematics
+
+    def acs_set(self) -> np.ndarray:
+        return self._k.set_p[self.rows].copy()
+
+    def position(self, coord_system: CoordSystem = CoordSystem.ACS, actual: bool = True
+                 ) -> np.ndarray:
+        """MC_GroupReadActualPosition (§5.10): one value per axis (ACS) or per coordinate."""
+        rows = self.rows
+        acs = (self._k.act_p if actual else self._k.set_p)[rows].copy()
+        if coord_system is CoordSystem.ACS:
+            return acs
+        mcs = self.spaces.to_mcs(acs)
+        return mcs if coord_system is CoordSystem.MCS else self.spaces.pcs_of(mcs, self._rt.now)
+
+    def velocity(self, coord_system: CoordSystem = CoordSystem.ACS) -> tuple[np.ndarray, float]:
+        """MC_GroupReadActualVelocity (§5.11): velocities and the path velocity (TCP speed)."""
+        rows = self.rows
+        acs, vel = self._k.act_p[rows].copy(), self._k.act_v[rows].copy()
+        mcs_v = self.kinematics.forward_velocity(acs, vel) if rows.size else np.zeros(0)
+        path = float(np.linalg.norm(self.spaces.xyz(mcs_v))) if rows.size else 0.0
+        if coord_system is CoordSystem.ACS:
+            return vel, path
+        if coord_system is CoordSystem.PCS:
+            mcs_v = self.spaces.with_xyz(
+                mcs_v, self.spaces.frame(self._rt.now).inverse().rotate(self.spaces.xyz(mcs_v)))
+        return mcs_v, path
+
+    def acceleration(self, coord_system: CoordSystem = CoordSystem.ACS
+                     ) -> tuple[np.ndarray, float]:
+        """MC_GroupReadActualAcceleration (§5.12): set accelerations and the path
+        acceleration (positive while the path speed grows). The drives report no
+        acceleration, so the setpoint's is shown (decisions D-108)."""
+        rows = self.rows
+        acs, vel, acc = (self._k.set_p[rows].copy(), self._k.set_v[rows].copy(),
+                         self._k.set_a[rows].copy())
+        path_acc = self.motion.path_acceleration
+        if coord_system is CoordSystem.ACS or not rows.size:
+            return acc, path_acc
+        mcs_a = self.kinematics.forward_velocity(acs, acc)  # exact for linear kinematics
+        if coord_system is CoordSystem.PCS:
+            mcs_a = self.spaces.with_xyz(
+                mcs_a, self.spaces.frame(self._rt.now).inverse().rotate(self.spaces.xyz(mcs_a)))
+        del vel
+        return mcs_a, path_acc
+
+    @property
+    def all_axes_standing(self) -> bool:
+        rows = self.rows
+        return bool(np.all(self._k.set_v[rows] == 0.0) and np.all(self._k.set_a[rows] == 0.0))
+
+    def status_flags(self) -> dict[str, bool]:
+        """MC_GroupReadStatus (§5.17): one state flag, and the motion flags of the path."""
+        flags = {state.spec_name: self.state is state for state in G}
+        v, a = self.motion.path_velocity, self.motion.path_acceleration
+        moving = v > 0.0 or a != 0.0
+        flags["Accelerating"] = moving and a > 0.0
+        flags["Decelerating"] = moving and a < 0.0
+        flags["ConstantVelocity"] = moving and a == 0.0 and v > 0.0
+        flags["InPosition"] = self.state is G.STANDBY and not moving
+        return flags
+
+    def __repr__(self) -> str:
+        return f"<AxesGroup {self.name} {self.state.spec_name} {len(self.members)} axes>"
+
+    # -- administration (§4, §5.1-§5.6) --------------------------------------------------------
+
+    def add_axis(self, axis: Axis, ident: Any) -> Command:
+        """MC_AddAxisToGroup (§5.1): accepted in GroupDisabled and GroupStandby."""
+        command = self._command("add_axis")
+        try:
+            number = ident_number(ident)
+            self.machine.accept("MC_AddAxisToGroup")
+            if axis.group is self:
+                raise CommandRejected(ErrorId.IDENT_IN_USE, f"{axis.name} is a member already")
+            if axis.group is not None:
+                raise CommandRejected(ErrorId.AXIS_IN_OTHER_GROUP,
+                                      f"{axis.name} is in group "
+                                      f"{getattr(axis.group, 'name', '?')!r}")
+            if number in self.members:
+                raise CommandRejected(ErrorId.IDENT_IN_USE, f"IdentInGroup {number} is taken")
+            if axis.moving or axis.has_job:
+                raise CommandRejected(ErrorId.AXIS_MOVING, f"{axis.name} is moving")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        self.machine.fire(GroupEvent.ADD_AXIS)
+        self.members[number] = axis
+        axis.group = self
+        self._regrouped()
+        return self._finish(command)
+
+    def remove_axis(self, ident: Any) -> Command:
+        """MC_RemoveAxisFromGroup (§5.2): not while the group moves, homes or stops."""
+        command = self._command("remove_axis")
+        try:
+            number = ident_number(ident)
+            self.machine.accept("MC_RemoveAxisFromGroup")
+            if number not in self.members:
+                raise CommandRejected(ErrorId.AXIS_NOT_IN_GROUP,
+                                      f"no member has IdentInGroup {number}")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        self._release(self.members.pop(number))
+        self.machine.fire(GroupEvent.REMOVE_AXIS)
+        self._regrouped()
+        return self._finish(command)
+
+    def ungroup_all(self) -> Command:
+        """MC_UngroupAllAxes (§5.3): every axis leaves, the group is GroupDisabled."""
+        command = self._command("ungroup_all")
+        try:
+            self.machine.accept("MC_UngroupAllAxes")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        self.motion.abort_all("the axes were ungrouped")
+        for axis in list(self.members.values()):
+            self._release(axis)
+        self.members.clear()
+        self.machine.fire(GroupEvent.UNGROUP)
+        self._regrouped()
+        return self._finish(command)
+
+    def enable(self) -> Command:
+        """MC_GroupEnable (§5.5): GroupDisabled -> GroupStandby; member power is untouched."""
+        command = self._command("enable")
+        try:
+            self.machine.accept("MC_GroupEnable")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        self.machine.fire(GroupEvent.ENABLE)
+        self._last_axis_states = {}
+        self._check_members()
+        return self._finish(command)
+
+    def disable(self) -> Command:
+        """MC_GroupDisable (§5.6, Note 6): from any state; a motion ends at once (avoid it)."""
+        command = self._command("disable")
+        if not self.all_axes_standing:
+            command.warnings.append("the group was moving: its axes stopped at once")
+        self.motion.abort_all("the group was disabled")
+        self._home_abort("the group was disabled")
+        self._hold_members()
+        if self._stop is not None:
+            self._stop._end(CommandStatus.ABORTED, self._rt.now, message="the group was disabled")
+            self._stop = None
+        self.machine.fire(GroupEvent.DISABLE)
+        self._couple()
+        return self._finish(command)
+
+    def reset(self) -> Command:
+        """MC_GroupReset (§5.19): GroupErrorStop -> GroupStandby, members reset like MC_Reset."""
+        command = self._command("reset")
+        try:
+            self.machine.accept("MC_GroupReset")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        parts = []
+        for axis in self.axes:
+            if axis.state is AxisState.ERROR_STOP:
+                with self._ungrouped(axis):
+                    part = axis.reset()
+                if part.error:
+                    return self._reject(command, CommandRejected(part.error_id, part.message))
+                parts.append(part)
+        self._reset = (command, parts)
+        command.status = CommandStatus.ACTIVE
+        self._end_reset(self._rt.now)
+        return command
+
+    def _end_reset(self, now: float) -> None:
+        """MC_GroupReset is Done once every member's MC_Reset is (a cycle later, TcMC)."""
+        if self._reset is None:
+            return
+        command, parts = self._reset
+        if any(part.busy for part in parts):
+            return
+        self._reset = None
+        failed = next((part for part in parts if part.error), None)
+        if failed is not None:
+            command._end(CommandStatus.ERROR, now, failed.error_id, failed.message)
+            return
+        if self.state is G.ERROR_STOP or self.state is G.STANDBY or self.state is G.DISABLED:
+            self.error_id, self.error_message = ErrorId.NO_ERROR, ""
+            self.machine.fire(GroupEvent.RESET)
+            self._last_axis_states = {}
+            self._couple()
+        command._end(CommandStatus.DONE, now)
+
+    # -- coordinate systems (§5.8) -------------------------------------------------------------
+
+    def set_kinematics(self, kinematics: Kinematics, mode: ExecutionMode = ExecutionMode.IMMEDIATELY
+                       ) -> Command:
+        """MC_SetKinTransform (§5.8.1): the model must fit the member count (rule 5)."""
+        command = self._command("set_kin_transform")
+        try:
+            self.machine.accept("MC_SetKinTransform")
+            if not isinstance(kinematics, Kinematics):
+                raise CommandRejected(ErrorId.INVALID_MODE, "KinTransform: not a Kinematics")
+            if kinematics.n_axes != len(self.members):
+                raise CommandRejected(ErrorId.INVALID_CONFIGURATION,
+                                      f"the model drives {kinematics.n_axes} axes, the group "
+                                      f"has {len(self.members)}")
+            mode = enum_value(ExecutionMode, mode, "ExecutionMode")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        return self._when(command, mode, lambda: self.spaces.set_kinematics(kinematics))
+
+    def set_cartesian_transform(self, frame: Frame, mode: ExecutionMode = ExecutionMode.IMMEDIATELY
+                                ) -> Command:
+        """MC_SetCartesianTransform / MC_SetCoordinateTransform (§5.8.2, §5.8.3): the PCS
+        placed in the MCS; ends a tracking FB on the PCS (§6.6)."""
+        command = self._command("set_cartesian_transform")
+        try:
+            self.machine.accept("MC_SetCartesianTransform")
+            mode = enum_value(ExecutionMode, mode, "ExecutionMode")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+
+        def apply() -> None:
+            self.motion.end_tracking("the PCS was set by a transform FB")
+            self.spaces.cartesian = frame
+        return self._when(command, mode, apply)
+
+    def _when(self, command: Command, mode: ExecutionMode, apply: Callable[[], None]) -> Command:
+        """§3.3: apply now, when the active motion ends, or when every issued one ended."""
+        wait = self.motion.commands_to_wait(mode)
+        if not wait:
+            apply()
+            return self._finish(command)
+        command.status = CommandStatus.ACTIVE
+        self._pending.append((command, wait, apply))
+        return command
+
+    def set_position(self, position: Any, relative: bool = False,
+                     coord_system: CoordSystem = CoordSystem.ACS) -> Command:
+        """MC_GroupSetPosition (§5.9): new coordinates without motion (rules 14-16)."""
+        command = self._command("group_set_position")
+        try:
+            self.machine.accept("MC_GroupSetPosition")
+            coord_system = enum_value(CoordSystem, coord_system, "CoordSystem")
+            size = len(self.members) if coord_system is CoordSystem.ACS else self.spaces.size
+            from openmotion.coordinated.inputs import vector
+            value = vector(position, size, "Position")
+            if coord_system is CoordSystem.ACS:
+                self._set_acs(value, relative)
+            else:
+                old = self.position(coord_system, actual=False)
+                new = old + value if relative else value
+                if coord_system is CoordSystem.MCS:
+                    self.spaces.mcs_offset = self.spaces.mcs_offset + (new - old)
+                else:
+                    shift = self.spaces.xyz(old) - self.spaces.xyz(new)
+                    frame = self.spaces.cartesian
+                    moved = Frame(frame.rotation, frame.translation + frame.rotate(shift))
+                    self.spaces.cartesian = moved
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        return self._finish(command)
+
+    def _set_acs(self, value: np.ndarray, relative: bool) -> None:
+        for axis, new in zip(self.axes, value, strict=True):
+            target = axis.position + new if relative else new
+            with self._ungrouped(axis):
+                part = axis.set_actual_position(float(target))
+            if part.error:
+                raise CommandRejected(part.error_id, f"{axis.name}: {part.message}")
+
+    # -- stopping (§5.13-§5.16) ----------------------------------------------------------------
+
+    def stop(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT
+             ) -> Command:
+        """MC_GroupStop (§5.13): brake along the path, abort everything, hold GroupStopping
+        until Done and the Execute input is low (``Command.release``)."""
+        command = self._command("group_stop")
+        try:
+            self.machine.accept("MC_GroupStop")
+            dec, jerk_value = self._brake_limits(deceleration, jerk, command)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        self.motion.brake(dec, jerk_value, "aborted by MC_GroupStop")
+        self._home_abort("aborted by MC_GroupStop")
+        self.machine.fire(GroupEvent.STOP)
+        self._couple()
+        command.status = CommandStatus.ACTIVE
+        command.hold = True
+        self._stop = command
+        return command
+
+    def halt(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT
+             ) -> Command:
+        """MC_GroupHalt (§5.14): brake along the path to rest; any motion FB may abort it."""
+        command = self._command("group_halt")
+        try:
+            self.machine.accept("MC_GroupHalt")
+            dec, jerk_value = self._brake_limits(deceleration, jerk, command)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        self.machine.fire(GroupEvent.HALT)
+        self._couple()
+        self.motion.halt(command, dec, jerk_value)
+        return command
+
+    def interrupt(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT
+                  ) -> Command:
+        """MC_GroupInterrupt (§5.15): brake along the path, keep what remains for Continue."""
+        command = self._command("group_interrupt")
+        try:
+            self.machine.accept("MC_GroupInterrupt")
+            dec, jerk_value = self._brake_limits(deceleration, jerk, command)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        self.motion.interrupt(command, dec, jerk_value)
+        return command
+
+    def continue_(self) -> Command:
+        """MC_GroupContinue (§5.16): resume what MC_GroupInterrupt kept; Done once resumed."""
+        command = self._command("group_continue")
+        try:
+            self.machine.accept("MC_GroupContinue")
+            self.motion.resume()
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        return self._finish(command)
+
+    def set_override(self, velocity: float = 1.0, acceleration: float = 1.0,
+                     jerk: float = 1.0) -> Command:
+        """MC_GroupSetOverride (§5.28): factors on the commanded dynamics; velocity may be 0
+        (the path pauses), the others must be > 0; all at most 1 (decisions D-109)."""
+        command = self._command("group_set_override")
+        values = (velocity, acceleration, jerk)
+        names = ("VelFactor", "AccFactor", "JerkFactor")
+        for name, value, low_ok in zip(names, values, (True, False, False), strict=True):
+            if isinstance(value, bool) or not isinstance(value, int | float) \
+                    or not math.isfinite(value) or value < 0.0 or (value == 0.0 and not low_ok):
+                return self._reject(command, CommandRejected(
+                    ErrorId.INVALID_OVERRIDE, f"{name} must be {'>=' if low_ok else '>'} 0, "
+                    f"got {value!r} (§5.28)"))
+            if value > 1.0:
+                command.warnings.append(f"{name} {value:g} clamped to 1.0")
+        factors = tuple(min(float(v), 1.0) for v in values)
+        if factors != self.factors:
+            self.factors = factors  # type: ignore[assignment]
+            self.motion.set_factors(*self.factors)
+        return self._finish(command)
+
+    def home(self, position: Any = None) -> Command:
+        """MC_GroupHome (§5.7): every member homes (its own MC_Home); GroupHoming until all
+        are Done. ``position``: one ACS value per axis, or None for the configured ones."""
+        command = self._command("group_home")
+        try:
+            self.machine.accept("MC_GroupHome")
+            if position is not None:
+                from openmotion.coordinated.inputs import vector
+                values = vector(position, len(self.members), "Position").tolist()
+            else:
+                values = [None] * len(self.members)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        self.machine.fire(GroupEvent.HOME_START)
+        self._home = []
+        for axis, value in zip(self.axes, values, strict=True):
+            with self._ungrouped(axis):
+                part = axis.home() if value is None else axis.home(value)
+            self._home.append(part)
+        self._couple()
+        command.status = CommandStatus.ACTIVE
+        self._home_command = command
+        return command
+
+    # -- path moves (§5.20-§5.27) --------------------------------------------------------------
+
+    def move_linear_absolute(self, position: Any, velocity: InputValue = MC_DEFAULT,
+                             acceleration: InputValue = MC_DEFAULT,
+                             deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT,
+                             coord_system: CoordSystem = CoordSystem.MCS,
+                             buffer_mode: BufferMode = BufferMode.ABORTING,
+                             transition_mode: TransitionMode = TransitionMode.TM_NONE,
+                             transition_parameter: Any = None) -> Command:
+        """MC_MoveLinearAbsolute (§5.20): a straight line to ``position`` in ``coord_system``."""
+        return self._path("MC_MoveLinearAbsolute", "linear", position, None, velocity,
+                          acceleration, deceleration, jerk, coord_system, buffer_mode,
+                          transition_mode, transition_parameter, relative=False)
+
+    def move_linear_relative(self, distance: Any, velocity: InputValue = MC_DEFAULT,
+                             acceleration: InputValue = MC_DEFAULT,
+                             deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT,
+                             coord_system: CoordSystem = CoordSystem.MCS,
+                             buffer_mode: BufferMode = BufferMode.ABORTING,
+                             transition_mode: TransitionMode = TransitionMode.TM_NONE,
+                             transition_parameter: Any = None) -> Command:
+        """MC_MoveLinearRelative (§5.21): ``distance`` from where the TCP is when the FB is
+        accepted, or from the end of the queue when it is buffered."""
+        return self._path("MC_MoveLinearRelative", "linear", distance, None, velocity,
+                          acceleration, deceleration, jerk, coord_system, buffer_mode,
+                          transition_mode, transition_parameter, relative=True)
+
+    def move_circular_absolute(self, aux_point: Any, end_point: Any,
+                               circ_mode: CircMode = CircMode.BORDER,
+                               path_choice: PathChoice = PathChoice.COUNTERCLOCKWISE,
+                               velocity: InputValue = MC_DEFAULT,
+                               acceleration: InputValue = MC_DEFAULT,
+                               deceleration: InputValue = MC_DEFAULT,
+                               jerk: InputValue = MC_DEFAULT,
+                               coord_system: CoordSystem = CoordSystem.MCS,
+                               buffer_mode: BufferMode = BufferMode.ABORTING,
+                               transition_mode: TransitionMode = TransitionMode.TM_NONE,
+                               transition_parameter: Any = None) -> Command:
+        """MC_MoveCircularAbsolute (§5.22): BORDER, CENTER or RADIUS, see geometry/path.py."""
+        return self._path("MC_MoveCircularAbsolute", "circular", end_point,
+                          (aux_point, circ_mode, path_choice), velocity, acceleration,
+                          deceleration, jerk, coord_system, buffer_mode, transition_mode,
+                          transition_parameter, relative=False)
+
+    def move_circular_relative(self, aux_point: Any, end_point: Any,
+                               circ_mode: CircMode = CircMode.BORDER,
+                               path_choice: PathChoice = PathChoice.COUNTERCLOCKWISE,
+                               velocity: InputValue = MC_DEFAULT,
+                               acceleration: InputValue = MC_DEFAULT,
+                               deceleration: InputValue = MC_DEFAULT,
+                               jerk: InputValue = MC_DEFAULT,
+                               coord_system: CoordSystem = CoordSystem.MCS,
+                               buffer_mode: BufferMode = BufferMode.ABORTING,
+                               transition_mode: TransitionMode = TransitionMode.TM_NONE,
+                               transition_parameter: Any = None) -> Command:
+        """MC_MoveCircularRelative (§5.23): AuxPoint and EndPoint are offsets from the start."""
+        return self._path("MC_MoveCircularRelative", "circular", end_point,
+                          (aux_point, circ_mode, path_choice), velocity, acceleration,
+                          deceleration, jerk, coord_system, buffer_mode, transition_mode,
+                          transition_parameter, relative=True)
+
+    def move_direct_absolute(self, position: Any, velocity: InputValue = MC_DEFAULT,
+                             acceleration: InputValue = MC_DEFAULT,
+                             deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT,
+                             coord_system: CoordSystem = CoordSystem.ACS,
+                             buffer_mode: BufferMode = BufferMode.ABORTING,
+                             transition_mode: TransitionMode = TransitionMode.TM_NONE,
+                             transition_parameter: Any = None) -> Command:
+        """MC_MoveDirectAbsolute (§5.24): point to point in joint space, every axis within its
+        own limits and all ending together; the dynamics inputs are in ACS units."""
+        return self._path("MC_MoveDirectAbsolute", "direct", position, None, velocity,
+                          acceleration, deceleration, jerk, coord_system, buffer_mode,
+                          transition_mode, transition_parameter, relative=False)
+
+    def move_direct_relative(self, distance: Any, velocity: InputValue = MC_DEFAULT,
+                             acceleration: InputValue = MC_DEFAULT,
+                             deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT,
+                             coord_system: CoordSystem = CoordSystem.ACS,
+                             buffer_mode: BufferMode = BufferMode.ABORTING,
+                             transition_mode: TransitionMode = TransitionMode.TM_NONE,
+                             transition_parameter: Any = None) -> Command:
+        """MC_MoveDirectRelative (§5.25)."""
+        return self._path("MC_MoveDirectRelative", "direct", distance, None, velocity,
+                          acceleration, deceleration, jerk, coord_system, buffer_mode,
+                          transition_mode, transition_parameter, relative=True)
+
+    def move_path(self, path: Any, velocity: InputValue = MC_DEFAULT,
+                  acceleration: InputValue = MC_DEFAULT, deceleration: InputValue = MC_DEFAULT,
+                  jerk: InputValue = MC_DEFAULT, coord_system: CoordSystem = CoordSystem.MCS,
+                  buffer_mode: BufferMode = BufferMode.ABORTING,
+                  transition_mode: TransitionMode = TransitionMode.TM_NONE,
+                  transition_parameter: Any = None) -> Command:
+        """MC_MovePath (§5.27): run a path prepared by MC_PathSelect (``PathData``)."""
+        return self._path("MC_MovePath", "path", path, None, velocity, acceleration,
+                          deceleration, jerk, coord_system, buffer_mode, transition_mode,
+                          transition_parameter, relative=False)
+
+    def _path(self, block: str, kind: str, target: Any, circle: Any, velocity: InputValue,
+              acceleration: InputValue, deceleration: InputValue, jerk: InputValue,
+              coord_system: Any, buffer_mode: Any, transition_mode: Any,
+              transition_parameter: Any, relative: bool) -> Command:
+        command = self._command(block)
+        try:
+            buffer_mode = part4_buffer_mode(buffer_mode)
+            self.machine.accept(block, buffer_mode)
+            request = build_request(self, command, kind, target, circle, velocity,
+                                    acceleration, deceleration, jerk, coord_system, buffer_mode,
+                                    transition_mode, transition_parameter, relative)
+            was = self.state
+            self.motion.submit(request)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        if was is G.STANDBY or self.state is G.STANDBY:
+            self.machine.start(block)
+            self._couple()
+        return command
+
+    # -- synchronisation and tracking (§6) -----------------------------------------------------
+
+    def track_conveyor_belt(self, belt: Axis, origin: Frame, initial_object: Frame) -> Command:
+        """MC_TrackConveyorBelt (§6.6): the PCS rides on ``belt`` from now on; Active while
+        it tracks, CommandAborted when a transform FB replaces the PCS. Starts no motion."""
+        command = self._command("MC_TrackConveyorBelt")
+        try:
+            self.machine.accept("MC_TrackConveyorBelt")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        frame = ConveyorFrame(belt, origin, initial_object, belt.set_position, command)
+        return self._track(command, frame)
+
+    def track_rotary_table(self, table: Axis, origin: Frame, initial_object: Frame) -> Command:
+        """MC_TrackRotaryTable (§6.7): the PCS turns with ``table`` about the z axis of
+        ``origin``."""
+        command = self._command("MC_TrackRotaryTable")
+        try:
+            self.machine.accept("MC_TrackRotaryTable")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        frame = RotaryTableFrame(table, origin, initial_object, table.set_position, command)
+        return self._track(command, frame)
+
+    def set_dyn_coord_transform(self, master: AxesGroup, offset: Frame) -> Command:
+        """MC_SetDynCoordTransform (§6.5): this group's PCS rides on ``master``'s TCP."""
+        command = self._command("MC_SetDynCoordTransform")
+        try:
+            self.machine.accept("MC_SetDynCoordTransform")
+            if master is self:
+                raise CommandRejected(ErrorId.INVALID_MODE, "a group cannot follow itself")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        return self._track(command, GroupFrame(master, offset, command))
+
+    def _track(self, command: Command, frame: Any) -> Command:
+        self.motion.end_tracking(f"replaced by {command.kind}")
+        self.spaces.dynamic = frame
+        command.status = CommandStatus.ACTIVE
+        return command
+
+    def sync_axis_to_group(self, slave: Axis, ratio_numerator: float = 1.0,
+                           ratio_denominator: float = 1.0,
+                           acceleration: InputValue = MC_DEFAULT) -> Command:
+        """MC_SyncAxisToGroup (§6.3): ``slave`` runs at numerator/denominator x path speed;
+        ``command.in_velocity`` is InSync. A new call replaces the ratio (rule 116)."""
+        command = self._command("MC_SyncAxisToGroup")
+        try:
+            self.machine.accept("MC_SyncAxisToGroup")
+            if slave.group is not None:
+                raise CommandRejected(ErrorId.AXIS_IN_GROUP, f"{slave.name} is grouped")
+            if not slave.powered or slave.state not in (
+                    AxisState.STANDSTILL, AxisState.DISCRETE_MOTION,
+                    AxisState.CONTINUOUS_MOTION, AxisState.SYNCHRONIZED_MOTION):
+                raise CommandRejected(ErrorId.AXIS_DISABLED,
+                                      f"{slave.name} is {slave.state.name}")
+            for name, value in (("RatioNumerator", ratio_numerator),
+                                ("RatioDenominator", ratio_denominator)):
+                if not isinstance(value, int | float) or not math.isfinite(value):
+                    raise CommandRejected(ErrorId.INVALID_GEAR_RATIO, f"{name}: {value!r}")
+            if ratio_denominator == 0:
+                raise CommandRejected(ErrorId.INVALID_GEAR_RATIO, "RatioDenominator is 0")
+            acc = (slave.parameters.acceleration if acceleration is MC_DEFAULT
+                   else dynamic_value("acceleration", acceleration,
+                                      PathDynamics(max_acceleration=slave.parameters
+                                                   .max_acceleration), command.warnings))
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        old = self._syncs.pop(slave.row, None)
+        if old is not None:
+            old.end(self._rt.now, "replaced by a new MC_SyncAxisToGroup")
+        if slave.has_job:
+            slave._abort_all("aborted by MC_SyncAxisToGroup")
+            slave._k.has_job[slave.row] = False
+        command.status = CommandStatus.ACTIVE
+        self._syncs[slave.row] = AxisSync(self, slave, ratio_numerator / ratio_denominator,
+                                          acc, command)
+        return command
+
+    # -- the cycle -----------------------------------------------------------------------------
+
+    def _advance(self, now: float) -> None:
+        if not self.members:
+            return
+        self._end_reset(now)
+        self._check_members()
+        if self.state in (G.MOVING, G.STOPPING) or self.motion.running:
+            self.motion.advance(now)
+        if self._syncs:
+            for row, sync in list(self._syncs.items()):
+                sync.step(now, self._rt.cycle_time)
+                if sync.command.finished:
+                    del self._syncs[row]
+        self._end_home(now)
+        self._end_stop(now)
+        self._end_pending()
+        if self.state is G.MOVING and self.motion.finished and self._home_command is None:
+            self.machine.fire(GroupEvent.MOTION_END)
+            self._couple()
+
+    def _end_stop(self, now: float) -> None:
+        command = self._stop
+        if command is None:
+            return
+        if command.busy and not self.motion.running:
+            command._end(CommandStatus.DONE, now)
+            command.hold = command.hold  # the FB keeps it until Execute falls
+        if command.done and not command.hold:
+            self._stop = None
+            self.machine.fire(GroupEvent.STOP_RELEASED)
+            self._couple()
+
+    def _end_home(self, now: float) -> None:
+        command = self._home_command
+        if command is None or any(part.busy for part in self._home):
+            return
+        self._home_command = None
+        failed = next((part for part in self._home if part.error), None)
+        self._home = []
+        for axis in self.axes:
+            axis.group = self
+        if failed is not None:
+            command._end(CommandStatus.ERROR, now, failed.error_id, failed.message)
+            self._fault(failed.error_id, f"homing failed: {failed.message}")
+            return
+        if self.state is G.HOMING:
+            command._end(CommandStatus.DONE, now)
+            self.machine.fire(GroupEvent.HOME_END)
+            self._couple()
+        else:
+            command._end(CommandStatus.ABORTED, now, message="the group left GroupHoming")
+
+    def _home_abort(self, reason: str) -> None:
+        if self._home_command is None:
+            return
+        for axis in self.axes:
+            with self._ungrouped(axis):
+                axis.stop()
+            axis.group = self
+        self._home_command._end(CommandStatus.ABORTED, self._rt.now, message=reason)
+        self._home_command, self._home = None, []
+
+    def _end_pending(self) -> None:
+        if not self._pending:
+            return
+        keep = []
+        for command, wait, apply in self._pending:
+            if self.motion.all_ended(wait):
+                apply()
+                command._end(CommandStatus.DONE, self._rt.now)
+            elif command.busy:
+                keep.append((command, wait, apply))
+        self._pending = keep
+
+    def _check_members(self) -> None:
+        """§3.2: a member in ErrorStop or unpowered changes the group's state."""
+        if self.state is G.DISABLED:
+            return
+        for axis in self.axes:
+            state = axis.state
+            if self._last_axis_states.get(axis.row) is state:
+                continue
+            self._last_axis_states[axis.row] = state
+            event = member_event(state)
+            if event is GroupEvent.ERROR and self.state is not G.ERROR_STOP:
+                self._fault(ErrorId.GROUP_ERROR,
+                            f"member {axis.name} is in ErrorStop: {axis.axis_error_message}")
+            elif event is GroupEvent.MEMBER_POWER_OFF and self.state in (
+                    G.HOMING, G.MOVING, G.STOPPING):
+                self.motion.abort_all(f"member {axis.name} lost power")
+                self._hold_members()
+                if self._stop is not None:
+                    self._stop._end(CommandStatus.ABORTED, self._rt.now,
+                                    message=f"member {axis.name} lost power")
+                    self._stop = None
+                self._home_abort(f"member {axis.name} lost power")
+                self.machine.fire(event)
+                self._couple()
+
+    def _fault(self, error_id: ErrorId, message: str) -> None:
+        """GroupErrorStop (§3.1): motion aborted, every healthy axis brakes on its own."""
+        self.error_id, self.error_message = error_id, message
+        self.motion.abort_all(f"group error: {message}", error=(error_id, message))
+        self._home_abort(f"group error: {message}")
+        if self._stop is not None:
+            self._stop._end(CommandStatus.ABORTED, self._rt.now, message=message)
+            self._stop = None
+        self._brake_members()
+        self.machine.fire(GroupEvent.ERROR)
+
+    # -- members' setpoints --------------------------------------------------------------------
+
+    def _couple(self) -> None:
+        """Table 5: members show SynchronizedMotion while the group moves, homes or stops."""
+        for axis in self.axes:
+            if self.state is G.HOMING and axis.state is AxisState.HOMING:
+                continue
+            axis.state = member_state(self.state, axis.state)
+            self._last_axis_states[axis.row] = axis.state
+
+    def _hold_members(self) -> None:
+        """Stop at once where the setpoints are (GroupDisable, power loss)."""
+        k = self._k
+        p, _, _ = self._last_setpoints()
+        for axis, value in zip(self.axes, p.tolist(), strict=True):
+            row = axis.row
+            k.set_p[row] = value
+            k.set_v[row] = k.set_a[row] = k.set_j[row] = 0.0
+            k.segments.install(row, Profile.hold(KinematicState(value)), k.sample_time)
+        self._written = None
+
+    def _brake_members(self) -> None:
+        """Each healthy member brakes on its own profile (the group error reaction)."""
+        from openmotion.trajectory.plan import plan_stop
+        k = self._k
+        p, v, a = self._last_setpoints()
+        for index, axis in enumerate(self.axes):
+            if axis.state is AxisState.ERROR_STOP:
+                continue
+            row = axis.row
+            start = KinematicState(float(p[index]), float(v[index]), float(a[index]))
+            profile = plan_stop(start, axis.parameters.max_deceleration, axis.parameters.max_jerk)
+            k.segments.install(row, profile, k.sample_time)
+            k.set_p[row], k.set_v[row], k.set_a[row] = start.position, start.velocity, \
+                start.acceleration
+        self._written = None
+
+    def write_setpoints(self, p: np.ndarray, v: np.ndarray, a: np.ndarray,
+                        j: np.ndarray | None = None) -> None:
+        """The path cycle's output: the member rows' setpoints, after the kernel evaluated."""
+        k, rows = self._k, self.rows
+        k.set_p[rows], k.set_v[rows], k.set_a[rows] = p, v, a
+        k.set_j[rows] = 0.0 if j is None else j
+        self._written = (self._rt.now, np.array(p, dtype=float), np.array(v, dtype=float),
+                         np.array(a, dtype=float))
+
+    def _last_setpoints(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The members' setpoints as the group last wrote them: in a cycle where the group
+        reacts before its path output (a fault, a power loss), the kernel has already
+        evaluated the rows' own resting profiles, which lag behind the path."""
+        k, rows = self._k, self.rows
+        written = self._written
+        if written is not None and written[1].shape == rows.shape \
+                and written[0] >= self._rt.now - 1.5 * self._rt.cycle_time:
+            return written[1], written[2], written[3]
+        return k.set_p[rows].copy(), k.set_v[rows].copy(), k.set_a[rows].copy()
+
+    def settle(self, p: np.ndarray) -> None:
+        """The path ended at ``p``: the rows hold there on their own profiles."""
+        k = self._k
+        self._written = None
+        for row, value in zip(self.rows.tolist(), p.tolist(), strict=True):
+            k.set_p[row] = value
+            k.set_v[row] = k.set_a[row] = k.set_j[row] = 0.0
+            k.segments.install(row, Profile.hold(KinematicState(value)), k.sample_time)
+
+    def _release(self, axis: Axis) -> None:
+        axis.group = None
+        if axis.state is AxisState.SYNCHRONIZED_MOTION:
+            axis.state = AxisState.STANDSTILL
+        self._last_axis_states.pop(axis.row, None)
+
+    def _regrouped(self) -> None:
+        if not self.spaces.explicit or self.spaces.kinematics.n_axes != len(self.members):
+            self.spaces.set_kinematics(default_kinematics(len(self.members)), explicit=False)
+
+    @contextmanager
+    def _ungrouped(self, axis: Axis) -> Iterator[None]:
+        """Let the group issue a single-axis command to its member (home, set position)."""
+        axis.group = None
+        try:
+            yield
+        finally:
+            axis.group = self
+
+    # -- helpers -------------------------------------------------------------------------------
+
+    def _brake_limits(self, deceleration: InputValue, jerk: InputValue,
+                      command: Command) -> tuple[float, float]:
+        return (dynamic_value("deceleration", deceleration, self.dynamics, command.warnings),
+                dynamic_value("jerk", jerk, self.dynamics, command.warnings))
+
+    def _command(self, kind: str) -> Command:
+        return Command(kind, self._rt.now)
+
+    def _finish(self, command: Command) -> Command:
+        command._end(CommandStatus.DONE, self._rt.now)
+        return command
+
+    def _reject(self, command: Command, rejected: CommandRejected) -> Command:
+        command._end(CommandStatus.ERROR, self._rt.now, rejected.error_id, rejected.message)
+        return command

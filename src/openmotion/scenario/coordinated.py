@@ -1,0 +1,664 @@
+"""Axes groups (PLCopen Part 4) in scenario files: the ``axes_groups`` list and its entries.
+
+An axes group (coordinated/group.py) moves its member axes together on a path. The list
+declares each group's members in IdentInGroup order, its kinematics, its path dynamics and
+its first Cartesian transform; the run builds the groups after the axes and the CA groups
+(coordinated_machine.py). Timeline entries name the group in ``group`` and call the
+``AxesGroup`` method of the same name with its argument names: the moves
+(``move_linear_absolute`` ...), ``move_path`` (MC_PathSelect then MC_MovePath), the stops
+and the transforms. The five group commands both kinds of group share (``group_enable``,
+``group_disable``, ``group_reset``, ``group_halt``, ``group_stop``: the same FBs,
+transport/blocks.py) are scenario/transport.py's and take an axes group too.
+
+Signals of a group (``<group>.x`` ...) are those of ``trace.signals.GROUP_SIGNALS``; a
+condition on a group compares one of them, or its state (``<group>.state == standby``).
+schema.py puts the list into ``Scenario`` and the entries into ``TIMELINE_COMMANDS``; they
+share its value types, conditions and name checks.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import Annotated, Any, ClassVar, Literal, get_args
+
+from pydantic import (
+    AfterValidator,
+    Field,
+    StrictBool,
+    StrictStr,
+    ValidationError,
+    model_validator,
+)
+from pydantic_core import InitErrorDetails, PydanticCustomError
+
+from openmotion.coordinated.frames import CartesianTransform, Frame
+from openmotion.coordinated.inputs import CoordSystem, PathDynamics, TransitionMode
+from openmotion.coordinated.kinematics import (
+    COORDINATES,
+    CartesianGantry,
+    DeltaRobot,
+    Kinematics,
+    Scara,
+)
+from openmotion.coordinated.states import AxesGroupState, ExecutionMode
+from openmotion.core.enums import BufferMode
+from openmotion.core.errors import ConfigError
+from openmotion.core.special_values import MC_DEFAULT
+from openmotion.geometry.path import CircMode, PathChoice
+from openmotion.scenario.schema import (
+    _NAMES,
+    BufferModeName,
+    Condition,
+    Identifier,
+    InputValue,
+    Number,
+    _check_axis,
+    _enum_by_name,
+    _Model,
+    _signal_value,
+    _unique,
+)
+from openmotion.scenario.transport import _Timed
+from openmotion.trace.signals import DEFAULT_GROUP_SIGNALS, GROUP_SIGNALS
+
+CoordSystemName = _enum_by_name(CoordSystem)
+TransitionModeName = _enum_by_name(TransitionMode)
+CircModeName = _enum_by_name(CircMode)
+PathChoiceName = _enum_by_name(PathChoice)
+ExecutionModeName = _enum_by_name(ExecutionMode)
+Loc = tuple[str | int, ...]
+#: a position: one value per member axis (ACS) or per kinematics coordinate (MCS, PCS)
+Position = Annotated[list[Number], Field(min_length=1)]
+Point = Annotated[list[Number], Field(min_length=1, max_length=3)]  #: x, y, z; missing 0
+_STATES = ", ".join(state.name.lower() for state in AxesGroupState)
+_TRANSFORM = "trans_x, trans_y, trans_z [mm], rot_angle1, rot_angle2, rot_angle3 [°]"
+
+# -- names ---------------------------------------------------------------------------------
+
+
+def is_axes_group(subject: str) -> bool:
+    """Whether ``subject`` names an axes group of the scenario being validated."""
+    names = _NAMES.get()
+    return names is not None and subject in names.axes_groups
+
+
+def _check_axes_group(name: str) -> str:
+    names = _NAMES.get()
+    if names is not None and name not in names.axes_groups:
+        known = ", ".join(sorted(names.axes_groups)) or "none"
+        raise ValueError(f"unknown axes group {name!r} (axes_groups: {known})")
+    return name
+
+
+def _own_name(name: str) -> str:
+    names = _NAMES.get()
+    if names is None:
+        return name
+    for kind, what in (("axes", "an axis"), ("groups", "a CA group"),
+                       ("planar_movers", "a planar mover"), ("planar_groups", "a planar group")):
+        if name in getattr(names, kind):
+            raise ValueError(f"{name!r} is already the name of {what}")
+    return name
+
+
+def _in_one_group(name: str) -> str:
+    _check_axis(name)
+    names = _NAMES.get()
+    if names is None:
+        return name
+    groups = names.group_axes.get(name, [])
+    if len(groups) > 1:
+        raise ValueError(f"{name!r} is listed {len(groups)} times in axes_groups "
+                         f"({', '.join(groups)}); an axis is in one axes group only")
+    if name in names.members:
+        raise ValueError(f"{name!r} is in CA group {names.members[name][0]!r} already")
+    return name
+
+
+def check_group_signal(name: str) -> str:
+    """``<group>.<signal>`` with a signal of GROUP_SIGNALS."""
+    _, _, prop = name.partition(".")
+    if prop not in GROUP_SIGNALS:
+        raise ValueError(f"{name!r}: an axes group's signal is one of {', '.join(GROUP_SIGNALS)}")
+    return name
+
+
+def group_named_value(signal: str, name: str) -> float | None:
+    """The AxesGroupState number of ``name`` for the ``state`` signal, else None."""
+    if signal == "state" and name.upper() in AxesGroupState.__members__:
+        return float(AxesGroupState[name.upper()])
+    return None
+
+
+def axes_group_condition(text: str, subject: str, attribute: str, operator: str,
+                         raw: str) -> Condition | None:
+    """``<group>.<signal> <op> <number>`` or ``<group>.state == <state>``; None when
+    ``subject`` is no axes group."""
+    if not is_axes_group(subject):
+        return None
+    check_group_signal(f"{subject}.{attribute}")
+    if attribute == "state":
+        value = group_named_value(attribute, raw)
+        if operator != "==" or value is None:
+            raise ValueError(f"{text!r}: an axes group's state condition is '<group>.state == "
+                             f"<state>' (states: {_STATES})")
+        return Condition(text.strip(), subject, attribute, operator, value)
+    return Condition(text.strip(), subject, attribute, operator,
+                     _signal_value(attribute, raw, text))
+
+
+def default_group_signals(specs: Iterable[AxesGroupSpec]) -> list[str]:
+    return [f"{spec.name}.{prop}" for spec in specs for prop in DEFAULT_GROUP_SIGNALS]
+
+
+def _raise(model: _Model, problems: Iterable[tuple[Loc, str]]) -> None:
+    """Raise the problems as one ValidationError, each at its field path."""
+    found = list(problems)
+    if found:
+        raise ValidationError.from_exception_data(type(model).__name__, [
+            InitErrorDetails(type=PydanticCustomError("value_error", message), loc=loc,
+                             input=None) for loc, message in found])
+
+
+# -- axes_groups ---------------------------------------------------------------------------
+
+AxisLimits = tuple[Number, Number] | None  #: (minimum, maximum) of one ACS axis, or none
+_MODEL_FIELDS = {"cartesian": ("mapping", "sign", "offset"),
+                 "scara": ("l1", "l2", "z_axis", "c_axis", "limits"),
+                 "delta": ("base_radius", "effector_radius", "upper_arm", "forearm", "limits")}
+_REQUIRED = {"cartesian": ("mapping",), "scara": ("l1", "l2"),
+             "delta": ("base_radius", "effector_radius", "upper_arm", "forearm")}
+
+
+class KinematicsSpec(_Model):
+    """A kinematic model (coordinated/kinematics.py, §2.1.1): ``model`` picks it, the other
+    fields are its constructor's arguments."""
+
+    model: Literal["cartesian", "scara", "delta"]
+    """cartesian (CartesianGantry), scara (Scara) or delta (DeltaRobot)."""
+    mapping: list[Literal["x", "y", "z", "a", "b", "c"]] | None = None
+    """cartesian: the MCS coordinate each member drives, in IdentInGroup order."""
+    sign: list[Number] | None = None
+    """cartesian: +1 or -1 per member (default all +1)."""
+    offset: list[Number] | None = None
+    """cartesian: MCS = sign * ACS + offset, per member [mm or °] (default 0)."""
+    l1: Number | None = None
+    """scara: base axis to elbow axis [mm]."""
+    l2: Number | None = None
+    """scara: elbow axis to TCP [mm]."""
+    z_axis: StrictBool = False
+    """scara: a third member drives z."""
+    c_axis: StrictBool = False
+    """scara: a last member turns the tool (c = theta1 + theta2 + theta4)."""
+    base_radius: Number | None = None
+    """delta: centre of the base to an arm's axis [mm]."""
+    effector_radius: Number | None = None
+    """delta: TCP to a forearm's platform joint [mm]."""
+    upper_arm: Number | None = None
+    """delta: arm axis to elbow [mm]."""
+    forearm: Number | None = None
+    """delta: elbow to platform joint [mm]."""
+    limits: list[AxisLimits] | None = None
+    """scara, delta: [minimum, maximum] per member axis, or null for none."""
+
+    @model_validator(mode="after")
+    def _builds(self) -> KinematicsSpec:
+        own = _MODEL_FIELDS[self.model]
+        problems: list[tuple[Loc, str]] = [
+            ((name,), f"not a field of the {self.model} model (fields: {', '.join(own)})")
+            for name in sorted(self.model_fields_set - {"model", *own})]
+        problems += [((name,), f"required for the {self.model} model")
+                     for name in _REQUIRED[self.model] if getattr(self, name) is None]
+        _raise(self, problems)
+        try:
+            self.build()
+        except ConfigError as exc:  # "l1: link length must be > 0 mm, got -1.0"
+            name, _, message = str(exc).partition(": ")
+            if name not in type(self).model_fields:
+                raise ValueError(str(exc)) from None
+            _raise(self, [((name,), message)])
+        return self
+
+    def build(self) -> Kinematics:
+        """A new model (each run needs its own)."""
+        if self.model == "cartesian":
+            return CartesianGantry(tuple(self.mapping or ()), sign=self.sign, offset=self.offset)
+        if self.model == "scara":
+            return Scara(self.l1, self.l2, z_axis=self.z_axis,  # type: ignore[arg-type]
+                         c_axis=self.c_axis, limits=self.limits)
+        return DeltaRobot(self.base_radius, self.effector_radius,  # type: ignore[arg-type]
+                          self.upper_arm, self.forearm, limits=self.limits)  # type: ignore
+
+
+class PathDynamicsSpec(_Model):
+    """The group's path dynamics (coordinated/inputs.py PathDynamics): the values MC_DEFAULT
+    takes and the caps above which a command's values are clamped; unset fields keep their
+    defaults."""
+
+    velocity: Number | None = None
+    """Default path velocity [mm/s] (100)."""
+    acceleration: Number | None = None
+    """[mm/s²] (1000)."""
+    deceleration: Number | None = None
+    """[mm/s²] (1000)."""
+    jerk: Number | None = None
+    """[mm/s³] (10000)."""
+    max_velocity: Number | None = None
+    """[mm/s] (1000)."""
+    max_acceleration: Number | None = None
+    """[mm/s²] (10000)."""
+    max_deceleration: Number | None = None
+    """[mm/s²] (10000)."""
+    max_jerk: Number | None = None
+    """[mm/s³] (1e6)."""
+
+    @model_validator(mode="after")
+    def _positive(self) -> PathDynamicsSpec:
+        built = self.build()
+        _raise(self, [((name,), f"must be > 0, got {getattr(built, name)!r}")
+                      for name in type(self).model_fields if not getattr(built, name) > 0.0])
+        _raise(self, [((name,), f"{getattr(built, name)!r} is above max_{name} "
+                                f"{getattr(built, f'max_{name}')!r}")
+                      for name in ("velocity", "acceleration", "deceleration", "jerk")
+                      if getattr(built, name) > getattr(built, f"max_{name}")])
+        return self
+
+    def build(self) -> PathDynamics:
+        return PathDynamics(**{name: getattr(self, name) for name in self.model_fields_set})
+
+
+def _six(values: list[float]) -> list[float]:
+    if len(values) != len(CartesianTransform._fields):
+        raise ValueError(f"give six values: {_TRANSFORM}; got {len(values)}")
+    return values
+
+
+#: MC_SetCartesianTransform's six inputs as one list (the PLC's ARRAY[1..6] OF REAL)
+Transform = Annotated[list[Number], AfterValidator(_six)]
+
+
+def frame_of(values: list[float]) -> Frame:
+    """The Frame of six values (frames.py reads them: Z, then Y', then X'')."""
+    return Frame.from_cartesian(*values)
+
+
+class AxesGroupSpec(_Model):
+    """One axes group (Part 4 §4): its members, kinematics, dynamics and first transform.
+
+    The run builds it after the axes and the CA groups, adds the members with IdentInGroup
+    1, 2, ... in the listed order, sets the kinematics and the transform, and with
+    ``enable`` powers the members and enables the group: it is GroupStandby at t = 0.
+    """
+
+    name: Annotated[Identifier, _unique("axes_groups"), AfterValidator(_own_name)]
+    """Unique, not the name of an axis, a CA group or a planar mover or group."""
+    axes: Annotated[list[Annotated[StrictStr, AfterValidator(_in_one_group)]],
+                    Field(min_length=1)]
+    """The member axes, added in this order (IdentInGroup 1..n: the ACS order)."""
+    kinematics: KinematicsSpec | None = None
+    """The ACS <-> MCS model; default: the neutral one (members are x, y, z, a, b, c)."""
+    dynamics: PathDynamicsSpec = PathDynamicsSpec()
+    """Path dynamics: MC_DEFAULT values and caps."""
+    cartesian_transform: Transform | None = None
+    """The PCS in the MCS (MC_SetCartesianTransform): six values, trans_x, trans_y, trans_z
+    [mm], rot_angle1, rot_angle2, rot_angle3 [°]; default: the PCS is the MCS."""
+    enable: StrictBool = True
+    """Power the members and enable the group at t = 0; false: the timeline does it
+    (power entries, then group_enable)."""
+
+    @model_validator(mode="after")
+    def _fits(self) -> AxesGroupSpec:
+        if self.kinematics is not None:
+            n_axes = self.kinematics.build().n_axes
+            if n_axes != len(self.axes):
+                _raise(self, [(("kinematics",), f"the {self.kinematics.model} model drives "
+                                                f"{n_axes} axes, the group has {len(self.axes)}")])
+        elif len(self.axes) > len(COORDINATES):
+            _raise(self, [(("axes",), f"without kinematics at most {len(COORDINATES)} axes "
+                                      f"(x, y, z, a, b, c); give a model")])
+        return self
+
+
+# -- timeline entries ----------------------------------------------------------------------
+
+
+class AxesGroupEntry(_Timed):
+    """A command for one axes group: the run calls the AxesGroup method ``method``."""
+
+    group_fields: ClassVar[tuple[str, ...]] = ()  #: arguments that name an axes group
+    group: Annotated[StrictStr, AfterValidator(_check_axes_group)]
+    """Name of the axes group."""
+
+    @property
+    def axis(self) -> str:
+        """The group's name, for the summary's axis column."""
+        return self.group
+
+    def arguments(self) -> dict[str, Any]:
+        """Keyword arguments of the AxesGroup method, by its parameter names."""
+        skip = {"id", "at", "when", "group", "command"}
+        return {name: getattr(self, name) for name in type(self).model_fields
+                if name not in skip}
+
+
+class _Dynamics(AxesGroupEntry):
+    velocity: InputValue = MC_DEFAULT
+    """Path velocity [mm/s] (ACS units for move_direct_*); MC_DEFAULT: the group's default,
+    MC_MAXIMUM: its maximum."""
+    acceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³]."""
+    buffer_mode: BufferModeName = BufferMode.ABORTING
+    """aborting, buffered, blending_low, blending_previous, blending_next, blending_high."""
+    transition_mode: TransitionModeName = TransitionMode.TM_NONE  # type: ignore[valid-type]
+    """The contour to the command before (blending only): tm_none, tm_start_velocity,
+    tm_constant_velocity, tm_corner_distance, tm_max_corner_deviation."""
+    transition_parameter: Number | None = None
+    """The mode's value: a percentage for the velocity modes, [mm] for the corner modes."""
+
+
+class _Cartesian(_Dynamics):
+    coord_system: CoordSystemName = CoordSystem.MCS  # type: ignore[valid-type]
+    """mcs or pcs (acs: a line in joint space)."""
+
+
+class MoveLinearAbsolute(_Cartesian):
+    """MC_MoveLinearAbsolute (§5.20): a straight line to ``position``."""
+
+    method = "move_linear_absolute"
+    command: Literal["move_linear_absolute"]
+    position: Position
+    """One value per coordinate of ``coord_system``."""
+
+
+class MoveLinearRelative(_Cartesian):
+    """MC_MoveLinearRelative (§5.21): a straight line by ``distance``."""
+
+    method = "move_linear_relative"
+    command: Literal["move_linear_relative"]
+    distance: Position
+    """From where the TCP is when the command starts (or the queue's end when buffered)."""
+
+
+class MoveCircularAbsolute(_Cartesian):
+    """MC_MoveCircularAbsolute (§5.22): an arc to ``end_point``."""
+
+    method = "move_circular_absolute"
+    command: Literal["move_circular_absolute"]
+    aux_point: Position
+    """border: a point on the arc; center: the centre; radius: the plane normal, its length
+    the radius."""
+    end_point: Position
+    """The arc's end."""
+    circ_mode: CircModeName = CircMode.BORDER  # type: ignore[valid-type]
+    """border, center or radius."""
+    path_choice: PathChoiceName = PathChoice.COUNTERCLOCKWISE  # type: ignore[valid-type]
+    """counterclockwise (the short arc) or clockwise (the long one)."""
+
+
+class MoveCircularRelative(MoveCircularAbsolute):
+    """MC_MoveCircularRelative (§5.23): aux_point and end_point relative to the start."""
+
+    method = "move_circular_relative"
+    command: Literal["move_circular_relative"]  # type: ignore[assignment]
+
+
+class _Direct(_Dynamics):
+    coord_system: CoordSystemName = CoordSystem.ACS  # type: ignore[valid-type]
+    """acs (one value per member), mcs or pcs."""
+
+
+class MoveDirectAbsolute(_Direct):
+    """MC_MoveDirectAbsolute (§5.24): point to point in joint space, all axes end together."""
+
+    method = "move_direct_absolute"
+    command: Literal["move_direct_absolute"]
+    position: Position
+    """Target in ``coord_system``."""
+
+
+class MoveDirectRelative(_Direct):
+    """MC_MoveDirectRelative (§5.25)."""
+
+    method = "move_direct_relative"
+    command: Literal["move_direct_relative"]
+    distance: Position
+    """In ``coord_system``, from the start."""
+
+
+class PathElementSpec(_Model):
+    """One element of a path description (coordinated/paths.py): a line or an arc to a
+    point; its corner with the element before may get its own contour."""
+
+    line: Point | None = None
+    """A straight line to this point [mm] (x, y, z; missing ones 0)."""
+    arc: Point | None = None
+    """An arc to this point [mm]; needs ``aux``."""
+    aux: Point | None = None
+    """The arc's aux point, as ``circ_mode`` reads it."""
+    circ_mode: CircModeName | None = None  # type: ignore[valid-type]
+    """border (default), center or radius."""
+    path_choice: PathChoiceName | None = None  # type: ignore[valid-type]
+    """counterclockwise (default) or clockwise."""
+    transition_mode: TransitionModeName | None = None  # type: ignore[valid-type]
+    """The contour at this element's start; default: the select's."""
+    transition_parameter: Number | None = None
+    """Its value [mm]."""
+
+    @model_validator(mode="after")
+    def _one_kind(self) -> PathElementSpec:
+        if (self.line is None) == (self.arc is None):
+            raise ValueError("give 'line' or 'arc' (a point), not both")
+        arc_only = {"aux", "circ_mode", "path_choice"} & self.model_fields_set
+        if self.line is not None and arc_only:
+            raise ValueError(f"{', '.join(sorted(arc_only))}: only with 'arc'")
+        if self.arc is not None and self.aux is None:
+            raise ValueError("aux: an arc needs its aux point")
+        return self
+
+    def description(self) -> dict[str, Any]:
+        """The element as select_path reads it (enums as members)."""
+        names = ("line", "arc", "aux", "circ_mode", "path_choice", "transition_mode",
+                 "transition_parameter")
+        return {name: getattr(self, name) for name in names if getattr(self, name) is not None}
+
+
+class PathSelectSpec(_Model):
+    """MC_PathSelect's inputs besides the description (coordinated/paths.py select_path)."""
+
+    coord_system: CoordSystemName = CoordSystem.MCS  # type: ignore[valid-type]
+    """mcs or pcs: the frame of the points (a PCS is taken as it is when the entry fires)."""
+    transition_mode: TransitionModeName = (  # type: ignore[valid-type]
+        TransitionMode.TM_MAX_CORNER_DEVIATION)
+    """The contour at every corner inside the path (an element may set its own):
+    tm_corner_distance, tm_max_corner_deviation, or tm_none (stop at each corner)."""
+    transition_parameter: Number = 0.1
+    """Its value [mm]."""
+
+
+class MovePath(_Dynamics):
+    """MC_PathSelect, then MC_MovePath (§5.26, §5.27) in the same cycle: the path runs from
+    where the TCP is (or the queue's end). A path that MC_PathSelect refuses ends the entry
+    with its error (the command column then says MC_PathSelect)."""
+
+    method = "move_path"
+    command: Literal["move_path"]
+    path: Annotated[list[PathElementSpec], Field(min_length=1)]
+    """The path description: ``{line: [x, y, z]}`` and ``{arc: [...], aux: [...]}``."""
+    select: PathSelectSpec = PathSelectSpec()
+    """MC_PathSelect's coord_system and corner contours."""
+
+    def description(self) -> list[dict[str, Any]]:
+        return [element.description() for element in self.path]
+
+    def arguments(self) -> dict[str, Any]:
+        arguments = super().arguments()
+        del arguments["path"], arguments["select"]
+        return arguments
+
+
+class GroupInterrupt(AxesGroupEntry):
+    """MC_GroupInterrupt (§5.15): brake along the path and keep the rest for group_continue."""
+
+    method = "interrupt"
+    command: Literal["group_interrupt"]
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³]."""
+
+
+class GroupContinue(AxesGroupEntry):
+    """MC_GroupContinue (§5.16): resume what group_interrupt kept; Done once resumed."""
+
+    method = "continue_"
+    command: Literal["group_continue"]
+
+
+class GroupSetOverride(AxesGroupEntry):
+    """MC_GroupSetOverride (§5.28): factors on the commanded path dynamics."""
+
+    method = "set_override"
+    command: Literal["group_set_override"]
+    velocity: Number = 1.0
+    """VelFactor, 0 to 1 (0: the path pauses)."""
+    acceleration: Number = 1.0
+    """AccFactor, > 0 to 1."""
+    jerk: Number = 1.0
+    """JerkFactor, > 0 to 1."""
+
+
+class GroupHome(AxesGroupEntry):
+    """MC_GroupHome (§5.7): every member homes; Done when all are."""
+
+    method = "home"
+    command: Literal["group_home"]
+    position: Position | None = None
+    """One ACS value per member; default: each axis' configured home position."""
+
+
+class GroupSetPosition(AxesGroupEntry):
+    """MC_GroupSetPosition (§5.9): new coordinates without motion."""
+
+    method = "set_position"
+    command: Literal["group_set_position"]
+    position: Position
+    """In ``coord_system``."""
+    relative: StrictBool = False
+    """Add ``position`` to the present coordinates."""
+    coord_system: CoordSystemName = CoordSystem.ACS  # type: ignore[valid-type]
+    """acs, mcs or pcs."""
+
+
+class SetKinematics(AxesGroupEntry):
+    """MC_SetKinTransform (§5.8.1): a new kinematic model for the group."""
+
+    method = "set_kinematics"
+    command: Literal["set_kinematics"]
+    kinematics: KinematicsSpec
+    """The model, as in axes_groups."""
+    mode: ExecutionModeName = ExecutionMode.IMMEDIATELY  # type: ignore[valid-type]
+    """immediately, delayed (when the running motion ends) or queued (when all issued
+    motions ended)."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"kinematics": self.kinematics.build(), "mode": self.mode}
+
+
+class SetCartesianTransform(AxesGroupEntry):
+    """MC_SetCartesianTransform (§5.8.2): place the PCS in the MCS; ends a tracking entry."""
+
+    method = "set_cartesian_transform"
+    command: Literal["set_cartesian_transform"]
+    frame: Transform
+    """Six values: trans_x, trans_y, trans_z [mm], rot_angle1, rot_angle2, rot_angle3 [°]."""
+    mode: ExecutionModeName = ExecutionMode.IMMEDIATELY  # type: ignore[valid-type]
+    """immediately, delayed or queued."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"frame": frame_of(self.frame), "mode": self.mode}
+
+
+class _Tracking(AxesGroupEntry):
+    origin: Transform
+    """Six values: the moving frame's origin in the MCS."""
+    initial_object: Transform = [0.0] * 6
+    """Six values: the object in the moving frame when the entry fires."""
+
+    def arguments(self) -> dict[str, Any]:
+        arguments = super().arguments()
+        arguments.update(origin=frame_of(self.origin),
+                         initial_object=frame_of(self.initial_object))
+        return arguments
+
+
+class TrackConveyorBelt(_Tracking):
+    """MC_TrackConveyorBelt (§6.6): the PCS rides on the belt axis' travel along the x axis of
+    ``origin``; Busy (Active) while it tracks, aborted when a transform entry replaces it.
+    Starts no motion, and does not keep an open-ended run going."""
+
+    method = "track_conveyor_belt"
+    command: Literal["track_conveyor_belt"]
+    axis_fields: ClassVar[tuple[str, ...]] = ("belt",)
+    belt: Annotated[StrictStr, AfterValidator(_check_axis)]
+    """The belt axis (its set position is the travel)."""
+
+
+class TrackRotaryTable(_Tracking):
+    """MC_TrackRotaryTable (§6.7): the PCS turns with the table axis about the z axis of
+    ``origin``; as track_conveyor_belt otherwise."""
+
+    method = "track_rotary_table"
+    command: Literal["track_rotary_table"]
+    axis_fields: ClassVar[tuple[str, ...]] = ("table",)
+    table: Annotated[StrictStr, AfterValidator(_check_axis)]
+    """The table axis [°]."""
+
+
+class SetDynCoordTransform(AxesGroupEntry):
+    """MC_SetDynCoordTransform (§6.5): this group's PCS rides on ``master``'s TCP."""
+
+    method = "set_dyn_coord_transform"
+    command: Literal["set_dyn_coord_transform"]
+    group_fields: ClassVar[tuple[str, ...]] = ("master",)
+    master: Annotated[StrictStr, AfterValidator(_check_axes_group)]
+    """The master axes group."""
+    offset: Transform = [0.0] * 6
+    """Six values: the PCS on the master's TCP."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"master": self.master, "offset": frame_of(self.offset)}
+
+
+class SyncAxisToGroup(AxesGroupEntry):
+    """MC_SyncAxisToGroup (§6.3): ``slave`` runs at ratio x the path velocity. Busy while it
+    follows (``<id>.in_velocity``: InSync); does not keep an open-ended run going."""
+
+    method = "sync_axis_to_group"
+    command: Literal["sync_axis_to_group"]
+    axis_fields: ClassVar[tuple[str, ...]] = ("slave",)
+    slave: Annotated[StrictStr, AfterValidator(_check_axis)]
+    """The slave axis (in no group)."""
+    ratio_numerator: Number = 1.0
+    """Ratio numerator."""
+    ratio_denominator: Number = 1.0
+    """Ratio denominator, != 0."""
+    acceleration: InputValue = MC_DEFAULT
+    """Of the slave while it syncs [mm/s²]; MC_DEFAULT: its default acceleration."""
+
+
+COORDINATED_ENTRIES: tuple[type, ...] = (
+    MoveLinearAbsolute, MoveLinearRelative, MoveCircularAbsolute, MoveCircularRelative,
+    MoveDirectAbsolute, MoveDirectRelative, MovePath, GroupInterrupt, GroupContinue,
+    GroupSetOverride, GroupHome, GroupSetPosition, SetKinematics, SetCartesianTransform,
+    TrackConveyorBelt, TrackRotaryTable, SetDynCoordTransform, SyncAxisToGroup)
+#: the axes-group entries by their ``command`` (schema.TIMELINE_COMMANDS holds them all)
+COORDINATED_COMMANDS: dict[str, type] = {
+    get_args(model.model_fields["command"].annotation)[0]: model
+    for model in COORDINATED_ENTRIES}
+#: entries whose command stays Busy while it runs in the background: it does not keep an
+#: open-ended run going
+BACKGROUND = (TrackConveyorBelt, TrackRotaryTable, SetDynCoordTransform, SyncAxisToGroup)
