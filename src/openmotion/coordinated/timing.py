@@ -375,11 +375,41 @@ class TimeLaw:
 
     def _leg_to(self, time: float, state: tuple[float, float, float], zone: int, end: float,
                 target: float) -> _Leg:
+        """The leg to (``end``, ``target``, a = 0), time-optimal under the caps set now. After
+        an override drop the motion may not reach the target in time; then, in this order: the
+        rates it was planned with, the lowest speed above the target it can reach with them,
+        and as a last resort a brake raised just enough to keep the next stop."""
+        self._work[2] += 1
+        caps = self._caps(zone)
+        new = self._leg_within(time, state, zone, end, target, caps)
+        if new is not None:
+            return _regular(new)
+        v_max, acc, dec, jerk = caps
+        zd = self._zones.data
+        fa, fj = self._planned_rates
+        planned = (v_max, max(acc, zd[_ZA, zone] * fa), max(dec, zd[_ZD, zone] * fa),
+                   max(jerk, zd[_ZJ, zone] * fj))
+        if planned != caps:
+            new = self._leg_within(time, state, zone, end, target, planned)
+            if new is not None:
+                return new
+        above = _reachable_above(state, end - state[0], target, *planned[1:])
+        if above is not None:
+            new = self._leg_within(time, state, zone, end, above, (max(v_max, above),
+                                                                   *planned[1:]))
+            if new is not None:
+                return new
+        return self._brake_leg(time, state, zone, end, target, planned)
+
+    def _leg_within(self, time: float, state: tuple[float, float, float], zone: int,
+                    end: float, target: float,
+                    caps: tuple[float, float, float, float]) -> _Leg | None:
+        """A leg keeping ``caps`` to (``end``, u, a = 0), u <= ``target`` as high as it can
+        reach, or None when even the lowest such u lies out of reach."""
         s, v, a = state
-        v_max, acc, dec, jerk = self._caps(zone)
+        v_max, acc, dec, jerk = caps
         if self._mode == _PENDING:
             v_max = min(v_max, v)  # a stop in waiting never speeds up (§5.13)
-        self._work[2] += 1
         if abs(a) <= _ZERO_ACCELERATION * max(acc, dec):
             a = 0.0
         if a == 0.0 and v <= v_max:
@@ -397,7 +427,7 @@ class TimeLaw:
         # jerk-limited brake to speed u is not monotone in u, so take the best reachable one
         lower = _reachable_below(state, end - s, target, acc, dec, jerk)
         if lower is None:
-            return self._brake_leg(time, state, zone, end, target)
+            return None
         if a == 0.0 and v <= v_max:
             data, reached, ok = leg(v, end - s, lower, v_max, acc, dec, jerk)
             if ok:
@@ -406,14 +436,14 @@ class TimeLaw:
                                                                      jerk))
         if new is not None:
             return new
-        change = _velocity_change(KinematicState(s, v, a), lower, dec, jerk, acc)
-        return _regular(_cut(time, change, end, zone))
+        return _cut(time, _velocity_change(KinematicState(s, v, a), lower, dec, jerk, acc), end,
+                    zone)
 
     def _closed_leg(self, time: float, s: float, end: float, data: np.ndarray, reached: float,
                     zone: int) -> _Leg:
         data[1] += s
         data[1, -1] = end
-        return _regular(_Leg(time, data, data[0, -1], (end, reached, 0.0), zone))
+        return _Leg(time, data, data[0, -1], (end, reached, 0.0), zone)
 
     def _ruckig_leg(self, time: float, state: tuple[float, float, float], zone: int,
                     end: float, target: float, limits: Limits) -> _Leg | None:
@@ -424,21 +454,14 @@ class TimeLaw:
             return None
         if not _keeps(profile, state, limits):
             return None
-        return _regular(_Leg(time, profile.data, profile.duration, (end, target, 0.0), zone))
+        return _Leg(time, profile.data, profile.duration, (end, target, 0.0), zone)
 
     def _brake_leg(self, time: float, state: tuple[float, float, float], zone: int,
-                   end: float, target: float) -> _Leg:
-        """Change speed towards ``target`` as fast as the caps allow, cut where s reaches
-        ``end``: for targets a leg cannot reach (after an override drop). The rates are the
-        smallest of the pieces it brakes over, with the factors the motion was planned with,
-        raised only where the brake would otherwise pass the next stop."""
+                   end: float, target: float, caps: tuple[float, float, float, float]) -> _Leg:
+        """The last resort after an override drop: brake towards ``target`` with the rates the
+        motion was planned with, raised just enough to rest by the next stop, cut at ``end``."""
         s, v, a = state
-        zd = self._zones.data
-        fa, fj = max(self._factors[1], self._planned_rates[0]), \
-            max(self._factors[2], self._planned_rates[1])
-        acc = zd[_ZA, zone] * fa
-        dec, jerk = self._brake_rates(state, zd[_ZD, zone] * fa, zd[_ZJ, zone] * fj,
-                                      target, (fa, fj))
+        _, acc, dec, jerk = caps
         scale = _scale_to_stop(state, dec, jerk, self._next_stop(zone))
         profile = _velocity_change(KinematicState(s, v, a), target, dec * scale, jerk * scale,
                                    acc * scale)
@@ -530,23 +553,18 @@ class TimeLaw:
         return True
 
     def _brake_rates(self, state: tuple[float, float, float], deceleration: float,
-                     jerk: float, target: float = 0.0,
-                     factors: tuple[float, float] | None = None) -> tuple[float, float]:
-        """The requested rates, lowered to the smallest caps of the pieces the brake to
-        ``target`` runs over."""
-        fa, fj = self._factors[1:] if factors is None else factors
+                     jerk: float) -> tuple[float, float]:
+        """The requested rates, lowered to the smallest caps of the pieces within the
+        braking distance."""
+        _, fa, fj = self._factors
         pieces = self._pieces
         ends = pieces.row(_END)
         k0 = min(int(np.searchsorted(ends, state[0], side="right")), pieces.n - 1)
         dec_row, jerk_row = pieces.row(_D), pieces.row(_J)
         deceleration = min(deceleration, fa * float(dec_row[k0]))
         jerk = min(jerk, fj * float(jerk_row[k0]))
-        start = KinematicState(*state)
         for _ in range(64):
-            if target == 0.0:
-                rest = plan_stop(start, deceleration, jerk).p[-1]
-            else:
-                rest = _velocity_change(start, target, deceleration, jerk).p[-1]
+            rest = plan_stop(KinematicState(*state), deceleration, jerk).p[-1]
             k1 = max(min(int(np.searchsorted(ends, rest, side="left")), pieces.n - 1), k0)
             self._work[1] += k1 - k0 + 1
             lower = (min(deceleration, fa * float(dec_row[k0:k1 + 1].min())),
@@ -582,6 +600,15 @@ class TimeLaw:
         for k in np.flatnonzero(caps * (1.0 + _REL) < peak):  # the others hold anyway
             junction = float(ends[k0 + k])
             if _speed_at(profile, junction) > caps[k] * (1.0 + _REL) + 1e-12:
+                return profile, False
+        # |a| exceeds the brake's own rates only while it releases the start acceleration, so
+        # a piece whose caps lie below |a0| is checked where the brake enters it
+        fa = self._factors[1]
+        after = slice(k0 + 1, k1 + 1)
+        bound = (pieces.data[_A, after] if a > 0.0 else pieces.data[_D, after]) * fa
+        for k in np.flatnonzero(bound * (1.0 + _REL) < abs(a)):
+            entry = profile.at(_time_at(profile, float(ends[k0 + k])))[2]
+            if abs(entry) > bound[k] * (1.0 + _REL) and entry * a > 0.0:
                 return profile, False
         return profile, True
 
@@ -723,6 +750,32 @@ def _reachable_below(state: tuple[float, float, float], length: float, target: f
                 middle = 0.5 * (lower + upper)
                 lower, upper = (middle, upper) if fits(middle) else (lower, middle)
             return lower
+    return None
+
+
+def _reachable_above(state: tuple[float, float, float], length: float, target: float,
+                     acc: float, dec: float, jerk: float) -> float | None:
+    """The lowest speed >= ``target`` the motion can change to within ``length`` (ending
+    with a = 0), None if none can: a scan from ``target`` up to the speed it would keep if
+    the acceleration were taken away, then bisection at the edge found."""
+    s, v, a = state
+    start = KinematicState(s, v, a)
+    top = max(v + a * abs(a) / (2.0 * jerk), target)
+
+    def fits(u: float) -> bool:
+        change = _velocity_change(start, u, dec, jerk, acc)
+        return (change.velocity_extrema()[0] >= -_REL * max(v, 1e-9)
+                and change.p[-1] - s <= length * (1.0 + 1e-12))
+
+    grid = [target + (top - target) * k / 32 for k in range(33)]
+    for lower, upper in zip([None, *grid], grid, strict=False):
+        if fits(upper):
+            if lower is None:
+                return upper
+            for _ in range(40):
+                middle = 0.5 * (lower + upper)
+                lower, upper = (lower, middle) if fits(middle) else (middle, upper)
+            return upper
     return None
 
 

@@ -28,6 +28,7 @@ default): MoveToPosition has no modulo options.
 from __future__ import annotations
 
 import math
+from bisect import bisect_right
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -35,7 +36,7 @@ import numpy as np
 
 from openmotion.core.enums import ModuloDirection
 from openmotion.core.errors import CommandRejected, ErrorId
-from openmotion.planar.rotation import CWindows, move_c_target
+from openmotion.planar.rotation import CWindows, monotonic, move_c_target
 from openmotion.trajectory.plan import Limits, plan_position, plan_position_in, plan_stop
 from openmotion.trajectory.segments import KinematicState, Profile
 
@@ -43,6 +44,7 @@ _REST = 1e-12  #: relative to its limit, a smaller velocity or acceleration is r
 _ACROSS = 1e-9  #: relative to its limit, a smaller component across the line is float residue
 _SYNC_TOLERANCE = 1e-9  #: [s] path and C ending this close together end together
 _SYNC_ROUNDS = 4  #: at most this many stretching rounds until path and C agree
+_PREDICTION_MARGIN = 1e-6  #: [s] closed-form durations further apart tell the faster motion
 _PATH_TOLERANCE = 1e-9  #: relative: float residue of an extremum is no position-limit breach
 
 
@@ -83,6 +85,11 @@ class PlanarMotion:
     y: Profile
     c: Profile | None  #: None: the motion leaves C alone
     c_start: float  #: [°] orientation at the start, reported by ``sample`` when ``c`` is None
+    #: the arc length [mm] from the start when x and y run forward on one straight line from
+    #: it (x = x0 + ux s, y = y0 + uy s) and c never turns back; None when a lead brakes on
+    #: another line first or a motion turns back. The planar group then needs only the ends
+    #: of the runs it cuts the path into (mover.py)
+    s: Profile | None = None
 
     @property
     def duration(self) -> float:
@@ -110,6 +117,89 @@ def _positions(profile: Profile, times: np.ndarray) -> np.ndarray:
                                                      + dt * profile.j[k] / 6.0))
 
 
+def sample_path(plans: Sequence[tuple[Profile, float]], start: float, time_step: float
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """Times [s] after ``start`` and positions (one column per plan) of profiles that each
+    started at its own time t0 [s], at ``sample_times``. A plan that has ended and rests
+    shows its end position."""
+    moving = [running(plan, start) for plan in plans]
+    live = [plan for plan, run in zip(plans, moving, strict=True) if run]
+    times = sample_times(live, start, time_step)
+    path = np.empty((times.size, len(plans)))
+    if live:
+        path[:, [k for k, run in enumerate(moving) if run]] = _positions_at(live, times).T
+    for k, (profile, _) in enumerate(plans):
+        if not moving[k]:
+            path[:, k] = profile.p[-1]
+    return times - start, path
+
+
+def sample_times(plans: Sequence[tuple[Profile, float]], start: float, time_step: float
+                 ) -> np.ndarray:
+    """Absolute times [s] every ``time_step`` from ``start`` until the last of the running
+    ``plans`` (profile, t0) has ended, plus every later segment boundary (the corners of the
+    path); times closer than 1e-12 s to the one before are dropped."""
+    end = max((t0 + p.duration for p, t0 in plans), default=start)
+    grid = start + np.arange(math.ceil(max(end - start, 0.0) / time_step) + 1) * time_step
+    corners = np.concatenate([t0 + p.t for p, t0 in plans]) if plans else grid[:0]
+    times = np.concatenate((grid, corners[corners > start], (end,)))
+    times.sort()
+    times = times[:np.searchsorted(times, end, side="right")]
+    keep = np.empty(times.size, dtype=bool)
+    keep[0] = True
+    np.greater(times[1:] - times[:-1], 1e-12, out=keep[1:])
+    return times[keep]
+
+
+def poses_at(plans: Sequence[tuple[Profile, float]], start: float, times: Sequence[float]
+             ) -> list[list[float]]:
+    """Positions (one per plan) at a few absolute ``times``, as ``sample_path`` computes them:
+    a row per time."""
+    columns = []
+    for profile, t0 in plans:
+        if not running((profile, t0), start):
+            columns.append([float(profile.p[-1])] * len(times))
+            continue
+        t, p, v, a, j = profile.data.tolist()
+        column = []
+        for time in times:
+            dt = time - t0
+            if dt < 0.0:
+                dt = 0.0
+            k = max(bisect_right(t, dt) - 1, 0)
+            dt -= t[k]
+            column.append(p[k] + dt * (v[k] + dt * (a[k] / 2.0 + dt * j[k] / 6.0)))
+        columns.append(column)
+    return [list(row) for row in zip(*columns, strict=True)]
+
+
+def _positions_at(plans: Sequence[tuple[Profile, float]], times: np.ndarray) -> np.ndarray:
+    """(plans, times) positions of each profile started at its t0 at the absolute ``times``
+    (its start position before t0): ``_positions`` for all plans in one evaluation."""
+    starts = {t0 for _, t0 in plans}
+    if len(starts) == 1:  # the usual case: all start together
+        rel = np.maximum(times - starts.pop(), 0.0)
+        shifted = [rel] * len(plans)
+    else:
+        rel = np.maximum(times - np.array([[t0] for _, t0 in plans]), 0.0)
+        shifted = list(rel)
+    index = np.empty((len(plans), times.size), dtype=np.intp)
+    for row, (profile, _) in enumerate(plans):
+        index[row] = np.searchsorted(profile.t, shifted[row], side="right")
+    first = np.cumsum([0] + [profile.data.shape[1] for profile, _ in plans[:-1]])[:, None]
+    index += first - 1
+    np.maximum(index, first, out=index)  # the segment that holds each time
+    t, p, v, a, j = np.concatenate([profile.data for profile, _ in plans], axis=1)[:, index]
+    dt = rel - t
+    return p + dt * (v + dt * (a / 2.0 + dt * j / 6.0))
+
+
+def running(plan: tuple[Profile, float], start: float) -> bool:
+    """The profile still moves after ``start`` (or cruises on forever)."""
+    profile, t0 = plan
+    return t0 + profile.duration > start or bool(profile.v[-1] != 0.0)
+
+
 def plan_move_to_position(
     start: tuple[KinematicState, KinematicState, KinematicState],
     target: Sequence[float],
@@ -133,12 +223,14 @@ def plan_move_to_position(
     lead = None if _on_line(x, y, tx, ty, limits) else _xy_brake(x, y, limits)
     lead_time = 0.0 if lead is None else max(lead[0].duration, lead[1].duration)
     line = _Line(x, y, tx, ty) if lead is None else _Line(lead[0].end, lead[1].end, tx, ty)
+    c_monotonic = True
     if len(target) == 2:
         s, c_profile = plan_position(line.s_start, line.length, limits), None
     else:
         s, c_profile = _synchronise(line, limits, lead_time, c, _finite(target[2], "c"),
                                     c_limits)
-        if c_windows is not None and not c_windows.contains_motion(c_profile):
+        c_monotonic = monotonic(c_profile)
+        if c_windows is not None and not c_windows.contains_motion(c_profile, c_monotonic):
             raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
                                   f"c {c.position:g} -> {c_profile.end.position:g} leaves its "
                                   f"C window; only MoveC rotates outside the windows (§4.2)")
@@ -148,7 +240,8 @@ def plan_move_to_position(
         py = Profile.concatenate(_pad(lead[1], lead_time), py)
     x_limits.check(px, "x")
     y_limits.check(py, "y")
-    return PlanarMotion(px, py, c_profile, c.position)
+    straight = lead is None and c_monotonic and monotonic(s)
+    return PlanarMotion(px, py, c_profile, c.position, s if straight else None)
 
 
 class _Line:
@@ -240,11 +333,21 @@ def _synchronise(line: _Line, limits: Limits, lead_time: float, c: KinematicStat
     """The arc-length and C profiles, the faster one stretched so that both end together.
 
     A stretched duration inside one of ruckig's blocked intervals ends later than asked; the
-    other then follows it, so a few rounds settle any case.
+    other then follows it, so a few rounds settle any case. From rest with equal acceleration
+    and deceleration the closed-form durations tell the faster one beforehand, so its
+    time-optimal plan, which only its duration would serve, is not computed.
     """
-    s = plan_position(line.s_start, line.length, limits)
-    rotation = plan_position(c, c_target, c_limits)
-    for _ in range(_SYNC_ROUNDS):
+    faster = _faster_from_rest(line, limits, lead_time, c, c_target, c_limits)
+    if faster == "s":  # the first round's stretch, without the optimal plan of s
+        rotation = plan_position(c, c_target, c_limits)
+        s = _plan_lasting(line.s_start, line.length, limits, rotation.duration - lead_time)
+    elif faster == "c":
+        s = plan_position(line.s_start, line.length, limits)
+        rotation = _plan_lasting(c, c_target, c_limits, lead_time + s.duration)
+    else:
+        s = plan_position(line.s_start, line.length, limits)
+        rotation = plan_position(c, c_target, c_limits)
+    for _ in range(_SYNC_ROUNDS - (faster is not None)):
         end = max(lead_time + s.duration, rotation.duration)
         if s.duration > 0.0 and lead_time + s.duration < end - _SYNC_TOLERANCE:
             s = _plan_lasting(line.s_start, line.length, limits, end - lead_time)
@@ -253,6 +356,44 @@ def _synchronise(line: _Line, limits: Limits, lead_time: float, c: KinematicStat
         if abs(lead_time + s.duration - rotation.duration) <= _SYNC_TOLERANCE:
             break
     return s, rotation
+
+
+def _faster_from_rest(line: _Line, limits: Limits, lead_time: float, c: KinematicState,
+                      c_target: float, c_limits: Limits) -> str | None:
+    """"s" or "c" when both start at rest, both move, acceleration equals deceleration and
+    the closed-form durations differ by more than ``_PREDICTION_MARGIN``; else None."""
+    s = line.s_start
+    if not (line.length > 0.0 and c_target != c.position
+            and s.velocity == s.acceleration == c.velocity == c.acceleration == 0.0
+            and limits.acceleration == limits.deceleration
+            and c_limits.acceleration == c_limits.deceleration):
+        return None
+    path = lead_time + rest_to_rest_time(line.length, limits)
+    turn = rest_to_rest_time(c_target - c.position, c_limits)
+    if path < turn - _PREDICTION_MARGIN:
+        return "s"
+    if turn < path - _PREDICTION_MARGIN:
+        return "c"
+    return None
+
+
+def rest_to_rest_time(distance: float, limits: Limits) -> float:
+    """[s] of the time-optimal jerk-limited move over ``distance`` from rest to rest with
+    acceleration equal to deceleration (the double S-curve: ramps of jerk, acceleration and
+    cruise as far as the limits ``limits`` allow; ruckig is the oracle in the tests)."""
+    d, v, a, j = abs(distance), limits.velocity, limits.acceleration, limits.jerk
+    if v * j >= a * a:  # a full ramp to v holds the acceleration limit
+        ramp = v / a + a / j  # [s] from rest to v
+        if d >= v * ramp:
+            return d / v + ramp
+        if d >= 2.0 * a ** 3 / (j * j):  # no cruise, the acceleration limit still reached
+            peak = (math.sqrt((a * a / j) ** 2 + 4.0 * a * d) - a * a / j) / 2.0
+            return 2.0 * (peak / a + a / j)
+    else:  # the ramp to v is triangular in acceleration
+        ramp = math.sqrt(v / j)
+        if d >= 2.0 * v * ramp:
+            return d / v + 2.0 * ramp
+    return 4.0 * (d / (2.0 * j)) ** (1.0 / 3.0)  # triangular: no limit but the jerk reached
 
 
 def _plan_lasting(start: KinematicState, target: float, limits: Limits,

@@ -37,10 +37,15 @@ from openmotion.planar.frames import Pose
 from openmotion.planar.motion import (
     PositionLimits,
     _positions,
+    monotonic,
     plan_axis_move,
     plan_halt,
     plan_move_c,
     plan_move_to_position,
+    poses_at,
+    running,
+    sample_path,
+    sample_times,
 )
 from openmotion.planar.options import (
     CDT_MCTOPLC_PLANAR_MOVER,
@@ -57,7 +62,15 @@ from openmotion.planar.options import (
     command_dynamics,
 )
 from openmotion.planar.positions import PositionXYC, finite
-from openmotion.planar.reservation import MemberId, footprint, swept_area
+from openmotion.planar.reservation import (
+    RELEASE_STEP,
+    MemberId,
+    SweptArea,
+    footprint,
+    straight_swept_area,
+    swept_area,
+    travel_runs,
+)
 from openmotion.planar.states import (
     CommandModes,
     ErrorReaction,
@@ -309,7 +322,7 @@ class MC_PlanarMover(StatefulObject):
             profiles["c"] = motion.c
         elif options.use_orientation:  # c is at its target already: the move still holds it
             profiles["c"] = Profile.hold(c)
-        self._begin(command, profiles, "the move")
+        self._begin(command, profiles, "the move", straight=motion.s)
 
     def _move_c(self, command: PlanarCommand) -> None:
         target, constraint, options = command.args
@@ -488,14 +501,15 @@ class MC_PlanarMover(StatefulObject):
     # -- motions ---------------------------------------------------------------------------------
 
     def _begin(self, command: PlanarCommand, profiles: dict[str, Profile], what: str, *,
-               c_motion: bool = False, admit: bool = True) -> None:
+               c_motion: bool = False, admit: bool = True, straight: Profile | None = None
+               ) -> None:
         """Admit (in a group) and start ``profiles`` for ``command``: the commands on the same
-        coordinates are aborted."""
+        coordinates are aborted. ``straight``: the arc length of x and y when they run forward
+        on one line from the start (``PlanarMotion.s``)."""
         previous = self._system.previous
         samples, releases = None, []
         if _AREA & profiles.keys() and self._group is not None:
-            samples, path = self._future_path(profiles, previous)
-            area = swept_area(path, self.parameters.mover_width, self.parameters.mover_height)
+            samples, area = self._future_area(profiles, previous, straight)
             if admit:
                 self._group._check_enabled(what)
                 blocker = self._group.registry.request(self.member, area)
@@ -520,32 +534,30 @@ class MC_PlanarMover(StatefulObject):
         command.started()
         self._reschedule()
 
-    def _future_path(self, profiles: dict[str, Profile], start: float
-                     ) -> tuple[np.ndarray, np.ndarray]:
-        """Sample times and (x, y, c) of the footprint's future from ``start`` on, with the
-        new ``profiles`` and the plans still running on the other coordinates."""
-        plans = {}
-        for name in ("x", "y", "c"):
-            if name in profiles:
-                plans[name] = (profiles[name], start)
-            else:
-                plans[name] = self._profiles.get(name) or (
-                    Profile.hold(self._state_at(name, start)), start)
-        running = {name: (p, t0) for name, (p, t0) in plans.items()
-                   if t0 + p.duration > start or p.v[-1] != 0.0}
-        end = max((t0 + p.duration for p, t0 in running.values()), default=start)
+    def _future_area(self, profiles: dict[str, Profile], start: float,
+                     straight: Profile | None) -> tuple[np.ndarray, SweptArea]:
+        """Sample times after ``start`` of the footprint's future, with the new ``profiles``
+        and the plans still running on the other coordinates, and the area it sweeps
+        (``swept_area`` of the samples). A straight path (``straight``, the arc length of x
+        and y, ``PlanarMotion.s``) is cut into runs by its arc length and only the run ends
+        are evaluated: the same pieces, without sampling x, y and c."""
+        plans = [(profiles[name], start) if name in profiles else self._profiles.get(name)
+                 or (Profile.hold(self._state_at(name, start)), start) for name in "xyc"]
         step = self._system.cycle_time * _SAMPLE_CYCLES
-        times = np.concatenate([
-            start + np.arange(math.ceil(max(end - start, 0.0) / step) + 1) * step,
-            *[t0 + p.t[t0 + p.t > start] for p, t0 in running.values()], [end]])
-        times.sort()
-        times = times[(np.diff(times, prepend=-np.inf) > 1e-12) & (times <= end)]
-        path = np.empty((times.size, 3))
-        for column, name in enumerate(("x", "y", "c")):
-            profile, t0 = plans[name]
-            path[:, column] = _positions(profile, np.maximum(times - t0, 0.0)) \
-                if name in running else profile.p[-1]
-        return times - start, path
+        width, height = self.parameters.mover_width, self.parameters.mover_height
+        turning = running(plans[2], start)
+        if straight is not None and ("c" in profiles or not turning or monotonic(plans[2][0])):
+            # x and y have the corners of their arc length s
+            times = sample_times([(straight, start), *(plans[2:] if turning else ())], start,
+                                 step)
+            samples = times - start
+            _, ends = travel_runs(_positions(straight, samples), RELEASE_STEP)
+            poses = poses_at(plans, start, times[[0, *ends.tolist()]].tolist())
+            area = straight_swept_area(poses, ends, width, height)
+            if area is not None:
+                return samples, area
+        samples, path = sample_path(plans, start, step)
+        return samples, swept_area(path, width, height)
 
     def _place(self, pose: Pose) -> None:
         """Stand at ``pose`` (a new coordinate system, a part that carried the mover)."""

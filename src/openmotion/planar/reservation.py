@@ -59,6 +59,7 @@ import math
 from collections.abc import Collection
 from dataclasses import dataclass
 from functools import cached_property
+from itertools import pairwise
 from typing import NamedTuple
 
 import numpy as np
@@ -80,6 +81,7 @@ _DISC_TURN = 30.0  #: a run stepping this far [deg] between samples is covered b
 _SQUARE = np.array([(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)])
 _RING = np.stack([np.cos(np.arange(32) * math.pi / 16), np.sin(np.arange(32) * math.pi / 16)],
                  axis=1) / math.cos(math.pi / 32)  #: a 32-gon that encloses the unit disc
+_NONE = np.empty(0, dtype=np.int64)  #: no slots
 NEVER = int(np.iinfo(np.int64).max)  #: ``until`` of a piece that progress never releases
 _FLIP = np.array([1.0, 1.0, -1.0, -1.0])  #: bounds to the stored box, keys to query keys
 _KEY_ORDER = np.array([2, 3, 0, 1])
@@ -109,19 +111,47 @@ class SweptArea:
     ``keys`` hold each piece's max x, max y, -min x, -min y: a stored box (min x, min y,
     -max x, -max y) overlaps piece i with positive area exactly when it lies below
     ``keys[i]`` in all four; ``key`` is the same for all pieces together. They are computed
-    here, with the area, so that the admission check only compares."""
+    here, with the area, so that the admission check only compares.
 
-    pieces: np.ndarray  #: shapely polygons (object array)
+    A piece given as the convex hull of a few points (``from_hulls``) becomes a polygon only
+    when it is first needed (``piece``): the admission check compares boxes first, and few
+    pieces ever meet a box of another member."""
+
     until: np.ndarray  #: int64, the last path sample each piece covers
     bounds: np.ndarray  #: (n, 4) min x, min y, max x, max y of each piece [mm]
     keys: np.ndarray  #: (n, 4) query keys of the pieces
     key: np.ndarray  #: (4,) query key of the whole area
+    polygons: np.ndarray  #: object array: each piece's polygon, None until it is built
+    points: np.ndarray | None = None  #: (n, k, 2) the points each piece is the hull of [mm]
 
     @classmethod
     def from_pieces(cls, pieces: np.ndarray, until: np.ndarray | list[int]) -> SweptArea:
         bounds = shapely.bounds(pieces)
         keys = bounds[:, _KEY_ORDER] * _FLIP
-        return cls(pieces, np.asarray(until, dtype=np.int64), bounds, keys, keys.max(axis=0))
+        return cls(np.asarray(until, dtype=np.int64), bounds, keys, keys.max(axis=0), pieces)
+
+    @classmethod
+    def from_hulls(cls, points: np.ndarray, until: np.ndarray | list[int]) -> SweptArea:
+        """Piece i is the convex hull of ``points[i]`` ((n, k, 2)); its bounds are theirs."""
+        bounds = np.concatenate((points.min(axis=1), points.max(axis=1)), axis=1)
+        keys = bounds[:, _KEY_ORDER] * _FLIP
+        return cls(np.asarray(until, dtype=np.int64), bounds, keys, keys.max(axis=0),
+                   np.full(len(points), None, dtype=object), points)
+
+    @property
+    def pieces(self) -> np.ndarray:
+        """All pieces as shapely polygons (object array), in path order."""
+        missing = np.flatnonzero(self.polygons == None)  # noqa: E711 - elementwise
+        if missing.size:
+            self.polygons[missing] = shapely.convex_hull(shapely.linestrings(self.points[missing]))
+        return self.polygons
+
+    def piece(self, i: int) -> BaseGeometry:
+        """Piece ``i`` as a shapely polygon (built alone when it is first needed)."""
+        polygon = self.polygons[i]
+        if polygon is None:
+            polygon = self.polygons[i] = shapely.convex_hull(shapely.linestrings(self.points[i]))
+        return polygon
 
     @classmethod
     def from_geometry(cls, geometry: BaseGeometry) -> SweptArea:
@@ -151,12 +181,11 @@ def swept_area(path: np.ndarray, width: float = MOVER_WIDTH, height: float = MOV
     if len(path) == 1:
         return SweptArea.from_pieces(
             np.array([footprint(*path[0], width, height, margin)], dtype=object), [0])
-    cuts = _cut_by_travel(xy, release_step)
+    starts, ends = travel_runs(_travel(xy), release_step)
     if _straight(xy):  # the usual free move: cheap, and exact without rotation
-        area = _straight_area(xy, c, *cuts, half)
+        area = _straight_area(xy, c, starts, ends, half)
         if area is not None:
             return area
-    starts, ends = cuts
     radius = math.hypot(*half)
     turn = np.maximum.reduceat(np.abs(np.diff(c)), starts)  # [deg] largest step of each run
     grow = radius * np.radians(turn)
@@ -186,43 +215,88 @@ def swept_area(path: np.ndarray, width: float = MOVER_WIDTH, height: float = MOV
 
 def _straight(xy: np.ndarray) -> bool:
     """The centre runs forward on one straight line (a free move from rest)."""
-    chord = xy[-1] - xy[0]
-    length = math.hypot(*chord)
+    (x0, y0), (x1, y1) = xy[0].tolist(), xy[-1].tolist()
+    cx, cy = x1 - x0, y1 - y0
+    length = math.hypot(cx, cy)
     if length == 0.0:
-        return bool(np.all(xy == xy[0]))
+        return bool((xy == xy[0]).all())
     offset = (xy - xy[0]) / length
-    across = chord[0] * offset[:, 1] - chord[1] * offset[:, 0]
-    along = offset @ chord
-    return bool(np.all(np.abs(across) <= NOISE) and np.all(np.diff(along) >= -NOISE))
+    across = cx * offset[:, 1] - cy * offset[:, 0]
+    if not np.abs(across).max() <= NOISE:
+        return False
+    along = offset[:, 0] * cx + offset[:, 1] * cy  # no BLAS call for a handful of numbers
+    return bool((along[1:] - along[:-1]).min() >= -NOISE)
 
+
+def straight_swept_area(poses: list[list[float]], until: np.ndarray | list[int],
+                        width: float = MOVER_WIDTH, height: float = MOVER_HEIGHT,
+                        margin: float = 0.0) -> SweptArea | None:
+    """The area of a centre running forward on one straight line through ``poses`` (m + 1
+    rows of x, y [mm], c [deg]): run j from pose j to pose j + 1, covering the path samples up
+    to ``until[j]``, while c moves monotonically between the two poses' c. The same pieces as
+    ``swept_area`` gives for the samples of such a path, built from the run ends alone; None
+    when a run turns more than ``_STRAIGHT_SPAN`` (then ``swept_area`` on samples)."""
+    _check_size(width, height, margin)
+    turns = list(pairwise(c for _, _, c in poses))
+    return _line_pieces(np.array([(x, y) for x, y, _ in poses]), [min(t) for t in turns],
+                        [max(t) for t in turns], until,
+                        (width / 2 + margin, height / 2 + margin))
 
 
 def _straight_area(xy: np.ndarray, c: np.ndarray, starts: np.ndarray, ends: np.ndarray,
                    half: tuple[float, float]) -> SweptArea | None:
-    """Pieces for a centre on a straight line: K + segment, where K holds the footprint at
-    every angle the run takes. A corner turning from the run's lowest c to its highest
-    travels an arc that lies in the triangle of the arc's chord and its two tangents, whose
-    apex is the corner at the middle angle pushed out by 1 / cos(span / 2): K is the hull of
-    the corners at the lowest, the highest and (pushed out) the middle angle. Without
-    rotation K is the footprint and the piece is exact. None when a run turns more than
-    ``_STRAIGHT_SPAN`` (the apex then stands out by more than 1.5 %; the general cover, which
-    hulls every sample, is tighter for big turns)."""
-    lo = np.minimum(np.minimum.reduceat(c, starts), c[ends])
-    hi = np.maximum(np.maximum.reduceat(c, starts), c[ends])
-    span = hi - lo
-    if (span > _STRAIGHT_SPAN).any():
+    """Pieces for sampled centres on a straight line (``_line_pieces``), with each run's
+    lowest and highest c."""
+    if (c == c[0]).all():
+        low = high = [float(c[0])] * len(starts)
+    else:
+        low = np.minimum(np.minimum.reduceat(c, starts), c[ends]).tolist()
+        high = np.maximum(np.maximum.reduceat(c, starts), c[ends]).tolist()
+    return _line_pieces(xy[np.concatenate(([0], ends))], low, high, ends, half)
+
+
+def _line_pieces(points: np.ndarray, low: list[float], high: list[float],
+                 until: np.ndarray | list[int], half: tuple[float, float]) -> SweptArea | None:
+    """Pieces for a centre on a straight line: run j runs from ``points[j]`` to
+    ``points[j + 1]`` turning within [``low[j]``, ``high[j]``]; its piece is K + segment,
+    where K holds the footprint at every angle the run takes. A corner turning from the
+    run's lowest c to its highest travels an arc that lies in the triangle of the arc's chord
+    and its two tangents, whose apex is the corner at the middle angle pushed out by
+    1 / cos(span / 2): K is the hull of the corners at the lowest, the highest and (pushed
+    out) the middle angle. Without rotation K is the footprint and the piece is exact. None
+    when a run turns more than ``_STRAIGHT_SPAN`` (the apex then stands out by more than
+    1.5 %; the general cover, which hulls every sample, is tighter for big turns).
+
+    K is a dozen numbers per run: plain floats, then one numpy array for the cloud."""
+    first = low[0]
+    if all(a == first and b == first for a, b in zip(low, high, strict=True)):  # a translation
+        shape = np.array(_turned_corners(first, half)).reshape(4, 2)
+    elif max(b - a for a, b in zip(low, high, strict=True)) > _STRAIGHT_SPAN:
         return None
-    m = len(starts)
-    turning = span > NOISE
-    angles = np.concatenate([lo, hi, (lo + hi)[turning] / 2.0])
-    cos_sin = _exact_cos_sin(angles) if (np.mod(angles, 90.0) == 0.0).any() and angles.any() \
-        else np.stack([np.cos(np.radians(angles)), np.sin(np.radians(angles))], axis=1)
-    corners = _corners(np.zeros((len(angles), 2)), cos_sin, half)  # (2m + t, 4, 2)
-    apex = corners[:m].copy()  # no turn: the lowest angle's corners once more
-    apex[turning] = corners[2 * m:] / np.cos(np.radians(span[turning]) / 2.0)[:, None, None]
-    shape = np.concatenate([corners[:m], corners[m:2 * m], apex], axis=1)  # (m, 12, 2)
-    cloud = np.concatenate([xy[starts, None, :] + shape, xy[ends, None, :] + shape], axis=1)
-    return SweptArea.from_pieces(shapely.convex_hull(shapely.linestrings(cloud)), ends)
+    else:
+        flat: list[float] = []
+        for a, b in zip(low, high, strict=True):
+            lowest = _turned_corners(a, half)
+            flat += lowest
+            flat += _turned_corners(b, half)
+            if b - a > NOISE:
+                out = math.cos(math.radians(b - a) / 2.0)
+                flat += [u / out for u in _turned_corners((a + b) / 2.0, half)]
+            else:  # no turn: the lowest angle's corners once more
+                flat += lowest
+        shape = np.array(flat).reshape(len(low), 12, 2)
+    cloud = np.concatenate((points[:-1, None] + shape, points[1:, None] + shape), axis=1)
+    return SweptArea.from_hulls(cloud, until)
+
+
+def _turned_corners(c: float, half: tuple[float, float]) -> list[float]:
+    """x0, y0, ..., y3 of the four corners (ccw from (-hx, -hy)) of a footprint about the
+    origin turned by ``c`` [deg], exact at quarter turns: (cos u - sin v, sin u + cos v)
+    written out for u = -hx, hx and v = -hy, hy."""
+    cos, sin = cos_sin(c)
+    hx, hy = half
+    cu, cv, su, sv = cos * hx, cos * hy, sin * hx, sin * hy
+    return [-cu + sv, -su - cv, cu + sv, su - cv, cu - sv, su + cv, -cu - sv, -su + cv]
 
 
 def _check_size(width: float, height: float, margin: float) -> None:
@@ -266,16 +340,28 @@ def _corners(xy: np.ndarray, turning: np.ndarray, half: tuple[float, float]) -> 
     return xy[:, None, :] + np.stack([x, y], axis=-1)
 
 
-def _cut_by_travel(xy: np.ndarray, release_step: float | None) -> tuple[np.ndarray, np.ndarray]:
-    """Runs (first, last sample) that each cover about ``release_step`` of centre travel."""
-    last = len(xy) - 1
+def travel_runs(travel: np.ndarray, release_step: float | None
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """Runs (first, last sample) that each cover about ``release_step`` [mm] of travel: a run
+    ends at the first sample whose ``travel`` (distance covered since sample 0, from 0) reaches
+    the next multiple of the step, and at the last sample. None: one run."""
+    last = len(travel) - 1
     if release_step is None:
         return np.array([0]), np.array([last])
-    travel = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
-    step = np.floor(travel / release_step)
-    cuts = np.flatnonzero(np.diff(step)) + 1  # increasing, in 1..last
-    marks = np.concatenate([[0], cuts if cuts.size and cuts[-1] == last else [*cuts, last]])
-    return marks[:-1], marks[1:]
+    piece = np.floor(travel / release_step)
+    marks = (np.flatnonzero(piece[1:] != piece[:-1]) + 1).tolist()
+    if not marks or marks[-1] != last:
+        marks.append(last)
+    return np.array([0, *marks[:-1]]), np.array(marks)
+
+
+def _travel(xy: np.ndarray) -> np.ndarray:
+    """Centre travel [mm] from sample 0 to each sample along the polyline."""
+    step = xy[1:] - xy[:-1]
+    travel = np.empty(len(xy))
+    travel[0] = 0.0
+    np.cumsum(np.hypot(step[:, 0], step[:, 1]), out=travel[1:])
+    return travel
 
 
 def _as_swept(area: SweptArea | BaseGeometry) -> SweptArea:
@@ -292,8 +378,10 @@ class ReservationRegistry:
         self._slots: dict[MemberId, np.ndarray] = {}  # member -> its pieces' slots, path order
         self._environment: MemberId | None = None
         self._surface: BaseGeometry | None = None
+        self._rectangle: tuple[float, float, float, float] | None = None  # a box surface
         self._box = np.empty((0, 4))  # min x, min y, -max x, -max y of each slot's piece
-        self._geoms = np.empty(0, dtype=object)
+        self._areas = np.empty(0, dtype=object)  # the SweptArea of each slot's piece
+        self._index = np.empty(0, dtype=np.int64)  # the piece's index in its area
         self._owner = np.empty(0, dtype=np.int64)  # rank of the slot's member, -1 when free
         self._until = np.empty(0, dtype=np.int64)
         self._free: list[int] = []
@@ -342,19 +430,22 @@ class ReservationRegistry:
         del self._members[rank]
         self._free_slots(self._slots.pop(member, np.empty(0, dtype=np.int64)))
         if member == self._environment:
-            self._environment, self._surface = None, None
+            self._environment, self._surface, self._rectangle = None, None, None
 
     def set_surface(self, surface: BaseGeometry | None) -> None:
         """The environment's stator surface (after ``CreateBoundary``); None: no boundary yet,
         so nothing is checked against it (no boundary element to meet, §6.4)."""
         if self._environment is None:
             raise ConfigError("set_surface: the group holds no environment")
+        self._rectangle = None
         if surface is None or surface.is_empty:
             self._surface = None
             return
         grown = shapely.buffer(surface, SURFACE_TOLERANCE, join_style="mitre")
         shapely.prepare(grown)
         self._surface = grown
+        if shapely.equals(grown, shapely.box(*grown.bounds)):  # covers it: bounds inside
+            self._rectangle = tuple(grown.bounds)
 
     def blocker(self, owner: MemberId, area: SweptArea | BaseGeometry,
                 ignore: Collection[MemberId] = ()) -> MemberId | None:
@@ -362,8 +453,9 @@ class ReservationRegistry:
 
         ``owner``'s own reservation never blocks; nor do the members in ``ignore`` (e.g. the
         movers on a track that reserves its band)."""
-        ranks = [self._mover_rank(owner)] + [self._order[m] for m in ignore if m in self._order]
-        return self._blocker(_as_swept(area), ranks)
+        self._mover_rank(owner)
+        skip = [self._slots[m] for m in (owner, *ignore) if m in self._slots]
+        return self._blocker(_as_swept(area), skip)
 
     def request(self, owner: MemberId, area: SweptArea | BaseGeometry,
                 ignore: Collection[MemberId] = ()) -> MemberId | None:
@@ -389,15 +481,16 @@ class ReservationRegistry:
         """Replace ``owner``'s reservation without a check: only for an area inside it, such
         as the standing footprint at the end of the path (which the last piece contains)."""
         rank = self._mover_rank(owner)
-        self._free_slots(self._slots.pop(owner, np.empty(0, dtype=np.int64)))
-        self._slots[owner] = self._store(_as_swept(area), rank)
+        self._slots[owner] = self._store(_as_swept(area), rank, self._slots.pop(owner, _NONE))
 
     def reserved(self, member: MemberId) -> BaseGeometry:
         """The member's reserved area (the environment: its surface); empty if none."""
         if member == self._environment:
             return self._surface if self._surface is not None else Polygon()
         slots = self._slots.get(member)
-        return Polygon() if slots is None else shapely.union_all(self._geoms[slots])
+        if slots is None:
+            return Polygon()
+        return shapely.union_all([self._piece(slot) for slot in slots.tolist()])
 
     def _mover_rank(self, owner: MemberId) -> int:
         """The rank of a member that may hold an area (any member but the environment)."""
@@ -405,7 +498,7 @@ class ReservationRegistry:
             raise ConfigError(f"{_name(owner)}: the environment holds its surface, not an area")
         return self._order[owner]
 
-    def _blocker(self, swept: SweptArea, excluded: list[int]) -> MemberId | None:
+    def _blocker(self, swept: SweptArea, excluded: list[np.ndarray]) -> MemberId | None:
         rank = self._first_meeting(swept, excluded)
         environment = self._environment
         if environment is not None and (rank is None or self._order[environment] < rank) \
@@ -413,57 +506,80 @@ class ReservationRegistry:
             return environment
         return None if rank is None else self._members[rank]
 
-    def _first_meeting(self, swept: SweptArea, excluded: list[int]) -> int | None:
-        """Lowest rank among the members whose pieces meet (not only touch) ``swept``.
+    def _first_meeting(self, swept: SweptArea, excluded: list[np.ndarray]) -> int | None:
+        """Lowest rank among the members whose pieces meet (not only touch) ``swept``; the
+        pieces in the ``excluded`` slots do not count.
 
         Boxes first, vectorised; then the exact test pair by pair in rank order, stopping at
         the first meeting (scalar shapely calls beat its ufuncs for a handful of pairs)."""
-        near = np.flatnonzero(_below(self._box, swept.key))
-        for rank in excluded:
-            near = near[self._owner[near] != rank]
+        hits = _below(self._box, swept.key)
+        for slots in excluded:
+            hits[slots] = False
+        near = np.flatnonzero(hits)
         if near.size == 0:
             return None
-        if len(swept.pieces) == 1:
+        if len(swept.until) == 1:
             mine, theirs = np.zeros(len(near), dtype=np.int64), near
         else:
             mine, index = np.nonzero(_below(self._box[near][None], swept.keys[:, None]))
             theirs = near[index]
         ranks = self._owner[theirs]
         order = np.argsort(ranks, kind="stable")
-        pieces, geoms = swept.pieces, self._geoms
         for i, j, rank in zip(mine[order].tolist(), theirs[order].tolist(),
                               ranks[order].tolist(), strict=True):
-            if pieces[i].intersects(geoms[j]) and not pieces[i].touches(geoms[j]):
+            mine_i, theirs_j = swept.piece(i), self._piece(j)
+            if mine_i.intersects(theirs_j) and not mine_i.touches(theirs_j):
                 return rank
         return None
 
-    def _on_surface(self, swept: SweptArea) -> bool:
-        return self._surface is None or bool(shapely.covers(self._surface, swept.pieces).all())
+    def _piece(self, slot: int) -> BaseGeometry:
+        return self._areas[slot].piece(self._index[slot])
 
-    def _store(self, swept: SweptArea, rank: int) -> np.ndarray:
-        count = len(swept.pieces)
-        if count == 0:
-            return np.empty(0, dtype=np.int64)
-        if len(self._free) < count:
-            self._grow(max(len(self._owner), count))
-        slots = np.array(self._free[:-count - 1:-1], dtype=np.int64)
-        del self._free[-count:]
+    def _on_surface(self, swept: SweptArea) -> bool:
+        if self._surface is None:
+            return True
+        if self._rectangle is not None:  # a convex piece is in a box when its bounds are
+            low_x, low_y, high_x, high_y = self._rectangle
+            max_x, max_y, min_x, min_y = swept.key.tolist()  # min x and min y negated
+            return max_x <= high_x and max_y <= high_y and -min_x >= low_x and -min_y >= low_y
+        return bool(shapely.covers(self._surface, swept.pieces).all())
+
+    def _store(self, swept: SweptArea, rank: int, reuse: np.ndarray = _NONE) -> np.ndarray:
+        """Slots holding ``swept``'s pieces for ``rank``: the slots ``reuse`` first (those
+        left over are freed), then free ones."""
+        count = len(swept.until)
+        if len(reuse) >= count:
+            slots = reuse[:count]
+            if len(reuse) > count:
+                self._free_slots(reuse[count:])
+        else:
+            count -= len(reuse)
+            if len(self._free) < count:
+                self._grow(max(len(self._owner), count))
+            slots = np.array(self._free[:-count - 1:-1], dtype=np.int64)
+            del self._free[-count:]
+            if len(reuse):
+                slots = np.concatenate((reuse, slots))
+        if not len(slots):
+            return slots
         self._box[slots] = swept.bounds * _FLIP
-        self._geoms[slots] = swept.pieces
+        self._areas[slots] = swept
+        self._index[slots] = np.arange(len(slots))
         self._owner[slots] = rank
         self._until[slots] = swept.until
         return slots
 
     def _free_slots(self, slots: np.ndarray) -> None:
         self._box[slots] = np.inf
-        self._geoms[slots] = None
+        self._areas[slots] = None
         self._owner[slots] = -1
         self._free.extend(slots[::-1].tolist())
 
     def _grow(self, extra: int) -> None:
         size = len(self._owner)
         self._box = np.concatenate([self._box, np.full((extra, 4), np.inf)])  # free: meets none
-        self._geoms = np.concatenate([self._geoms, np.full(extra, None, dtype=object)])
+        self._areas = np.concatenate([self._areas, np.full(extra, None, dtype=object)])
+        self._index = np.concatenate([self._index, np.zeros(extra, dtype=np.int64)])
         self._owner = np.concatenate([self._owner, np.full(extra, -1, dtype=np.int64)])
         self._until = np.concatenate([self._until, np.zeros(extra, dtype=np.int64)])
         self._free.extend(range(size + extra - 1, size - 1, -1))

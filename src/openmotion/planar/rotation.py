@@ -23,6 +23,7 @@ from openmotion.trajectory.segments import Profile
 
 QUARTER = 90.0  #: [°] symmetry of the square mover: the windows repeat at this spacing
 _TOLERANCE = 1e-9  #: [°] float residue of evaluated setpoints is not a window exit
+_RESIDUE = 1e-9  #: relative to its peak, a velocity against the motion is float residue
 
 _C_ROTATION = {
     MoverCommandMode.FREE_MOVEMENT: MoverCommandMode.C_ROTATION_FREE_MOVEMENT,
@@ -62,9 +63,28 @@ class CWindows:
         return (low >= self.minimum + shift - _TOLERANCE
                 and high <= self.maximum + shift + _TOLERANCE)
 
-    def contains_motion(self, c: Profile) -> bool:
-        """Whether a planned C motion stays inside one window for its whole duration."""
-        return self.contains_interval(*c.position_extrema())
+    def contains_motion(self, c: Profile, never_turns_back: bool | None = None) -> bool:
+        """Whether a planned C motion stays inside one window for its whole duration
+        (``never_turns_back``: ``monotonic(c)`` if the caller knows it)."""
+        return self.contains_interval(*_swept_c(c, never_turns_back))
+
+
+def monotonic(profile: Profile) -> bool:
+    """Whether a planned motion never turns back: its velocity keeps one sign, up to float
+    residue of 1e-9 of its peak (a residue of ~1e-13 mm/s ends many ruckig brakes)."""
+    low, high = profile.velocity_extrema()
+    residue = _RESIDUE * max(-low, high, 1.0)
+    return low >= -residue or high <= residue
+
+
+def _swept_c(c: Profile, never_turns_back: bool | None = None) -> tuple[float, float]:
+    """Lowest and highest c of a planned motion. One that never turns back (the usual case)
+    has its extremes at segment boundaries, far cheaper to read than
+    ``Profile.position_extrema``'s search for turning points."""
+    if monotonic(c) if never_turns_back is None else never_turns_back:
+        positions = c.p.tolist()
+        return min(positions), max(positions)
+    return c.position_extrema()
 
 
 def mode_at_enable(c: float, windows: CWindows) -> MoverCommandMode:

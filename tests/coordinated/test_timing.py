@@ -1,0 +1,641 @@
+"""The time law along a path (coordinated/timing.py; PLCopen Part 4 §5.3-§5.6, §5.13-§5.16,
+§5.28; digest §5, §6.6).
+
+The rules the time law guarantees, each checked analytically over every constant-jerk segment
+it planned (``record=True``), not only at samples:
+
+1. s, v and a are continuous; v >= 0; s never passes the path's end and ends on it bit for bit,
+   at rest.
+2. While s lies in piece k (junctions included), v, a and j keep piece k's caps (scaled by the
+   override in effect) to 1e-9 relative.
+3. At the end of piece k, v <= its exit cap; a cap of 0 (or a change of space) is an exact stop.
+4. Time-optimal where it can be compared: one long piece takes ruckig's time; many short
+   collinear pieces take as long as one piece of their length.
+5. Deterministic: the same calls give the same samples bit for bit.
+
+Then the events: appends while moving, stops (MC_GroupStop/Halt), interrupts and resumes
+(MC_GroupInterrupt/Continue), overrides (MC_GroupSetOverride), and a dense path.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+
+from openmotion.coordinated.timing import Piece, TimeLaw, Work
+from openmotion.trajectory.plan import Limits, plan_position, plan_stop
+from openmotion.trajectory.segments import KinematicState
+
+CYCLE = 0.001
+REL = 1e-9
+
+# hypothesis writes a patch for a failing example with libcst, whose import warns
+pytestmark = pytest.mark.filterwarnings("ignore:mypy_extensions.TypedDict:DeprecationWarning")
+
+Factors = Callable[[float], tuple[float, float, float]]
+
+
+# -- the analytic checker ---------------------------------------------------------------------
+
+
+def _state(p: float, v: float, a: float, j: float, d: float) -> tuple[float, float, float]:
+    return p + d * (v + d * (0.5 * a + d * j / 6.0)), v + d * (a + 0.5 * d * j), a + d * j
+
+
+def _time_of(segment: tuple[float, float, float, float], duration: float, s: float) -> float:
+    """When the (forward) segment reaches ``s``, by bisection."""
+    lo, hi = 0.0, duration
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        lo, hi = (mid, hi) if _state(*segment, mid)[0] < s else (lo, mid)
+    return hi
+
+
+def _unscaled(_: float) -> tuple[float, float, float]:
+    return 1.0, 1.0, 1.0
+
+
+def violations(law: TimeLaw, pieces: list[Piece], factors: Factors = _unscaled) -> list[tuple]:
+    """Every break of rules 1-3 in the legs ``law`` recorded, as readable tuples.
+
+    A segment's stretch over piece k is found by inverting s(t); where that stretch is a
+    sliver (round-off of the pinned leg ends, 1e-11 relative), only the continuous quantities
+    are checked, at the segment end that touches the piece.
+    """
+    ends = np.cumsum([p.length for p in pieces])
+    starts = np.concatenate(([0.0], ends[:-1]))
+    rate_scale = max(max(p.acceleration, p.deceleration) for p in pieces)
+    found: list[tuple] = []
+    previous = None
+    for t0, used, profile in law.history:
+        t, p, v, a, j = profile.data
+        if previous is not None:
+            s1, v1, a1 = previous
+            if (abs(p[0] - s1) > REL * max(abs(s1), 1.0) or abs(v[0] - v1) > REL * max(v1, 1.0)
+                    or abs(a[0] - a1) > REL * rate_scale):
+                found.append(("continuity", t0, (s1, v1, a1), (p[0], v[0], a[0])))
+        for k in range(len(t)):
+            if t[k] >= used:
+                break
+            end = min(t[k + 1] if k + 1 < len(t) else math.inf, used)
+            segment = (p[k], v[k], a[k], j[k])
+            if not math.isfinite(end):
+                if v[k] != 0.0 or a[k] != 0.0:
+                    found.append(("moving forever", t0, k))
+                continue
+            if end > t[k]:
+                found += _segment_violations(segment, end - t[k], t0 + t[k], pieces, starts, ends,
+                                             factors(t0 + t[k]))
+        if math.isfinite(used):
+            k = max(int(np.searchsorted(t, used, side="right")) - 1, 0)
+            previous = _state(p[k], v[k], a[k], j[k], used - t[k])
+        else:
+            previous = None
+    return found
+
+
+def _segment_violations(segment: tuple[float, float, float, float], duration: float,
+                        time: float, pieces: list[Piece], starts: np.ndarray, ends: np.ndarray,
+                        factors: tuple[float, float, float]) -> list[tuple]:
+    fv, fa, fj = factors
+    p0, v0, a0, j0 = segment
+    sa = p0
+    sb, vb, ab = _state(*segment, duration)
+    sliver, tight = 1e-11 * max(abs(sb), 1.0), 1e-12 * max(abs(sb), 1.0)
+    found = []
+    i = max(int(np.searchsorted(ends, sa - sliver, side="left")), 0)
+    while i < len(pieces) and starts[i] <= sb + sliver:
+        piece = pieces[i]
+        v_max, acc, dec, jerk = (piece.velocity * fv, piece.acceleration * fa,
+                                 piece.deceleration * fa, piece.jerk * fj)
+        lo, hi = max(starts[i], sa), min(ends[i], sb)
+        if hi - lo <= sliver:  # a touch at one end of the segment
+            if lo <= hi + sliver:
+                vt, at = (vb, ab) if abs(lo - sa) > abs(sb - hi) else (v0, a0)
+                if vt > v_max * (1 + REL) or at > acc * (1 + REL) or at < -dec * (1 + REL):
+                    found.append(("caps at a junction", time, i, vt, at))
+            i += 1
+            continue
+        t1 = 0.0 if lo <= sa else _time_of(segment, duration, lo)
+        t2 = duration if hi >= sb else _time_of(segment, duration, hi)
+        speeds = [_state(*segment, t1)[1], _state(*segment, t2)[1]]
+        if j0 != 0.0 and t1 < -a0 / j0 < t2:
+            speeds.append(_state(*segment, -a0 / j0)[1])
+        if max(speeds) > v_max * (1 + REL):
+            found.append(("velocity", time, i, max(speeds), v_max))
+        if min(speeds) < -REL * v_max:
+            found.append(("backwards", time, i, min(speeds)))
+        if max(a0 + j0 * t1, a0 + j0 * t2) > acc * (1 + REL):
+            found.append(("acceleration", time, i, max(a0 + j0 * t1, a0 + j0 * t2), acc))
+        if min(a0 + j0 * t1, a0 + j0 * t2) < -dec * (1 + REL):
+            found.append(("deceleration", time, i, min(a0 + j0 * t1, a0 + j0 * t2), dec))
+        if abs(j0) > jerk * (1 + REL):
+            found.append(("jerk", time, i, j0, jerk))
+        found += _exit_violations(segment, duration, time, i, pieces, ends, sa, sb, tight, fv)
+        i += 1
+    return found
+
+
+def _exit_violations(segment: tuple[float, float, float, float], duration: float, time: float,
+                     i: int, pieces: list[Piece], ends: np.ndarray, sa: float, sb: float,
+                     tight: float, fv: float) -> list[tuple]:
+    """Rule 3 at the end of piece i. A stop is checked by position (no motion through it),
+    because inverting s(t) where the motion comes to rest is ill-conditioned."""
+    if i == len(pieces) - 1:
+        return []
+    cap = pieces[i].exit_velocity * fv
+    if pieces[i + 1].space != pieces[i].space:
+        cap = 0.0
+    if cap == 0.0:
+        if sa < ends[i] - tight and sb > ends[i] + tight:
+            return [("through a stop", time, i, sa, sb)]
+        return []
+    if sa <= ends[i] < sb:
+        speed = _state(*segment, _time_of(segment, duration, ends[i]))[1]
+        if speed > cap * (1 + REL) + 1e-6 * pieces[i].velocity * fv:
+            return [("exit", time, i, speed, cap)]
+    return []
+
+
+# -- runs -------------------------------------------------------------------------------------
+
+
+def run_to_end(law: TimeLaw, cycle: float = CYCLE, start: int = 1,
+               limit: int = 2_000_000) -> tuple[float, list[tuple[float, float, float, float]]]:
+    """Sample every cycle until done; the time it took and the samples."""
+    samples = []
+    for i in range(start, start + limit):
+        samples.append(law.sample(i * cycle))
+        if law.done:
+            return i * cycle, samples
+    raise AssertionError(f"not done after {limit} cycles: {samples[-1]}")
+
+
+def line(length: float, velocity: float = 100.0, acceleration: float = 1000.0,
+         deceleration: float = 1000.0, jerk: float = 1e4, exit_velocity: float = 0.0,
+         space: int = 0) -> Piece:
+    return Piece(length, velocity, acceleration, deceleration, jerk, exit_velocity, space)
+
+
+def assert_rules(law: TimeLaw, pieces: list[Piece], factors: Factors = _unscaled) -> None:
+    assert violations(law, pieces, factors) == []
+    s, v, a, _ = law.sample(law._time)
+    assert (s, v, a) == (law.length, 0.0, 0.0)
+
+
+# -- rule 4: time-optimal ---------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("limits", [Limits(100.0, 1000.0, 1000.0, 1e4),
+                                    Limits(250.0, 500.0, 2000.0, 5e3),
+                                    Limits(2.0, 30.0, 10.0, 1e3)], ids=str)
+@pytest.mark.parametrize("length", [0.01, 1.0, 100.0, 1000.0])
+def test_one_piece_takes_ruckigs_time(limits, length):
+    law = TimeLaw(0.0, record=True)
+    pieces = [line(length, *(limits.velocity, limits.acceleration, limits.deceleration,
+                             limits.jerk))]
+    law.append(pieces)
+    oracle = plan_position(KinematicState(0.0), length, limits).duration
+    cycle = max(CYCLE, oracle / 2000)  # long moves: coarser cycles, the plan is the same
+    duration, _ = run_to_end(law, cycle)
+    assert duration <= math.ceil(oracle / cycle - 1e-9) * cycle + cycle + 1e-12
+    assert_rules(law, pieces)
+
+
+def _decades(lo: float, hi: float) -> st.SearchStrategy[float]:
+    return st.floats(lo, hi).map(lambda exponent: float(f"{10.0 ** exponent:.3g}"))
+
+
+@st.composite
+def caps(draw: st.DrawFn) -> tuple[float, float, float, float]:
+    """Caps spread over decades: velocity 1-1000 mm/s, acceleration and jerk from the time to
+    reach them (1 ms to 0.3 s), deceleration 0.2-5 times the acceleration."""
+    velocity = draw(_decades(0.0, 3.0))
+    acceleration = float(f"{velocity / draw(_decades(-3.0, -0.5)):.3g}")
+    deceleration = float(f"{acceleration * draw(_decades(-0.7, 0.7)):.3g}")
+    jerk = float(f"{max(acceleration, deceleration) / draw(_decades(-3.0, -0.5)):.3g}")
+    return velocity, acceleration, deceleration, jerk
+
+
+@given(limits=caps(), length=_decades(-3.0, 3.0))
+def test_one_piece_is_time_optimal_for_any_caps(limits, length):
+    law = TimeLaw(0.0)
+    law.append([line(length, *limits)])
+    oracle = plan_position(KinematicState(0.0), length, Limits(*limits)).duration
+    cycle = max(CYCLE, oracle / 2000)  # long moves: coarser cycles, the plan is the same
+    duration, _ = run_to_end(law, cycle)
+    assert duration <= math.ceil(oracle / cycle - 1e-9) * cycle + cycle + 1e-12
+
+
+def test_short_collinear_pieces_run_like_one_piece():
+    pieces = [line(0.1, exit_velocity=math.inf) for _ in range(999)] + [line(0.1)]
+    law = TimeLaw(0.0, record=True)
+    law.append(pieces)
+    duration, samples = run_to_end(law)
+    single = TimeLaw(0.0)
+    single.append([line(100.0)])
+    one, _ = run_to_end(single)
+    assert max(v for _, v, _, _ in samples) == 100.0
+    assert duration <= one * 1.01
+    assert_rules(law, pieces)
+
+
+def test_pieces_appended_one_by_one_before_the_start_run_like_one_piece():
+    law = TimeLaw(0.0)
+    for _ in range(99):
+        law.append([line(1.0, exit_velocity=math.inf)])
+    law.append([line(1.0)])
+    duration, _ = run_to_end(law)
+    single = TimeLaw(0.0)
+    single.append([line(100.0)])
+    assert duration <= run_to_end(single)[0] + CYCLE
+
+
+# -- rules 1-3 on fixed paths -----------------------------------------------------------------
+
+
+def test_exit_cap_zero_is_an_exact_stop_at_the_junction():
+    pieces = [line(10.0, exit_velocity=0.0), line(10.0)]
+    law = TimeLaw(0.0, record=True)
+    law.append(pieces)
+    run_to_end(law)
+    assert any(profile.p[0] == 10.0 and profile.v[0] == 0.0 and profile.a[0] == 0.0
+               for _, _, profile in law.history)  # a leg starts at rest on the junction
+    assert_rules(law, pieces)
+
+
+def test_a_change_of_space_is_a_stop():
+    pieces = [line(10.0, exit_velocity=math.inf, space=0), line(10.0, space=1)]
+    law = TimeLaw(0.0, record=True)
+    law.append(pieces)
+    run_to_end(law)
+    assert any(profile.p[0] == 10.0 and profile.v[0] == 0.0 and profile.a[0] == 0.0
+               for _, _, profile in law.history)
+    assert_rules(law, pieces)
+
+
+def test_a_slow_piece_between_fast_ones_is_run_at_its_cap():
+    pieces = [line(50.0, exit_velocity=math.inf), line(5.0, velocity=20.0,
+                                                        exit_velocity=math.inf), line(50.0)]
+    law = TimeLaw(0.0, record=True)
+    law.append(pieces)
+    _, samples = run_to_end(law)
+    inside = [v for s, v, _, _ in samples if 50.0 <= s <= 55.0]
+    assert max(inside) <= 20.0
+    assert max(v for _, v, _, _ in samples) == 100.0
+    assert_rules(law, pieces)
+
+
+def test_an_exit_cap_limits_the_junction_speed():
+    pieces = [line(50.0, exit_velocity=30.0), line(50.0)]
+    law = TimeLaw(0.0, record=True)
+    law.append(pieces)
+    run_to_end(law)
+    assert_rules(law, pieces)
+    t, s = _crossing(law, 50.0)
+    assert law_speed(law, t) <= 30.0 * (1 + REL)
+
+
+def _crossing(law: TimeLaw, position: float) -> tuple[float, float]:
+    for t0, used, profile in law.history:
+        if profile.p[0] <= position <= profile.p[-1]:
+            k = max(int(np.searchsorted(profile.p, position, side="right")) - 1, 0)
+            segment = (profile.p[k], profile.v[k], profile.a[k], profile.j[k])
+            length = profile.t[k + 1] - profile.t[k] if k + 1 < len(profile.t) else used
+            return t0 + profile.t[k] + _time_of(segment, length, position), position
+    raise AssertionError(f"s never reached {position}")
+
+
+def law_speed(law: TimeLaw, time: float) -> float:
+    for t0, used, profile in law.history:
+        if t0 <= time <= t0 + used:
+            return profile.at(time - t0)[1]
+    raise AssertionError(time)
+
+
+# -- hypothesis: random paths and events ------------------------------------------------------
+
+
+@st.composite
+def pieces(draw: st.DrawFn, count: tuple[int, int] = (1, 50)) -> list[Piece]:
+    """1-50 pieces, 1e-3 to 1e3 mm, caps over decades; exit caps 0, inf or in between;
+    now and then a change of space."""
+    result = []
+    for _ in range(draw(st.integers(*count))):
+        exit_velocity = draw(st.one_of(st.just(0.0), st.just(math.inf), _decades(0.0, 3.0)))
+        result.append(Piece(draw(_decades(-3.0, 3.0)), *draw(caps()), exit_velocity,
+                            draw(st.sampled_from([0] * 9 + [1]))))
+    return result
+
+
+def _cycle_for(path: list[Piece]) -> float:
+    """A cycle that keeps runs to a few thousand samples: the plan does not depend on it."""
+    estimate = sum(p.length / p.velocity + 2 * p.velocity / p.acceleration
+                   + 2 * p.acceleration / p.jerk for p in path)
+    return max(CYCLE, estimate / 2000)
+
+
+@given(path=pieces())
+def test_random_paths_keep_the_rules(path):
+    law = TimeLaw(0.0, record=True)
+    law.append(path)
+    run_to_end(law, _cycle_for(path))
+    assert_rules(law, path)
+
+
+@given(path=pieces(), split=st.floats(0.0, 1.0), when=st.integers(0, 3000))
+def test_appending_while_moving_keeps_the_rules(path, split, when):
+    cut = max(1, round(split * len(path)))
+    law = TimeLaw(0.0, record=True)
+    law.append(path[:cut])
+    cycle = _cycle_for(path)
+    for i in range(1, when + 1):
+        law.sample(i * cycle)
+    law.append(path[cut:])
+    run_to_end(law, cycle, start=when + 1)
+    assert_rules(law, path)
+
+
+EVENTS = st.lists(st.tuples(st.integers(1, 2500), st.sampled_from(
+    ["stop", "interrupt", "resume", "override", "pause"]), _decades(0.0, 6.0),
+    _decades(1.0, 8.0), st.floats(0.05, 1.5), st.floats(0.05, 1.5), st.floats(0.05, 1.5)),
+    max_size=6)
+
+
+@given(path=pieces(count=(1, 30)), events=EVENTS)
+@example(path=[Piece(1.0, 1.0, 10.0, 10.0, 100.0, 0.0)] * 10
+         + [Piece(1000.0, 1.0, 10.0, 10.0, 1e4, 0.0), Piece(1.0, 1.0, 3.16, 3.16, 31.6, 0.0)],
+         events=[(1, "override", 1.0, 10.0, 1.0, 0.5, 1.0)])  # a last jerk phase of 2e-7 mm
+@example(path=[Piece(1.0, 23.7, 2370.0, 2370.0, 23700.0, math.inf)]
+         + [Piece(1.0, 1.0, 10.0, 10.0, 100.0, 0.0)] * 4,
+         events=[(1, "stop", 1.0, 100.0, 1.0, 1.0, 1.0)])  # a gentle stop while a = -12.4
+def test_stops_interrupts_and_overrides_keep_the_rules(path, events):
+    run_events(path, events)
+
+
+@pytest.mark.slow
+@settings(max_examples=1000)
+@given(path=pieces(count=(1, 30)), events=EVENTS)
+def test_stops_interrupts_and_overrides_keep_the_rules_long(path, events):
+    run_events(path, events)
+
+
+def run_events(path: list[Piece], events: list[tuple]) -> None:
+    """Run ``path`` with the ``events`` at their cycles, then to its end, and check the
+    rules. Override changes may keep the previous caps while the motion brakes into the new
+    ones, so rule 2 is checked against the largest factors used so far."""
+    law = TimeLaw(0.0, record=True)
+    law.append(path)
+    cycle = _cycle_for(path)
+    largest = [1.0, 1.0, 1.0]
+    history = [(0.0, (1.0, 1.0, 1.0))]
+    schedule = {i: event for i, *event in sorted(events)}
+    last = max(schedule, default=0)
+    for i in range(1, 3_000_000):
+        now = i * cycle
+        law.sample(now)
+        if i in schedule:
+            kind, deceleration, jerk, *factors = schedule[i]
+            if kind in ("stop", "interrupt"):
+                law.stop(now, deceleration, jerk, keep=kind == "interrupt")
+            elif kind == "resume":
+                law.resume(now)
+            else:
+                factors[0] = 0.0 if kind == "pause" else factors[0]
+                law.set_factors(now, *factors)
+                largest = [max(x, y) for x, y in zip(largest, factors, strict=True)]
+                history.append((now, tuple(largest)))
+        if i > last:
+            law.resume(now)
+            if law._factors[0] == 0.0:
+                law.set_factors(now, 1.0, *law._factors[1:])
+                largest[0] = max(largest[0], 1.0)
+                history.append((now, tuple(largest)))
+            if law.done:
+                break
+
+    def factors_at(time: float) -> tuple[float, float, float]:
+        return [f for t, f in history if t <= time + 1e-12][-1]
+
+    assert_rules(law, path, factors_at)
+
+
+# -- events -----------------------------------------------------------------------------------
+
+
+def test_an_append_in_time_does_not_slow_the_cruise():
+    first, second = [line(100.0, exit_velocity=math.inf)], [line(100.0)]
+    law = TimeLaw(0.0, record=True)
+    law.append(first)
+    for i in range(1, 401):  # cruising at 100 mm/s by 0.4 s, long before the brake
+        law.sample(i * CYCLE)
+    law.append(second)
+    duration, samples = run_to_end(law, start=401)
+    at_once = TimeLaw(0.0)
+    at_once.append(first + second)
+    assert duration == run_to_end(at_once)[0]
+    assert min(v for s, v, _, _ in samples if 50.0 < s < 150.0) == 100.0
+    assert_rules(law, first + second)
+
+
+def test_a_late_append_runs_on_from_the_brake_without_stopping():
+    first, second = [line(20.0, exit_velocity=math.inf)], [line(100.0)]
+    law = TimeLaw(0.0, record=True)
+    law.append(first)
+    i = 0
+    while True:
+        i += 1
+        s, v, a, _ = law.sample(i * CYCLE)
+        if a < 0.0 and v < 80.0:  # braking, not yet in the last jerk phase (v + a²/2j > 0)
+            break
+    law.append(second)
+    _, samples = run_to_end(law, start=i + 1)
+    assert min(v for s, v, _, _ in samples if s < 100.0) > 0.0
+    assert_rules(law, first + second)
+
+
+def test_appended_pieces_never_lower_the_caps_of_a_zone_already_planned():
+    first = [line(100.0, exit_velocity=math.inf)]
+    then = [line(1.0, exit_velocity=math.inf), line(1.0, velocity=90.0, exit_velocity=math.inf),
+            line(50.0)]
+    law = TimeLaw(0.0, record=True)
+    law.append(first)
+    for i in range(1, 301):
+        law.sample(i * CYCLE)
+    law.append(then)
+    run_to_end(law, start=301)
+    assert_rules(law, first + then)
+
+
+def test_stop_brakes_at_once_and_drops_the_rest_of_the_path():
+    path = [line(100.0, exit_velocity=math.inf), line(100.0)]
+    law = TimeLaw(0.0, record=True)
+    law.append(path)
+    for i in range(1, 501):
+        s, v, a, _ = law.sample(i * CYCLE)
+    expected = plan_stop(KinematicState(s, v, a), 500.0, 1e4).p[-1]
+    law.stop(500 * CYCLE, 500.0, 1e4, keep=False)
+    duration, samples = run_to_end(law, start=501)
+    assert law.length == expected == samples[-1][0]
+    assert all(b[1] <= a[1] for a, b in zip(samples, samples[1:], strict=False))
+    assert law.locate(law.length) == (0, expected)  # piece 0 ends there, piece 1 is gone
+    assert_rules(law, path)
+    law.append([line(10.0)])  # the next motion starts where the stop ended
+    run_to_end(law, start=round(duration / CYCLE) + 1)
+    assert law.length == expected + 10.0
+
+
+def test_stop_keeps_the_plan_when_the_path_ends_sooner():
+    path = [line(5.0)]
+    law = TimeLaw(0.0, record=True)
+    law.append(path)
+    for i in range(1, 101):
+        law.sample(i * CYCLE)
+    law.stop(100 * CYCLE, 10.0, 1e4, keep=False)  # far too gentle for the 5 mm left
+    run_to_end(law, start=101)
+    assert law.length == 5.0
+    assert_rules(law, path)
+
+
+def test_interrupt_stands_still_and_resume_reaches_the_end():
+    path = [line(100.0)]
+    law = TimeLaw(0.0, record=True)
+    law.append(path)
+    for i in range(1, 301):
+        law.sample(i * CYCLE)
+    law.stop(300 * CYCLE, 1000.0, 1e4, keep=True)
+    for i in range(301, 801):
+        law.sample(i * CYCLE)
+    assert law.standing and not law.done
+    assert law.length == 100.0
+    law.resume(800 * CYCLE)
+    run_to_end(law, start=801)
+    assert_rules(law, path)
+
+
+def test_override_zero_pauses_and_override_again_continues():
+    path = [line(100.0)]
+    law = TimeLaw(0.0, record=True)
+    law.append(path)
+    for i in range(1, 301):
+        law.sample(i * CYCLE)
+    law.set_factors(300 * CYCLE, velocity=0.0)
+    for i in range(301, 801):
+        law.sample(i * CYCLE)
+    assert law.standing and not law.done
+    law.resume(800 * CYCLE)  # MC_GroupContinue does not lift an override of 0
+    law.sample(801 * CYCLE)
+    assert law.standing
+    law.set_factors(801 * CYCLE, velocity=1.0)
+    run_to_end(law, start=802)
+    assert_rules(law, path)
+
+
+def test_half_override_halves_the_cruise():
+    path = [line(1000.0)]
+    law = TimeLaw(0.0, record=True)
+    law.append(path)
+    for i in range(1, 501):
+        law.sample(i * CYCLE)
+    law.set_factors(500 * CYCLE, velocity=0.5)
+    speeds = [law.sample(i * CYCLE)[1] for i in range(501, 1500)]
+    assert speeds[-1] == 50.0
+    assert all(b <= a for a, b in zip(speeds, speeds[1:], strict=False))
+    run_to_end(law, start=1500)
+    assert_rules(law, path, lambda t: (1.0, 1.0, 1.0))
+
+
+def test_rest_point_is_where_the_stop_ends():
+    path = [line(30.0, exit_velocity=math.inf), line(30.0, deceleration=200.0)]
+    law = TimeLaw(0.0)
+    law.append(path)
+    for i in range(1, 251):
+        law.sample(i * CYCLE)
+    predicted = law.rest_point()
+    law.stop(250 * CYCLE, math.inf, math.inf, keep=True)
+    for i in range(251, 2000):
+        s, *_ = law.sample(i * CYCLE)
+    assert s == predicted
+
+
+def test_locate_counts_pieces_from_the_first_append():
+    law = TimeLaw(0.0)
+    law.append([line(1.0, exit_velocity=math.inf), line(2.0, exit_velocity=math.inf)])
+    law.append([line(3.0)])
+    assert law.length == 6.0
+    assert law.locate(0.0) == (0, 0.0)
+    assert law.locate(1.0) == (1, 0.0)
+    assert law.locate(4.5) == (2, 1.5)
+    assert law.locate(6.0) == (2, 3.0)
+
+
+def test_the_same_calls_give_the_same_samples():
+    def run() -> list[tuple[float, float, float, float]]:
+        law = TimeLaw(0.0)
+        law.append([line(10.0, exit_velocity=math.inf), line(0.3, velocity=30.0,
+                                                             exit_velocity=math.inf)])
+        samples = [law.sample(i * CYCLE) for i in range(1, 50)]
+        law.append([line(40.0)])
+        law.set_factors(60 * CYCLE, 0.7, 0.8, 0.9)
+        samples += [law.sample(i * CYCLE) for i in range(60, 200)]
+        law.stop(200 * CYCLE, 800.0, 9e3, keep=True)
+        law.resume(400 * CYCLE)
+        return samples + run_to_end(law, start=400)[1]
+
+    assert run() == run()
+
+
+def test_dense_circle_runs_as_one_zone_near_the_cap():
+    """10 000 chords with small blends whose caps alternate beyond 0.8: the blends bind, the
+    short chords between them take the blend cap (the bump rule), so the whole path is one
+    zone and one cheap leg after another."""
+    length = 2.0 * math.pi * 100.0 / 10_000
+    path = []
+    for _ in range(10_000):
+        path.append(line(0.8 * length, exit_velocity=math.inf))
+        path.append(line(0.2 * length, velocity=70.0, acceleration=800.0, deceleration=800.0,
+                         jerk=8e3, exit_velocity=math.inf))
+    path[-1] = line(0.2 * length, velocity=70.0, acceleration=800.0, deceleration=800.0,
+                    jerk=8e3)
+    law = TimeLaw(0.0)
+    law.append(path)
+    work = Work()
+    for i in range(1, 100_000):
+        law.sample(i * CYCLE)
+        work = max(work, law.last_work, key=lambda w: w.zones + w.legs + w.pieces)
+        if law.done:
+            break
+    assert law.length / (i * CYCLE) > 0.95 * 70.0
+    assert work.zones <= 2 and work.legs <= 2 and work.ruckig == 0
+
+
+# -- refusals ---------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("piece", [line(0.0), line(1.0, velocity=0.0), line(1.0, jerk=-1.0),
+                                   line(math.inf), line(1.0, exit_velocity=-1.0),
+                                   line(1.0, exit_velocity=math.nan)])
+def test_bad_pieces_are_refused(piece):
+    with pytest.raises(ValueError):
+        TimeLaw(0.0).append([piece])
+
+
+def test_bad_calls_are_refused():
+    law = TimeLaw(1.0)
+    law.append([line(1.0)])
+    law.sample(2.0)
+    with pytest.raises(ValueError):
+        law.sample(1.5)
+    with pytest.raises(ValueError):
+        law.set_factors(2.0, acceleration=0.0)
+    with pytest.raises(ValueError):
+        law.stop(2.0, 0.0, 1.0, keep=False)
+    with pytest.raises(ValueError):
+        TimeLaw(0.0, start_velocity=-1.0)
