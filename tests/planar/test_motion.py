@@ -5,6 +5,7 @@ tangential limits and synchronised C, MoveZ/A/B/C and Halt (TF5430 §6.1.3, §6.
 from __future__ import annotations
 
 import math
+from unittest import mock
 
 import numpy as np
 import pytest
@@ -13,12 +14,19 @@ from hypothesis import strategies as st
 from ruckig import InputParameter, Ruckig, RuckigError, Trajectory
 
 from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.planar import motion as motion_module
 from openmotion.planar.motion import (
     PlanarMotion,
     PositionLimits,
     plan_axis_move,
     plan_halt,
     plan_move_to_position,
+    plan_position,
+    poses_at,
+    rest_to_rest_time,
+    running,
+    sample_path,
+    sample_times,
 )
 from openmotion.planar.rotation import CWindows
 from openmotion.trajectory.evaluate import SegmentTable
@@ -354,3 +362,83 @@ def _assert_on_route(motion: PlanarMotion, start: tuple[float, float], heading: 
     assert _distance_from_line(points[before, :2], start, ahead).max(initial=0.0) <= scale
     if math.dist(corner, target) > 1e-6:
         assert _distance_from_line(points[after, :2], corner, target).max() <= scale
+
+
+# The same motions for less work -----------------------------------------------------------------
+
+def _equal_limits() -> st.SearchStrategy[Limits]:
+    """Limits over several decades with acceleration equal to deceleration."""
+    decades = st.floats(0.0, 3.0).map(lambda e: 10.0 ** e)
+    return st.builds(lambda v, a, j: Limits(10.0 * v, 100.0 * a, 100.0 * a, 1000.0 * j),
+                     decades, decades, decades)
+
+
+@given(limits=_equal_limits(), distance=st.floats(1e-3, 5000.0))
+def test_rest_to_rest_time_is_ruckigs_optimum(limits, distance):
+    """The closed form that tells the faster of path and C (ruckig is the oracle)."""
+    assert rest_to_rest_time(distance, limits) == pytest.approx(
+        _ruckig_duration(distance, limits), rel=1e-9)
+    assert rest_to_rest_time(-distance, limits) == rest_to_rest_time(distance, limits)
+
+
+@given(limits=st.one_of(_equal_limits(), _limits()), c_limits=_equal_limits(),
+       tx=coordinate, ty=coordinate, c0=st.floats(-14.0, 14.0), c_target=st.floats(-14.0, 14.0),
+       speed=speeds)
+def test_knowing_the_faster_motion_beforehand_plans_the_same(limits, c_limits, tx, ty, c0,
+                                                             c_target, speed):
+    """Equivalence: with the closed-form durations MoveToPosition skips the optimal plan of
+    the faster of path and C, which only its duration served; the profiles are the same."""
+    start = (KinematicState(0.0, speed * limits.velocity), KinematicState(0.0),
+             KinematicState(c0))
+    target = (tx, ty, c_target)
+    fast = plan_move_to_position(start, target, limits, c_limits)
+    with mock.patch.object(motion_module, "_faster_from_rest", return_value=None):
+        full = plan_move_to_position(start, target, limits, c_limits)
+    for name in "xyc":
+        assert np.array_equal(getattr(fast, name).data, getattr(full, name).data)
+
+
+def test_a_straight_move_from_rest_carries_its_arc_length():
+    """``PlanarMotion.s``: x and y are x0 + ux s and y0 + uy s; none after a braking lead."""
+    motion = plan_move_to_position(_at_rest(10.0, 20.0, 3.0), (310.0, -380.0, -9.0), XY, C)
+    times = np.linspace(0.0, motion.duration, 101)
+    s = _evaluate(motion.s, times)[0]
+    assert np.allclose(_evaluate(motion.x, times)[0], 10.0 + 0.6 * s, atol=1e-9)
+    assert np.allclose(_evaluate(motion.y, times)[0], 20.0 - 0.8 * s, atol=1e-9)
+    assert np.all(np.diff(s) >= 0.0)
+    moving = (KinematicState(0.0), KinematicState(0.0, 300.0), REST)
+    assert plan_move_to_position(moving, (200.0, 0.0), XY).s is None
+
+
+@st.composite
+def _plans(draw: st.DrawFn) -> tuple[list[tuple[Profile, float]], float]:
+    """x, y and c plans as a mover holds them: new ones from the start, older ones still
+    running, standing ones, one cruising on."""
+    start = draw(st.floats(0.0, 5.0))
+    plans = []
+    for _ in range(3):
+        kind = draw(st.sampled_from(["new", "older", "standing", "cruising"]))
+        p0 = draw(st.floats(-500.0, 500.0))
+        if kind == "new":
+            plans.append((plan_position(KinematicState(p0), draw(coordinate), XY), start))
+        elif kind == "older":
+            profile = plan_position(KinematicState(p0, draw(st.floats(-500.0, 500.0))),
+                                    draw(coordinate), XY)
+            plans.append((profile, start - draw(st.floats(0.0, 0.3))))
+        elif kind == "standing":
+            plans.append((Profile.hold(KinematicState(p0)), start - draw(st.floats(0.0, 1.0))))
+        else:
+            plans.append((Profile.hold(KinematicState(p0, 3.0)), start - 0.01))
+    return plans, start
+
+
+@given(plans=_plans(), picks=st.lists(st.integers(0, 10**6), min_size=1, max_size=6))
+def test_poses_at_a_few_sample_times_are_sample_paths_numbers(plans, picks):
+    """Equivalence: the times of ``sample_path`` are ``sample_times`` of the running plans,
+    and ``poses_at`` gives its rows bit for bit (the straight-path area reads only those)."""
+    plans, start = plans
+    samples, path = sample_path(plans, start, 0.01)
+    times = sample_times([plan for plan in plans if running(plan, start)], start, 0.01)
+    assert np.array_equal(times - start, samples)
+    index = sorted({pick % len(times) for pick in picks})
+    assert np.array_equal(np.array(poses_at(plans, start, times[index].tolist())), path[index])

@@ -3,6 +3,9 @@ order, the environment boundary, C rotation modes (TF5430 §4.2, §6.3, §6.7)."
 
 from __future__ import annotations
 
+from unittest import mock
+
+import numpy as np
 import pytest
 
 import openmotion as om
@@ -19,6 +22,8 @@ from openmotion.planar import (
     PlanarState,
     PositionXYC,
 )
+from openmotion.planar.motion import sample_path
+from openmotion.planar.reservation import swept_area
 
 
 def field(columns: int = 4, rows: int = 4, *starts: tuple[float, float]):
@@ -94,3 +99,35 @@ def test_move_c_out_of_the_windows_locks_x_and_y():
     rt.run_until(lambda: back.done, timeout=5.0)
     rt.step()
     assert mover.command_mode is MoverCommandMode.FREE_MOVEMENT
+
+
+def test_a_moves_area_is_the_swept_area_of_its_sampled_path():
+    """Equivalence: the area a mover asks for is ``swept_area`` of its sampled future path,
+    piece for piece, with the same samples, whether it was built from the run ends of a
+    straight move (``PlanarMotion.s``) or from the samples (a move started while moving)."""
+    rt, _, _, movers = field(6, 6, (120.0, 120.0), (840.0, 360.0), (360.0, 1080.0))
+    original = MC_PlanarMover._future_area
+    seen = {"straight": 0, "other": 0}
+
+    def spy(mover, profiles, start, straight):  # noqa: ANN001, ANN202
+        samples, area = original(mover, profiles, start, straight)
+        step = mover._system.cycle_time * 10
+        expected_samples, path = sample_path(mover._future_plans(profiles, start), start, step)
+        expected = swept_area(path)
+        assert np.array_equal(samples, expected_samples)
+        assert np.array_equal(area.until, expected.until)
+        assert np.array_equal(area.bounds, expected.bounds)
+        assert all(a.equals_exact(b, 0.0)
+                   for a, b in zip(area.pieces, expected.pieces, strict=True))
+        seen["straight" if straight is not None else "other"] += 1
+        return samples, area
+
+    rng = np.random.default_rng(4)
+    with mock.patch.object(MC_PlanarMover, "_future_area", spy):
+        for _ in range(40):
+            mover = movers[int(rng.integers(len(movers)))]
+            x, y = rng.uniform(100.0, 1340.0, 2)
+            c = rng.choice([0.0, rng.uniform(-14.0, 14.0)])
+            mover.move_to_position(PositionXYC(float(x), float(y), float(c)))
+            rt.run(float(rng.choice([0.001, 0.05, 0.3])))
+    assert seen["straight"] > 10 and seen["other"] > 0

@@ -22,7 +22,10 @@ from openmotion.planar.reservation import (
     ReservationRegistry,
     SweptArea,
     footprint,
+    footprint_area,
+    straight_swept_area,
     swept_area,
+    travel_runs,
 )
 from openmotion.planar.stators import StatorField
 
@@ -143,6 +146,58 @@ def test_coarse_big_turn_is_covered_by_a_disc() -> None:
     assert area.geometry.area < 1.01 * shapely.LineString([(0, 0), (10, 0)]).buffer(radius).area
 
 
+@st.composite
+def straight_paths(draw: st.DrawFn) -> np.ndarray:
+    """A straight move from rest, smoothstep-timed, sometimes turning up to 20 degrees, often
+    along an axis (touching edges), sampled 2 to 120 times."""
+    start = np.array([draw(st.floats(-500, 500)), draw(st.floats(-500, 500)),
+                      draw(st.sampled_from([0.0, 90.0, -12.5, 33.0]))])
+    step = st.one_of(st.just(0.0), st.just(240.0), st.floats(-600.0, 600.0))
+    end = start + [draw(step), draw(step), draw(st.one_of(st.just(0.0), st.floats(-20, 20)))]
+    s = np.linspace(0.0, 1.0, draw(st.integers(2, 120)))
+    return start + (s * s * (3.0 - 2.0 * s))[:, None] * (end - start)
+
+
+@given(path=straight_paths(), release_step=st.sampled_from([None, 100.0, 37.0]))
+def test_straight_swept_area_from_run_ends_is_swept_area_of_the_samples(
+        path: np.ndarray, release_step: float | None) -> None:
+    """Equivalence: the cover of a straight move built from the ends of its runs (what a
+    mover does for a straight MoveToPosition) has swept_area's pieces, bounds and samples."""
+    sampled = swept_area(path, release_step=release_step)
+    travel = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(path[:, :2], axis=0).T))])
+    _, ends = travel_runs(travel, release_step)
+    from_ends = straight_swept_area(path[[0, *ends]].tolist(), ends)
+    assert from_ends is not None
+    assert np.array_equal(from_ends.until, sampled.until)
+    assert np.array_equal(from_ends.bounds, sampled.bounds)
+    assert all(a.equals_exact(b, 0.0) for a, b in zip(from_ends.pieces, sampled.pieces,
+                                                       strict=True))
+
+
+def test_straight_swept_area_refuses_a_big_turn_per_run() -> None:
+    """Beyond 20 degrees within a run the cover of the samples is tighter: None."""
+    assert straight_swept_area([[0.0, 0.0, 0.0], [50.0, 0.0, 25.0]], [1]) is None
+
+
+@given(path=straight_paths())
+def test_pieces_are_built_when_needed_and_bounds_are_theirs(path: np.ndarray) -> None:
+    area = swept_area(path)
+    assert all(polygon is None for polygon in area.polygons)  # nothing built yet
+    assert area.piece(0) is area.piece(0)
+    assert np.array_equal(area.bounds, shapely.bounds(area.pieces))
+
+
+@given(x=st.floats(-1000, 1000), y=st.floats(-1000, 1000),
+       c=st.one_of(st.sampled_from([0.0, 90.0, -180.0, 45.0]), st.floats(-400, 400)),
+       width=st.floats(40.0, 200.0), margin=st.sampled_from([0.0, 5.0]))
+def test_footprint_area_is_the_footprint(x: float, y: float, c: float, width: float,
+                                         margin: float) -> None:
+    area = footprint_area(x, y, c, width, 155.0, margin)
+    polygon = footprint(x, y, c, width, 155.0, margin)
+    assert area.piece(0).equals_exact(polygon, 0.0)
+    assert area.bounds[0].tolist() == list(polygon.bounds) and area.until[0] > 10**12
+
+
 @pytest.mark.parametrize("bad", [np.zeros((0, 3)), np.zeros((4, 2)), np.array([[0, 0, np.nan]])])
 def test_malformed_path_is_a_value_error(bad: np.ndarray) -> None:
     with pytest.raises(ValueError, match="path"):
@@ -213,6 +268,27 @@ def test_manual_672_leaving_the_surface_is_blocked_by_the_environment() -> None:
     assert registry.request(MOVER_ONE, swept_area(line((0.0, 0.0), (42.5, -42.5)))) is None
     assert registry.request(MOVER_ONE, swept_area(line((42.5, -42.5), (42.6, 0.0)))) \
         == ENVIRONMENT
+
+
+@pytest.mark.parametrize("stators", [
+    [(0.0, 0.0), (240.0, 0.0), (0.0, 240.0), (240.0, 240.0)],  # a square: checked by bounds
+    [(0.0, 0.0), (240.0, 0.0), (0.0, 240.0)],  # an L: checked by shapely
+])
+def test_leaving_the_surface_is_decided_as_shapely_decides(stators: list) -> None:
+    surface = StatorField(stators).create_boundary().surface
+    grown = shapely.buffer(surface, 1e-6, join_style="mitre")
+    rng = np.random.default_rng(11)
+    registry = ReservationRegistry()
+    registry.add_member(ENVIRONMENT, surface)
+    registry.add_member(MOVER_ONE, footprint(120.0, 120.0))
+    outcomes = set()
+    for _ in range(300):
+        target = rng.choice([77.5, 120.0, 362.5, 402.5, 480.0 - 77.5]) + rng.normal(0.0, 2.0, 2)
+        area = swept_area(line((120.0, 120.0, 0.0), (*target, rng.choice([0.0, 7.0]))))
+        expected = None if grown.covers(area.geometry) else ENVIRONMENT
+        assert registry.blocker(MOVER_ONE, area) == expected
+        outcomes.add(expected)
+    assert outcomes == {None, ENVIRONMENT}
 
 
 def test_environment_without_a_boundary_blocks_nothing() -> None:

@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from openmotion.core.enums import ModuloDirection
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
@@ -13,14 +15,16 @@ from openmotion.planar.enums import MoverCommandMode
 from openmotion.planar.motion import plan_move_c
 from openmotion.planar.rotation import (
     CWindows,
+    _swept_c,
     mode_after_c_motion,
     mode_at_enable,
     mode_during_c_motion,
     modulo_target,
+    monotonic,
     move_c_target,
     xy_locked,
 )
-from openmotion.trajectory.plan import Limits
+from openmotion.trajectory.plan import Limits, plan_position, plan_position_in
 from openmotion.trajectory.segments import KinematicState
 
 FREE = MoverCommandMode.FREE_MOVEMENT
@@ -200,3 +204,21 @@ def test_move_c_reaches_the_modulo_target_exactly():
     profile = plan_move_c(KinematicState(350.0), 10.0, C_LIMITS, POS, additional_turns=1)
     assert profile.end == KinematicState(730.0)
     assert profile.position_extrema() == (350.0, 730.0)
+
+
+@given(c0=st.floats(-20.0, 20.0),
+       velocity=st.one_of(st.just(0.0), st.floats(-300.0, -1e-3), st.floats(1e-3, 300.0)),
+       target=st.floats(-20.0, 20.0), lasting=st.one_of(st.none(), st.floats(1e-3, 1.0)))
+def test_the_swept_c_of_a_plan_is_its_position_extrema(c0, velocity, target, lasting):
+    """A C motion that never turns back has its extremes at segment boundaries; one that
+    turns back is searched for turning points. Both agree with ``position_extrema`` to float
+    residue (which the windows' 1e-9 degrees absorb). Velocities and durations stay above
+    1e-3 (deg/s, s): below, ruckig's minimum-duration mode fails on float residue, which no
+    mover produces (its C plans start from rest or from a running plan)."""
+    start = KinematicState(c0, velocity)
+    c = plan_position(start, target, C_LIMITS) if lasting is None else \
+        plan_position_in(start, target, C_LIMITS, lasting)
+    low, high = c.position_extrema()
+    assert _swept_c(c) == pytest.approx((low, high), abs=1e-12)
+    if monotonic(c):  # it never turns back: its extremes are where it starts and ends
+        assert (low, high) == pytest.approx(sorted((c0, target)), abs=1e-9)

@@ -16,7 +16,7 @@ from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar.enums import PlanarState
 from openmotion.planar.feedback import PlanarCommand
 from openmotion.planar.options import CDT_MCTOPLC_PLANAR_GROUP_STD
-from openmotion.planar.reservation import MemberId, ReservationRegistry
+from openmotion.planar.reservation import MemberId, ReservationRegistry, SweptArea
 from openmotion.planar.states import PlanarStateMachine, title
 from openmotion.planar.system import PlanarObject, PlanarSystem, StatefulObject
 
@@ -66,7 +66,8 @@ class MC_PlanarGroup(StatefulObject):
                                   f"{what}: group 16#{self.oid:08X} is "
                                   f"{title(self._states.current)}, not Enabled (§6.3)")
 
-    def _admit(self, obj: PlanarObject, area: BaseGeometry | None, member: MemberId) -> None:
+    def _admit(self, obj: PlanarObject, area: SweptArea | BaseGeometry | None,
+               member: MemberId) -> None:
         """AddToGroup: ``obj`` joins with ``area`` or is refused with the blocker (§6.3)."""
         from openmotion.planar.mover import Collision
 

@@ -45,6 +45,8 @@ _ACROSS = 1e-9  #: relative to its limit, a smaller component across the line is
 _SYNC_TOLERANCE = 1e-9  #: [s] path and C ending this close together end together
 _SYNC_ROUNDS = 4  #: at most this many stretching rounds until path and C agree
 _PREDICTION_MARGIN = 1e-6  #: [s] closed-form durations further apart tell the faster motion
+_PREDICTION_DISTANCE = 1e-6  #: [mm], [°] shorter moves are planned both ways (no prediction)
+_PREDICTION_TIME = 1e-3  #: [s] so are moves quicker than this
 _PATH_TOLERANCE = 1e-9  #: relative: float residue of an extremum is no position-limit breach
 
 
@@ -360,16 +362,22 @@ def _synchronise(line: _Line, limits: Limits, lead_time: float, c: KinematicStat
 
 def _faster_from_rest(line: _Line, limits: Limits, lead_time: float, c: KinematicState,
                       c_target: float, c_limits: Limits) -> str | None:
-    """"s" or "c" when both start at rest, both move, acceleration equals deceleration and
-    the closed-form durations differ by more than ``_PREDICTION_MARGIN``; else None."""
+    """"s" or "c" when both start at rest, acceleration equals deceleration, both move at
+    least ``_PREDICTION_DISTANCE`` for at least ``_PREDICTION_TIME`` (ruckig plans tinier
+    moves as no move, or fails on them) and the closed-form durations differ by more than
+    ``_PREDICTION_MARGIN``; else None."""
     s = line.s_start
-    if not (line.length > 0.0 and c_target != c.position
+    if not (line.length >= _PREDICTION_DISTANCE
+            and abs(c_target - c.position) >= _PREDICTION_DISTANCE
             and s.velocity == s.acceleration == c.velocity == c.acceleration == 0.0
             and limits.acceleration == limits.deceleration
             and c_limits.acceleration == c_limits.deceleration):
         return None
-    path = lead_time + rest_to_rest_time(line.length, limits)
+    path_time = rest_to_rest_time(line.length, limits)
     turn = rest_to_rest_time(c_target - c.position, c_limits)
+    if min(path_time, turn) < _PREDICTION_TIME:
+        return None
+    path = lead_time + path_time
     if path < turn - _PREDICTION_MARGIN:
         return "s"
     if turn < path - _PREDICTION_MARGIN:

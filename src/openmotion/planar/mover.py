@@ -37,7 +37,6 @@ from openmotion.planar.frames import Pose
 from openmotion.planar.motion import (
     PositionLimits,
     _positions,
-    monotonic,
     plan_axis_move,
     plan_halt,
     plan_move_c,
@@ -67,10 +66,12 @@ from openmotion.planar.reservation import (
     MemberId,
     SweptArea,
     footprint,
+    footprint_area,
     straight_swept_area,
     swept_area,
     travel_runs,
 )
+from openmotion.planar.rotation import monotonic
 from openmotion.planar.states import (
     CommandModes,
     ErrorReaction,
@@ -151,6 +152,7 @@ class MC_PlanarMover(StatefulObject):
         self._started_external = False
         self._status: tuple[int, CDT_MCTOPLC_PLANAR_MOVER] | None = None
         self._next_event = math.inf  #: [s] when ``_after_motion`` has work
+        self._member = MemberId(PlanarObjectType.MOVER, self.oid)
         system.movers.append(self)
         system.register(self)
         environment = system.environment()
@@ -273,11 +275,17 @@ class MC_PlanarMover(StatefulObject):
 
     @property
     def member(self) -> MemberId:
-        return MemberId(PlanarObjectType.MOVER, self.oid)
+        return self._member
 
     def footprint(self, pose: Pose | None = None):  # noqa: ANN201 - a shapely Polygon
         x, y, c = pose or self.pose
         return footprint(x, y, c, self.parameters.mover_width, self.parameters.mover_height)
+
+    def _standing_area(self, pose: Pose | None = None) -> SweptArea:
+        """The footprint as the group holds it (its polygon built only when a check needs
+        it)."""
+        x, y, c = pose or self.pose
+        return footprint_area(x, y, c, self.parameters.mover_width, self.parameters.mover_height)
 
     # -- execution (motion phase) ---------------------------------------------------------------
 
@@ -368,7 +376,7 @@ class MC_PlanarMover(StatefulObject):
         _, pose = self._resolve(target)
         start = {"x": pose.x, "y": pose.y, "c": pose.c}
         if self._group is not None:
-            blocker = self._group.registry.request(self.member, self.footprint(pose))
+            blocker = self._group.registry.request(self._member, self._standing_area(pose))
             if blocker is not None:
                 raise Collision(blocker, "the new position")
         for name, value in start.items():
@@ -381,14 +389,14 @@ class MC_PlanarMover(StatefulObject):
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                                   f"{self.name} is in group 16#{self._group.oid:08X} already: "
                                   "RemoveFromGroup first (§6.3)")
-        group._admit(self, self.footprint(), self.member)
+        group._admit(self, self._standing_area(), self._member)
         self._group = group
         command.finished()
 
     def _remove_from_group(self, command: PlanarCommand) -> None:
         if self._group is None:
             raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP, f"{self.name} is in no group")
-        self._group._leave(self.member)
+        self._group._leave(self._member)
         self._group = None
         command.finished()
 
@@ -445,7 +453,7 @@ class MC_PlanarMover(StatefulObject):
                 self._install(name, Profile(np.zeros(1), [state[0]], [state[1]], [state[2]],
                                             np.zeros(1)), now)
             if self._group is not None:
-                self._group.registry.settle(self.member, self.footprint(
+                self._group.registry.settle(self._member, self._standing_area(
                     Pose(values[0][0], values[0][1], values[0][5])))
         else:
             self._offset = values[0]
@@ -512,14 +520,14 @@ class MC_PlanarMover(StatefulObject):
             samples, area = self._future_area(profiles, previous, straight)
             if admit:
                 self._group._check_enabled(what)
-                blocker = self._group.registry.request(self.member, area)
+                blocker = self._group.registry.request(self._member, area)
                 if blocker is not None:
                     raise Collision(blocker, what)
             else:
-                self._group.registry.settle(self.member, area)
+                self._group.registry.settle(self._member, area)
             # a piece is behind the mover once the sample after its last one is reached
-            behind = area.until[:-1] + 1
-            releases = (previous + samples[behind[behind < samples.size]]).tolist()
+            behind = [k + 1 for k in area.until[:-1].tolist() if k + 1 < samples.size]
+            releases = [previous + t for t in samples[behind].tolist()]
             for motion in self._motions:  # the new area replaces theirs
                 if motion.coordinates & _AREA:
                     motion.samples, motion.releases = None, []
@@ -541,8 +549,7 @@ class MC_PlanarMover(StatefulObject):
         (``swept_area`` of the samples). A straight path (``straight``, the arc length of x
         and y, ``PlanarMotion.s``) is cut into runs by its arc length and only the run ends
         are evaluated: the same pieces, without sampling x, y and c."""
-        plans = [(profiles[name], start) if name in profiles else self._profiles.get(name)
-                 or (Profile.hold(self._state_at(name, start)), start) for name in "xyc"]
+        plans = self._future_plans(profiles, start)
         step = self._system.cycle_time * _SAMPLE_CYCLES
         width, height = self.parameters.mover_width, self.parameters.mover_height
         turning = running(plans[2], start)
@@ -558,6 +565,13 @@ class MC_PlanarMover(StatefulObject):
                 return samples, area
         samples, path = sample_path(plans, start, step)
         return samples, swept_area(path, width, height)
+
+    def _future_plans(self, profiles: dict[str, Profile], start: float
+                      ) -> list[tuple[Profile, float]]:
+        """(profile, start time) of x, y and c from ``start`` on: the new ``profiles`` and
+        the plans still running on the other coordinates."""
+        return [(profiles[name], start) if name in profiles else self._profiles.get(name)
+                or (Profile.hold(self._state_at(name, start)), start) for name in "xyc"]
 
     def _place(self, pose: Pose) -> None:
         """Stand at ``pose`` (a new coordinate system, a part that carried the mover)."""
@@ -620,7 +634,7 @@ class MC_PlanarMover(StatefulObject):
             if motion.releases and now >= motion.releases[0] and self._group is not None:
                 elapsed = now - motion.start
                 reached = int(np.searchsorted(motion.samples, elapsed, side="right"))
-                self._group.registry.release(self.member, reached - 1)
+                self._group.registry.release(self._member, reached - 1)
                 while motion.releases and now >= motion.releases[0]:
                     motion.releases.pop(0)
             if now >= motion.end:
@@ -631,7 +645,7 @@ class MC_PlanarMover(StatefulObject):
                     self._modes.c_at_rest(self._system.value(self._rows["c"])[0])
                 if motion.coordinates & _AREA and self._group is not None and \
                         not any(m.coordinates & _AREA for m in self._motions):
-                    self._group.registry.settle(self.member, self.footprint(self._set_pose()))
+                    self._group.registry.settle(self._member, self._standing_area(self._set_pose()))
         self._reschedule()
 
     def _reschedule(self) -> None:

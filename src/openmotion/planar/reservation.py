@@ -18,8 +18,10 @@ of half-side g around it, which holds the disc of radius g), where
 
 and r is the half diagonal. A run that turns 30 degrees or more between two samples (coarse
 input) is covered by the discs of radius r around its centres instead: a disc holds the
-footprint at any angle. A straight move without rotation needs only the run's first and
-last footprints, and its pieces are exact (g = 0).
+footprint at any angle. A straight move needs only the run's first and last footprints (and,
+when it turns, the footprints at the run's extreme angles and their apexes, ``_line_pieces``);
+without rotation its pieces are exact (g = 0). ``straight_swept_area`` builds those pieces
+from the run ends alone, for a caller that knows its path is straight (a MoveToPosition).
 
 Why a piece contains the true swept area: we assume that between two samples the centre moves
 on the straight segment joining them and c moves monotonically (true to micrometres at the
@@ -46,20 +48,24 @@ Determinism: requests are decided in call order (first caller wins, §6.3.2). Wh
 members block, the one added to the group first is named, whether mover, track or environment.
 Touching is not meeting: areas that share only edges or corners do not block each other.
 
-Speed: the pieces of all members sit in flat numpy arrays (box, owner, until), updated in
-place on every change, so an admission check is one vectorised bounding-box scan, then the
-exact shapely test (``intersects`` and not ``touches``) on the few candidates in member order,
-stopping at the first meeting. An STRtree would need a rebuild after every accepted command
-and every release.
+Speed: the boxes of all members' pieces sit in one numpy array, updated in place on every
+change, so an admission check is one vectorised bounding-box scan, then a plain-Python box test
+of each piece against the few slots near, then the exact shapely test (``intersects`` and not
+``touches``) on the candidates in member order, stopping at the first meeting. An STRtree would
+need a rebuild after every accepted command and every release. A piece's polygon is built when
+an exact test first needs it (``SweptArea.piece``): its bounds come exactly from the numbers it
+is made of, and most pieces never meet another member's box. A surface that is one rectangle
+covers a piece exactly when it covers the piece's bounds.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Collection
+from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from functools import cached_property
 from itertools import pairwise
+from operator import itemgetter
 from typing import NamedTuple
 
 import numpy as np
@@ -81,7 +87,7 @@ _DISC_TURN = 30.0  #: a run stepping this far [deg] between samples is covered b
 _SQUARE = np.array([(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)])
 _RING = np.stack([np.cos(np.arange(32) * math.pi / 16), np.sin(np.arange(32) * math.pi / 16)],
                  axis=1) / math.cos(math.pi / 32)  #: a 32-gon that encloses the unit disc
-_NONE = np.empty(0, dtype=np.int64)  #: no slots
+_RANK = itemgetter(0)
 NEVER = int(np.iinfo(np.int64).max)  #: ``until`` of a piece that progress never releases
 _FLIP = np.array([1.0, 1.0, -1.0, -1.0])  #: bounds to the stored box, keys to query keys
 _KEY_ORDER = np.array([2, 3, 0, 1])
@@ -104,6 +110,20 @@ def footprint(x: float, y: float, c: float = 0.0, width: float = MOVER_WIDTH,
                              for u, v in ((-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy))])
 
 
+def footprint_area(x: float, y: float, c: float = 0.0, width: float = MOVER_WIDTH,
+                   height: float = MOVER_HEIGHT, margin: float = 0.0) -> SweptArea:
+    """``footprint`` as one piece that progress never releases, its polygon built only when
+    a check needs it (a standing mover's reservation)."""
+    _check_size(width, height, margin)
+    cos, sin = cos_sin(float(c))
+    hx, hy = width / 2 + margin, height / 2 + margin
+    corners = ((-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy))
+    xs = [x + cos * u - sin * v for u, v in corners]  # footprint's numbers: its bounds
+    ys = [y + sin * u + cos * v for u, v in corners]
+    return SweptArea.from_bounds(np.array([(min(xs), min(ys), max(xs), max(ys))]), [NEVER],
+                                 lambda _: footprint(x, y, c, width, height, margin))
+
+
 @dataclass(frozen=True, eq=False)
 class SweptArea:
     """An area as convex pieces in path order, each with the last sample it covers.
@@ -113,7 +133,7 @@ class SweptArea:
     ``keys[i]`` in all four; ``key`` is the same for all pieces together. They are computed
     here, with the area, so that the admission check only compares.
 
-    A piece given as the convex hull of a few points (``from_hulls``) becomes a polygon only
+    A piece given by its bounds and a way to build it (``from_bounds``) becomes a polygon only
     when it is first needed (``piece``): the admission check compares boxes first, and few
     pieces ever meet a box of another member."""
 
@@ -122,7 +142,7 @@ class SweptArea:
     keys: np.ndarray  #: (n, 4) query keys of the pieces
     key: np.ndarray  #: (4,) query key of the whole area
     polygons: np.ndarray  #: object array: each piece's polygon, None until it is built
-    points: np.ndarray | None = None  #: (n, k, 2) the points each piece is the hull of [mm]
+    build: Callable[[int], BaseGeometry] | None = None  #: piece i's polygon, when not built
 
     @classmethod
     def from_pieces(cls, pieces: np.ndarray, until: np.ndarray | list[int]) -> SweptArea:
@@ -131,26 +151,25 @@ class SweptArea:
         return cls(np.asarray(until, dtype=np.int64), bounds, keys, keys.max(axis=0), pieces)
 
     @classmethod
-    def from_hulls(cls, points: np.ndarray, until: np.ndarray | list[int]) -> SweptArea:
-        """Piece i is the convex hull of ``points[i]`` ((n, k, 2)); its bounds are theirs."""
-        bounds = np.concatenate((points.min(axis=1), points.max(axis=1)), axis=1)
+    def from_bounds(cls, bounds: np.ndarray, until: np.ndarray | list[int],
+                    build: Callable[[int], BaseGeometry]) -> SweptArea:
+        """Piece i is ``build(i)``, a polygon whose bounds are exactly ``bounds[i]``."""
         keys = bounds[:, _KEY_ORDER] * _FLIP
         return cls(np.asarray(until, dtype=np.int64), bounds, keys, keys.max(axis=0),
-                   np.full(len(points), None, dtype=object), points)
+                   np.full(len(bounds), None, dtype=object), build)
 
     @property
     def pieces(self) -> np.ndarray:
         """All pieces as shapely polygons (object array), in path order."""
-        missing = np.flatnonzero(self.polygons == None)  # noqa: E711 - elementwise
-        if missing.size:
-            self.polygons[missing] = shapely.convex_hull(shapely.linestrings(self.points[missing]))
+        for i in range(len(self.polygons)):
+            self.piece(i)
         return self.polygons
 
     def piece(self, i: int) -> BaseGeometry:
-        """Piece ``i`` as a shapely polygon (built alone when it is first needed)."""
+        """Piece ``i`` as a shapely polygon (built when it is first needed)."""
         polygon = self.polygons[i]
         if polygon is None:
-            polygon = self.polygons[i] = shapely.convex_hull(shapely.linestrings(self.points[i]))
+            polygon = self.polygons[i] = self.build(i)  # type: ignore[misc]
         return polygon
 
     @classmethod
@@ -238,7 +257,7 @@ def straight_swept_area(poses: list[list[float]], until: np.ndarray | list[int],
     when a run turns more than ``_STRAIGHT_SPAN`` (then ``swept_area`` on samples)."""
     _check_size(width, height, margin)
     turns = list(pairwise(c for _, _, c in poses))
-    return _line_pieces(np.array([(x, y) for x, y, _ in poses]), [min(t) for t in turns],
+    return _line_pieces([(x, y) for x, y, _ in poses], [min(t) for t in turns],
                         [max(t) for t in turns], until,
                         (width / 2 + margin, height / 2 + margin))
 
@@ -252,10 +271,10 @@ def _straight_area(xy: np.ndarray, c: np.ndarray, starts: np.ndarray, ends: np.n
     else:
         low = np.minimum(np.minimum.reduceat(c, starts), c[ends]).tolist()
         high = np.maximum(np.maximum.reduceat(c, starts), c[ends]).tolist()
-    return _line_pieces(xy[np.concatenate(([0], ends))], low, high, ends, half)
+    return _line_pieces(xy[np.concatenate(([0], ends))].tolist(), low, high, ends, half)
 
 
-def _line_pieces(points: np.ndarray, low: list[float], high: list[float],
+def _line_pieces(points: list, low: list[float], high: list[float],
                  until: np.ndarray | list[int], half: tuple[float, float]) -> SweptArea | None:
     """Pieces for a centre on a straight line: run j runs from ``points[j]`` to
     ``points[j + 1]`` turning within [``low[j]``, ``high[j]``]; its piece is K + segment,
@@ -267,26 +286,53 @@ def _line_pieces(points: np.ndarray, low: list[float], high: list[float],
     when a run turns more than ``_STRAIGHT_SPAN`` (the apex then stands out by more than
     1.5 %; the general cover, which hulls every sample, is tighter for big turns).
 
-    K is a dozen numbers per run: plain floats, then one numpy array for the cloud."""
+    A piece's bounds are those of the two ends grown by K's reach in x and y, which are
+    exactly the bounds of its hull; the hull itself is built when it is first needed."""
     first = low[0]
-    if all(a == first and b == first for a, b in zip(low, high, strict=True)):  # a translation
-        shape = np.array(_turned_corners(first, half)).reshape(4, 2)
+    translation = all(a == first and b == first for a, b in zip(low, high, strict=True))
+    if translation:
+        reaches = [_reach(first, half)] * len(low)
     elif max(b - a for a, b in zip(low, high, strict=True)) > _STRAIGHT_SPAN:
         return None
     else:
-        flat: list[float] = []
+        reaches = []
         for a, b in zip(low, high, strict=True):
-            lowest = _turned_corners(a, half)
-            flat += lowest
-            flat += _turned_corners(b, half)
+            (ax, ay), (bx, by) = _reach(a, half), _reach(b, half)
             if b - a > NOISE:
                 out = math.cos(math.radians(b - a) / 2.0)
-                flat += [u / out for u in _turned_corners((a + b) / 2.0, half)]
+                mx, my = _reach((a + b) / 2.0, half)
+                ax, ay = max(ax, mx / out), max(ay, my / out)
+            reaches.append((max(ax, bx), max(ay, by)))
+    bounds = [(min(x0, x1) - rx, min(y0, y1) - ry, max(x0, x1) + rx, max(y0, y1) + ry)
+              for ((x0, y0), (x1, y1)), (rx, ry) in zip(pairwise(points), reaches, strict=True)]
+
+    def build(i: int) -> BaseGeometry:
+        """Piece ``i``: the hull of K at both ends of run i."""
+        a, b = low[i], high[i]
+        shape = _turned_corners(a, half)
+        if not translation:  # the corners at the lowest and highest c and the apexes
+            lowest = shape
+            shape = lowest + _turned_corners(b, half)
+            if b - a > NOISE:
+                out = math.cos(math.radians(b - a) / 2.0)
+                shape += [u / out for u in _turned_corners((a + b) / 2.0, half)]
             else:  # no turn: the lowest angle's corners once more
-                flat += lowest
-        shape = np.array(flat).reshape(len(low), 12, 2)
-    cloud = np.concatenate((points[:-1, None] + shape, points[1:, None] + shape), axis=1)
-    return SweptArea.from_hulls(cloud, until)
+                shape += lowest
+        corners = np.array(shape).reshape(-1, 2)
+        cloud = np.concatenate((corners + points[i], corners + points[i + 1]))
+        return shapely.convex_hull(shapely.linestrings(cloud))
+
+    return SweptArea.from_bounds(np.array(bounds), until, build)
+
+
+def _reach(c: float, half: tuple[float, float]) -> tuple[float, float]:
+    """How far the corners of a footprint turned by ``c`` [deg] reach from its centre in x
+    and in y: the largest corner coordinates of ``_turned_corners``, exactly (its smallest
+    are their negatives)."""
+    cos, sin = cos_sin(c)
+    cos, sin = abs(cos), abs(sin)
+    hx, hy = half
+    return cos * hx + sin * hy, sin * hx + cos * hy
 
 
 def _turned_corners(c: float, half: tuple[float, float]) -> list[float]:
@@ -375,15 +421,16 @@ class ReservationRegistry:
         self._order: dict[MemberId, int] = {}  # member -> rank in member order
         self._members: dict[int, MemberId] = {}
         self._next_rank = 0
-        self._slots: dict[MemberId, np.ndarray] = {}  # member -> its pieces' slots, path order
+        self._slots: dict[MemberId, list[int]] = {}  # member -> its pieces' slots, path order
         self._environment: MemberId | None = None
         self._surface: BaseGeometry | None = None
         self._rectangle: tuple[float, float, float, float] | None = None  # a box surface
         self._box = np.empty((0, 4))  # min x, min y, -max x, -max y of each slot's piece
-        self._areas = np.empty(0, dtype=object)  # the SweptArea of each slot's piece
-        self._index = np.empty(0, dtype=np.int64)  # the piece's index in its area
-        self._owner = np.empty(0, dtype=np.int64)  # rank of the slot's member, -1 when free
-        self._until = np.empty(0, dtype=np.int64)
+        # per slot, plain lists (a handful are read per check): the piece (its area and its
+        # index there), the rank of its member (-1 when free), the last sample it covers
+        self._piece_of: list[tuple[SweptArea, int] | None] = []
+        self._owner: list[int] = []
+        self._until: list[int] = []
         self._free: list[int] = []
         self._grow(max(1, capacity))
 
@@ -428,7 +475,7 @@ class ReservationRegistry:
         """Drop a member and free its area (``RemoveFromGroup``, §7.2.2)."""
         rank = self._order.pop(member)
         del self._members[rank]
-        self._free_slots(self._slots.pop(member, np.empty(0, dtype=np.int64)))
+        self._free_slots(self._slots.pop(member, []))
         if member == self._environment:
             self._environment, self._surface, self._rectangle = None, None, None
 
@@ -471,17 +518,17 @@ class ReservationRegistry:
         """Free the pieces wholly behind ``sample``, the index of the path sample the owner's
         setpoint has reached (release while moving; the last piece always stays)."""
         slots = self._slots.get(owner)
-        if slots is None or len(slots) < 2 or self._until[slots[0]] >= sample:
+        until = self._until
+        if slots is None or len(slots) < 2 or until[slots[0]] >= sample:
             return
-        behind = self._until[slots[:-1]] < sample  # the last piece stays
-        self._free_slots(slots[:-1][behind])
-        self._slots[owner] = np.concatenate([slots[:-1][~behind], slots[-1:]])
+        self._free_slots([slot for slot in slots[:-1] if until[slot] < sample])
+        self._slots[owner] = [slot for slot in slots[:-1] if until[slot] >= sample] + slots[-1:]
 
     def settle(self, owner: MemberId, area: SweptArea | BaseGeometry) -> None:
         """Replace ``owner``'s reservation without a check: only for an area inside it, such
         as the standing footprint at the end of the path (which the last piece contains)."""
         rank = self._mover_rank(owner)
-        self._slots[owner] = self._store(_as_swept(area), rank, self._slots.pop(owner, _NONE))
+        self._slots[owner] = self._store(_as_swept(area), rank, self._slots.pop(owner, []))
 
     def reserved(self, member: MemberId) -> BaseGeometry:
         """The member's reserved area (the environment: its surface); empty if none."""
@@ -490,7 +537,7 @@ class ReservationRegistry:
         slots = self._slots.get(member)
         if slots is None:
             return Polygon()
-        return shapely.union_all([self._piece(slot) for slot in slots.tolist()])
+        return shapely.union_all([self._piece(slot) for slot in slots])
 
     def _mover_rank(self, owner: MemberId) -> int:
         """The rank of a member that may hold an area (any member but the environment)."""
@@ -498,7 +545,7 @@ class ReservationRegistry:
             raise ConfigError(f"{_name(owner)}: the environment holds its surface, not an area")
         return self._order[owner]
 
-    def _blocker(self, swept: SweptArea, excluded: list[np.ndarray]) -> MemberId | None:
+    def _blocker(self, swept: SweptArea, excluded: list[list[int]]) -> MemberId | None:
         rank = self._first_meeting(swept, excluded)
         environment = self._environment
         if environment is not None and (rank is None or self._order[environment] < rank) \
@@ -506,34 +553,38 @@ class ReservationRegistry:
             return environment
         return None if rank is None else self._members[rank]
 
-    def _first_meeting(self, swept: SweptArea, excluded: list[np.ndarray]) -> int | None:
+    def _first_meeting(self, swept: SweptArea, excluded: list[list[int]]) -> int | None:
         """Lowest rank among the members whose pieces meet (not only touch) ``swept``; the
         pieces in the ``excluded`` slots do not count.
 
-        Boxes first, vectorised; then the exact test pair by pair in rank order, stopping at
-        the first meeting (scalar shapely calls beat its ufuncs for a handful of pairs)."""
+        The whole area's box against every slot, vectorised; then, for the few slots near,
+        each piece's box in plain Python, and the exact test pair by pair in rank order,
+        stopping at the first meeting (scalar shapely calls beat its ufuncs for a handful of
+        pairs)."""
         hits = _below(self._box, swept.key)
         for slots in excluded:
             hits[slots] = False
-        near = np.flatnonzero(hits)
-        if near.size == 0:
+        near = np.flatnonzero(hits).tolist()
+        if not near:
             return None
-        if len(swept.until) == 1:
-            mine, theirs = np.zeros(len(near), dtype=np.int64), near
+        owner = self._owner
+        if len(swept.until) == 1:  # its box is the area's: every slot near meets it
+            pairs = [(owner[j], 0, j) for j in near]
         else:
-            mine, index = np.nonzero(_below(self._box[near][None], swept.keys[:, None]))
-            theirs = near[index]
-        ranks = self._owner[theirs]
-        order = np.argsort(ranks, kind="stable")
-        for i, j, rank in zip(mine[order].tolist(), theirs[order].tolist(),
-                              ranks[order].tolist(), strict=True):
-            mine_i, theirs_j = swept.piece(i), self._piece(j)
-            if mine_i.intersects(theirs_j) and not mine_i.touches(theirs_j):
+            boxes = self._box[near].tolist()
+            pairs = [(owner[j], i, j) for i, (k0, k1, k2, k3) in enumerate(swept.keys.tolist())
+                     for j, (b0, b1, b2, b3) in zip(near, boxes, strict=True)
+                     if b0 < k0 and b1 < k1 and b2 < k2 and b3 < k3]
+        pairs.sort(key=_RANK)  # stable: piece by piece, slot by slot within a rank
+        for rank, i, j in pairs:
+            mine, theirs = swept.piece(i), self._piece(j)
+            if mine.intersects(theirs) and not mine.touches(theirs):
                 return rank
         return None
 
     def _piece(self, slot: int) -> BaseGeometry:
-        return self._areas[slot].piece(self._index[slot])
+        area, index = self._piece_of[slot]  # type: ignore[misc]
+        return area.piece(index)
 
     def _on_surface(self, swept: SweptArea) -> bool:
         if self._surface is None:
@@ -544,44 +595,44 @@ class ReservationRegistry:
             return max_x <= high_x and max_y <= high_y and -min_x >= low_x and -min_y >= low_y
         return bool(shapely.covers(self._surface, swept.pieces).all())
 
-    def _store(self, swept: SweptArea, rank: int, reuse: np.ndarray = _NONE) -> np.ndarray:
+    def _store(self, swept: SweptArea, rank: int, reuse: list[int] | None = None) -> list[int]:
         """Slots holding ``swept``'s pieces for ``rank``: the slots ``reuse`` first (those
         left over are freed), then free ones."""
+        reuse = reuse or []
         count = len(swept.until)
         if len(reuse) >= count:
             slots = reuse[:count]
-            if len(reuse) > count:
-                self._free_slots(reuse[count:])
+            self._free_slots(reuse[count:])
         else:
             count -= len(reuse)
             if len(self._free) < count:
                 self._grow(max(len(self._owner), count))
-            slots = np.array(self._free[:-count - 1:-1], dtype=np.int64)
+            slots = reuse + self._free[:-count - 1:-1]
             del self._free[-count:]
-            if len(reuse):
-                slots = np.concatenate((reuse, slots))
-        if not len(slots):
-            return slots
-        self._box[slots] = swept.bounds * _FLIP
-        self._areas[slots] = swept
-        self._index[slots] = np.arange(len(slots))
-        self._owner[slots] = rank
-        self._until[slots] = swept.until
+        if slots:
+            self._box[slots] = swept.bounds * _FLIP
+            for index, (slot, until) in enumerate(zip(slots, swept.until.tolist(),
+                                                      strict=True)):
+                self._piece_of[slot] = (swept, index)
+                self._owner[slot] = rank
+                self._until[slot] = until
         return slots
 
-    def _free_slots(self, slots: np.ndarray) -> None:
+    def _free_slots(self, slots: list[int]) -> None:
+        if not slots:
+            return
         self._box[slots] = np.inf
-        self._areas[slots] = None
-        self._owner[slots] = -1
-        self._free.extend(slots[::-1].tolist())
+        for slot in slots:
+            self._piece_of[slot] = None
+            self._owner[slot] = -1
+        self._free.extend(reversed(slots))
 
     def _grow(self, extra: int) -> None:
         size = len(self._owner)
         self._box = np.concatenate([self._box, np.full((extra, 4), np.inf)])  # free: meets none
-        self._areas = np.concatenate([self._areas, np.full(extra, None, dtype=object)])
-        self._index = np.concatenate([self._index, np.zeros(extra, dtype=np.int64)])
-        self._owner = np.concatenate([self._owner, np.full(extra, -1, dtype=np.int64)])
-        self._until = np.concatenate([self._until, np.zeros(extra, dtype=np.int64)])
+        self._piece_of.extend([None] * extra)
+        self._owner.extend([-1] * extra)
+        self._until.extend([0] * extra)
         self._free.extend(range(size + extra - 1, size - 1, -1))
 
 
