@@ -91,6 +91,7 @@ class ErrorId(IntEnum):
     PLANAR_EXT_SETPOINT = 0x7408  #: an external setpoint is missing or beyond the limits (§6.1.6)
     PLANAR_INVALID_INPUT = 0x7409  #: a dynamics or option value out of range (NaN, negative)
     PLANAR_NOT_IN_GROUP = 0x740A  #: a group command for an object that is not a member (§6.3)
+    PLANAR_PATH_END = 0x740B  #: a geared mover reached the end of its path and stopped (§6.2.8)
     # coordinated motion (PLCopen Part 4; ours)
     GROUP_MOVING = 0x7317  #: the block needs the axes group at rest (GroupStandby)
     GROUP_HOMING = 0x7318  #: the axes group is homing

@@ -15,6 +15,7 @@ behind it is released piece by piece; when it stands it keeps its footprint.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -22,6 +23,7 @@ import numpy as np
 
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar.enums import (
+    CoordinateMode,
     ExternalSetPositionMode,
     MoverCommandMode,
     PlanarObjectType,
@@ -34,6 +36,7 @@ from openmotion.planar.feedback import (
     PlanarObjectInfo,
 )
 from openmotion.planar.frames import Pose
+from openmotion.planar.gearing import gear_in_pos_on_track, gear_in_pos_on_track_with_master_mover
 from openmotion.planar.motion import (
     PositionLimits,
     _positions,
@@ -49,14 +52,22 @@ from openmotion.planar.motion import (
 from openmotion.planar.options import (
     CDT_MCTOPLC_PLANAR_MOVER,
     CDT_MCTOPLC_PLANAR_MOVER_ACT,
+    CDT_MCTOPLC_PLANAR_MOVER_COORDMODE,
     CDT_MCTOPLC_PLANAR_MOVER_SET,
     CDT_MCTOPLC_PLANAR_MOVER_STD,
+    CDT_MCTOPLC_PLANAR_MOVER_TRACK,
     IPlcDynamicConstraint,
     MoverBusy,
     MoverVector,
     PlanarMoverParameters,
+    ST_AdoptTrackOrientationOptions,
     ST_ExternalSetpointGenerationOptions,
+    ST_GearInPosOnTrackOptions,
+    ST_GearInPosOnTrackWithMasterMoverOptions,
+    ST_JoinTrackOptions,
+    ST_LeaveTrackOptions,
     ST_MoveCOptions,
+    ST_MoveOnTrackOptions,
     ST_MoveToPositionOptions,
     command_dynamics,
 )
@@ -71,6 +82,15 @@ from openmotion.planar.reservation import (
     swept_area,
     travel_runs,
 )
+from openmotion.planar.riding import (
+    adopt_track_orientation,
+    halt_on_track,
+    join_track,
+    leave_track,
+    move_c_on_track,
+    move_on_track,
+    release_bands,
+)
 from openmotion.planar.rotation import monotonic
 from openmotion.planar.states import (
     CommandModes,
@@ -81,11 +101,15 @@ from openmotion.planar.states import (
     check_accepts,
 )
 from openmotion.planar.system import PlanarSystem, StatefulObject
+from openmotion.planar.traffic import Rider, traffic_of
 from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 
 if TYPE_CHECKING:
+    from openmotion.axis.axis import Axis
+    from openmotion.planar.gearing import MC_PlanarTrackTrail
     from openmotion.planar.group import MC_PlanarGroup
+    from openmotion.planar.track import MC_PlanarTrack
     from openmotion.runtime.runtime import Runtime
 
 COORDINATES = ("x", "y", "z", "a", "b", "c")
@@ -117,6 +141,7 @@ class _Motion:
     samples: np.ndarray | None = None  #: times [s] after ``start`` of the swept-area samples
     c_motion: bool = False  #: a C move that may end a CRotation mode
     releases: list[float] = field(default_factory=list)  #: [s] when a piece of area is behind
+    on_end: Callable[[bool], None] | None = None  #: told whether the motion ended or was cut
 
 
 class MC_PlanarMover(StatefulObject):
@@ -153,6 +178,8 @@ class MC_PlanarMover(StatefulObject):
         self._status: tuple[int, CDT_MCTOPLC_PLANAR_MOVER] | None = None
         self._next_event = math.inf  #: [s] when ``_after_motion`` has work
         self._member = MemberId(PlanarObjectType.MOVER, self.oid)
+        self._rider: Rider | None = None  #: coupled to a track (traffic.py)
+        self._odometer: int | None = None  #: table row of the arc length on a track
         system.movers.append(self)
         system.register(self)
         environment = system.environment()
@@ -192,6 +219,61 @@ class MC_PlanarMover(StatefulObject):
              feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         """Brake every coordinate to rest; the constraint limits x and y (§7.2.2.8.12)."""
         return self._send(_C.HALT, feedback, constraint)
+
+    def join_track(self, track: MC_PlanarTrack, constraint: IPlcDynamicConstraint | None = None,
+                   options: ST_JoinTrackOptions | None = None,
+                   feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        """A free move onto the nearest point of ``track``, coupled to it at the end (§4.2)."""
+        return self._send(_C.JOIN_TRACK, feedback, track, constraint, options)
+
+    def leave_track(self, target: PositionXYC, constraint: IPlcDynamicConstraint | None = None,
+                    options: ST_LeaveTrackOptions | None = None,
+                    feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        """Uncouple from the track and move freely to ``target`` (§4.2)."""
+        return self._send(_C.LEAVE_TRACK, feedback, _copy(target), constraint, options)
+
+    def move_on_track(self, target_track: MC_PlanarTrack | None, target_position: float,
+                      constraint: IPlcDynamicConstraint | None = None,
+                      options: ST_MoveOnTrackOptions | None = None,
+                      feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        """Travel along the network to ``target_position`` [mm of arc length] on
+        ``target_track`` (None or 0: the current track), keeping ``options.gap`` to the
+        mover ahead (§6.1.9, §6.2.2)."""
+        return self._send(_C.MOVE_ON_TRACK, feedback, target_track, target_position,
+                          constraint, options)
+
+    def gear_in_pos_on_track(self, master_axis: Axis, track_trail: MC_PlanarTrackTrail | None,
+                             master_sync_position: float, slave_sync_position: float,
+                             slave_sync_position_track: MC_PlanarTrack,
+                             constraint: IPlcDynamicConstraint | None = None,
+                             options: ST_GearInPosOnTrackOptions | None = None,
+                             feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        """Couple 1:1 to an axis: at ``slave_sync_position`` on ``slave_sync_position_track``
+        when the axis is at ``master_sync_position``, then follow it (§6.2.8). The master is
+        the Axis object (the manual passes its object id). Stays Active until another
+        command or an error; ``feedback.in_sync`` shows the sync."""
+        return self._send(_C.GEAR_IN_POS_ON_TRACK, feedback, master_axis, track_trail,
+                          master_sync_position, slave_sync_position, slave_sync_position_track,
+                          constraint, options)
+
+    def gear_in_pos_on_track_with_master_mover(
+            self, master_mover: MC_PlanarMover, track_trail: MC_PlanarTrackTrail | None,
+            master_sync_position: float, master_sync_position_track: MC_PlanarTrack,
+            slave_sync_position: float, slave_sync_position_track: MC_PlanarTrack,
+            constraint: IPlcDynamicConstraint | None = None,
+            options: ST_GearInPosOnTrackWithMasterMoverOptions | None = None,
+            feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        """Couple 1:1 to another mover on a track (§6.2.9, §6.2.12)."""
+        return self._send(_C.GEAR_IN_POS_ON_TRACK_WITH_MASTER_MOVER, feedback, master_mover,
+                          track_trail, master_sync_position, master_sync_position_track,
+                          slave_sync_position, slave_sync_position_track, constraint, options)
+
+    def adopt_track_orientation(self, constraint: IPlcDynamicConstraint | None = None,
+                                options: ST_AdoptTrackOrientationOptions | None = None,
+                                feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        """Turn a standing mover on a track to the track's heading; C then follows the track
+        again (§6.2.7)."""
+        return self._send(_C.ADOPT_TRACK_ORIENTATION, feedback, constraint, options)
 
     def set_position(self, position: PositionXYC,
                      feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
@@ -359,6 +441,10 @@ class MC_PlanarMover(StatefulObject):
     def _halt(self, command: PlanarCommand) -> None:
         (constraint,) = command.args
         p = self.parameters
+        if self._rider is not None:
+            halt_on_track(self, command, command_dynamics(
+                constraint, p.default_dynamic_xy, p.maximum_dynamic_xy, command.warnings))
+            return
         limits = self._limits("default")
         limits["xy"] = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
                                         command.warnings)
@@ -509,8 +595,8 @@ class MC_PlanarMover(StatefulObject):
     # -- motions ---------------------------------------------------------------------------------
 
     def _begin(self, command: PlanarCommand, profiles: dict[str, Profile], what: str, *,
-               c_motion: bool = False, admit: bool = True, straight: Profile | None = None
-               ) -> None:
+               c_motion: bool = False, admit: bool = True, straight: Profile | None = None,
+               on_end: Callable[[bool], None] | None = None) -> None:
         """Admit (in a group) and start ``profiles`` for ``command``: the commands on the same
         coordinates are aborted. ``straight``: the arc length of x and y when they run forward
         on one line from the start (``PlanarMotion.s``)."""
@@ -536,7 +622,7 @@ class MC_PlanarMover(StatefulObject):
             self._install(name, profile, previous)
         end = previous + max(p.duration for p in profiles.values())
         self._motions.append(_Motion(command, set(profiles), end, previous, samples, c_motion,
-                                     releases))
+                                     releases, on_end))
         if c_motion:
             self._modes.c_motion_started(profiles["c"])
         command.started()
@@ -590,6 +676,9 @@ class MC_PlanarMover(StatefulObject):
                 if motion.command is not None:
                     motion.command.aborted()
                 motion.command = None
+                if motion.on_end is not None:
+                    motion.on_end(False)
+                    motion.on_end = None
                 motion.coordinates -= coordinates
                 if not motion.coordinates:
                     self._motions.remove(motion)
@@ -601,8 +690,11 @@ class MC_PlanarMover(StatefulObject):
 
     def _brake(self, dynamics: str) -> None:
         """Stop every coordinate (Disable, QuickStop): no command, no area to ask for, as the
-        hardest brake stays on the reserved path."""
+        hardest brake stays on the reserved path. On a track the mover brakes along it."""
         self._abort_all("the mover stops")
+        if self._rider is not None:
+            traffic_of(self._system).halt(self._rider, self._limits(dynamics)["xy"], None,
+                                          self._system.previous)
         previous = self._system.previous
         profiles = plan_halt(self._start_states(), self._limits(dynamics))
         for name, profile in profiles.items():
@@ -639,6 +731,8 @@ class MC_PlanarMover(StatefulObject):
                     motion.releases.pop(0)
             if now >= motion.end:
                 self._motions.remove(motion)
+                if motion.on_end is not None:
+                    motion.on_end(True)
                 if motion.command is not None:
                     motion.command.finished()
                 if motion.c_motion or "c" in motion.coordinates:
@@ -647,6 +741,19 @@ class MC_PlanarMover(StatefulObject):
                         not any(m.coordinates & _AREA for m in self._motions):
                     self._group.registry.settle(self._member, self._standing_area(self._set_pose()))
         self._reschedule()
+
+    def _odometer_row(self, s: float) -> int:
+        """The table row of the mover's arc length on a track (made on its first join)."""
+        if self._odometer is None:
+            self._odometer = self._system.add_rows([s])[0]
+        return self._odometer
+
+    def _on_track_finished(self, command: PlanarCommand | None) -> None:
+        """The traffic: the mover's track command ended at its target (or its halt)."""
+        self._awake = True
+        release_bands(self)
+        if command is not None:
+            command.finished()
 
     def _reschedule(self) -> None:
         """When ``_after_motion`` must run next: an end, a release, or every cycle."""
@@ -672,16 +779,28 @@ class MC_PlanarMover(StatefulObject):
         return self._status[1]
 
     def _snapshot(self) -> CDT_MCTOPLC_PLANAR_MOVER:
+        rider = self._rider
+        riding = rider is not None and traffic_of(self._system).moving(rider)
         std = CDT_MCTOPLC_PLANAR_MOVER_STD(
             mover_oid=self.oid, group_oid=self._group.oid if self._group else 0,
             state=self._states.state, command_mode=self._modes.mode,
-            busy=MoverBusy(bool(self._motions),
-                           any(m.coordinates & _AREA for m in self._motions)))
+            busy=MoverBusy(bool(self._motions) or riding,
+                           any(m.coordinates & _AREA for m in self._motions) or riding))
         vectors = [MoverVector(*self._vector(which)) for which in range(3)]
+        on_track = CDT_MCTOPLC_PLANAR_MOVER_TRACK()
+        modes = CDT_MCTOPLC_PLANAR_MOVER_COORDMODE()
+        if rider is not None:
+            track, s, v, a = traffic_of(self._system).position(rider)
+            on_track = CDT_MCTOPLC_PLANAR_MOVER_TRACK(s, v, a, 0.0, track.oid)
+            modes = CDT_MCTOPLC_PLANAR_MOVER_COORDMODE(
+                xy_coordinate_mode=CoordinateMode.DEPENDENT,
+                c_coordinate_mode=CoordinateMode.DEPENDENT if rider.oriented
+                else CoordinateMode.INDEPENDENT)
         return CDT_MCTOPLC_PLANAR_MOVER(
             std=std,
             set=CDT_MCTOPLC_PLANAR_MOVER_SET(*vectors, physical_area_id=self.coordinate_system),
-            act=CDT_MCTOPLC_PLANAR_MOVER_ACT(*vectors, physical_area_id=self.coordinate_system))
+            act=CDT_MCTOPLC_PLANAR_MOVER_ACT(*vectors, physical_area_id=self.coordinate_system),
+            coord_mode=modes, set_on_track=on_track)
 
     # -- state machine hooks ---------------------------------------------------------------------
 
@@ -701,7 +820,8 @@ class MC_PlanarMover(StatefulObject):
 
     def _transition_done(self, state: PlanarState) -> bool:
         if state in (PlanarState.DISABLING, PlanarState.ERROR_PENDING):
-            return not self._motions
+            riding = self._rider is not None and traffic_of(self._system).moving(self._rider)
+            return not self._motions and not riding
         if state in (PlanarState.ENABLING, PlanarState.RESETTING):
             environment = self._system.environment()
             return environment is None or environment._part_ready(self)
@@ -747,12 +867,19 @@ def _copy(position: PositionXYC) -> PositionXYC:
 
 _HANDLERS = {
     _C.MOVE_TO_POSITION: MC_PlanarMover._move_to_position,
-    _C.MOVE_C: MC_PlanarMover._move_c,
+    _C.MOVE_C: lambda mover, command: (move_c_on_track(mover, command)
+                                       if mover._rider is not None else mover._move_c(command)),
+    _C.ADOPT_TRACK_ORIENTATION: adopt_track_orientation,
     _C.MOVE_Z: MC_PlanarMover._move_aux,
     _C.MOVE_A: MC_PlanarMover._move_aux,
     _C.MOVE_B: MC_PlanarMover._move_aux,
     _C.HALT: MC_PlanarMover._halt,
     _C.SET_POSITION: MC_PlanarMover._set_position,
+    _C.JOIN_TRACK: join_track,
+    _C.LEAVE_TRACK: leave_track,
+    _C.MOVE_ON_TRACK: move_on_track,
+    _C.GEAR_IN_POS_ON_TRACK: gear_in_pos_on_track,
+    _C.GEAR_IN_POS_ON_TRACK_WITH_MASTER_MOVER: gear_in_pos_on_track_with_master_mover,
     _C.ADD_TO_GROUP: MC_PlanarMover._add_to_group,
     _C.REMOVE_FROM_GROUP: MC_PlanarMover._remove_from_group,
     _C.START_EXTERNAL_SETPOINT_GENERATION: MC_PlanarMover._start_external,

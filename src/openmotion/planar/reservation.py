@@ -530,6 +530,11 @@ class ReservationRegistry:
         rank = self._mover_rank(owner)
         self._slots[owner] = self._store(_as_swept(area), rank, self._slots.pop(owner, []))
 
+    def vacate(self, owner: MemberId) -> None:
+        """Give up ``owner``'s whole reservation (a track that stops Moving, §4.3)."""
+        self._mover_rank(owner)
+        self._free_slots(self._slots.pop(owner, []))
+
     def reserved(self, member: MemberId) -> BaseGeometry:
         """The member's reserved area (the environment: its surface); empty if none."""
         if member == self._environment:

@@ -117,6 +117,8 @@ class PlanarSystem:
         self._sent: list[tuple[PlanarObject, PlanarCommand]] = []
         self._counts = {"mover": 0, "object": 0}
         self.published = 0  #: counts motion phases: cached statuses older than this are stale
+        self.network: Any = None  #: the TrackNetwork, made with the first track (track.py)
+        self.traffic: Any = None  #: the movers on tracks (traffic.py)
         runtime._add_system(self._advance)
 
     @classmethod
@@ -185,6 +187,8 @@ class PlanarSystem:
             obj._run(command)
         if self.table.size:
             self.table.evaluate(now, *self._values)
+        if self.traffic is not None:
+            self.traffic.advance(now, self._values)
         for mover in self.movers:
             if mover._next_event <= now:
                 mover._after_motion(now)

@@ -1,0 +1,319 @@
+"""The track commands of a mover: JoinTrack, LeaveTrack, MoveOnTrack, Halt on a track
+(TF5430 §4.2, §6.1.9, §6.2.4, §7.2.2.8.2-4).
+
+JoinTrack is a free move onto the track point nearest to the mover (the manual does not say
+where a mover joins; every example fits the nearest point, docs/decisions.md) and couples
+the mover there: its x, y (and c, with ``use_orientation``) then follow the track (traffic.py).
+LeaveTrack uncouples at once and is a free move to its target. MoveOnTrack plans one
+profile along the route to its target and leaves gap keeping and switches to the traffic.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from openmotion.core.enums import ModuloDirection
+from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.planar.motion import plan_move_to_position
+from openmotion.planar.options import (
+    ST_JoinTrackOptions,
+    ST_LeaveTrackOptions,
+    ST_MoveOnTrackOptions,
+    command_dynamics,
+)
+from openmotion.planar.positions import finite
+from openmotion.planar.states import MoverCommand, check_track_accepts
+from openmotion.planar.traffic import Leg, Rider
+from openmotion.trajectory.plan import Limits
+from openmotion.trajectory.segments import Profile
+
+if TYPE_CHECKING:
+    from openmotion.planar.feedback import PlanarCommand
+    from openmotion.planar.mover import MC_PlanarMover
+    from openmotion.planar.track import MC_PlanarTrack
+
+_C = MoverCommand
+
+
+def join_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
+    from openmotion.planar.track import MC_PlanarTrack, traffic_of
+
+    track, constraint, options = command.args
+    if not isinstance(track, MC_PlanarTrack) or track._system is not mover._system:
+        raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                              "JoinTrack: the target must be a track of this runtime")
+    options = options or ST_JoinTrackOptions()
+    options.check()
+    check_track_accepts(track._states.current, track.operation_mode, _C.JOIN_TRACK)
+    p = mover.parameters
+    limits = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
+                              command.warnings)
+    pose = mover._set_pose()
+    s = float(track.path.arc_length_closest_to((pose.x, pose.y)))
+    x, y, heading, _ = track.frame_at(np.array([s]))
+    c = pose.c
+    if options.use_orientation:  # the track's heading, the nearest way round
+        c += (math.degrees(float(heading[0])) - c + 180.0) % 360.0 - 180.0
+    motion = _free_move(mover, (float(x[0]), float(y[0]), c), limits,
+                        options.use_orientation)
+
+    def coupled(done: bool) -> None:
+        track.configuring.discard(mover.oid)
+        mover._modes.ended(_C.JOIN_TRACK, done=done, c=mover._set_pose().c)
+        if not done:
+            return
+        row = mover._odometer_row(s)
+        rows = (mover._rows["x"], mover._rows["y"], mover._rows["c"])
+        brake = p.maximum_dynamic_xy
+        rider = Rider(mover, track, s, row, rows, ST_MoveOnTrackOptions().gap,
+                      (brake.deceleration, brake.jerk), options.use_orientation,
+                      mover._set_pose().c)
+        traffic_of(mover._system).couple(rider)
+        mover._rider = rider
+
+    mover._begin(command, motion, "the join", on_end=coupled)
+    track.configuring.add(mover.oid)
+    mover._modes.started(_C.JOIN_TRACK)
+
+
+def leave_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
+    from openmotion.planar.track import traffic_of
+
+    target, constraint, options = command.args
+    rider = _rider(mover)
+    track = rider.track
+    check_track_accepts(track._states.current, track.operation_mode, _C.LEAVE_TRACK)
+    options = options or ST_LeaveTrackOptions()
+    options.check()
+    p = mover.parameters
+    limits = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
+                              command.warnings)
+    _, pose = mover._resolve(target)
+    goal = (pose.x, pose.y, pose.c) if options.use_orientation else (pose.x, pose.y)
+    motion = _free_move(mover, goal, limits, options.use_orientation)
+    traffic = traffic_of(mover._system)
+    traffic.uncouple(rider)
+    mover._rider = None
+
+    def left(done: bool) -> None:
+        track.configuring.discard(mover.oid)
+        mover._modes.ended(_C.LEAVE_TRACK, done=done, c=mover._set_pose().c)
+
+    mover._begin(command, motion, "the leave", on_end=left)
+    track.configuring.add(mover.oid)
+    mover._modes.started(_C.LEAVE_TRACK)
+
+
+def move_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
+    from openmotion.planar.track import MC_PlanarTrack, traffic_of
+
+    target_track, position, constraint, options = command.args
+    rider = _rider(mover)
+    options = options or ST_MoveOnTrackOptions()
+    options.check()
+    track = target_track or rider.track
+    if not isinstance(track, MC_PlanarTrack) or track._system is not mover._system:
+        raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                              "MoveOnTrack: the target track must be a track of this runtime "
+                              "(or 0 for the current one)")
+    check_track_accepts(rider.track._states.current, rider.track.operation_mode,
+                        _C.MOVE_ON_TRACK)
+    if not track.usable:
+        raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
+                              f"MoveOnTrack: {track.name} is not Enabled (§4.3)")
+    position = finite(position, "targetPositionOnTrack")
+    if not 0.0 <= position <= track.length:
+        raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
+                              f"MoveOnTrack: {position:g} is off {track.name} "
+                              f"(0 to {track.length:g} mm); movers never leave a track's ends "
+                              "(§6.2.2)")
+    p = mover.parameters
+    limits = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
+                              command.warnings)
+    traffic = traffic_of(mover._system)
+    here, s, _, _ = traffic.position(rider)
+    route, target = _route(traffic, here, s, track, position, options)
+    limits = _curve_limits(limits, [leg.track for leg in route])
+    _reserve_bands(mover, [leg.track for leg in route])
+    traffic.ride(rider, route, target, limits, options.gap, command, mover._system.previous)
+
+
+def _reserve_bands(mover: MC_PlanarMover, tracks: list[MC_PlanarTrack]) -> None:
+    """A mover in a group moves only on tracks of its group, and a track blocks its surface
+    while a mover moves on it (§4.3, §6.5): the first motion over a track asks the group for
+    the band the largest mover sweeps along it. The movers on those tracks do not block it;
+    any other member does, and the command is refused naming it."""
+    from openmotion.planar.mover import Collision
+    from openmotion.planar.track import traffic_of
+
+    group = mover._group
+    if group is None:
+        return
+    for track in tracks:
+        if track._group is not group:
+            raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP,
+                                  f"MoveOnTrack: {track.name} is not in the mover's group "
+                                  f"16#{group.oid:08X}; collision avoidance needs it there "
+                                  "(§4.3)")
+    riders = [r.owner._member for r in traffic_of(mover._system).riders
+              if any(r.track is t for t in tracks)]
+    needed = [t for t in dict.fromkeys(tracks) if not t.band]
+    for track in needed:
+        blocker = group.registry.blocker(track.member, track.surface(), riders)
+        if blocker is not None:
+            raise Collision(blocker, f"the surface of {track.name}")
+    group._check_enabled("MoveOnTrack")
+    for track in needed:
+        group.registry.settle(track.member, track.surface())
+        track.band = True
+
+
+def release_bands(mover: MC_PlanarMover) -> None:
+    """After a mover's track motion ended: it holds its footprint where it stands, and a
+    track on which no mover moves any more gives its surface back (§4.3)."""
+    from openmotion.planar.track import traffic_of
+
+    group = mover._group
+    if group is None:
+        return
+    group.registry.settle(mover._member, mover._standing_area(mover._set_pose()))
+    traffic = traffic_of(mover._system)
+    busy = {id(leg.track) for r in traffic.riders if traffic.moving(r) for leg in r.route}
+    for track in traffic.network.tracks:
+        if track.band and id(track) not in busy and track._group is not None:
+            track._group.registry.vacate(track.member)
+            track.band = False
+
+
+def move_c_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
+    """MoveC of a mover on a track: it must stand; its C no longer follows the track
+    (Dependent -> Independent, §6.2.6, V3.1.10.51)."""
+    rider = _rider(mover)
+    _standing(mover, rider, "MoveC")
+    rider.oriented = False
+    mover._move_c(command)
+
+
+def adopt_track_orientation(mover: MC_PlanarMover, command: PlanarCommand) -> None:
+    """Turn a standing mover on a track to the track's heading, then its C follows the track
+    again (§6.2.7). A C motion like MoveC: the modulus, the modulo tolerance window and the
+    options' direction and additional turns apply."""
+    from openmotion.planar.motion import plan_move_c
+    from openmotion.planar.options import ST_AdoptTrackOrientationOptions
+    from openmotion.planar.track import traffic_of
+
+    constraint, options = command.args
+    rider = _rider(mover)
+    _standing(mover, rider, "AdoptTrackOrientation")
+    rider.oriented = False  # the rotation drives C until it ends
+    options = options or ST_AdoptTrackOrientationOptions()
+    options.check()
+    p = mover.parameters
+    limits = command_dynamics(constraint, p.default_dynamic_c, p.maximum_dynamic_c,
+                              command.warnings)
+    track, s, _, _ = traffic_of(mover._system).position(rider)
+    _, _, heading, _ = track.frame_at(np.array([s]))
+    profile = plan_move_c(mover._start_states("c")["c"], math.degrees(float(heading[0])),
+                          limits, options.direction, options.additional_turns,
+                          p.c_coordinate_modulus, p.c_coordinate_modulo_tolerance_window)
+
+    def adopted(done: bool) -> None:
+        if done:
+            rider.c = profile.end.position
+            rider.oriented = True
+
+    mover._begin(command, {"c": profile}, "the rotation", c_motion=True, on_end=adopted)
+
+
+def _standing(mover: MC_PlanarMover, rider: Rider, what: str) -> None:
+    from openmotion.planar.track import traffic_of
+
+    if traffic_of(mover._system).moving(rider):
+        raise CommandRejected(ErrorId.PLANAR_WRONG_MODE,
+                              f"{what} on a track needs the mover to stand; it moves on "
+                              f"{rider.track.name} (§6.1.9)")
+
+
+def halt_on_track(mover: MC_PlanarMover, command: PlanarCommand, limits: Limits) -> None:
+    from openmotion.planar.track import traffic_of
+
+    traffic_of(mover._system).halt(_rider(mover), limits, command, mover._system.previous)
+
+
+def _rider(mover: MC_PlanarMover) -> Rider:
+    if mover._rider is None:
+        raise CommandRejected(ErrorId.PLANAR_WRONG_MODE, "the mover is on no track: JoinTrack "
+                              "first (§4.2)")
+    return mover._rider
+
+
+def _free_move(mover: MC_PlanarMover, goal: tuple[float, ...], limits: Limits,
+               turn: bool) -> dict[str, Profile]:
+    """Profiles of a straight move to ``goal`` (x, y[, c]) from where the mover stands."""
+    start = mover._start_states("x", "y", "c")
+    p = mover.parameters
+    motion = plan_move_to_position((start["x"], start["y"], start["c"]), goal, limits,
+                                   p.default_dynamic_c)
+    profiles = {"x": motion.x, "y": motion.y}
+    if motion.c is not None:
+        profiles["c"] = motion.c
+    elif turn:
+        profiles["c"] = Profile.hold(start["c"])
+    return profiles
+
+
+def _route(traffic: object, here: MC_PlanarTrack, s: float, track: MC_PlanarTrack,
+           position: float, options: ST_MoveOnTrackOptions) -> tuple[list[Leg], float]:
+    """The legs to ``position`` on ``track`` and the odometer target (the current track
+    starts at 0). Modulo directions apply on a closed loop only (§6.1.9)."""
+    del traffic
+    loop = here.closed_loop
+    direction = options.direction
+    if track is here and direction is not ModuloDirection.NON_MODULO:
+        if not loop:
+            raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                                  f"MoveOnTrack: modulo directions need a closed loop; "
+                                  f"{here.name} is open (§6.1.9)")
+        length = here.length
+        ahead = (position - s) % length
+        behind = (s - position) % length
+        if ahead <= options.modulo_tolerance or behind <= options.modulo_tolerance:
+            forward = ahead <= behind
+        elif direction is ModuloDirection.POSITIVE:
+            forward = True
+        elif direction is ModuloDirection.NEGATIVE:
+            forward = False
+        else:
+            forward = ahead <= behind
+        if not forward:  # backwards only within the track (never from its start to its end)
+            if position > s:
+                raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                                      "MoveOnTrack: backwards over the start of a track is no "
+                                      "transition (§6.2.2)")
+            return [Leg(here, 0.0)], position
+        laps = options.additional_turns
+        distance = ahead + laps * length
+        legs = [Leg(here, k * length) for k in range(int((s + distance) // length) + 1)]
+        return legs, s + distance
+    if track is here:
+        return [Leg(here, 0.0)], position
+    legs = here.network.route(here, s, track, position)
+    if legs is None:
+        raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                              f"MoveOnTrack: {track.name} cannot be reached from {here.name} "
+                              "(movers change track only from an end to a start, §6.2.2)")
+    return legs, legs[-1].base + position
+
+
+def _curve_limits(limits: Limits, tracks: list[MC_PlanarTrack]) -> Limits:
+    """Slow enough for the tightest curve of the route: the centripetal acceleration v²κ
+    stays within the acceleration limit (§6.2.2 warns that tight curves limit dynamics;
+    docs/decisions.md)."""
+    curvature = max(t.path.max_curvature for t in tracks)
+    if curvature <= 0.0:
+        return limits
+    cap = math.sqrt(min(limits.acceleration, limits.deceleration) / curvature)
+    return limits if cap >= limits.velocity else limits.scaled_velocity(cap / limits.velocity)

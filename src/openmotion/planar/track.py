@@ -1,0 +1,354 @@
+"""MC_PlanarTrack (TF5430 §4.3, §6.2, §7.2.2.10): a path on the stator surface for movers.
+
+The geometry commands (AppendLine, AppendCircle, AppendPosition, CloseLoop, StartFromTrack,
+EndAtTrack) build the curve in ``geometry.track``, which blends every corner so that the
+track is continuous in direction and curvature. Links between track ends make the network
+(network.py). Like every planar command they run in the motion phase in call order, so
+AppendLine and Enable may come in the same cycle (§6.2.4).
+
+Operation mode (§4.3), derived from the movers on the track: Uninitialized until the track is
+Enabled with a geometry; Configuring while a mover joins or leaves it; Moving while a mover on
+it has a motion command; Standing otherwise.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
+from openmotion.geometry.track import TrackPath
+from openmotion.planar.enums import PlanarObjectType, PlanarState, TrackOperationMode
+from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand, PlanarObjectInfo
+from openmotion.planar.network import END, START, TrackNetwork
+from openmotion.planar.options import (
+    CDT_MCTOPLC_PLANAR_TRACK_STD,
+    ST_EndAtTrackAdvancedOptions,
+    ST_StartFromTrackAdvancedOptions,
+)
+from openmotion.planar.positions import PositionXYC, finite
+from openmotion.planar.reservation import MemberId
+from openmotion.planar.states import PlanarStateMachine
+from openmotion.planar.system import PlanarSystem, StatefulObject
+from openmotion.planar.traffic import Traffic, network_of, traffic_of
+
+if TYPE_CHECKING:
+    from openmotion.planar.group import MC_PlanarGroup
+    from openmotion.runtime.runtime import Runtime
+
+TRACK_COLLISION_RANGE = 250.0  #: [mm] default collision range at start and at end (§6.2.1)
+MAX_MOVER_SIZE = 155.0  #: [mm] default maximal mover width and height (§6.2.1)
+
+
+class MC_PlanarTrack(StatefulObject):
+    """A planar track. ``collision_ranges`` = None computes them when the track is enabled
+    (mode Automatic, §6.2.2); a pair (start, end) in mm is mode Manual."""
+
+    def __init__(self, runtime: Runtime, name: str | None = None, *,
+                 max_mover_width: float = MAX_MOVER_SIZE,
+                 max_mover_height: float = MAX_MOVER_SIZE,
+                 collision_ranges: tuple[float, float] | None = None) -> None:
+        system = PlanarSystem.of(runtime)
+        super().__init__(system, system.next_oid("object"))
+        self.name = name or f"track{len(_network(system).tracks) + 1}"
+        for value, label in ((max_mover_width, "max_mover_width"),
+                             (max_mover_height, "max_mover_height")):
+            if not (math.isfinite(value) and value > 0.0):
+                raise ConfigError(f"{self.name}: {label} must be a positive number, got {value!r}")
+        self.max_mover_width, self.max_mover_height = max_mover_width, max_mover_height
+        if collision_ranges is not None and not all(
+                math.isfinite(v) and v >= 0.0 for v in collision_ranges):
+            raise ConfigError(f"{self.name}: collision ranges must be numbers >= 0, got "
+                              f"{collision_ranges!r}")
+        self._manual_ranges = collision_ranges
+        self.collision_ranges: tuple[float, float] = collision_ranges or (
+            TRACK_COLLISION_RANGE, TRACK_COLLISION_RANGE)
+        self.network = _network(system)
+        self.index = self.network.add(self)
+        self.path = TrackPath()
+        self._links: list[tuple[tuple[int, int], tuple[int, int]]] = []
+        self._blocked = ""  #: why the geometry may not change any more ("" : it may)
+        self._starts_from: MC_PlanarTrack | None = None
+        self._group: MC_PlanarGroup | None = None
+        self.band = False  #: the track holds its surface in its group (while Moving, §4.3)
+        self.configuring: set[int] = set()  #: OIDs of movers joining or leaving
+        self._states = PlanarStateMachine()
+        system.register(self)
+
+    def __repr__(self) -> str:
+        return f"<MC_PlanarTrack {self.name} 16#{self.oid:08X} {self.state.name}>"
+
+    # -- the manual's methods (§7.2.2.10) --------------------------------------------------------
+
+    def clear(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send("Clear", feedback)
+
+    def append_position(self, position: PositionXYC,
+                        feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send("AppendPosition", feedback, _xy(position))
+
+    def append_line(self, start: PositionXYC, end: PositionXYC,
+                    feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send("AppendLine", feedback, _xy(start), _xy(end))
+
+    def append_circle(self, start: PositionXYC, end: PositionXYC, center: PositionXYC,
+                      clockwise: bool, feedback: MC_PlanarFeedbackBase | None = None
+                      ) -> PlanarCommand:
+        return self._send("AppendCircle", feedback, _xy(start), _xy(end), _xy(center),
+                          bool(clockwise))
+
+    def close_loop(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send("CloseLoop", feedback)
+
+    def start_from_track(self, track: MC_PlanarTrack,
+                         feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send("StartFromTrack", feedback, track, None)
+
+    def end_at_track(self, track: MC_PlanarTrack,
+                     feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send("EndAtTrack", feedback, track, None)
+
+    def start_from_track_advanced(self, track: MC_PlanarTrack,
+                                  options: ST_StartFromTrackAdvancedOptions | None = None,
+                                  feedback: MC_PlanarFeedbackBase | None = None
+                                  ) -> PlanarCommand:
+        return self._send("StartFromTrack", feedback, track, options)
+
+    def end_at_track_advanced(self, track: MC_PlanarTrack,
+                              options: ST_EndAtTrackAdvancedOptions | None = None,
+                              feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send("EndAtTrack", feedback, track, options)
+
+    def add_to_group(self, group: MC_PlanarGroup,
+                     feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send("AddToGroup", feedback, group)
+
+    def remove_from_group(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        return self._send("RemoveFromGroup", feedback)
+
+    def get_length(self) -> float:
+        """The track length [mm] (0 while it has no geometry)."""
+        return self.length
+
+    def get_position_at(self, arc_length: float) -> PositionXYC:
+        """The point at ``arc_length`` with the track's heading as c [deg]."""
+        s = finite(arc_length, "arc_length")
+        if self.length <= 0.0:
+            raise ConfigError(f"{self.name} has no geometry")
+        x, y, heading, _ = self.frame_at(np.array([min(max(s, 0.0), self.length)]))
+        return PositionXYC(float(x[0]), float(y[0]), math.degrees(float(heading[0])))
+
+    def get_arc_length_closest_to(self, position: PositionXYC) -> float:
+        """The arc length where the track comes closest to ``position``'s centre point."""
+        if self.length <= 0.0:
+            raise ConfigError(f"{self.name} has no geometry")
+        return float(self.path.arc_length_closest_to((position.x, position.y)))
+
+    def get_planar_object_info(self) -> PlanarObjectInfo:
+        return PlanarObjectInfo(PlanarObjectType.TRACK, self.oid)
+
+    # -- state -----------------------------------------------------------------------------------
+
+    @property
+    def state(self) -> PlanarState:
+        return self._states.state
+
+    @property
+    def length(self) -> float:
+        return float(self.path.length) if not self.path.empty else 0.0
+
+    @property
+    def usable(self) -> bool:
+        """Enabled with a geometry: movers may join and travel on it."""
+        return self._states.current is PlanarState.ENABLED and self.length > 0.0
+
+    @property
+    def operation_mode(self) -> TrackOperationMode:
+        if not self.usable:
+            return TrackOperationMode.UNINITIALIZED
+        if self.configuring:
+            return TrackOperationMode.CONFIGURING
+        if self.moving_mover_count:
+            return TrackOperationMode.MOVING
+        return TrackOperationMode.STANDING
+
+    @property
+    def mover_count_on_track(self) -> int:
+        return sum(1 for r in self._traffic.riders if r.track is self)
+
+    @property
+    def moving_mover_count(self) -> int:
+        traffic = self._traffic
+        return sum(1 for r in traffic.riders if r.track is self and traffic.moving(r))
+
+    @property
+    def previous_tracks(self) -> list[int]:
+        return self.network.previous(self)
+
+    @property
+    def subsequent_tracks(self) -> list[int]:
+        return self.network.subsequent(self)
+
+    @property
+    def closed_loop(self) -> bool:
+        return self.network.closed_loop(self)
+
+    @property
+    def mc_to_plc_std(self) -> CDT_MCTOPLC_PLANAR_TRACK_STD:
+        return CDT_MCTOPLC_PLANAR_TRACK_STD(
+            track_oid=self.oid, group_oid=self._group.oid if self._group else 0,
+            state=self._states.state, operation_mode=self.operation_mode,
+            mover_count_on_track=self.mover_count_on_track,
+            moving_mover_count=self.moving_mover_count)
+
+    @property
+    def member(self) -> MemberId:
+        return MemberId(PlanarObjectType.TRACK, self.oid)
+
+    @property
+    def _traffic(self) -> Traffic:
+        return traffic_of(self._system)
+
+    def frame_at(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """x, y [mm], heading [rad] and curvature [1/mm] at the arc lengths ``s``."""
+        return self.path.frame_at(s)
+
+    # -- execution -------------------------------------------------------------------------------
+
+    def _execute(self, command: PlanarCommand) -> None:
+        kind = command.kind
+        if kind in ("Enable", "Disable", "Reset"):
+            if kind == "Enable" and self.path.empty:
+                raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                                      f"{self.name} has no geometry to enable (§6.2.4)")
+            if kind == "Enable" and self._manual_ranges is None:
+                self.collision_ranges = self._automatic_ranges()
+            self._states.request(command)
+            return
+        if kind == "AddToGroup":
+            self._add_to_group(command.args[0])
+        elif kind == "RemoveFromGroup":
+            if self._group is None:
+                raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP, f"{self.name} is in no group")
+            self._group._leave(self.member)
+            self._group, self.band = None, False
+        else:
+            self._edit(kind, command.args)
+        command.finished()
+
+    def _edit(self, kind: str, args: tuple) -> None:
+        """A geometry command. Only a track that is not Enabled changes (movers may be on an
+        enabled one), and not after a link froze it (§7.2.2.10)."""
+        if kind == "Clear":
+            self._check_editable("Clear", frozen_ok=True)
+            self.path = TrackPath()
+            self._blocked = ""
+            self._links.clear()
+            self.network.unlink(self.index)
+            return
+        self._check_editable(kind)
+        try:
+            if kind == "AppendPosition":
+                self.path.append_position(args[0])
+            elif kind == "AppendLine":
+                self.path.append_line(args[0], args[1])
+            elif kind == "AppendCircle":
+                self.path.append_circle(*args)
+            elif kind == "CloseLoop":
+                self.path.close_loop()
+                self._link((self.index, END), (self.index, START))
+                self._blocked = "it is a closed loop"
+            elif kind == "StartFromTrack":
+                other: MC_PlanarTrack = args[0]
+                self._check_other(other, kind)
+                if not self.path.empty:
+                    raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                                          f"StartFromTrack: {self.name} has a geometry already; "
+                                          "StartFromTrack comes first (§6.2.10)")
+                self.path.start_from(other.path)
+                self._link((other.index, END), (self.index, START))
+                other._blocked = other._blocked or f"{self.name} starts from it"
+            elif kind == "EndAtTrack":
+                other = args[0]
+                self._check_other(other, kind)
+                self.path.end_at(other.path)
+                self._link((self.index, END), (other.index, START))
+                self._blocked = f"it ends at {other.name}"
+        except ConfigError as bad:
+            raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT, f"{kind}: {bad}") from None
+
+    def _check_editable(self, kind: str, frozen_ok: bool = False) -> None:
+        if self._states.current is not PlanarState.DISABLED:
+            raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
+                                  f"{kind}: {self.name} is {self._states.current.name.title()}; "
+                                  "its geometry changes only while it is Disabled")
+        if self._blocked and not frozen_ok:
+            raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
+                                  f"{kind}: {self.name} is frozen because {self._blocked}; "
+                                  "Clear it first (§7.2.2.10)")
+
+    def _check_other(self, other: object, kind: str) -> None:
+        if not isinstance(other, MC_PlanarTrack) or other._system is not self._system:
+            raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                                  f"{kind}: the other track must be a track of this runtime")
+        if other is self:
+            raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                                  f"{kind}: a track links to itself with CloseLoop")
+        if other.path.empty:
+            raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                                  f"{kind}: {other.name} has no geometry yet")
+
+    def _link(self, a: tuple[int, int], b: tuple[int, int]) -> None:
+        self._links.append((a, b))
+        self.network.link(a, b)
+
+    def _automatic_ranges(self) -> tuple[float, float]:
+        """Collision ranges from the geometry (§6.2.2, the 2R hose): at each end where
+        another track meets this one from the same side, the arc length within which this
+        track's centre line stays closer than twice the largest mover radius to that track;
+        0 where no other track starts (ends) at the same vertex."""
+        radius = math.hypot(self.max_mover_width, self.max_mover_height) / 2.0
+        out = []
+        for side in (START, END):
+            vertex = self.network.vertex((self.index, side))
+            others = [t for t in self.network.tracks if t is not self and t.length > 0.0
+                      and self.network.vertex((t.index, side)) == vertex]
+            reach = 0.0
+            for other in others:
+                reach = max(reach, self.path.hose_reach(other.path, 2.0 * radius,
+                                                        from_end=side == END))
+            out.append(reach)
+        return out[0], out[1]
+
+    def _add_to_group(self, group: MC_PlanarGroup) -> None:
+        if self._group is not None:
+            raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
+                                  f"{self.name} is in group 16#{self._group.oid:08X} already")
+        group._admit(self, None, self.member)
+        self._group = group
+
+    def surface(self):  # noqa: ANN201 - a shapely Polygon
+        """The band the largest mover sweeps along the track (what it blocks while Moving)."""
+        import shapely
+
+        s = np.linspace(0.0, self.length, max(2, int(self.length / 5.0) + 1))
+        x, y, _, _ = self.frame_at(s)
+        half = math.hypot(self.max_mover_width, self.max_mover_height) / 2.0
+        return shapely.LineString(np.column_stack((x, y))).buffer(half)
+
+    def _publish(self) -> bool:
+        self._states.update()
+        self._queue.publish()
+        return not self._states.settled
+
+
+def _xy(position: PositionXYC) -> tuple[float, float]:
+    if not isinstance(position, PositionXYC):
+        raise TypeError(f"a track point must be a PositionXYC, got {type(position).__name__}")
+    return finite(position.x, "x"), finite(position.y, "y")
+
+
+def _network(system: PlanarSystem) -> TrackNetwork:
+    return network_of(system)

@@ -1,0 +1,172 @@
+"""Gear-in on tracks: GearInPosOnTrack, GearInPosOnTrackWithMasterMover, the track trail
+(TF5430 §6.2.8, §6.2.9, §6.2.12, §6.8.1)."""
+
+from __future__ import annotations
+
+import pytest
+
+import openmotion as om
+from openmotion.core.errors import ErrorId
+from openmotion.planar import (
+    MC_PlanarFeedbackGearInPosOnTrack,
+    MC_PlanarFeedbackGearInPosOnTrackWithMasterMover,
+    MC_PlanarMover,
+    MC_PlanarTrack,
+    MC_PlanarTrackTrail,
+    MoverVector,
+    PlanarMoverParameters,
+    PlanarState,
+    PositionXYC,
+    ST_GearInPosOnTrackWithMasterMoverOptions,
+)
+
+
+def _mover(rt: om.Runtime, x: float = 0.0, y: float = 0.0) -> MC_PlanarMover:
+    mover = MC_PlanarMover(rt, PlanarMoverParameters(initial_position=MoverVector(x, y)))
+    mover.enable()
+    rt.run(0.005)
+    return mover
+
+
+def _track(rt: om.Runtime, *points: tuple[float, float], after: MC_PlanarTrack | None = None
+           ) -> MC_PlanarTrack:
+    track = MC_PlanarTrack(rt)
+    if after is not None:
+        track.start_from_track(after)
+    for a, b in zip(points[::2], points[1::2], strict=True):
+        track.append_line(PositionXYC(*a), PositionXYC(*b))
+    track.enable()
+    rt.run_until(lambda: track.state is PlanarState.ENABLED, timeout=1.0)
+    return track
+
+
+def _join(rt: om.Runtime, mover: MC_PlanarMover, track: MC_PlanarTrack) -> None:
+    join = mover.join_track(track)
+    rt.run_until(lambda: join.done, timeout=10.0)
+
+
+def _axis(rt: om.Runtime) -> om.Axis:
+    axis = rt.add_axis("master")
+    axis.power()
+    rt.run(0.01)
+    return axis
+
+
+def test_6_2_8_a_mover_follows_an_axis_one_to_one():
+    """§6.2.8: track (100,100)-(860,100); the axis moves to 600 at 30 mm/s; gear-in with
+    both sync positions 100: the mover cruises at 30 mm/s with the axis and stands at 600."""
+    rt = om.Runtime(0.001)
+    track = _track(rt, (100.0, 100.0), (860.0, 100.0))
+    mover = _mover(rt)
+    _join(rt, mover, track)
+    axis = _axis(rt)
+    axis.move_absolute(600.0, 30.0, acceleration=100.0, deceleration=100.0, jerk=100.0)
+    rt.step()
+    feedback = MC_PlanarFeedbackGearInPosOnTrack()
+    gear = mover.gear_in_pos_on_track(axis, None, 100.0, 100.0, track, feedback=feedback)
+    rt.run(8.0)
+    s = mover.mc_to_plc.set_on_track
+    assert s.set_velo == pytest.approx(30.0, abs=1e-9)
+    assert s.set_pos == pytest.approx(axis.set_position, abs=1e-9)
+    assert feedback.in_sync and feedback.active and not feedback.error
+    rt.run(20.0)
+    s = mover.mc_to_plc.set_on_track
+    assert s.set_pos == pytest.approx(600.0, abs=1e-9) and s.set_velo == 0.0
+    assert gear.active  # coupled until another command (§6.2.8)
+
+
+def test_6_2_8_variant_the_mover_stops_at_the_track_end_with_an_error():
+    rt = om.Runtime(0.001)
+    track = _track(rt, (100.0, 100.0), (860.0, 100.0))
+    mover = _mover(rt)
+    _join(rt, mover, track)
+    axis = _axis(rt)
+    axis.move_absolute(1200.0, 300.0, acceleration=1000.0, deceleration=1000.0, jerk=10000.0)
+    rt.step()
+    feedback = MC_PlanarFeedbackGearInPosOnTrack()
+    mover.gear_in_pos_on_track(axis, None, 0.0, 0.0, track, feedback=feedback)
+    rt.run(6.0)
+    assert feedback.error and feedback.error_id == ErrorId.PLANAR_PATH_END
+    assert not feedback.in_sync
+    s = mover.mc_to_plc.set_on_track
+    assert s.set_pos == pytest.approx(760.0, abs=1e-9) and s.set_velo == 0.0
+    assert mover.state is PlanarState.ENABLED  # the command fails, not the mover
+
+
+def test_6_8_1_a_trail_takes_the_slave_onto_the_next_track():
+    """§6.8.1: track 1 (100,100)-(400,100), track 2 from it to (860,100); trail [1, 2]; the
+    axis moves to 700; the mover ends on track 2 at 400 (= 700 - 300)."""
+    rt = om.Runtime(0.001)
+    one = _track(rt, (100.0, 100.0), (400.0, 100.0))
+    two = _track(rt, (500.0, 100.0), (860.0, 100.0), after=one)
+    assert two.get_length() == pytest.approx(460.0, abs=1e-9)
+    mover = _mover(rt)
+    _join(rt, mover, one)
+    axis = _axis(rt)
+    axis.move_absolute(700.0, 30.0, acceleration=100.0, deceleration=100.0, jerk=100.0)
+    rt.step()
+    trail = MC_PlanarTrackTrail()
+    assert trail.add_track(one) and trail.add_track(two)
+    gear = mover.gear_in_pos_on_track(axis, trail, 100.0, 100.0, one)
+    rt.run(30.0)
+    s = mover.mc_to_plc.set_on_track
+    assert s.track_oid == two.oid
+    assert s.set_pos == pytest.approx(400.0, abs=1e-9) and s.set_velo == 0.0
+    assert gear.active and not gear.error
+
+
+def test_a_trail_refuses_tracks_that_do_not_follow_or_repeat():
+    rt = om.Runtime(0.001)
+    one = _track(rt, (100.0, 100.0), (400.0, 100.0))
+    other = _track(rt, (100.0, 400.0), (400.0, 400.0))
+    trail = MC_PlanarTrackTrail()
+    assert trail.add_track(one)
+    assert not trail.add_track(one) and "already" in trail.message
+    assert not trail.add_track(other) and trail.error
+    assert trail.tracks == [one]
+
+
+def test_6_2_9_a_mover_follows_a_master_mover_on_a_parallel_track():
+    """§6.2.9: master and slave tracks of 760 mm; the master moves to 500; the slave,
+    geared with both sync positions 100, stops at 500 too."""
+    rt = om.Runtime(0.001)
+    master_track = _track(rt, (100.0, 620.0), (860.0, 620.0))
+    slave_track = _track(rt, (100.0, 100.0), (860.0, 100.0))
+    master, slave = _mover(rt, 100.0, 620.0), _mover(rt, 100.0, 100.0)
+    _join(rt, master, master_track)
+    _join(rt, slave, slave_track)
+    move = master.move_on_track(None, 500.0)
+    rt.step()
+    feedback = MC_PlanarFeedbackGearInPosOnTrackWithMasterMover()
+    slave.gear_in_pos_on_track_with_master_mover(master, None, 100.0, master_track, 100.0,
+                                                 slave_track, feedback=feedback)
+    rt.run_until(lambda: move.done, timeout=20.0)
+    rt.run(1.0)
+    assert slave.mc_to_plc.set_on_track.set_pos == pytest.approx(500.0, abs=1e-9)
+    assert feedback.active and feedback.in_sync
+
+
+def test_6_2_12_follow_mover_takes_the_master_s_branch_at_the_switch():
+    """§6.2.12: track_in (100,360)-(400,360); out1 and out2 start from it; the master goes
+    to 500 on out1; the slave, geared 210/10 with followMover, trails it by 200 onto out1
+    and stands at 300 there."""
+    rt = om.Runtime(0.001)
+    track_in = _track(rt, (100.0, 360.0), (400.0, 360.0))
+    out1 = _track(rt, (450.0, 410.0), (860.0, 620.0), after=track_in)
+    out2 = _track(rt, (450.0, 310.0), (860.0, 100.0), after=track_in)
+    assert sorted(track_in.subsequent_tracks) == sorted([out1.oid, out2.oid])
+    master, slave = _mover(rt, 300.0, 360.0), _mover(rt, 100.0, 360.0)
+    _join(rt, master, track_in)
+    _join(rt, slave, track_in)
+    move = master.move_on_track(out1, 500.0)
+    rt.step()
+    options = ST_GearInPosOnTrackWithMasterMoverOptions(follow_mover=True)
+    gear = slave.gear_in_pos_on_track_with_master_mover(master, None, 210.0, track_in, 10.0,
+                                                        track_in, options=options)
+    rt.run_until(lambda: move.done, timeout=30.0)
+    rt.run(2.0)
+    m, s = master.mc_to_plc.set_on_track, slave.mc_to_plc.set_on_track
+    assert (m.track_oid, s.track_oid) == (out1.oid, out1.oid)
+    assert m.set_pos == pytest.approx(500.0, abs=1e-9)
+    assert s.set_pos == pytest.approx(300.0, abs=1e-9) and s.set_velo == 0.0
+    assert gear.active and not gear.error
