@@ -194,11 +194,24 @@ def test_part_entries_build_the_method_arguments() -> None:
     assert parse_scenario(PARTS).checks[0].expected == float(0x010100A0)
 
 
+#: the track commands of a mover (test_planar_tracks.py tests them in depth)
+TRACKS = """\
+name: tracks
+planar:
+  movers: [{name: a}]
+  tracks: [{name: t, geometry: [{line: [[0, 0], [400, 0]]}]}]
+timeline:
+  - {at: 0, mover: a, command: join_track, track: t}
+  - {at: 1, mover: a, command: move_on_track, position: 100}
+  - {at: 2, mover: a, command: leave_track, x: 0, y: 240}
+"""
+
+
 @pytest.mark.parametrize("command", sorted(PLANAR_COMMANDS))
 def test_planar_entry_arguments_fit_the_method(command: str) -> None:
     """Each entry's arguments bind to the MC_PlanarMover (MC_PlanarGroup, MC_PlanarPart)
     method."""
-    entry = next(e for text in (VALID, PARTS) for e in parse_scenario(text).timeline
+    entry = next(e for text in (VALID, PARTS, TRACKS) for e in parse_scenario(text).timeline
                  if e.command == command)
     owner = MC_PlanarGroup if isinstance(entry, PlanarGroupEntry) else MC_PlanarPart \
         if isinstance(entry, ActivatePartPosition) else MC_PlanarMover

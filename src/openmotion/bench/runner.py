@@ -25,6 +25,7 @@ from openmotion.bench.otg import run_otg
 from openmotion.bench.path import run_path
 from openmotion.bench.planar import run_planar
 from openmotion.bench.trace import run_trace
+from openmotion.bench.tracks import run_tracks
 
 Progress = Callable[[str], None] | None
 
@@ -39,6 +40,8 @@ PLANAR_ADMISSION_GOAL_US = 50.0
 PLANAR_GOAL_P99_US = 250.0
 PATH_GOAL_SEGMENTS = 10_000
 PATH_GOAL_P99_US = 200.0  #: issue #7: planner work per cycle on a 10 000-segment path
+TRACKS_GOAL_N = 100
+TRACKS_GOAL_P99_US = 500.0  #: issue #8: 100 movers on a network with 4 switches
 TRACE_GOAL_US = 1000.0  #: 100 axes, 100 signals recorded every 1 ms cycle: faster than real time
 
 
@@ -75,6 +78,12 @@ def _path(quick: bool, progress: Progress) -> dict[str, Any]:
     return run_path(segments=200 if quick else PATH_GOAL_SEGMENTS, progress=progress)
 
 
+def _tracks(quick: bool, progress: Progress) -> dict[str, Any]:
+    if quick:
+        return run_tracks(movers=12, cycles=300, progress=progress)
+    return run_tracks(movers=TRACKS_GOAL_N, progress=progress)
+
+
 def _trace(quick: bool, progress: Progress) -> dict[str, Any]:
     if quick:
         return run_trace(samples=200, counts=(10, 100), cycles=200, progress=progress)
@@ -88,6 +97,7 @@ BENCHMARKS: dict[str, Callable[[bool, Progress], dict[str, Any]]] = {
     "ca": _ca,
     "planar": _planar,
     "path": _path,
+    "tracks": _tracks,
     "trace": _trace,
 }
 
@@ -214,6 +224,24 @@ def goals_path(results: dict[str, Any]) -> dict[str, Any]:
     return goals
 
 
+def goals_tracks(results: dict[str, Any]) -> dict[str, Any]:
+    rows = list(results["by_n"].values())
+    overlaps = sum(r["overlaps"] for r in rows)
+    gaps = sum(r["gap_violations"] for r in rows)
+    goals = {
+        "overlaps": _goal("no two footprints overlap (switches included, every cycle)",
+                          overlaps, overlaps == 0),
+        "gaps": _goal("no two movers on a track closer than the gap (every cycle)", gaps,
+                      gaps == 0),
+    }
+    row = results["by_n"].get(str(TRACKS_GOAL_N))
+    if row is not None:
+        p99 = row["cycle_us_p99"]
+        goals["cycle_p99"] = _goal(f"N={TRACKS_GOAL_N}, 4 switches: cycle p99 < "
+                                   f"{TRACKS_GOAL_P99_US:g} us", p99, p99 < TRACKS_GOAL_P99_US)
+    return goals
+
+
 def goals_trace(results: dict[str, Any]) -> dict[str, Any]:
     goal = results["goal"]
     cycle = goal["cycle_us"]["every_cycle"]
@@ -229,6 +257,7 @@ GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "ca": goals_ca,
     "planar": goals_planar,
     "path": goals_path,
+    "tracks": goals_tracks,
     "trace": goals_trace,
 }
 
@@ -405,6 +434,18 @@ def _render_planar(results: dict[str, Any]) -> list[str]:
     ]
 
 
+def _render_tracks(results: dict[str, Any]) -> list[str]:
+    header = ["N", "tracks", "switches", "cycles", "commands", "done", "errors", "cycle p50",
+              "cycle p99", "cycle max", "overlaps", "gap violations", "closest"]
+    rows = [[int(n), r["tracks"], r["switches"], r["cycles"], r["commands"], r["done"],
+             r["errors"], r["cycle_us_p50"], r["cycle_us_p99"], r["cycle_us_max"],
+             r["overlaps"], r["gap_violations"], r["closest_centres_mm"]]
+            for n, r in results["by_n"].items()]
+    return [f"Runtime.step in us: movers on an oval with two sidings (4 switches), random "
+            f"MoveOnTrack targets, gap {_fmt(results['gap'])} mm; closest: mm between two "
+            "mover centres", *_table(header, rows)]
+
+
 def _render_trace(results: dict[str, Any]) -> list[str]:
     sampling = [[r["kind"], r["signals"], r["samples"], r["sample_us"], r["signal_sample_us"]]
                 for r in results["sampling"]]
@@ -439,7 +480,7 @@ def _render_path(results: dict[str, Any]) -> list[str]:
 
 _RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
            "ca": _render_ca, "planar": _render_planar, "path": _render_path,
-           "trace": _render_trace}
+           "tracks": _render_tracks, "trace": _render_trace}
 
 
 def render(result: dict[str, Any]) -> str:

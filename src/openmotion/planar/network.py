@@ -27,10 +27,21 @@ class TrackNetwork:
     def __init__(self) -> None:
         self.tracks: list[MC_PlanarTrack] = []
         self._parent: dict[Endpoint, Endpoint] = {}
+        self._ends: dict[tuple[Endpoint, int], list[MC_PlanarTrack]] | None = None
+        self._switches: dict[int, tuple[Endpoint | None, Endpoint | None]] = {}
+        self._successors: dict[int, list[MC_PlanarTrack]] = {}
 
     def add(self, track: MC_PlanarTrack) -> int:
         self.tracks.append(track)
+        self.touch()
         return len(self.tracks) - 1
+
+    def touch(self) -> None:
+        """Links, a geometry or a track state changed: forget what was derived from them
+        (the cycle asks for switches and successors of every rider, so they are cached)."""
+        self._ends = None
+        self._switches.clear()
+        self._successors.clear()
 
     # -- links -----------------------------------------------------------------------------------
 
@@ -39,6 +50,7 @@ class TrackNetwork:
         ra, rb = self._root(a), self._root(b)
         if ra != rb:
             self._parent[max(ra, rb)] = min(ra, rb)
+        self.touch()
 
     def unlink(self, index: int) -> None:
         """Forget every link of track ``index`` (Clear): the vertices are rebuilt from the
@@ -49,6 +61,7 @@ class TrackNetwork:
                 for a, b in track._links:
                     if index not in (a[0], b[0]):
                         self.link(a, b)
+        self.touch()
 
     def _root(self, e: Endpoint) -> Endpoint:
         parent = self._parent.get(e, e)
@@ -62,12 +75,24 @@ class TrackNetwork:
         return self._root(e)
 
     def _ends_at(self, vertex: Endpoint, side: int) -> list[MC_PlanarTrack]:
-        return [t for t in self.tracks if t.length > 0.0 and self._root((t.index, side)) == vertex]
+        """Tracks with a geometry whose ``side`` (START or END) is at ``vertex``."""
+        if self._ends is None:
+            ends: dict[tuple[Endpoint, int], list[MC_PlanarTrack]] = {}
+            for t in self.tracks:
+                if t.length > 0.0:
+                    for end in (START, END):
+                        ends.setdefault((self._root((t.index, end)), end), []).append(t)
+            self._ends = ends
+        return self._ends.get((vertex, side), [])
 
     def successors(self, track: MC_PlanarTrack) -> list[MC_PlanarTrack]:
         """Usable tracks that start where ``track`` ends (a closed loop: itself)."""
-        vertex = self._root((track.index, END))
-        return [t for t in self._ends_at(vertex, START) if t.usable]
+        found = self._successors.get(track.index)
+        if found is None:
+            vertex = self._root((track.index, END))
+            found = self._successors[track.index] = [
+                t for t in self._ends_at(vertex, START) if t.usable]
+        return found
 
     def subsequent(self, track: MC_PlanarTrack) -> list[int]:
         """OIDs of the tracks that start at this track's end vertex (online parameter)."""
@@ -84,12 +109,15 @@ class TrackNetwork:
 
     def switches(self, track: MC_PlanarTrack) -> tuple[Endpoint | None, Endpoint | None]:
         """The vertex at the start and at the end of ``track`` where it is a switch."""
-        out = []
-        for side in (START, END):
-            vertex = self._root((track.index, side))
-            ends = len(self._ends_at(vertex, START)) + len(self._ends_at(vertex, END))
-            out.append(vertex if ends > 2 else None)
-        return out[0], out[1]
+        found = self._switches.get(track.index)
+        if found is None:
+            out = []
+            for side in (START, END):
+                vertex = self._root((track.index, side))
+                ends = len(self._ends_at(vertex, START)) + len(self._ends_at(vertex, END))
+                out.append(vertex if ends > 2 else None)
+            found = self._switches[track.index] = (out[0], out[1])
+        return found
 
     def collision_ranges(self, track: MC_PlanarTrack) -> tuple[float, float]:
         return track.collision_ranges

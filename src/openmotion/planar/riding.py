@@ -191,9 +191,11 @@ def release_bands(mover: MC_PlanarMover) -> None:
 def move_c_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
     """MoveC of a mover on a track: it must stand; its C no longer follows the track
     (Dependent -> Independent, §6.2.6, V3.1.10.51)."""
+    from openmotion.planar.track import traffic_of
+
     rider = _rider(mover)
     _standing(mover, rider, "MoveC")
-    rider.oriented = False
+    traffic_of(mover._system).orient(rider, False)
     mover._move_c(command)
 
 
@@ -208,13 +210,14 @@ def adopt_track_orientation(mover: MC_PlanarMover, command: PlanarCommand) -> No
     constraint, options = command.args
     rider = _rider(mover)
     _standing(mover, rider, "AdoptTrackOrientation")
-    rider.oriented = False  # the rotation drives C until it ends
+    traffic = traffic_of(mover._system)
+    traffic.orient(rider, False)  # the rotation drives C until it ends
     options = options or ST_AdoptTrackOrientationOptions()
     options.check()
     p = mover.parameters
     limits = command_dynamics(constraint, p.default_dynamic_c, p.maximum_dynamic_c,
                               command.warnings)
-    track, s, _, _ = traffic_of(mover._system).position(rider)
+    track, s, _, _ = traffic.position(rider)
     _, _, heading, _ = track.frame_at(np.array([s]))
     profile = plan_move_c(mover._start_states("c")["c"], math.degrees(float(heading[0])),
                           limits, options.direction, options.additional_turns,
@@ -222,8 +225,7 @@ def adopt_track_orientation(mover: MC_PlanarMover, command: PlanarCommand) -> No
 
     def adopted(done: bool) -> None:
         if done:
-            rider.c = profile.end.position
-            rider.oriented = True
+            traffic.orient(rider, True, profile.end.position)
 
     mover._begin(command, {"c": profile}, "the rotation", c_motion=True, on_end=adopted)
 

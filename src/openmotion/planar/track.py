@@ -241,6 +241,7 @@ class MC_PlanarTrack(StatefulObject):
     def _edit(self, kind: str, args: tuple) -> None:
         """A geometry command. Only a track that is not Enabled changes (movers may be on an
         enabled one), and not after a link froze it (§7.2.2.10)."""
+        self.network.touch()
         if kind == "Clear":
             self._check_editable("Clear", frozen_ok=True)
             self.path = TrackPath()
@@ -341,6 +342,7 @@ class MC_PlanarTrack(StatefulObject):
     def _publish(self) -> bool:
         self._states.update()
         self._queue.publish()
+        self.network.touch()  # a state change makes the track usable or not
         return not self._states.settled
 
 

@@ -48,7 +48,10 @@ if TYPE_CHECKING:
 
 IDLE, FOLLOW, HELD, GEAR = 0, 1, 2, 3
 _EXTEND = 5.0  #: [mm] a queue end that moved on this far gets a new profile
-_HORIZON_TRACKS = 8  #: a path ahead is searched this many tracks beyond the route at most
+_HORIZON_TRACKS = 8
+#: [mm] riders this close to a zone get its stop line (held riders plan their goal with it);
+#: further away they cannot reach the zone within a cycle
+_ZONE_LOOKAHEAD = 1000.0  #: a path ahead is searched this many tracks beyond the route at most
 
 
 class Rail(Protocol):
@@ -136,20 +139,32 @@ class Traffic:
         self.bdec, self.bjerk, self.gap = np.ones(n), np.ones(n), np.zeros(n)
         self.base = np.zeros(n)
         self.shift = np.zeros(n)  #: sum of odometer shifts: p - shift is the path coordinate
+        self.target = np.zeros(n)  #: odometer target of the command (NaN: geared)
+        self.oriented = np.zeros(n, dtype=bool)  #: c follows the track's heading
+        self.cdeg = np.zeros(n)  #: c [deg] of the oriented riders, unwrapped
+        self.rested = np.zeros(n, dtype=bool)  #: at rest, its x, y, c rows held in the table
+        self._geo: Any = None
 
     # -- riders ----------------------------------------------------------------------------------
 
     def couple(self, rider: Rider) -> None:
         """``rider`` stands on its track at ``rider.s`` from now on."""
+        self._keep_c()
         old = [(r, *self._state(r)) for r in self.riders]
         self.riders.append(rider)
         rider.route = [Leg(rider.track, 0.0)]
         self._rebuild(old + [(rider, rider.s, 0.0, 0.0, IDLE, rider.s, 0.0)])
 
     def uncouple(self, rider: Rider) -> None:
+        self._keep_c()
         old = [(r, *self._state(r)) for r in self.riders if r is not rider]
         self.riders.remove(rider)
         self._rebuild(old)
+
+    def _keep_c(self) -> None:
+        """Before the arrays are rebuilt: each rider keeps its c and target."""
+        for r in self.riders:
+            r.c, r.target = float(self.cdeg[r.slot]), float(self.target[r.slot])
 
     def _state(self, r: Rider) -> tuple[float, float, float, int, float, float]:
         k = r.slot
@@ -174,10 +189,49 @@ class Traffic:
             self.lim[:, k] = (lim.velocity, lim.acceleration, lim.deceleration, lim.jerk)
         self.bdec[k], self.bjerk[k] = r.brake
         self.gap[k] = r.gap
+        self.target[k] = r.target
+        self.oriented[k], self.cdeg[k] = r.oriented, r.c
+
+    def orient(self, rider: Rider, oriented: bool, c: float | None = None) -> None:
+        """C follows the track (``oriented``) or its own commands; ``c`` [deg] where it is."""
+        rider.oriented = oriented
+        if c is not None:
+            rider.c = c
+        self.oriented[rider.slot] = oriented
+        self.cdeg[rider.slot] = rider.c
 
     def _dirty(self) -> None:
         self._pairs = None
         self._env = None
+        self._geo = None
+
+    def _geometry(self) -> tuple[np.ndarray, ...]:
+        """Per rider, what changes only with a track transition or a coupling: the table
+        rows (odometer, x, y, c), its track's length, the switch ids at the track's start and
+        end (-1: none) and the collision ranges there."""
+        if self._geo is None:
+            n = len(self.riders)
+            rows, xr, yr, cr = (np.empty(n, dtype=np.int64) for _ in range(4))
+            length, crs, cre = np.empty(n), np.empty(n), np.empty(n)
+            sws, swe = np.full(n, -1, dtype=np.int64), np.full(n, -1, dtype=np.int64)
+            ids: dict[Any, int] = {}
+            groups: dict[int, list[int]] = {}
+            for r in self.riders:
+                k, t = r.slot, r.track
+                rows[k] = r.row
+                xr[k], yr[k], cr[k] = r.rows
+                length[k] = t.length
+                a, b = self.network.switches(t)
+                if a is not None:
+                    sws[k] = ids.setdefault(a, len(ids))
+                if b is not None:
+                    swe[k] = ids.setdefault(b, len(ids))
+                crs[k], cre[k] = self.network.collision_ranges(t)
+                groups.setdefault(t.index, []).append(k)
+            by_track = [(self.riders[ks[0]].track, np.array(ks, dtype=np.int64))
+                        for ks in groups.values()]
+            self._geo = (rows, xr, yr, cr, length, sws, swe, crs, cre, by_track)
+        return self._geo
 
     def position(self, rider: Rider) -> tuple[Rail, float, float, float]:
         """Track, arc length, velocity and acceleration of ``rider`` now."""
@@ -264,6 +318,7 @@ class Traffic:
             self.shift[k] += shift
             self.p[k] += shift
             self.goal[k] += shift
+            self.target[k] += shift
             self.base[k] += shift
             self._env = None
             self._pairs = None
@@ -331,31 +386,40 @@ class Traffic:
 
     def _pair_list(self) -> Pairs:
         """Each rider with the rider ahead on its path (cached until a rider changes track or
-        route)."""
+        route): on its track the next one by arc length; the front rider of a track looks
+        along its route (then along the one way on, if the network leaves one) for the first
+        rider of each track."""
         if self._pairs is None:
+            *_, by_track = self._geometry()
+            s = self.p - self.base
+            order: dict[int, np.ndarray] = {}
             succ, pred, offset = [], [], []
-            on_track: dict[int, list[Rider]] = {}
-            for r in self.riders:
-                on_track.setdefault(r.track.index, []).append(r)
-            for m in self.riders:
-                ahead = self._ahead(m, on_track)
+            for track, slots in by_track:
+                ranked = slots[np.argsort(s[slots], kind="stable")]
+                order[track.index] = ranked
+                succ.append(ranked[:-1])
+                pred.append(ranked[1:])
+                offset.append(self.base[ranked[:-1]] - self.base[ranked[1:]])
+            for ranked in order.values():
+                m = int(ranked[-1])
+                ahead = self._ahead(self.riders[m], order)
                 if ahead is not None:
-                    k, shift = ahead
-                    succ.append(m.slot)
-                    pred.append(k.slot)
-                    offset.append(shift)
-            s = np.array(succ, dtype=np.int64)
-            self._pairs = Pairs(s, np.array(pred, dtype=np.int64), np.array(offset, dtype=float),
-                                self.gap[s], np.zeros(s.size, dtype=bool), True)
+                    succ.append(np.array([m]))
+                    pred.append(np.array([ahead[0]]))
+                    offset.append(np.array([ahead[1]]))
+            sa = np.concatenate(succ) if succ else np.empty(0, dtype=np.int64)
+            self._pairs = Pairs(sa.astype(np.int64),
+                                np.concatenate(pred).astype(np.int64) if pred else sa,
+                                np.concatenate(offset) if offset else np.empty(0),
+                                self.gap[sa], np.zeros(sa.size, dtype=bool), True)
         return self._pairs
 
-    def _ahead(self, m: Rider, on_track: dict[int, list[Rider]]) -> tuple[Rider, float] | None:
-        """The nearest rider in front of ``m`` on its route (then on the one way on, if the
-        network leaves one), and the shift of its odometer into ``m``'s."""
-        s_m = float(self.p[m.slot] - self.base[m.slot])
-        legs = list(m.route)
-        last = legs[-1].track
-        base = legs[-1].base + last.length
+    def _ahead(self, m: Rider, order: dict[int, np.ndarray]) -> tuple[int, float] | None:
+        """The first rider on the tracks after ``m``'s along its route (then the one way on,
+        if the network leaves one), and the shift of its odometer into ``m``'s."""
+        legs = m.route[1:]
+        last = m.route[-1].track
+        base = m.route[-1].base + last.length
         for _ in range(_HORIZON_TRACKS):  # the unique way on after the route
             following = self.network.successors(last)
             if len(following) != 1:
@@ -363,18 +427,13 @@ class Traffic:
             last = following[0]
             legs.append(Leg(last, base))
             base += last.length
-        for i, leg in enumerate(legs):
-            best: Rider | None = None
-            for r in on_track.get(leg.track.index, ()):
-                if r is m:
-                    continue
-                s = float(self.p[r.slot] - self.base[r.slot])
-                if i == 0 and s <= s_m:
-                    continue
-                if best is None or s < float(self.p[best.slot] - self.base[best.slot]):
-                    best = r
-            if best is not None:
-                return best, leg.base - float(self.base[best.slot])
+        for leg in legs:
+            ranked = order.get(leg.track.index)
+            if ranked is None:
+                continue
+            for k in ranked[:2].tolist():
+                if k != m.slot:
+                    return k, leg.base - float(self.base[k])
         return None
 
     def _track(self, held: np.ndarray, nxt: list[np.ndarray],
@@ -384,57 +443,79 @@ class Traffic:
         neighbours as they are now (transport.kernels.candidates), else a brake."""
         room_lo, room_hi = self._room(pairs)
         lo, hi = self._envelope()
-        for k in held.tolist():
+        p, v, a, target = self.p[held], self.v[held], self.a[held], self.target[held]
+        vmax, acc, dec, jerk = self.lim[:, held]
+        sign = np.where(target >= p, 1.0, -1.0)
+        goal = np.where(sign > 0, np.minimum(target, room_hi[held]),
+                        np.maximum(target, room_lo[held]))
+        at_rest = (v == 0.0) & (a == 0.0)
+        waiting = at_rest & ((goal - p) * sign <= TOLERANCE)  # in a queue
+        # head on: a rider at rest that wants back into the room the rider behind it wants
+        # to go forwards into waits (the rider moving forwards takes it, as in the CA group)
+        waiting |= at_rest & (sign < 0) & self._head_on(held, pairs)
+        slots = held[waiting]
+        nxt[0][slots], nxt[1][slots], nxt[2][slots], nxt[3][slots] = self.p[slots], 0.0, 0.0, 0.0
+        known[0][slots], known[1][slots], known[2][slots] = True, self.p[slots], self.p[slots]
+        u, b = sign * v, sign * a
+        # the command's dynamics take this state over without turning round ...
+        gentle = ((b <= acc * (1 + 1e-12)) & (b >= -dec * (1 + 1e-12)) & (u >= 0.0)
+                  & (u + b * np.abs(b) / (2.0 * jerk) >= -1e-9 * vmax)
+                  & (np.abs(v) <= vmax * (1 + 1e-12)))
+        c_lo, c_hi = brake_envelope(p, v, a, dec, jerk)
+        # ... and stop before the goal: a fresh profile, to the target when the way is free,
+        # to the end of the queue when the rider ahead stands (behind a moving one the
+        # tracking step follows it: no profile per cycle)
+        settled = (goal == target) | self._ahead_rests(held, pairs)
+        fits = ~waiting & gentle & settled & np.where(sign > 0, c_hi <= goal + TOLERANCE,
+                                                      c_lo >= goal - TOLERANCE)
+        rest = ~waiting & ~fits
+        for i in np.flatnonzero(fits).tolist():
+            k = int(held[i])
             rider = self.riders[k]
             assert rider.limits is not None
-            sign = 1.0 if rider.target >= self.p[k] else -1.0
-            goal = min(rider.target, room_hi[k]) if sign > 0 else max(rider.target, room_lo[k])
-            at_rest = self.v[k] == 0.0 and self.a[k] == 0.0
-            if at_rest and (goal - self.p[k]) * sign <= TOLERANCE:  # waiting in a queue
-                nxt[0][k], nxt[1][k], nxt[2][k], nxt[3][k] = self.p[k], 0.0, 0.0, 0.0
-                known[0][k], known[1][k], known[2][k] = True, self.p[k], self.p[k]
+            try:
+                profile = plan_position(KinematicState(float(p[i]), float(v[i]), float(a[i])),
+                                        float(goal[i]), rider.limits)
+            except CommandRejected:
+                rest[i] = True
                 continue
-            lim = rider.limits
-            u, b = sign * float(self.v[k]), sign * float(self.a[k])
-            # the command's dynamics can take this state over without turning round
-            gentle = (b <= lim.acceleration * (1 + 1e-12) and b >= -lim.deceleration * (1 + 1e-12)
-                      and u >= 0.0 and u + b * abs(b) / (2.0 * lim.jerk) >= -1e-9 * lim.velocity
-                      and abs(self.v[k]) <= lim.velocity * (1 + 1e-12))
-            c_lo, c_hi = brake_envelope(self.p[k:k + 1], self.v[k:k + 1], self.a[k:k + 1],
-                                        np.array([lim.deceleration]), np.array([lim.jerk]))
-            if gentle and (c_hi[0] <= goal + TOLERANCE if sign > 0
-                           else c_lo[0] >= goal - TOLERANCE):
-                try:
-                    profile = plan_position(KinematicState(float(self.p[k]), float(self.v[k]),
-                                                           float(self.a[k])), goal, lim)
-                except CommandRejected:
-                    profile = None
-                if profile is not None:
-                    self.table.install(rider.row, profile, self._now - self.dt)
-                    self.mode[k] = FOLLOW
-                    self.goal[k] = goal
-                    for field_, value in zip(nxt, profile.at(self.dt), strict=True):
-                        field_[k] = value
-                    continue
-            out, env = np.empty((4, self.p.size)), np.empty((2, self.p.size))
-            fitted = candidates(
-                np.array([k]), self.dt, self.p, self.v, self.a,
-                np.full(self.p.size, sign), np.full(self.p.size, rider.target),
-                self.lim[0], self.lim[1], self.lim[2], self.lim[3], self.bdec, self.bjerk,
-                np.minimum(room_lo, lo), np.maximum(room_hi, hi), out, env)
-            if fitted[0]:
-                for field_, column in zip(nxt, out, strict=True):
-                    field_[k] = column[k]
-                known[0][k], known[1][k], known[2][k] = True, env[0, k], env[1, k]
-                continue
-            # no step fits: the command's brake, or the hardest one where gap control braked
-            # the rider beyond what the command's brake takes back without turning round
-            hard = b < -lim.deceleration or u + b * abs(b) / (2.0 * lim.jerk) < 0.0
-            dec, jerk = (self.bdec[k], self.bjerk[k]) if hard else (lim.deceleration, lim.jerk)
-            step = brake_state(self.p[k:k + 1], self.v[k:k + 1], self.a[k:k + 1],
-                               np.array([dec]), np.array([jerk]), self.dt)
+            self.table.install(rider.row, profile, self._now - self.dt)
+            self.mode[k] = FOLLOW
+            self.goal[k] = goal[i]
+            for field_, value in zip(nxt, profile.at(self.dt), strict=True):
+                field_[k] = value
+        if not rest.any():
+            return
+        rows = np.flatnonzero(rest)
+        n = self.p.size
+        signs = np.ones(n)
+        signs[held] = sign
+        out, env = np.empty((4, n)), np.empty((2, n))
+        fitted = candidates(held[rows], self.dt, self.p, self.v, self.a, signs, self.target,
+                            self.lim[0], self.lim[1], self.lim[2], self.lim[3], self.bdec,
+                            self.bjerk, np.minimum(room_lo, lo), np.maximum(room_hi, hi), out,
+                            env)
+        chosen = held[rows[fitted]]
+        for field_, column in zip(nxt, out, strict=True):
+            field_[chosen] = column[chosen]
+        known[0][chosen], known[1][chosen], known[2][chosen] = True, env[0, chosen], env[1, chosen]
+        lost = rows[~fitted]
+        if lost.size:  # the command's brake, or the hardest one where gap control braked the
+            # rider beyond what the command's brake takes back without turning round
+            ul, bl = u[lost], b[lost]
+            hard = (bl < -dec[lost]) | (ul + bl * np.abs(bl) / (2.0 * jerk[lost]) < 0.0)
+            k = held[lost]
+            step = brake_state(self.p[k], self.v[k], self.a[k],
+                               np.where(hard, self.bdec[k], dec[lost]),
+                               np.where(hard, self.bjerk[k], jerk[lost]), self.dt)
             for field_, value in zip(nxt, step, strict=True):
-                field_[k] = float(value[0])
+                field_[k] = value
+        # float residue of the steps (|v| ~ 1e-17) is rest: snap it, so standstill is exact
+        k = held[rows]
+        still = (np.abs(nxt[1][k]) <= 1e-9 * vmax[rows]) & (np.abs(nxt[2][k]) <= 1e-9 * acc[rows])
+        k = k[still]
+        nxt[1][k], nxt[2][k], nxt[3][k] = 0.0, 0.0, 0.0
+        known[0][k] = False  # snapped: the filter computes their envelope
 
     def _master(self, coupling: Any, nxt: list[np.ndarray] | None = None
                 ) -> tuple[float, float, float, float]:
@@ -523,6 +604,7 @@ class Traffic:
                              "(§6.2.8)")
         rider.gear.stopping = True
         rider.halting, rider.target = True, profile.end.position
+        self.target[k] = rider.target
         self.table.install(rider.row, profile, self._now - self.dt)
         self.mode[k] = FOLLOW
         self.goal[k] = rider.target
@@ -547,31 +629,57 @@ class Traffic:
         self._pairs = None
 
     def _targets(self) -> np.ndarray:
-        return np.fromiter((r.target for r in self.riders), dtype=float, count=len(self.riders))
+        return self.target
 
     def _extend(self, queued: np.ndarray, nxt: list[np.ndarray], pairs: Pairs) -> None:
         """Riders following a profile to the end of a queue get a new one, further on, once
         the room ahead has grown by more than ``_EXTEND`` (no stop and go behind a mover that
         drives away)."""
         room_lo, room_hi = self._room(pairs)
-        for k in queued.tolist():
+        target, goal = self.target[queued], self.goal[queued]
+        forward = target >= goal
+        reach = np.where(forward, np.minimum(target, room_hi[queued]),
+                         np.maximum(target, room_lo[queued]))
+        further = (reach - goal) * np.where(forward, 1.0, -1.0)
+        free = (further > 0.0) & (reach == target)
+        grow = free | ((further > _EXTEND) & self._ahead_rests(queued, pairs))
+        moved = ~free & (further > _EXTEND) & ~grow  # the rider ahead drives on: track it
+        self.mode[queued[moved]] = HELD
+        for i in np.flatnonzero(grow).tolist():
+            k = int(queued[i])
             rider = self.riders[k]
             assert rider.limits is not None
-            forward = rider.target >= self.goal[k]
-            goal = min(rider.target, room_hi[k]) if forward else max(rider.target, room_lo[k])
-            if abs(goal - self.goal[k]) <= _EXTEND and goal != rider.target:
-                continue
-            if (goal - self.goal[k]) * (1.0 if forward else -1.0) <= 0.0:
-                continue
             try:
                 profile = plan_position(KinematicState(float(self.p[k]), float(self.v[k]),
-                                                       float(self.a[k])), goal, rider.limits)
+                                                       float(self.a[k])), float(reach[i]),
+                                        rider.limits)
             except CommandRejected:
                 continue
             self.table.install(rider.row, profile, self._now - self.dt)
-            self.goal[k] = goal
+            self.goal[k] = reach[i]
             for field_, value in zip(nxt, profile.at(self.dt), strict=True):
                 field_[k] = value
+
+    def _head_on(self, slots: np.ndarray, pairs: Pairs) -> np.ndarray:
+        """Whether the rider behind each of ``slots`` wants to move forwards."""
+        behind = np.full(self.p.size, -1, dtype=np.int64)
+        behind[pairs.pred] = pairs.succ
+        k = behind[slots]
+        wants = np.zeros(slots.size, dtype=bool)
+        has = k >= 0
+        wants[has] = (self.mode[k[has]] != IDLE) & (self.target[k[has]] > self.p[k[has]]
+                                                    + TOLERANCE)
+        return wants
+
+    def _ahead_rests(self, slots: np.ndarray, pairs: Pairs) -> np.ndarray:
+        """Whether the rider ahead of each of ``slots`` on its path stands still (none: True)."""
+        ahead = np.full(self.p.size, -1, dtype=np.int64)
+        ahead[pairs.succ] = pairs.pred
+        k = ahead[slots]
+        rests = np.ones(slots.size, dtype=bool)
+        has = k >= 0
+        rests[has] = (self.v[k[has]] == 0.0) & (self.a[k[has]] == 0.0)
+        return rests
 
     def _room(self, pairs: Pairs) -> tuple[np.ndarray, np.ndarray]:
         """Where each rider may stop given its neighbours' brake envelopes now."""
@@ -622,37 +730,41 @@ class Traffic:
         at its start within max(collision range at start, gap) of the start. Holders (in a
         zone now) keep the switch; riders that enter a zone are decided in rider order: the
         first whom no holder from a track off its path blocks becomes a holder too."""
+        _, _, _, _, length, sws, swe, crs, cre, _ = self._geometry()
         lo_now, hi_now = self._envelope()
-        zones: dict[Any, list[tuple[int, bool, float, float]]] = {}
-        for r in self.riders:
-            k = r.slot
-            start, end = self.network.switches(r.track)
-            if start is None and end is None:
-                continue
-            cr_start, cr_end = self.network.collision_ranges(r.track)
-            base, length = float(self.base[k]), r.track.length
-            if end is not None:
-                line = base + length - max(cr_end, float(self.gap[k]))
-                zones.setdefault(end, []).append(
-                    (k, hi_now[k] > line + TOLERANCE, -math.inf, line))
-            if start is not None:
-                line = base + max(cr_start, float(self.gap[k]))
-                zones.setdefault(start, []).append(
-                    (k, lo_now[k] < line - TOLERANCE, line, math.inf))
+        end_line = self.base + length - np.maximum(cre, self.gap)
+        start_line = self.base + np.maximum(crs, self.gap)
+        has_end, has_start = swe >= 0, sws >= 0
+        near = (has_end & (hi > end_line - _ZONE_LOOKAHEAD)) | \
+            (has_start & (lo < start_line + _ZONE_LOOKAHEAD))
+        if not near.any():
+            return {}
+        in_end = has_end & (hi_now > end_line + TOLERANCE)
+        in_start = has_start & (lo_now < start_line - TOLERANCE)
+        wants = (has_end & ~in_end & (hi > end_line + TOLERANCE)) | \
+            (has_start & ~in_start & (lo < start_line - TOLERANCE))
+        holders: dict[int, list[int]] = {}
+        for k in np.flatnonzero(in_end).tolist():
+            holders.setdefault(int(swe[k]), []).append(k)
+        for k in np.flatnonzero(in_start).tolist():
+            holders.setdefault(int(sws[k]), []).append(k)
+        asked = set(swe[wants & has_end].tolist()) | set(sws[wants & has_start].tolist())
         lines: dict[int, tuple[float, float]] = {}
-        for entries in zones.values():
-            if len(entries) < 2:
-                continue
-            holders = [k for k, inside, _, _ in entries if inside]
-            for k, inside, low, high in entries:
-                if inside:
+        for switch in sorted(set(holders) | asked):
+            held = holders.get(switch, [])
+            at_end = np.flatnonzero((swe == switch) & ~in_end
+                                    & (hi > end_line - _ZONE_LOOKAHEAD))
+            at_start = np.flatnonzero((sws == switch) & ~in_start
+                                      & (lo < start_line + _ZONE_LOOKAHEAD))
+            entries = sorted([(k, -math.inf, float(end_line[k])) for k in at_end.tolist()]
+                             + [(k, float(start_line[k]), math.inf) for k in at_start.tolist()])
+            for k, low, high in entries:
+                if k in held:
                     continue
-                wants = hi[k] > high + TOLERANCE or lo[k] < low - TOLERANCE
-                blocked = any(self._conflict(k, h) for h in holders)
-                if blocked:
+                if any(self._conflict(k, h) for h in held):
                     lines[k] = (low, high)
-                elif wants:
-                    holders.append(k)
+                elif hi[k] > high + TOLERANCE or lo[k] < low - TOLERANCE:
+                    held.append(k)
         return lines
 
     def _conflict(self, k: int, h: int) -> bool:
@@ -666,50 +778,63 @@ class Traffic:
 
     def _transitions(self) -> None:
         """Riders past the end of their track's leg go on to the next leg of their route."""
-        for r in self.riders:
-            k = r.slot
-            while len(r.route) > 1 and self.p[k] - self.base[k] >= r.track.length - 1e-12 \
-                    and self.p[k] > r.route[1].base - 1e-12:
+        length = self._geometry()[4]
+        for k in np.flatnonzero(self.p - self.base >= length - 1e-12).tolist():
+            r = self.riders[k]
+            while len(r.route) > 1 and self.p[k] - self.base[k] >= r.track.length - 1e-12:
                 r.route.pop(0)
                 r.track = r.route[0].track
                 self.base[k] = r.route[0].base
                 self._pairs = None
+                self._geo = None
 
     def _write(self, values: list[np.ndarray]) -> None:
-        """x, y (and c) of every rider from its track's curve."""
-        by_track: dict[int, list[Rider]] = {}
-        for r in self.riders:
-            by_track.setdefault(r.track.index, []).append(r)
+        """x, y (and c) of every moving rider from its track's curve: one lookup per track,
+        then one vectorised pass (a rider at rest holds its rows in the table, ``_hold``)."""
+        _, xr, yr, cr, *_, by_track = self._geometry()
+        n = self.p.size
+        x, y, heading, curvature = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+        moving = self.mode != IDLE
+        for track, slots in by_track:
+            slots = slots[moving[slots]]
+            if slots.size:
+                s = np.clip(self.p[slots] - self.base[slots], 0.0, track.length)
+                x[slots], y[slots], heading[slots], curvature[slots] = track.frame_at(s)
+        k = np.flatnonzero(moving)
         p_all, v_all, a_all, j_all = values
-        for riders in by_track.values():
-            track = riders[0].track
-            slots = np.fromiter((r.slot for r in riders), dtype=np.int64, count=len(riders))
-            s = np.clip(self.p[slots] - self.base[slots], 0.0, track.length)
-            x, y, heading, curvature = track.frame_at(s)
-            v, a = self.v[slots], self.a[slots]
-            cos, sin = np.cos(heading), np.sin(heading)
-            normal = curvature * v * v
-            for i, r in enumerate(riders):
-                rx, ry, rc = r.rows
-                p_all[rx], p_all[ry] = x[i], y[i]
-                v_all[rx], v_all[ry] = cos[i] * v[i], sin[i] * v[i]
-                a_all[rx] = cos[i] * a[i] - sin[i] * normal[i]
-                a_all[ry] = sin[i] * a[i] + cos[i] * normal[i]
-                j_all[rx] = j_all[ry] = 0.0
-                if r.oriented:
-                    turn = math.degrees(heading[i]) - r.c
-                    r.c += (turn + 180.0) % 360.0 - 180.0
-                    p_all[rc] = r.c
-                    v_all[rc] = math.degrees(curvature[i] * v[i])
-                    a_all[rc] = math.degrees(curvature[i] * a[i])
-                    j_all[rc] = 0.0
+        still = (self.v[k] == 0.0) & (self.a[k] == 0.0)
+        fresh = k[still & ~self.rested[k]]  # came to rest: write once, then hold in the table
+        self.rested[k[~still]] = False
+        k = k[~(still & self.rested[k])]
+        v, a, heading, curvature = self.v[k], self.a[k], heading[k], curvature[k]
+        cos, sin = np.cos(heading), np.sin(heading)
+        normal = curvature * v * v
+        rx, ry = xr[k], yr[k]
+        p_all[rx], p_all[ry] = x[k], y[k]
+        v_all[rx], v_all[ry] = cos * v, sin * v
+        a_all[rx] = cos * a - sin * normal
+        a_all[ry] = sin * a + cos * normal
+        j_all[rx] = j_all[ry] = 0.0
+        turn = self.oriented[k]
+        if turn.any():
+            kt, rc = k[turn], cr[k[turn]]
+            c = self.cdeg[kt]
+            c += (np.degrees(heading[turn]) - c + 180.0) % 360.0 - 180.0
+            self.cdeg[kt] = c
+            p_all[rc] = c
+            v_all[rc] = np.degrees(curvature[turn] * v[turn])
+            a_all[rc] = np.degrees(curvature[turn] * a[turn])
+            j_all[rc] = 0.0
+        for slot in fresh.tolist():
+            self._hold(self.riders[slot], values)
+            self.rested[slot] = True
 
     def _events(self, now: float, values: list[np.ndarray]) -> None:
         """Commands that reached their targets end (Done); riders at rest become idle."""
         ended = np.flatnonzero((self.mode == FOLLOW) & (self.table.end[self._rows()] <= now))
         for k in ended.tolist():
             rider = self.riders[k]
-            if rider.halting or abs(self.goal[k] - rider.target) <= TOLERANCE:
+            if rider.halting or abs(self.goal[k] - self.target[k]) <= TOLERANCE:
                 self.mode[k] = IDLE
                 self.v[k] = self.a[k] = 0.0
                 command, rider.command = rider.command, None
@@ -734,14 +859,15 @@ class Traffic:
 
     def _hold(self, rider: Rider, values: list[np.ndarray]) -> None:
         """A rider at rest: its x, y and c rows hold where it stands (cycles in which no
-        rider moves leave the rows to the table)."""
-        for row in rider.rows:
+        rider moves leave the rows to the table). C only where it follows the track: else a
+        MoveC may be turning it."""
+        for row in (rider.rows if self.oriented[rider.slot] else rider.rows[:2]):
             self.table.install(row, Profile.hold(KinematicState(float(values[0][row]))),
                                self._now)
             values[1][row] = values[2][row] = values[3][row] = 0.0
 
     def _rows(self) -> np.ndarray:
-        return np.fromiter((r.row for r in self.riders), dtype=np.int64, count=len(self.riders))
+        return self._geometry()[0]
 
 
 def network_of(system: Any) -> Any:

@@ -1,9 +1,10 @@
 """Planar motion (TF5430) in scenario files: the ``planar`` block and its timeline entries.
 
-``planar`` declares a stator ``environment``, the ``movers`` and the planar ``groups``; the run
-builds and sets them up before t = 0 (planar_machine.py). The block validates by doing the
-same setup on a scratch runtime, so a file that loads also sets up, and each failure names its
-field: a mover standing on another, a mover off the stators.
+``planar`` declares a stator ``environment``, the ``movers``, the planar ``groups`` and the
+``tracks``; the run builds and sets them up before t = 0 (planar_machine.py). The block
+validates by doing the same setup on a scratch runtime, so a file that loads also sets up, and
+each failure names its field: a mover standing on another, a mover off the stators, a track
+whose geometry the engine refuses.
 
 Timeline entries name the mover in ``mover`` (or the planar group in ``group``) and call the
 MC_PlanarMover (MC_PlanarGroup) method of the same name; ``arguments()`` gives the method's
@@ -12,7 +13,8 @@ inputs after the feedback (the run passes none: PLC 0). Signals of a mover (``<m
 ``Scenario`` and the entries into ``TIMELINE_COMMANDS``; they share its value types,
 conditions and name checks. Parts and coordinate systems (the environment's ``parts``, the
 ``activate_part_position`` entry) are in planar_parts.py, the external setpoint entries in
-planar_setpoints.py.
+planar_setpoints.py, tracks in planar_tracks.py and the track commands of movers in
+planar_riding.py.
 """
 
 from __future__ import annotations
@@ -60,6 +62,7 @@ from openmotion.scenario.planar_parts import (
     oid_text,
     parse_oid,
 )
+from openmotion.scenario.planar_tracks import TrackName, TrackSpec, order_problems, track_number
 from openmotion.scenario.schema import (
     _NAMES,
     Condition,
@@ -75,9 +78,11 @@ from openmotion.scenario.transport import _Timed
 from openmotion.trajectory.plan import Limits
 
 #: what a trace, a check or a condition reads of a planar mover: the set position x, y, z
-#: [mm], a, b, c [°], the path velocity |(vx, vy)| [mm/s], the PlanarState number and the OID
-#: of the coordinate system the position is in (PhysicalAreaID; 0 without parts)
-PLANAR_SIGNALS = ("x", "y", "z", "a", "b", "c", "velocity", "state", "coordinate_system")
+#: [mm], a, b, c [°], the path velocity |(vx, vy)| [mm/s], the PlanarState number, the OID
+#: of the coordinate system the position is in (PhysicalAreaID; 0 without parts), the track
+#: it is on (its number in planar.tracks; 0: none) and its arc length s there [mm]
+PLANAR_SIGNALS = ("x", "y", "z", "a", "b", "c", "velocity", "state", "coordinate_system",
+                  "track", "s")
 DEFAULT_PLANAR_SIGNALS = ("x", "y", "c")  #: recorded for every mover when none are named
 Loc = tuple[str | int, ...]
 ModuloDirectionName = _enum_by_name(ModuloDirection)
@@ -148,15 +153,20 @@ def planar_condition(text: str, subject: str, attribute: str, operator: str,
     named = planar_named_value(attribute, raw)
     if attribute == "state" and named is None:
         raise ValueError(f"{text!r}: {raw!r} is not a planar state ({_STATES})")
+    if attribute == "track" and named is None and not _is_number(raw):
+        raise ValueError(f"{text!r}: {raw!r} is not a planar track ({_tracks()})")
     value = named if named is not None else _signal_value(attribute, raw, text)
     return Condition(text.strip(), subject, attribute, operator, value)
 
 
 def planar_named_value(signal: str, name: str) -> float | None:
     """The PlanarState number of ``name`` for the ``state`` signal, the OID of ``16#...``
-    for ``coordinate_system``, else None."""
+    for ``coordinate_system``, the number of the track ``name`` (or ``none``: 0) for
+    ``track``, else None."""
     if signal == "state" and name.upper() in PlanarState.__members__:
         return float(PlanarState[name.upper()])
+    if signal == "track":
+        return track_number(name)
     if signal == "coordinate_system" and name.startswith("16#") and \
             (oid := parse_oid(name)) is not None:
         return float(oid)
@@ -164,6 +174,20 @@ def planar_named_value(signal: str, name: str) -> float | None:
 
 
 _STATES = ", ".join(state.name.lower() for state in PlanarState)
+
+
+def _tracks() -> str:
+    """The names a ``track`` signal compares with: the planar tracks and ``none``."""
+    names = _NAMES.get()
+    return ", ".join([*(names.planar_tracks if names is not None else []), "none"])
+
+
+def _is_number(raw: str) -> bool:
+    try:
+        float(raw)
+    except ValueError:
+        return False
+    return True
 
 # -- planar.environment --------------------------------------------------------------------
 
@@ -351,9 +375,13 @@ class PlanarGroupSpec(_Model):
     environment: StrictBool | None = None
     """The environment is a member (no mover leaves the stators); default: true when
     planar.environment is given and the group has ``enable``."""
+    tracks: list[TrackName] | None = None
+    """Track members, added after the movers; default: every track when the group has
+    ``enable`` (a mover in a group moves only on tracks of its group, §4.3)."""
     enable: StrictBool = True
     """Enable the group and add its members in the setup; false: the timeline does it
-    (planar_group_enable, then add_to_group for each mover; the environment cannot join)."""
+    (planar_group_enable, then add_to_group for each mover; the environment and tracks cannot
+    join)."""
 
 
 class PlanarSpec(_Model):
@@ -365,13 +393,16 @@ class PlanarSpec(_Model):
     """The movers, created in this order (OIDs 16#05110010, 16#05110020, ...)."""
     groups: list[PlanarGroupSpec] = []
     """Planar groups, created in this order."""
+    tracks: list[TrackSpec] = []
+    """Planar tracks (§6.2), created in this order after the groups (planar_tracks.py)."""
 
     @model_validator(mode="after")
     def _sets_up(self) -> PlanarSpec:
         """Memberships first; then the setup on a scratch runtime, each failure at its field."""
         from openmotion.scenario.planar_machine import PlanarMachine  # it builds on the specs
 
-        problems = [*self._membership_problems(), *self._part_problems()]
+        problems = [*self._membership_problems(), *self._track_membership_problems(),
+                    *self._part_problems(), *order_problems(self.tracks)]
         if not problems:
             problems = PlanarMachine(Runtime(), self).set_up()
         _raise(self, problems)
@@ -383,6 +414,14 @@ class PlanarSpec(_Model):
         if group.movers is None:
             return [(("movers", k), mover.name) for k, mover in enumerate(self.movers)]
         return [(("groups", index, "movers", k), name) for k, name in enumerate(group.movers)]
+
+    def track_members(self, index: int) -> list[tuple[Loc, str]]:
+        """(field path, track) of each track group ``index`` takes in the setup, in order."""
+        group = self.groups[index]
+        if group.tracks is None:
+            return [(("tracks", k), track.name) for k, track in enumerate(self.tracks)] \
+                if group.enable else []
+        return [(("groups", index, "tracks", k), name) for k, name in enumerate(group.tracks)]
 
     def has_environment(self, index: int) -> bool:
         group = self.groups[index]
@@ -414,6 +453,21 @@ class PlanarSpec(_Model):
                 yield loc, f"the environment is in group {environment!r} already: set " \
                            "environment: false"
             environment = environment or group.name
+
+    def _track_membership_problems(self) -> Iterator[tuple[Loc, str]]:
+        seen: dict[str, str] = {}  # track -> its group
+        for index, group in enumerate(self.groups):
+            if group.tracks and not group.enable:
+                yield ("groups", index, "tracks"), "tracks join in the setup, which needs " \
+                                                   "enable: true"
+                continue
+            for loc, name in self.track_members(index):
+                if name in seen:
+                    yield ("groups", index) if group.tracks is None else loc, \
+                        f"track {name!r} is in group {seen[name]!r} already: a track joins " \
+                        "one group (list each group's tracks)"
+                    break
+                seen[name] = group.name
 
     def _part_problems(self) -> Iterator[tuple[Loc, str]]:
         """A mover's ``part`` names a part; with several coordinate systems each has one."""
@@ -477,11 +531,9 @@ class _Constrained(PlanarEntry):
                                         self.jerk) if given else None
 
 
-class MoveToPosition(_Constrained):
-    """MoveToPosition (§7.2.2.8.1): a straight move to (x, y), and to c with orientation."""
+class _Target(_Constrained):
+    """An entry with a target position x, y, c in the frame of ``reference_id``."""
 
-    method = "move_to_position"
-    command: Literal["move_to_position"]
     x: Number
     """Target [mm]."""
     y: Number
@@ -489,21 +541,35 @@ class MoveToPosition(_Constrained):
     c: Number | None = None
     """Target orientation [°]."""
     use_orientation: StrictBool | None = None
-    """ST_MoveToPositionOptions: also reach ``c``; default: true when c is given."""
+    """The options' UseOrientation: also reach ``c``; default: true when c is given."""
     reference_id: ReferenceId = 0
     """The frame of x, y, c (§5.3): a part (the target must lie on it), a coordinate system,
     or 0 (no parts, or one static coordinate system). A wrong one fails the command."""
 
     @model_validator(mode="after")
-    def _orientation_needs_c(self) -> MoveToPosition:
+    def _orientation_needs_c(self) -> _Target:
         if self.use_orientation and self.c is None:
             raise ValueError("use_orientation: true needs c")
         return self
 
+    def target(self) -> PositionXYC:
+        return PositionXYC(self.x, self.y, self.c or 0.0, self.reference_id)
+
+    @property
+    def orientation(self) -> bool:
+        """``use_orientation`` as given; default: whether c is given."""
+        return self.c is not None if self.use_orientation is None else self.use_orientation
+
+
+class MoveToPosition(_Target):
+    """MoveToPosition (§7.2.2.8.1): a straight move to (x, y), and to c with orientation."""
+
+    method = "move_to_position"
+    command: Literal["move_to_position"]
+
     def arguments(self) -> tuple[Any, ...]:
-        orientation = self.c is not None if self.use_orientation is None else self.use_orientation
-        return (PositionXYC(self.x, self.y, self.c or 0.0, self.reference_id), self.constraint(),
-                ST_MoveToPositionOptions(use_orientation=orientation))
+        return (self.target(), self.constraint(),
+                ST_MoveToPositionOptions(use_orientation=self.orientation))
 
 
 class MoveC(_Constrained):
@@ -660,6 +726,7 @@ class PlanarGroupReset(PlanarGroupEntry):
 
 # Parts (§6.6) and external setpoints (§6.1.6): the latter build on PlanarEntry above.
 from openmotion.scenario.planar_parts import ActivatePartPosition  # noqa: E402
+from openmotion.scenario.planar_riding import JoinTrack, LeaveTrack, MoveOnTrack  # noqa: E402
 from openmotion.scenario.planar_setpoints import (  # noqa: E402
     StartExternalSetpointGeneration,
     StopExternalSetpointGeneration,
@@ -669,7 +736,7 @@ PLANAR_ENTRIES: tuple[type, ...] = (
     MoveToPosition, MoveC, MoveZ, MoveA, MoveB, MoverHalt, MoverEnable, MoverDisable,
     MoverReset, SetPosition, AddToGroup, RemoveFromGroup, StartExternalSetpointGeneration,
     StopExternalSetpointGeneration, PlanarGroupEnable, PlanarGroupDisable, PlanarGroupReset,
-    ActivatePartPosition)
+    ActivatePartPosition, JoinTrack, LeaveTrack, MoveOnTrack)
 #: the planar entries by their ``command`` (schema.TIMELINE_COMMANDS holds them all)
 PLANAR_COMMANDS: dict[str, type] = {
     get_args(model.model_fields["command"].annotation)[0]: model for model in PLANAR_ENTRIES}

@@ -2,9 +2,10 @@
 
 The run builds the ``planar`` block (scenario/planar.py) in its order, so the OIDs are those
 TwinCAT hands out: movers 16#05110010, 16#05110020, ...; the environment, then the groups,
-16#05120010, ... ``set_up`` then gives the environment its stators and boundary, enables the
-groups and movers with ``enable`` and lets each enabled group take the environment and its
-movers (AddToGroup, in the listed order). The planar API decides a call in the motion phase of
+then the tracks, 16#05120010, ... ``set_up`` then gives the environment its stators and
+boundary, builds the tracks (planar_tracks.py) and enables them, enables the groups and movers
+with ``enable`` and lets each enabled group take the environment, its movers and its tracks
+(AddToGroup, in the listed order). The planar API decides a call in the motion phase of
 the next cycle, so the setup takes three cycles; they run before anything else is on the
 runtime, and the clock then starts again at 0, so that every object is ready at t = 0, as an
 enabled CA group is (docs/scenarios.md). Only standing planar objects saw those cycles.
@@ -18,7 +19,8 @@ A timeline entry's row is a ``Command`` that mirrors the method's PlanarCommand 
 says ``rejected (33158) by mover 16#05110010``: the error number and the blocking object. A
 start_external_setpoint_generation entry is a ``SetpointFeed``: ``feed`` sends its setpoint in
 the program phase of every cycle (run.py calls it before the entries fire), its row follows the
-generation and the mover's errors.
+generation and the mover's errors. A move_on_track row whose mover stands queued on its
+track is ``waiting``: it stays BUSY but does not keep an open-ended run going.
 """
 
 from __future__ import annotations
@@ -43,6 +45,7 @@ from openmotion.planar import (
     PlanarState,
     Pose,
 )
+from openmotion.planar.track import MC_PlanarTrack
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.planar import (
     AddToGroup,
@@ -52,7 +55,9 @@ from openmotion.scenario.planar import (
     PlanarSpec,
 )
 from openmotion.scenario.planar_parts import ActivatePartPosition, oid_text
+from openmotion.scenario.planar_riding import MoveOnTrack
 from openmotion.scenario.planar_setpoints import COORDINATES, StartExternalSetpointGeneration
+from openmotion.scenario.planar_tracks import PlanarTrackRow, build_order, track_arguments
 from openmotion.scenario.programs import _motion_cycle, cycle_of
 from openmotion.trace.signals import read_planar_signal
 
@@ -77,6 +82,8 @@ class PlanarMoverRow:
     b: float  #: [°]
     c: float  #: [°]
     coordinate_system: int  #: OID of the coordinate system x, y, c are in; 0 without parts
+    track: str = ""  #: the track it is on; "" for none
+    s: float | None = None  #: its arc length there [mm]; None on no track
 
 
 class PlanarMachine:
@@ -89,8 +96,10 @@ class PlanarMachine:
         self.movers: dict[str, MC_PlanarMover] = {}
         self.groups: dict[str, MC_PlanarGroup] = {}
         self.parts: dict[int, MC_PlanarPart] = {}  #: by part OID
+        self.tracks: dict[str, MC_PlanarTrack] = {}
         self._group_names: dict[int, str] = {}  #: OID -> name, for the rows
         self._open: list[tuple[PlanarCommand, Command]] = []  #: issued, not yet ended
+        self._riding: dict[Command, MC_PlanarMover] = {}  #: move_on_track rows: their mover
         self._feeds: list[SetpointFeed] = []  #: external setpoints being fed
         if spec is None:
             return
@@ -104,6 +113,8 @@ class PlanarMachine:
             self._group_names[self.groups[group.name].oid] = group.name
         for mover in spec.movers:
             self.movers[mover.name] = MC_PlanarMover(rt, mover.build(), mover.name)
+        for track in spec.tracks:  # object OIDs after the environment's and the groups'
+            self.tracks[track.name] = track.build(rt)
 
     def set_up(self) -> list[tuple[Loc, str]]:
         """Stators, boundary, Enable, AddToGroup, in the cycles before t = 0; returns what
@@ -124,7 +135,8 @@ class PlanarMachine:
         for index, mover in enumerate(spec.movers):
             if mover.enable:
                 steps.append((("movers", index), "enable", self.movers[mover.name].enable()))
-        self._settle(steps)
+        tracks = self._build_tracks()
+        self._settle(steps + tracks)
         for index, group in enumerate(spec.groups):
             target = self.groups[group.name]
             if group.enable and self.environment is not None and spec.has_environment(index):
@@ -133,10 +145,34 @@ class PlanarMachine:
             for loc, name in spec.members(index) if group.enable else []:
                 steps.append((loc, f"joining group {group.name}",
                               self.movers[name].add_to_group(target)))
+            for loc, name in spec.track_members(index):
+                steps.append((loc, f"joining group {group.name}",
+                              self.tracks[name].add_to_group(target)))
         self._settle(steps)
         rt.cycle, rt.now = 0, 0.0  # the setup happened before t = 0 (module docstring)
-        return placement + [(loc, f"{what}: {self._failure(command)}")
-                            for loc, what, command in steps if not command.done]
+        failed: set[Loc] = set()  # tracks with a failed command: only the first one counts
+        problems = []
+        for loc, what, command in tracks + steps:
+            if command.done or loc[:2] in failed:
+                continue
+            if loc[0] == "tracks":
+                failed.add(loc[:2])
+            problems.append((loc, f"{what}: {self._failure(command)}" if what
+                             else self._failure(command)))
+        return placement + problems
+
+    def _build_tracks(self) -> list[tuple[Loc, str, PlanarCommand]]:
+        """The tracks' links and geometry in ``build_order``, then Enable for each, so that
+        the automatic collision ranges see the whole network (planar_tracks.py)."""
+        specs = self.spec.tracks if self.spec is not None else []
+        steps: list[tuple[Loc, str, PlanarCommand]] = []
+        order, _ = build_order(specs)  # the schema refused tracks that cannot be built
+        for index, stage in order:
+            steps += [(("tracks", index, *loc), "", command)
+                      for loc, command in specs[index].stage(stage, self.tracks)]
+        steps += [(("tracks", index), "enable", self.tracks[spec.name].enable())
+                  for index, spec in enumerate(specs)]
+        return steps
 
     def _placement_problems(self) -> list[tuple[Loc, str]]:
         """With parts: each mover starts on a part in its active position (on its ``part``)."""
@@ -170,8 +206,10 @@ class PlanarMachine:
             return f"{error}: {command.message}"
         if info.object_type is PlanarObjectType.ENVIRONMENT:
             return f"{error}: the footprint is not on the stators"
-        name = next(name for name, mover in self.movers.items() if mover.oid == info.id)
-        return f"{error}: the footprint meets mover {name} (16#{info.id:08X})"
+        kind = info.object_type.name.lower()
+        objects = self.movers if info.object_type is PlanarObjectType.MOVER else self.tracks
+        name = next((name for name, obj in objects.items() if obj.oid == info.id), "")
+        return f"{error}: the footprint meets {kind} {name} (16#{info.id:08X})"
 
     def _settle(self, steps: list[tuple[Loc, str, PlanarCommand]]) -> None:
         for _ in range(SETUP_CYCLES):
@@ -191,10 +229,12 @@ class PlanarMachine:
             else self.parts[entry.part] if isinstance(entry, ActivatePartPosition) \
             else self.movers[entry.mover]
         arguments = tuple(self.groups[name] for name in entry.arguments()) \
-            if isinstance(entry, AddToGroup) else entry.arguments()
+            if isinstance(entry, AddToGroup) else track_arguments(entry.arguments(), self.tracks)
         planar = getattr(target, entry.method)(*arguments)
         command = Command(entry.command, self.rt.now)
         self._open.append((planar, command))
+        if isinstance(entry, MoveOnTrack):
+            self._riding[command] = target
         return command
 
     def feed(self) -> None:
@@ -232,11 +272,19 @@ class PlanarMachine:
 
     @property
     def busy(self) -> bool:
-        """A mover moves (or brakes), a feed runs or a transition runs: the run goes on."""
+        """A mover moves (or brakes), a feed runs or a transition runs: the run goes on. A
+        mover that stands in a queue on a track does not count (``waiting``)."""
         return bool(self._feeds) or any(
-            mover.mc_to_plc.std.busy.busy_mover or mover.state in _TRANSITIONAL
-            for mover in self.movers.values()) or any(
+            mover.mc_to_plc.std.busy.busy_mover and not _queued(mover)
+            or mover.state in _TRANSITIONAL for mover in self.movers.values()) or any(
             group.state in _TRANSITIONAL for group in self.groups.values())
+
+    def waiting(self, command: Command) -> bool:
+        """A busy move_on_track whose mover stands on its track: queued behind another mover
+        or at a switch, it may stay Busy for ever (Done only at its target, §6.2.2); it does
+        not keep an open-ended run going, as a queued CA mover does not."""
+        mover = self._riding.get(command)
+        return mover is not None and command.busy and _queued(mover)
 
     # -- signals -----------------------------------------------------------------------------
 
@@ -259,16 +307,41 @@ class PlanarMachine:
             return value, PlanarState(int(value)).name.lower(), True
         if prop == "coordinate_system":
             return value, oid_text(int(value)), True
+        if prop == "track":
+            return value, self._track_name(value) or "none", True
         return value, "", False
+
+    def _track_name(self, number: float) -> str:
+        """The name of the track with this ``track`` signal value; "" for 0."""
+        names = list(self.tracks)
+        return names[int(number) - 1] if 1 <= number <= len(names) else ""
 
     def rows(self) -> list[PlanarMoverRow]:
         rows = []
         for name, mover in self.movers.items():
             p = mover.position
+            track = self._track_name(read_planar_signal(mover, "track"))
             rows.append(PlanarMoverRow(name, mover.oid,
                                        self._group_names.get(mover.mc_to_plc.std.group_oid, ""),
                                        mover.state.name.lower(), p.x, p.y, p.z, p.a, p.b, p.c,
-                                       mover.mc_to_plc.set.physical_area_id))
+                                       mover.mc_to_plc.set.physical_area_id, track,
+                                       mover.mc_to_plc.set_on_track.set_pos if track else None))
+        return rows
+
+    def track_rows(self) -> list[PlanarTrackRow]:
+        """Each track at the end of a run, with the movers on it by their arc length."""
+        on: dict[int, list[tuple[float, str]]] = {}
+        for name, mover in self.movers.items():
+            on_track = mover.mc_to_plc.set_on_track
+            if on_track.track_oid:
+                on.setdefault(on_track.track_oid, []).append((on_track.set_pos, name))
+        rows = []
+        for name, track in self.tracks.items():
+            std = track.mc_to_plc_std
+            rows.append(PlanarTrackRow(
+                name, track.oid, self._group_names.get(std.group_oid, ""), track.length,
+                std.state.name.lower(), std.operation_mode.name.lower(), track.closed_loop,
+                track.collision_ranges, tuple(mover for _, mover in sorted(on.get(track.oid, [])))))
         return rows
 
 
@@ -366,6 +439,14 @@ class SetpointFeed:
         return not row.finished
 
 
+def _queued(mover: MC_PlanarMover) -> bool:
+    """On a track and standing: every set velocity and acceleration is 0."""
+    status = mover.mc_to_plc
+    return bool(status.set_on_track.track_oid) and not any(
+        getattr(vector, name) for vector in (status.set.set_velo, status.set.set_acc)
+        for name in COORDINATES)
+
+
 _STATUS = {CommandPhase.DONE: CommandStatus.DONE, CommandPhase.ABORTED: CommandStatus.ABORTED,
            CommandPhase.ERROR: CommandStatus.ERROR}
 _TRANSITIONAL = (PlanarState.ENABLING, PlanarState.DISABLING, PlanarState.RESETTING,
@@ -388,4 +469,3 @@ def planar_table(rows: list[PlanarMoverRow], number: Callable[[float], str]) -> 
         table.add_row(row.mover, f"16#{row.oid:08X}", row.group or "-", row.state,
                       *(number(value) for value in (row.x, row.y, row.z, row.a, row.b, row.c)))
     return table
-

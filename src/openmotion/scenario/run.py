@@ -28,6 +28,7 @@ from openmotion.scenario.groups import CaGroups, GroupRow, MoverRow
 from openmotion.scenario.load import load_scenario
 from openmotion.scenario.planar import PLANAR_ENTRIES
 from openmotion.scenario.planar_machine import PlanarMachine, PlanarMoverRow, planar_table
+from openmotion.scenario.planar_tracks import PlanarTrackRow, riders_table, track_table
 from openmotion.scenario.programs import BlockPrograms, cycle_of
 from openmotion.scenario.schema import (
     AbortTrigger,
@@ -101,6 +102,7 @@ class ScenarioResult:
     ca_groups: list[GroupRow] = field(default_factory=list)  #: each CA group's minimum gap
     planar_movers: list[PlanarMoverRow] = field(default_factory=list)  #: each at the end
     axes_groups: list[AxesGroupRow] = field(default_factory=list)  #: each at the end
+    planar_tracks: list[PlanarTrackRow] = field(default_factory=list)  #: each at the end
 
     @property
     def passed(self) -> bool:
@@ -119,11 +121,20 @@ class ScenarioResult:
                 **({"ca_groups": [clean(row) for row in self.ca_groups],
                     "ca_movers": [clean(row) for row in self.ca_movers]}
                    if self.ca_groups else {}),
-                **({"planar_movers": [clean(row) for row in self.planar_movers]}
+                **({"planar_movers": [self._planar_mover(clean(row))
+                                      for row in self.planar_movers]}
                    if self.planar_movers else {}),
+                **({"planar_tracks": [clean(row) for row in self.planar_tracks]}
+                   if self.planar_tracks else {}),
                 **({"axes_groups": [clean(row) for row in self.axes_groups]}
                    if self.axes_groups else {}),
                 "trace": {"rows": len(self.trace), "columns": list(self.trace.columns)}}
+
+    def _planar_mover(self, row: dict[str, Any]) -> dict[str, Any]:
+        """A planar mover's JSON row: ``track`` and ``s`` only when there are tracks."""
+        if not self.planar_tracks:
+            del row["track"], row["s"]
+        return row
 
     def renderable(self) -> RenderableType:
         """The summary as rich renderables: a header, the commands table, the checks table."""
@@ -137,6 +148,9 @@ class ScenarioResult:
         objects = [f"{axes} {'axis' if axes == 1 else 'axes'}"] if axes or not movers else []
         if movers:
             objects.append(f"{movers} planar mover{'' if movers == 1 else 's'}")
+        if self.planar_tracks:
+            count = len(self.planar_tracks)
+            objects.append(f"{count} planar track{'' if count == 1 else 's'}")
         if self.axes_groups:
             count = len(self.axes_groups)
             objects.append(f"{count} axes group{'' if count == 1 else 's'}")
@@ -164,6 +178,9 @@ class ScenarioResult:
             parts += self._ca_renderables(digits)
         if self.planar_movers:
             parts.append(planar_table(self.planar_movers, _number))
+        if self.planar_tracks:
+            parts += [track_table(self.planar_tracks, _number),
+                      riders_table(self.planar_movers, _number)]
         if self.axes_groups:
             parts.append(axes_group_table(self.axes_groups, _number))
         if self.checks:
@@ -425,7 +442,7 @@ class _Run:
         return ScenarioResult(scenario, self.rows(), [c.row() for c in self.checks],
                               self.recorder.trace, rt.cycle, rt.now, self.ca.mover_rows(),
                               self.ca.group_rows(), self.planar.rows(),
-                              self.coordinated.rows())
+                              self.coordinated.rows(), self.planar.track_rows())
 
     def finished(self) -> bool:
         """``duration`` is over; or ``settle_time`` after all came to rest, or the cap."""
@@ -445,10 +462,10 @@ class _Run:
         timed stall runs, no group_stop holds, no axis or planar mover moves. An override
         filter or a stepper block, which run to the end, do not count; nor does a busy CA
         command whose group stands still (a mover queued behind another stays Busy, TF5410
-        §9.1.1.1.1). A CA mover stands with |v| and |a| at most 1e-9 of its maxima
-        (groups.STANDING). A tracking or syncing command of an axes group runs in the
-        background and does not count either; a group_stop that holds an axes group or a
-        group that homes does."""
+        §9.1.1.1.1), nor a busy move_on_track whose mover stands queued on its track. A CA
+        mover stands with |v| and |a| at most 1e-9 of its maxima (groups.STANDING). A
+        tracking or syncing command of an axes group runs in the background and does not
+        count either; a group_stop that holds an axes group or a group that homes does."""
         cycle = self.rt.cycle
         if any(self.fire_cycle[i] is not None and self.fire_cycle[i] > cycle
                for i in self.pending) or any(c.waiting(cycle) for c in self.checks):
@@ -456,6 +473,7 @@ class _Run:
         if self.blocks.busy or self.ca.busy or self.planar.busy or self.coordinated.busy or any(
                 not (c.finished or c.in_velocity and c.kind not in _UNTIL_FINISHED)
                 and not self.ca.waiting(c) and not self.coordinated.waiting(c)
+                and not self.planar.waiting(c)
                 for c in self.issued.values() if c.kind not in _TO_THE_END):
             return False
         if not all(map(self.ca.standing, self.ca.groups.values())):

@@ -95,6 +95,7 @@ class _Names:
     axes_groups: Counter[str] = dataclasses.field(default_factory=Counter)  #: Part 4 groups
     group_axes: dict[str, list[str]] = dataclasses.field(default_factory=dict)  #: axis ->
     #: the axes groups that list it (once per listing)
+    planar_tracks: Counter[str] = dataclasses.field(default_factory=Counter)  #: in file order
 
     @classmethod
     def of(cls, data: object) -> _Names:
@@ -126,7 +127,7 @@ class _Names:
         return cls(names("axes", "name"), names("timeline", "id"), commands,
                    names("ca_groups", "name"), members, names("movers", "name", planar),
                    names("groups", "name", planar), part_oids(planar),
-                   names("axes_groups", "name"), group_axes)
+                   names("axes_groups", "name"), group_axes, names("tracks", "name", planar))
 
 
 _NAMES: ContextVar[_Names | None] = ContextVar("openmotion_scenario_names", default=None)
@@ -974,7 +975,8 @@ class SignalCheck(_Check):
             named_value(signal, self.expect)
         if isinstance(self.expect, str) and self._expected is None:
             raise ValueError(f"expect: {self.expect!r} is not a number" + (
-                {"state": " or a planar state name"} if planar else
+                {"state": " or a planar state name", "track": " or a planar track name"}
+                if planar else
                 {"state": " or an axes group state name"} if group else
                 {"state": " or a state name", "axis_error_id": " or an ErrorId name"}).get(
                     signal, ""))

@@ -33,6 +33,7 @@ from openmotion.coordinated.group import AxesGroup
 from openmotion.core.errors import CommandRejected
 from openmotion.planar import MC_PlanarEnvironment, MC_PlanarGroup, MC_PlanarMover
 from openmotion.planar.stators import STATOR_SIZE
+from openmotion.planar.traffic import network_of
 
 if TYPE_CHECKING:
     from openmotion.runtime.runtime import Runtime
@@ -48,9 +49,10 @@ AXIS_SIGNALS = ("set_position", "set_velocity", "set_acceleration", "set_jerk", 
 MOVER_SIGNALS = ("gap", "track_position", "tcp_position")
 #: What a scenario records when it names no signals: setpoint and actual position.
 DEFAULT_AXIS_SIGNALS = ("set_position", "set_velocity", "set_acceleration", "position")
-#: A planar mover's signals: its published set position, path velocity, PlanarState and the
-#: coordinate system its position is in (with parts).
-PLANAR_MOVER_SIGNALS = ("x", "y", "z", "a", "b", "c", "velocity", "state", "coordinate_system")
+#: A planar mover's signals: its published set position, path velocity, PlanarState, the
+#: coordinate system its position is in (with parts), the track it is on and its arc length.
+PLANAR_MOVER_SIGNALS = ("x", "y", "z", "a", "b", "c", "velocity", "state", "coordinate_system",
+                        "track", "s")
 #: An axes group's signals (Part 4): its TCP's set position x, y, z in the MCS [mm], the path
 #: velocity and acceleration of its time law [mm/s, mm/s²] and its AxesGroupState number.
 GROUP_SIGNALS = ("x", "y", "z", "path_velocity", "path_acceleration", "state")
@@ -115,15 +117,30 @@ def read_planar_signal(mover: MC_PlanarMover, prop: str) -> float:
     """One signal of a planar mover: x, y, z [mm], a, b, c [°] (its published set position),
     ``velocity`` (path velocity |(vx, vy)| [mm/s]), ``state`` (the PlanarState number),
     ``coordinate_system`` (the OID of the coordinate system x, y, c are in; 0 without parts:
-    PhysicalAreaID)."""
+    PhysicalAreaID), ``track`` (the number of the track it is coupled to: 1 for the first
+    track made on the runtime, 2 for the next ...; 0 on none) and ``s`` (its set arc length
+    on that track [mm]; NaN on none)."""
     if prop == "state":
         return float(mover.state)
+    if prop in ("track", "s"):
+        return _track_signal(mover, prop)
     if prop == "velocity":
         velocity = mover.mc_to_plc.set.set_velo
         return math.hypot(velocity.x, velocity.y)
     if prop == "coordinate_system":
         return float(mover.mc_to_plc.set.physical_area_id)
     return float(getattr(mover.position, prop))
+
+
+def _track_signal(mover: MC_PlanarMover, prop: str) -> float:
+    on_track = mover.mc_to_plc.set_on_track
+    if not on_track.track_oid:
+        return 0.0 if prop == "track" else math.nan
+    if prop == "s":
+        return float(on_track.set_pos)
+    tracks = network_of(mover._system).tracks  # creation order, as the numbers count
+    return float(next(k for k, track in enumerate(tracks, start=1)
+                      if track.oid == on_track.track_oid))
 
 
 def read_group_signal(group: AxesGroup, prop: str) -> float:

@@ -1,4 +1,5 @@
-"""The planar field: stators, parts, movers with their footprints and the reserved areas.
+"""The planar field: stators, parts, tracks with their switches and collision ranges, movers
+with their footprints and the reserved areas.
 
 Everything is drawn in one plane. Parts in other coordinate systems than the first are drawn
 where their active positions put them in their own system (the manual's systems are unrelated
@@ -9,6 +10,8 @@ from __future__ import annotations
 
 import math
 from typing import TYPE_CHECKING, Any
+
+import numpy as np
 
 from openmotion.planar.enums import PlanarObjectType
 from openmotion.planar.group import MC_PlanarGroup
@@ -45,9 +48,16 @@ class PlanarLayer(Layer):
         parts = [{"name": part.name, "state": part.state.name, "rings": rings(part.surface())}
                  for environment in system.environments if environment.layout is not None
                  for part in environment.layout.parts.values()]
+        tracks = self._tracks()
         return {"stator_size": STATOR_SIZE, "stators": stators, "parts": parts,
+                "tracks": [_track(track) for track in tracks],
+                "switches": _switches(tracks),
                 "movers": [_mover(mover) for mover in system.movers],
                 "reserved": self._reserved()}
+
+    def _tracks(self) -> list[Any]:
+        network = self._system.network
+        return [] if network is None else [t for t in network.tracks if t.length > 0.0]
 
     def _reserved(self) -> list[dict[str, Any]]:
         names = {mover.oid: mover.name for mover in self._system.movers}
@@ -69,11 +79,49 @@ class PlanarLayer(Layer):
         rows += [Row("planar group", group.name, group.state.name.lower(),
                      detail=f"{len(group.members)} members",
                      error=error_text(group.error_id, "")) for group in self._groups()]
+        rows += [Row("planar track", track.name, track.state.name.lower(),
+                     detail=f"{track.operation_mode.name.lower()}, {track.length:.0f} mm, "
+                     f"{track.mover_count_on_track} movers",
+                     error=error_text(track.error_id, "")) for track in self._tracks()]
         return rows + [_mover_row(mover) for mover in self._system.movers]
 
     def signals(self) -> dict[str, Reader]:
         return {f"{mover.name}.{prop}": _reader(mover, prop)
                 for mover in self._system.movers for prop in MOVER_SIGNALS}
+
+
+TRACK_STEP = 10.0  #: [mm] between the points of a drawn track
+
+
+def _track(track: Any) -> dict[str, Any]:
+    """A track as a polyline, with the stretches of its collision ranges (§6.2.2)."""
+    length = track.length
+    s = np.linspace(0.0, length, max(2, math.ceil(length / TRACK_STEP) + 1))
+    x, y, _, _ = track.frame_at(s)
+    points = [[round(a, DIGITS), round(b, DIGITS)] for a, b in zip(x.tolist(), y.tolist(),
+                                                                   strict=True)]
+    ranges = []
+    start, end = track.collision_ranges
+    starts, ends = track.network.switches(track)
+    for near, reach in ((starts, (0.0, min(start, length))),
+                        (ends, (max(length - end, 0.0), length))):
+        if near is not None and reach[1] > reach[0]:
+            inside = (s >= reach[0]) & (s <= reach[1])
+            ranges.append([points[i] for i in np.flatnonzero(inside).tolist()])
+    return {"name": track.name, "state": track.state.name,
+            "mode": track.operation_mode.name, "points": points, "ranges": ranges}
+
+
+def _switches(tracks: list[Any]) -> list[list[float]]:
+    """Where more than two track ends meet."""
+    found: dict[Any, list[float]] = {}
+    for track in tracks:
+        starts, ends = track.network.switches(track)
+        for vertex, s in ((starts, 0.0), (ends, track.length)):
+            if vertex is not None and vertex not in found:
+                x, y, _, _ = track.frame_at(np.array([s]))
+                found[vertex] = [round(float(x[0]), DIGITS), round(float(y[0]), DIGITS)]
+    return list(found.values())
 
 
 def _mover(mover: MC_PlanarMover) -> dict[str, Any]:

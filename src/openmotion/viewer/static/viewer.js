@@ -478,13 +478,28 @@ function drawPlanar(ctx, panel, width, height) {
     ctx.lineWidth = 2;
     ctx.stroke();
   }
-  for (const track of panel.tracks || []) {
+  const polyline = (points) => {
     ctx.beginPath();
-    track.points.forEach(([x, y], index) => (index ? ctx.lineTo(X(x), Y(y))
+    points.forEach(([x, y], index) => (index ? ctx.lineTo(X(x), Y(y))
       : ctx.moveTo(X(x), Y(y))));
-    ctx.strokeStyle = "#8a94a3";
+  };
+  for (const track of panel.tracks || []) {
+    polyline(track.points);
+    ctx.strokeStyle = track.mode === "MOVING" ? "#5b6b80" : "#8a94a3";
     ctx.lineWidth = 2;
     ctx.stroke();
+    for (const range of track.ranges || []) { // collision ranges at switches (§6.2.2)
+      polyline(range);
+      ctx.strokeStyle = "rgba(230, 140, 40, 0.55)";
+      ctx.lineWidth = 6;
+      ctx.stroke();
+    }
+  }
+  for (const [x, y] of panel.switches || []) {
+    ctx.beginPath();
+    ctx.arc(X(x), Y(y), 4, 0, 2 * Math.PI);
+    ctx.fillStyle = "#d06a1a";
+    ctx.fill();
   }
   for (const area of panel.reserved) {
     const colour = colourOf(area.mover);
