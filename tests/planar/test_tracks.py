@@ -14,16 +14,23 @@ from openmotion.core.enums import ModuloDirection
 from openmotion.core.errors import ErrorId
 from openmotion.planar import (
     CoordinateMode,
+    MC_PlanarEnvironment,
     MC_PlanarFeedback,
     MC_PlanarGroup,
     MC_PlanarMover,
     MoverCommandMode,
     MoverVector,
+    Part,
+    PartLayout,
+    PartPosition,
     PlanarMoverParameters,
     PlanarObjectInfo,
     PlanarObjectType,
     PlanarState,
+    Pose,
     PositionXYC,
+    ST_EndAtTrackAdvancedOptions,
+    ST_StartFromTrackAdvancedOptions,
     TrackOperationMode,
 )
 from openmotion.planar.options import ST_JoinTrackOptions, ST_MoveOnTrackOptions
@@ -600,3 +607,72 @@ def test_move_c_is_refused_while_the_mover_moves_on_its_track():
     turn = one.move_c(10.0)
     rt.step()
     assert turn.error and turn.error_id == ErrorId.PLANAR_WRONG_MODE
+
+
+# -- tracks on parts (§6.2.3, §6.2.11) -------------------------------------------------------------
+
+CS = 0x01010010
+PART_1, PART_2 = 0x01010020, 0x01010030
+
+
+def test_6_2_11_links_across_parts_hold_only_where_the_parts_meet():
+    """§6.2.11: part 1 (8 stators) and part 2 (2 stators) beside it, lower or upper. Track
+    three makes a U-turn on part 2; tracks two and one on part 1 start from and end at it
+    with the Advanced links. Part 2 lower: two -> three -> one; upper: one -> three -> two.
+    Tracks two and three have the same length."""
+    layout = PartLayout([CS], [
+        Part(PART_1, [(x, y) for x in (0.0, 240.0) for y in (0.0, 240.0, 480.0, 720.0)],
+             [PartPosition(CS, Pose())]),
+        Part(PART_2, [(0.0, 0.0), (0.0, 240.0)],
+             [PartPosition(CS, Pose(480.0, 0.0)), PartPosition(CS, Pose(480.0, 480.0))]),
+    ])
+    rt = om.Runtime(0.001)
+    MC_PlanarEnvironment(rt, layout)
+    one = MC_PlanarTrack(rt, "one", part_oid=PART_1)
+    two = MC_PlanarTrack(rt, "two", part_oid=PART_1)
+    three = MC_PlanarTrack(rt, "three", part_oid=PART_2)
+
+    def on(part: int, x: float, y: float) -> PositionXYC:
+        return PositionXYC(x, y, 0.0, part)
+
+    for a, b in (((0, 360), (80, 360)), ((120, 320), (120, 160)), ((80, 120), (0, 120))):
+        three.append_line(on(PART_2, *a), on(PART_2, *b))
+    rt.step()
+    two.start_from_track_advanced(three, ST_StartFromTrackAdvancedOptions(1, 2))
+    for a, b in (((440, 600), (400, 600)), ((360, 560), (360, 400)), ((400, 360), (440, 360))):
+        two.append_line(on(PART_1, *a), on(PART_1, *b))
+    two.end_at_track_advanced(three, ST_EndAtTrackAdvancedOptions(1, 1))
+    rt.step()
+    one.start_from_track_advanced(three, ST_StartFromTrackAdvancedOptions(1, 1))
+    for a, b in (((440, 120), (160, 120)), ((120, 160), (120, 800)), ((160, 840), (440, 840))):
+        one.append_line(on(PART_1, *a), on(PART_1, *b))
+    commands = [one.end_at_track_advanced(three, ST_EndAtTrackAdvancedOptions(1, 2))]
+    commands += [t.enable() for t in (one, two, three)]
+    rt.run(0.005)
+    assert all(c.done for c in commands), [c.message for c in commands]
+    assert two.get_length() == pytest.approx(three.get_length(), abs=1e-9)
+    # part 2 lower: track two ends where track three starts, three ends where one starts
+    assert two.subsequent_tracks == [three.oid] and three.subsequent_tracks == [one.oid]
+    assert one.subsequent_tracks == [] and three.previous_tracks == [two.oid]
+    start = three.get_position_at(0.0)
+    assert (start.x, start.y) == pytest.approx((480.0, 360.0), abs=1e-9)  # on the boundary
+    layout.activate_position(PART_2, 2)
+    assert one.subsequent_tracks == [three.oid] and three.subsequent_tracks == [two.oid]
+    assert two.subsequent_tracks == [] and three.previous_tracks == [one.oid]
+    start = three.get_position_at(0.0)  # the track moved with its part
+    assert (start.x, start.y) == pytest.approx((480.0, 840.0), abs=1e-9)
+
+
+def test_a_track_point_in_a_coordinate_system_is_taken_into_the_part_frame():
+    layout = PartLayout([CS], [Part(PART_2, [(0.0, 0.0), (0.0, 240.0)],
+                                    [PartPosition(CS, Pose(480.0, 0.0))])])
+    rt = om.Runtime(0.001)
+    MC_PlanarEnvironment(rt, layout)
+    track = MC_PlanarTrack(rt)  # the only part: it is on it
+    track.append_line(PositionXYC(500.0, 120.0, 0.0, CS), PositionXYC(700.0, 120.0, 0.0, CS))
+    track.enable()
+    rt.run(0.003)
+    assert track.part().oid == PART_2
+    end = track.get_position_at(track.get_length())
+    assert (end.x, end.y, end.reference_id) == pytest.approx((700.0, 120.0, CS), abs=1e-9)
+    assert track.path.end_pose.x == pytest.approx(220.0)  # stored in the part frame

@@ -91,6 +91,8 @@ class Coupling:
     failed: tuple[ErrorId, str] | None = None
     followed: list[Any] = field(default_factory=list)  #: master legs appended so far
     directions: SyncDirections = SyncDirections.POSITIVE  #: allowed while synchronising
+    planned_v: float | None = None  #: master velocity the sync was planned for [mm/s]
+    resync: bool = False  #: plan the sync again after this cycle
 
 
 def gear_in_pos_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:

@@ -26,7 +26,8 @@ class TrackNetwork:
 
     def __init__(self) -> None:
         self.tracks: list[MC_PlanarTrack] = []
-        self._parent: dict[Endpoint, Endpoint] = {}
+        self._parent: dict[Endpoint, Endpoint] | None = None
+        self._positions: tuple[int, ...] | None = None
         self._ends: dict[tuple[Endpoint, int], list[MC_PlanarTrack]] | None = None
         self._switches: dict[int, tuple[Endpoint | None, Endpoint | None]] = {}
         self._successors: dict[int, list[MC_PlanarTrack]] = {}
@@ -42,33 +43,55 @@ class TrackNetwork:
         self._ends = None
         self._switches.clear()
         self._successors.clear()
+        self._parent = None
+        self._positions = None
+
+    def refresh(self) -> None:
+        """Forget the vertices when a part changed position: links across parts hold only
+        where the parts meet (§6.2.3). Called once per cycle by the traffic."""
+        if self._positions is not None and self._positions != self._part_positions():
+            self.touch()
+
+    def _part_positions(self) -> tuple[int, ...]:
+        layout = self._layout()
+        return () if layout is None else tuple(p.position_index for p in layout.parts.values())
+
+    def _layout(self) -> object:
+        for track in self.tracks:
+            environment = track._system.environment()
+            return None if environment is None else environment.layout
+        return None
+
+    def _vertices(self) -> dict[Endpoint, Endpoint]:
+        """Union-find of the links that hold now: on one part always; across parts where
+        the parts are in the linked positions, or (unless only those) where the two ends
+        meet in one coordinate system."""
+        if self._parent is None:
+            self._parent = {}
+            self._positions = self._part_positions()
+            for track in self.tracks:
+                for a, b, link in track._links:
+                    ta, tb = self.tracks[a[0]], self.tracks[b[0]]
+                    if ta.path.empty or tb.path.empty:
+                        continue  # cleared since
+                    if link is None or _holds(ta, a[1], tb, b[1], link, track):
+                        self._union(a, b)
+        return self._parent
 
     # -- links -----------------------------------------------------------------------------------
 
-    def link(self, a: Endpoint, b: Endpoint) -> None:
-        """``a`` and ``b`` are one vertex from now on."""
+    def _union(self, a: Endpoint, b: Endpoint) -> None:
         ra, rb = self._root(a), self._root(b)
         if ra != rb:
-            self._parent[max(ra, rb)] = min(ra, rb)
-        self.touch()
-
-    def unlink(self, index: int) -> None:
-        """Forget every link of track ``index`` (Clear): the vertices are rebuilt from the
-        links of the other tracks, which the tracks keep themselves."""
-        self._parent.clear()
-        for track in self.tracks:
-            if track.index != index:
-                for a, b in track._links:
-                    if index not in (a[0], b[0]):
-                        self.link(a, b)
-        self.touch()
+            self._vertices()[max(ra, rb)] = min(ra, rb)
 
     def _root(self, e: Endpoint) -> Endpoint:
-        parent = self._parent.get(e, e)
+        parent_of = self._vertices()
+        parent = parent_of.get(e, e)
         if parent == e:
             return e
         root = self._root(parent)
-        self._parent[e] = root
+        parent_of[e] = root
         return root
 
     def vertex(self, e: Endpoint) -> Endpoint:
@@ -96,15 +119,18 @@ class TrackNetwork:
 
     def subsequent(self, track: MC_PlanarTrack) -> list[int]:
         """OIDs of the tracks that start at this track's end vertex (online parameter)."""
+        self.refresh()
         vertex = self._root((track.index, END))
         return [t.oid for t in self._ends_at(vertex, START)]
 
     def previous(self, track: MC_PlanarTrack) -> list[int]:
         """OIDs of the tracks that end at this track's start vertex (online parameter)."""
+        self.refresh()
         vertex = self._root((track.index, START))
         return [t.oid for t in self._ends_at(vertex, END)]
 
     def closed_loop(self, track: MC_PlanarTrack) -> bool:
+        self.refresh()
         return self._root((track.index, END)) == self._root((track.index, START))
 
     def switches(self, track: MC_PlanarTrack) -> tuple[Endpoint | None, Endpoint | None]:
@@ -129,6 +155,7 @@ class TrackNetwork:
         """The shortest forward route from ``s`` on ``track`` to ``target_s`` on ``target``
         through other tracks (Dijkstra over the vertices, end to start only): its legs with
         odometer bases, the current track first at base 0. None: not reachable."""
+        self.refresh()
         counter = itertools.count()
         queue = [(track.length - s, next(counter), [track], False)]
         best: dict[int, float] = {}
@@ -148,3 +175,28 @@ class TrackNetwork:
                     best[nxt.index] = reach
                     heapq.heappush(queue, (reach, next(counter), [*path, nxt], False))
         return None
+
+
+_MEET = 1e-3  #: [mm] track ends on two parts this close meet (the parts' boundaries touch)
+
+
+def _holds(a: MC_PlanarTrack, a_side: int, b: MC_PlanarTrack, b_side: int, link: object,
+           owner: MC_PlanarTrack) -> bool:
+    """A link across parts holds in the parts' active positions (§6.2.3, §6.2.13)."""
+    mine, theirs = owner.part(), (b if owner is a else a).part()
+    assert mine is not None and theirs is not None
+    this_index, other_index = link.this_index, link.other_index  # type: ignore[attr-defined]
+    if link.only:  # type: ignore[attr-defined]
+        return (this_index in (0, mine.position_index)
+                and other_index in (0, theirs.position_index))
+    if mine.active_position.coordinate_system != theirs.active_position.coordinate_system:
+        return False
+    ax, ay, _, _ = a.frame_at(_at(a, a_side))
+    bx, by, _, _ = b.frame_at(_at(b, b_side))
+    return abs(float(ax[0] - bx[0])) <= _MEET and abs(float(ay[0] - by[0])) <= _MEET
+
+
+def _at(track: MC_PlanarTrack, side: int) -> object:
+    import numpy as np
+
+    return np.array([0.0 if side == START else track.length])

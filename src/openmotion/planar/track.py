@@ -14,14 +14,16 @@ it has a motion command; Standing otherwise.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.geometry.track import TrackPath
+from openmotion.geometry.track_elements import TrackPose
 from openmotion.planar.enums import PlanarObjectType, PlanarState, TrackOperationMode
 from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand, PlanarObjectInfo
+from openmotion.planar.frames import Pose, cos_sin
 from openmotion.planar.network import END, START, TrackNetwork
 from openmotion.planar.options import (
     CDT_MCTOPLC_PLANAR_TRACK_STD,
@@ -36,6 +38,7 @@ from openmotion.planar.traffic import Traffic, network_of, traffic_of
 
 if TYPE_CHECKING:
     from openmotion.planar.group import MC_PlanarGroup
+    from openmotion.planar.parts import Part
     from openmotion.runtime.runtime import Runtime
 
 TRACK_COLLISION_RANGE = 250.0  #: [mm] default collision range at start and at end (§6.2.1)
@@ -49,7 +52,8 @@ class MC_PlanarTrack(StatefulObject):
     def __init__(self, runtime: Runtime, name: str | None = None, *,
                  max_mover_width: float = MAX_MOVER_SIZE,
                  max_mover_height: float = MAX_MOVER_SIZE,
-                 collision_ranges: tuple[float, float] | None = None) -> None:
+                 collision_ranges: tuple[float, float] | None = None,
+                 part_oid: int = 0) -> None:
         system = PlanarSystem.of(runtime)
         super().__init__(system, system.next_oid("object"))
         self.name = name or f"track{len(_network(system).tracks) + 1}"
@@ -63,12 +67,15 @@ class MC_PlanarTrack(StatefulObject):
             raise ConfigError(f"{self.name}: collision ranges must be numbers >= 0, got "
                               f"{collision_ranges!r}")
         self._manual_ranges = collision_ranges
+        self.part_oid = part_oid  #: the part the track belongs to (0: the only one, or none)
         self.collision_ranges: tuple[float, float] = collision_ranges or (
             TRACK_COLLISION_RANGE, TRACK_COLLISION_RANGE)
         self.network = _network(system)
         self.index = self.network.add(self)
         self.path = TrackPath()
-        self._links: list[tuple[tuple[int, int], tuple[int, int]]] = []
+        #: (end, start, condition): condition None for a link on one part, else
+        #: (this part position, other part position, only those) across parts (§6.2.3)
+        self._links: list[tuple[tuple[int, int], tuple[int, int], Link | None]] = []
         self._blocked = ""  #: why the geometry may not change any more ("" : it may)
         self._starts_from: MC_PlanarTrack | None = None
         self._group: MC_PlanarGroup | None = None
@@ -87,16 +94,16 @@ class MC_PlanarTrack(StatefulObject):
 
     def append_position(self, position: PositionXYC,
                         feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send("AppendPosition", feedback, _xy(position))
+        return self._send("AppendPosition", feedback, _point(position))
 
     def append_line(self, start: PositionXYC, end: PositionXYC,
                     feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send("AppendLine", feedback, _xy(start), _xy(end))
+        return self._send("AppendLine", feedback, _point(start), _point(end))
 
     def append_circle(self, start: PositionXYC, end: PositionXYC, center: PositionXYC,
                       clockwise: bool, feedback: MC_PlanarFeedbackBase | None = None
                       ) -> PlanarCommand:
-        return self._send("AppendCircle", feedback, _xy(start), _xy(end), _xy(center),
+        return self._send("AppendCircle", feedback, _point(start), _point(end), _point(center),
                           bool(clockwise))
 
     def close_loop(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
@@ -138,13 +145,18 @@ class MC_PlanarTrack(StatefulObject):
         if self.length <= 0.0:
             raise ConfigError(f"{self.name} has no geometry")
         x, y, heading, _ = self.frame_at(np.array([min(max(s, 0.0), self.length)]))
-        return PositionXYC(float(x[0]), float(y[0]), math.degrees(float(heading[0])))
+        return PositionXYC(float(x[0]), float(y[0]), math.degrees(float(heading[0])),
+                           self._system_oid())
 
     def get_arc_length_closest_to(self, position: PositionXYC) -> float:
         """The arc length where the track comes closest to ``position``'s centre point."""
         if self.length <= 0.0:
             raise ConfigError(f"{self.name} has no geometry")
-        return float(self.path.arc_length_closest_to((position.x, position.y)))
+        try:
+            local = self._local(position)
+        except CommandRejected as bad:
+            raise ConfigError(f"{self.name}: {bad.message}") from None
+        return float(self.path.arc_length_closest_to(local))
 
     def get_planar_object_info(self) -> PlanarObjectInfo:
         return PlanarObjectInfo(PlanarObjectType.TRACK, self.oid)
@@ -212,8 +224,79 @@ class MC_PlanarTrack(StatefulObject):
         return traffic_of(self._system)
 
     def frame_at(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """x, y [mm], heading [rad] and curvature [1/mm] at the arc lengths ``s``."""
-        return self.path.frame_at(s)
+        """x, y [mm], heading [rad] and curvature [1/mm] at the arc lengths ``s``, in the
+        coordinate system of its part's active position (§6.2.3: the track moves with it)."""
+        x, y, heading, curvature = self.path.frame_at(s)
+        place = self.placement()
+        if place == _ORIGIN:
+            return x, y, heading, curvature
+        cos, sin = cos_sin(place.c)
+        return (place.x + cos * x - sin * y, place.y + sin * x + cos * y,
+                heading + math.radians(place.c), curvature)
+
+    # -- parts (§6.2.3) ----------------------------------------------------------------------------
+
+    def part(self) -> Part | None:
+        """The part the track is on: its PartOID, or the only part; None without parts."""
+        environment = self._system.environment()
+        layout = None if environment is None else environment.layout
+        if layout is None:
+            return None
+        if self.part_oid:
+            return layout.part(self.part_oid)
+        if len(layout.parts) == 1:
+            return next(iter(layout.parts.values()))
+        raise CommandRejected(ErrorId.INVALID_REFERENCE_ID,
+                              f"{self.name}: PartOID is needed with more than one part "
+                              "(§6.2.3)")
+
+    def placement(self, position_index: int = 0) -> Pose:
+        """Where the track's part frame lies: in position ``position_index`` (1-based; 0:
+        the active one); the identity without parts."""
+        try:
+            part = self.part()
+        except CommandRejected:
+            return _ORIGIN
+        if part is None:
+            return _ORIGIN
+        if position_index:
+            return part.positions[position_index - 1].pose
+        return part.active_position.pose
+
+    def _system_oid(self) -> int:
+        part = self.part() if self._system.environment() is not None else None
+        return 0 if part is None else part.active_position.coordinate_system
+
+    def _local(self, position: PositionXYC) -> tuple[float, float]:
+        """A point given with a ReferenceId in the track's part frame (§6.2.3: a part, or a
+        coordinate system through the part's active position)."""
+        part = self.part()
+        if part is None or position.reference_id == part.oid:
+            return position.x, position.y
+        environment = self._system.environment()
+        assert environment is not None and environment.layout is not None
+        system, pose = environment.layout.to_coordinate_system(position.reference_id,
+                                                               Pose(position.x, position.y))
+        active = part.active_position
+        if system != active.coordinate_system:
+            raise CommandRejected(ErrorId.INVALID_REFERENCE_ID,
+                                  f"{self.name}: the point is in coordinate system "
+                                  f"16#{system:08X}, its part in 16#{active.coordinate_system:08X}")
+        local = active.pose.inverse().compose(pose)
+        return local.x, local.y
+
+    def _pose_from(self, other: MC_PlanarTrack, at_end: bool, this_index: int,
+                   other_index: int) -> TrackPose:
+        """``other``'s end (or start) pose in this track's part frame, with the two parts in
+        the given positions (0: active)."""
+        pose = other.path.end_pose if at_end else other.path.start_pose
+        there = other.placement(other_index)
+        cos, sin = cos_sin(there.c)
+        x, y = there.x + cos * pose.x - sin * pose.y, there.y + sin * pose.x + cos * pose.y
+        here = self.placement(this_index).inverse()
+        cos, sin = cos_sin(here.c)
+        return TrackPose(here.x + cos * x - sin * y, here.y + sin * x + cos * y,
+                         pose.heading + math.radians(there.c + here.c), pose.curvature)
 
     # -- execution -------------------------------------------------------------------------------
 
@@ -247,16 +330,18 @@ class MC_PlanarTrack(StatefulObject):
             self.path = TrackPath()
             self._blocked = ""
             self._links.clear()
-            self.network.unlink(self.index)
+            self.network.touch()
             return
         self._check_editable(kind)
         try:
             if kind == "AppendPosition":
-                self.path.append_position(args[0])
+                self.path.append_position(self._local(args[0]))
             elif kind == "AppendLine":
-                self.path.append_line(args[0], args[1])
+                self.path.append_line(self._local(args[0]), self._local(args[1]))
             elif kind == "AppendCircle":
-                self.path.append_circle(*args)
+                start, end, center, clockwise = args
+                self.path.append_circle(self._local(start), self._local(end),
+                                        self._local(center), clockwise)
             elif kind == "CloseLoop":
                 self.path.close_loop()
                 self._link((self.index, END), (self.index, START))
@@ -268,14 +353,20 @@ class MC_PlanarTrack(StatefulObject):
                     raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
                                           f"StartFromTrack: {self.name} has a geometry already; "
                                           "StartFromTrack comes first (§6.2.10)")
-                self.path.start_from(other.path)
-                self._link((other.index, END), (self.index, START))
+                link = self._link_options(other, args[1])
+                self.path.start_from(other.path if link is None else
+                                     self._pose_from(other, True, link.this_index,
+                                                     link.other_index))
+                self._link((other.index, END), (self.index, START), link)
                 other._blocked = other._blocked or f"{self.name} starts from it"
             elif kind == "EndAtTrack":
                 other = args[0]
                 self._check_other(other, kind)
-                self.path.end_at(other.path)
-                self._link((self.index, END), (other.index, START))
+                link = self._link_options(other, args[1])
+                self.path.end_at(other.path if link is None else
+                                 self._pose_from(other, False, link.this_index,
+                                                 link.other_index))
+                self._link((self.index, END), (other.index, START), link)
                 self._blocked = f"it ends at {other.name}"
         except ConfigError as bad:
             raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT, f"{kind}: {bad}") from None
@@ -301,9 +392,25 @@ class MC_PlanarTrack(StatefulObject):
             raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
                                   f"{kind}: {other.name} has no geometry yet")
 
-    def _link(self, a: tuple[int, int], b: tuple[int, int]) -> None:
-        self._links.append((a, b))
-        self.network.link(a, b)
+    def _link_options(self, other: MC_PlanarTrack, options: object) -> Link | None:
+        """None for two tracks on one part; else the part positions of the link (§6.2.13)."""
+        mine, theirs = self.part(), other.part()
+        if mine is None or theirs is None or mine is theirs:
+            return None
+        if options is not None:
+            options.check()  # type: ignore[attr-defined]
+        this = getattr(options, "this_track_part_position_index", 0)
+        that = getattr(options, "other_track_part_position_index", 0)
+        for part, index in ((mine, this), (theirs, that)):
+            if index > len(part.positions):
+                raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                                      f"part 16#{part.oid:08X} has no position {index}")
+        return Link(mine.oid, this, theirs.oid, that,
+                    bool(getattr(options, "link_only_in_specified_part_positions", False)))
+
+    def _link(self, a: tuple[int, int], b: tuple[int, int], link: Link | None = None) -> None:
+        self._links.append((a, b, link))
+        self.network.touch()
 
     def _automatic_ranges(self) -> tuple[float, float]:
         """Collision ranges from the geometry (§6.2.2, the 2R hose): at each end where
@@ -346,10 +453,26 @@ class MC_PlanarTrack(StatefulObject):
         return not self._states.settled
 
 
-def _xy(position: PositionXYC) -> tuple[float, float]:
+def _point(position: PositionXYC) -> PositionXYC:
+    """A copy of a track point as called (the PLC passes it IN_OUT), its numbers checked."""
     if not isinstance(position, PositionXYC):
         raise TypeError(f"a track point must be a PositionXYC, got {type(position).__name__}")
-    return finite(position.x, "x"), finite(position.y, "y")
+    return PositionXYC(finite(position.x, "x"), finite(position.y, "y"), 0.0,
+                       position.reference_id)
+
+
+_ORIGIN = Pose()
+
+
+class Link(NamedTuple):
+    """A link between tracks on two parts: valid in the given part positions (1-based; 0:
+    any), and, unless ``only``, in every other position pair where the ends meet (§6.2.13)."""
+
+    this_part: int
+    this_index: int
+    other_part: int
+    other_index: int
+    only: bool
 
 
 def _network(system: PlanarSystem) -> TrackNetwork:

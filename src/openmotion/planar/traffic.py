@@ -41,12 +41,14 @@ from openmotion.trajectory.plan import Limits, plan_position, plan_stop
 from openmotion.trajectory.segments import KinematicState, Profile
 from openmotion.transport.braking import brake_envelope, brake_state
 from openmotion.transport.gap_control import TOLERANCE, Pairs, filter_steps
+from openmotion.transport.gear import SYNCING
 from openmotion.transport.kernels import candidates
 
 if TYPE_CHECKING:
     from openmotion.planar.feedback import PlanarCommand
 
 IDLE, FOLLOW, HELD, GEAR = 0, 1, 2, 3
+_RESYNC = 0.05  #: a master velocity change of this share of the slave's limit re-plans its sync
 _EXTEND = 5.0  #: [mm] a queue end that moved on this far gets a new profile
 _HORIZON_TRACKS = 8
 #: [mm] riders this close to a zone get its stop line (held riders plan their goal with it);
@@ -79,6 +81,10 @@ class Network(Protocol):
 
     def collision_ranges(self, track: Rail) -> tuple[float, float]:
         """Collision range at the start and at the end of ``track`` [mm]."""
+        ...
+
+    def refresh(self) -> None:
+        """Once per cycle: notice parts that changed position (links across parts)."""
         ...
 
 
@@ -340,6 +346,7 @@ class Traffic:
         if n == 0 or not (self.mode != IDLE).any():
             return
         self._now = now
+        self.network.refresh()
         rows = self._rows()
         nxt = [self.p.copy(), np.zeros(n), np.zeros(n), np.zeros(n)]
         known = (np.zeros(n, dtype=bool), np.empty(n), np.empty(n))
@@ -371,10 +378,13 @@ class Traffic:
         self.p, self.v, self.a = nxt[0], nxt[1], nxt[2]
         self._env = (lo, hi)
         self.mode[braking & (self.mode == FOLLOW)] = HELD
-        for k in np.flatnonzero(braking & (self.mode == GEAR)).tolist():
+        geared = self.mode == GEAR
+        for k in np.flatnonzero(geared & (braking | self._resync(geared))).tolist():
             coupling = self.riders[k].gear
+            master = self._master(coupling)
             coupling.sync.held(now, (float(self.p[k]), float(self.v[k]), float(self.a[k])),
-                               self._master(coupling))
+                               master)
+            coupling.planned_v, coupling.resync = master[1], False
         self._transitions()
         self._write(values)
         self._events(now, values)
@@ -407,11 +417,14 @@ class Traffic:
                     succ.append(np.array([m]))
                     pred.append(np.array([ahead[0]]))
                     offset.append(np.array([ahead[1]]))
-            sa = np.concatenate(succ) if succ else np.empty(0, dtype=np.int64)
-            self._pairs = Pairs(sa.astype(np.int64),
-                                np.concatenate(pred).astype(np.int64) if pred else sa,
-                                np.concatenate(offset) if offset else np.empty(0),
-                                self.gap[sa], np.zeros(sa.size, dtype=bool), True)
+            sa = (np.concatenate(succ) if succ else np.empty(0)).astype(np.int64)
+            pa = (np.concatenate(pred) if pred else np.empty(0)).astype(np.int64)
+            # each keeps its own gap to the mover in front of it in its direction of travel
+            # (§6.1.9): a leader that moves back onto its follower keeps the leader's
+            back = (self.mode[pa] != IDLE) & (self.target[pa] < self.p[pa])
+            gap = np.where(back, np.maximum(self.gap[sa], self.gap[pa]), self.gap[sa])
+            self._pairs = Pairs(sa, pa, np.concatenate(offset) if offset else np.empty(0),
+                                gap, np.zeros(sa.size, dtype=bool), True)
         return self._pairs
 
     def _ahead(self, m: Rider, order: dict[int, np.ndarray]) -> tuple[int, float] | None:
@@ -539,6 +552,12 @@ class Traffic:
             self._extend_follow(rider, coupling)
             state = (float(self.p[k]), float(self.v[k]), float(self.a[k]))
             master = self._master(coupling, nxt)
+            sync = coupling.sync
+            if sync.phase == SYNCING and coupling.planned_v is not None and \
+                    abs(master[1] - coupling.planned_v) > _RESYNC * sync.limits.velocity:
+                coupling.resync = True  # planned again after this cycle's step
+            if coupling.planned_v is None:
+                coupling.planned_v = master[1]
             try:
                 proposal = coupling.sync.step(now, state, master, self.dt)
             except CommandRejected as rejected:
@@ -569,6 +588,15 @@ class Traffic:
                 if in_sync != rider.command.in_sync:
                     rider.command.in_sync = in_sync
                     rider.owner._awake = True  # the feedback shows it next cycle
+
+    def _resync(self, geared: np.ndarray) -> np.ndarray:
+        """Geared riders whose master changed its velocity a lot since their sync was
+        planned: planned again (the sync is planned for the master's velocity of its start;
+        a master that stops or speeds up must not leave the slave creeping)."""
+        out = np.zeros(geared.size, dtype=bool)
+        for k in np.flatnonzero(geared).tolist():
+            out[k] = self.riders[k].gear.resync
+        return out
 
     @staticmethod
     def _waits(coupling: Any, state: tuple[float, float, float],
