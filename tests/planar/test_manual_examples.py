@@ -28,6 +28,7 @@ from openmotion.planar import (
     MC_PlanarGroup,
     MC_PlanarMover,
     MC_PlanarPart,
+    MC_PlanarTrack,
     MoverCommandMode,
     MoverVector,
     Part,
@@ -703,3 +704,65 @@ def test_6_7_2_a_tenth_of_a_millimetre_beyond_is_refused(x: float, y: float):
     assert feedback.error and feedback.error_id == ErrorId.PLANAR_COLLISION
     assert feedback.object_info.id == environment.oid
     assert_at(mover, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+# -- §6.2.5 ------------------------------------------------------------------------------------
+
+
+def test_6_2_5_moving_a_planar_mover_on_tracks_with_planar_parts():
+    """Track one on the left part, track two on the right part starting from it; points
+    given in the coordinate system 16#01010060. The mover at P1 = (120, 120) joins track one
+    at 80 and moves to 150 on track two, over the part boundary: x = 390 (the manual's z, a,
+    b are hardware noise). PhysicalAreaID 16842848."""
+    rt = om.Runtime()
+    MC_PlanarEnvironment(rt, layout=two_parts())
+    mover = MC_PlanarMover(rt, PlanarMoverParameters(initial_position=MoverVector(120, 120)))
+    track_one = MC_PlanarTrack(rt, part_oid=PART_1)
+    track_two = MC_PlanarTrack(rt, part_oid=PART_2)
+    pos1, pos2 = PositionXYC(), PositionXYC()
+    state = 0
+
+    def main() -> None:
+        nonlocal state
+        match state:
+            case 0:
+                pos1.set_values_xyc_reference_id(40, 120, 0, CS_1)
+                pos2.set_values_xyc_reference_id(240, 120, 0, CS_1)
+                track_one.append_line(pos1, pos2)
+                track_two.start_from_track(track_one)
+                pos1.set_values_xyc_reference_id(260, 120, 0, CS_1)
+                pos2.set_values_xyc_reference_id(440, 120, 0, CS_1)
+                track_two.append_line(pos1, pos2)
+                track_one.enable()
+                track_two.enable()
+                state = 1
+            case 1:
+                if track_one.mc_to_plc_std.state is ENABLED and \
+                        track_two.mc_to_plc_std.state is ENABLED:
+                    state = 2
+            case 2:
+                mover.enable()
+                state = 3
+            case 3:
+                if mover.mc_to_plc.std.state is ENABLED:
+                    state = 4
+            case 4:
+                mover.join_track(track_one, None, None)
+                state = 5
+            case 5:
+                if mover.mc_to_plc.std.command_mode is MoverCommandMode.ON_TRACK:
+                    state = 6
+            case 6:
+                mover.move_on_track(track_two, 150.0, None, None)
+                state = 7
+
+    run(rt, main, lambda: state == 7 and standing(mover)
+        and mover.mc_to_plc.set_on_track.track_oid == track_two.oid)
+    assert_at(mover, 390.0, 120.0, 0.0, 0.0, 0.0, 0.0)
+    assert track_one.get_length() == pytest.approx(200.0, abs=EXACT)
+    assert track_two.get_length() == pytest.approx(200.0, abs=EXACT)
+    assert mover.mc_to_plc.set_on_track.set_pos == pytest.approx(150.0, abs=EXACT)
+    assert mover.mc_to_plc.set.physical_area_id == 16842848 == CS_1
+    assert (mover.error, mover.error_id) == (False, 0)
+    assert mover.get_position_on_current_part() == pytest.approx(
+        PositionXYC(150.0, 120.0, 0.0, PART_2))
