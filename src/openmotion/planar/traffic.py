@@ -236,6 +236,15 @@ class Traffic:
                 groups.setdefault(t.index, []).append(k)
             by_track = [(self.riders[ks[0]].track, np.array(ks, dtype=np.int64))
                         for ks in groups.values()]
+            # on[k, t]: track t is rider k's track or on its route (switch conflicts)
+            on = np.zeros((n, len(self.network.tracks) + 1), dtype=bool)
+            track_of = np.empty(n, dtype=np.int64)
+            for r in self.riders:
+                track_of[r.slot] = r.track.index
+                on[r.slot, r.track.index] = True
+                for leg in r.route:
+                    on[r.slot, leg.track.index] = True
+            self._routes = (on, track_of)
             self._geo = (rows, xr, yr, cr, length, sws, swe, crs, cre, by_track)
         return self._geo
 
@@ -784,25 +793,34 @@ class Traffic:
                                     & (hi > end_line - _ZONE_LOOKAHEAD))
             at_start = np.flatnonzero((sws == switch) & ~in_start
                                       & (lo < start_line + _ZONE_LOOKAHEAD))
-            entries = sorted([(k, -math.inf, float(end_line[k])) for k in at_end.tolist()]
-                             + [(k, float(start_line[k]), math.inf) for k in at_start.tolist()])
-            for k, low, high in entries:
-                if k in held:
-                    continue
-                if any(self._conflict(k, h) for h in held):
-                    lines[k] = (low, high)
-                elif hi[k] > high + TOLERANCE or lo[k] < low - TOLERANCE:
-                    held.append(k)
+            slots = np.concatenate((at_end, at_start))
+            low = np.concatenate((np.full(at_end.size, -math.inf), start_line[at_start]))
+            high = np.concatenate((end_line[at_end], np.full(at_start.size, math.inf)))
+            order = np.argsort(slots, kind="stable")
+            slots, low, high = slots[order], low[order], high[order]
+            blocked = self._conflicts(slots, np.array(held, dtype=np.int64))
+            wanting = (hi[slots] > high + TOLERANCE) | (lo[slots] < low - TOLERANCE)
+            for i in np.flatnonzero(blocked).tolist():
+                lines[int(slots[i])] = (float(low[i]), float(high[i]))
+            granted: list[int] = []
+            for i in np.flatnonzero(wanting & ~blocked).tolist():  # in rider order
+                k = int(slots[i])
+                if granted and self._conflicts(np.array([k]), np.array(granted))[0]:
+                    lines[k] = (float(low[i]), float(high[i]))
+                else:
+                    granted.append(k)
         return lines
 
-    def _conflict(self, k: int, h: int) -> bool:
-        """Riders ``k`` and ``h`` near one switch may meet: on different tracks, and neither
-        on the path ahead of the other (those keep their gap as a pair)."""
-        a, b = self.riders[k], self.riders[h]
-        if a.track is b.track:
-            return False
-        return all(leg.track is not b.track for leg in a.route) and \
-            all(leg.track is not a.track for leg in b.route)
+    def _conflicts(self, slots: np.ndarray, holders: np.ndarray) -> np.ndarray:
+        """Whether each of ``slots`` may meet any of ``holders`` at their switch: on another
+        track, and neither's track on the other's route (those keep their gap as a pair)."""
+        if not holders.size or not slots.size:
+            return np.zeros(slots.size, dtype=bool)
+        on, track_of = self._routes
+        mine, theirs = track_of[slots][:, None], track_of[holders][None, :]
+        clash = (mine != theirs) & ~on[slots][:, track_of[holders]] & \
+            ~on[holders][:, track_of[slots]].T
+        return clash.any(axis=1)
 
     def _transitions(self) -> None:
         """Riders past the end of their track's leg go on to the next leg of their route."""
