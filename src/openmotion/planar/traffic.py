@@ -236,14 +236,16 @@ class Traffic:
                 groups.setdefault(t.index, []).append(k)
             by_track = [(self.riders[ks[0]].track, np.array(ks, dtype=np.int64))
                         for ks in groups.values()]
-            # on[k, t]: track t is rider k's track or on its route (switch conflicts)
+            # on[k, t]: track t is rider k's track or the next one on its route: riders so
+            # related at a switch keep their gap as a pair (a route that comes round a loop
+            # to another rider's track much later does not relate them there)
             on = np.zeros((n, len(self.network.tracks) + 1), dtype=bool)
             track_of = np.empty(n, dtype=np.int64)
             for r in self.riders:
                 track_of[r.slot] = r.track.index
                 on[r.slot, r.track.index] = True
-                for leg in r.route:
-                    on[r.slot, leg.track.index] = True
+                if len(r.route) > 1:
+                    on[r.slot, r.route[1].track.index] = True
             self._routes = (on, track_of)
             self._geo = (rows, xr, yr, cr, length, sws, swe, crs, cre, by_track)
         return self._geo
@@ -428,13 +430,17 @@ class Traffic:
                     offset.append(np.array([ahead[1]]))
             sa = (np.concatenate(succ) if succ else np.empty(0)).astype(np.int64)
             pa = (np.concatenate(pred) if pred else np.empty(0)).astype(np.int64)
-            # each keeps its own gap to the mover in front of it in its direction of travel
-            # (§6.1.9): a leader that moves back onto its follower keeps the leader's
-            back = (self.mode[pa] != IDLE) & (self.target[pa] < self.p[pa])
-            gap = np.where(back, np.maximum(self.gap[sa], self.gap[pa]), self.gap[sa])
             self._pairs = Pairs(sa, pa, np.concatenate(offset) if offset else np.empty(0),
-                                gap, np.zeros(sa.size, dtype=bool), True)
-        return self._pairs
+                                self.gap[sa], np.zeros(sa.size, dtype=bool), True)
+        pairs = self._pairs
+        # each keeps its own gap to the mover in front of it in its direction of travel
+        # (§6.1.9): a leader that moves back onto its follower (a MoveOnTrack behind it, or
+        # a geared slave following its master back) keeps the leader's
+        k = pairs.pred
+        back = (self.mode[k] != IDLE) & ((self.target[k] < self.p[k]) | (self.v[k] < 0.0))
+        pairs.gap = np.where(back, np.maximum(self.gap[pairs.succ], self.gap[k]),
+                             self.gap[pairs.succ])
+        return pairs
 
     def _ahead(self, m: Rider, order: dict[int, np.ndarray]) -> tuple[int, float] | None:
         """The first rider on the tracks after ``m``'s along its route (then the one way on,
@@ -442,8 +448,10 @@ class Traffic:
         legs = m.route[1:]
         last = m.route[-1].track
         base = m.route[-1].base + last.length
-        for _ in range(_HORIZON_TRACKS):  # the unique way on after the route
+        for _ in range(_HORIZON_TRACKS):  # the way on after the route, where there is one
             following = self.network.successors(last)
+            if last in following:  # a closed track goes on into itself, switch or not
+                following = [last]
             if len(following) != 1:
                 break
             last = following[0]
