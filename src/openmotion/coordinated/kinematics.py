@@ -34,6 +34,7 @@ _UNREACHABLE = ErrorId.TARGET_UNREACHABLE
 _SINGULAR = ErrorId.KINEMATICS_SINGULAR
 _SINGULAR_CONDITION = 1e12  #: a Jacobian worse conditioned than this is not inverted
 _REACH_TOLERANCE = 1e-9  #: [mm] rounding beyond the workspace border still counts as inside
+_LIMIT_TOLERANCE = 1e-9  #: [mm or °] rounding beyond an axis limit counts as on it
 _DEG = math.pi / 180.0  #: [rad/°] scales the Jacobian's angle columns to the public units
 
 
@@ -68,14 +69,26 @@ class Kinematics(ABC):
         x = self._forward(q)
         return x[0] if single else x
 
-    def inverse(self, mcs: ArrayLike, configuration: Configuration | None = None) -> Array:
+    def inverse(self, mcs: ArrayLike, configuration: Configuration | None = None,
+                near: ArrayLike | None = None) -> Array:
         """ACS axis positions that put the TCP at ``mcs``, in the chosen configuration.
+
+        ``near`` (ACS positions, one for all points or one per point): where the model has
+        axes that may turn by whole turns without moving the TCP (a SCARA's base), take the
+        turn nearest to ``near`` rather than the principal angle. A path passes its axes'
+        last setpoints here, so that an axis runs on past ±180° instead of jumping a turn.
 
         Raises CommandRejected for a configuration the model does not offer, a target
         outside the workspace or beyond an axis limit.
         """
         x, single = self._points(mcs, len(self.coordinates), "MCS position")
         q = self._inverse(x, self._chosen(configuration))
+        if near is not None:
+            reference, _ = self._points(near, self.n_axes, "ACS position")
+            q = self._nearest_turn(q, np.broadcast_to(reference, q.shape))
+        low, high = self.limits[:, 0], self.limits[:, 1]  # a target on a limit, rounded
+        q = np.where((q < low) & (q >= low - _LIMIT_TOLERANCE), low, q)  # past it, is on it
+        q = np.where((q > high) & (q <= high + _LIMIT_TOLERANCE), high, q)
         bad = np.any((q < self.limits[:, 0]) | (q > self.limits[:, 1]), axis=1)
         self._reject(bad, lambda i: self._limit_message(x[i], q[i]))
         return q[0] if single else q
@@ -126,6 +139,10 @@ class Kinematics(ABC):
     @abstractmethod
     def _jacobian(self, q: Array) -> Array:
         """(m, n_axes) -> (m, n_coords, n_axes) in public units."""
+
+    def _nearest_turn(self, q: Array, near: Array) -> Array:
+        """``q`` with its turning axes the whole turns nearest to ``near``; none by default."""
+        return q
 
     def _points(self, values: ArrayLike, n: int, space: str) -> tuple[Array, bool]:
         """Values as (m, n) and whether one point came in; bad input is an FB input error."""
@@ -282,6 +299,17 @@ class Scara(Kinematics):
             j[:, -1, [0, 1, -1]] = 1.0
         return j
 
+    def _nearest_turn(self, q: Array, near: Array) -> Array:
+        """The base axis a whole number of turns nearer to ``near``; the tool axis turns back
+        as many, so that c = theta1 + theta2 + theta4 stays. The elbow stays in its
+        configuration's half turn."""
+        turns = 360.0 * np.round((near[:, 0] - q[:, 0]) / 360.0)
+        q = q.copy()
+        q[:, 0] += turns
+        if self.c_axis:
+            q[:, -1] -= turns
+        return q
+
     def configuration(self, acs: ArrayLike) -> Configuration | None:
         """ELBOW_DOWN for an elbow angle in [0, 180]° (modulo 360°), else ELBOW_UP."""
         q, _ = self._points(acs, self.n_axes, "ACS position")
@@ -375,11 +403,13 @@ class DeltaRobot(Kinematics):
 
 
 def _fit_turn(angle: Array, limits: Array) -> Array:
-    """Shift angles by a full turn where that brings them inside the axis limits."""
+    """Shift angles by a full turn where that brings them inside the axis limits (or a
+    rounding beyond one, which ``Kinematics.inverse`` puts on it)."""
+    low, high = limits[0] - _LIMIT_TOLERANCE, limits[1] + _LIMIT_TOLERANCE
     for shift in (360.0, -360.0):
-        outside = (angle < limits[0]) | (angle > limits[1])
+        outside = (angle < low) | (angle > high)
         moved = angle + shift
-        angle = np.where(outside & (moved >= limits[0]) & (moved <= limits[1]), moved, angle)
+        angle = np.where(outside & (moved >= low) & (moved <= high), moved, angle)
     return angle
 
 

@@ -92,6 +92,7 @@ class PathMotion:
         self.path_acceleration = 0.0
         self._next_piece = 0
         self._last_acs_v: np.ndarray | None = None
+        self._acs_start: np.ndarray | None = None  #: the axes where the path began
         self._orientation: np.ndarray | None = None
 
     # -- reading -------------------------------------------------------------------------------
@@ -319,11 +320,35 @@ class PathMotion:
         spaces, now = self.group.spaces, self.group._rt.now
         if last.space == ACS:
             acs = last.end
-        elif last.space == MCS:
-            acs = spaces.to_acs(last.end)
         else:
-            acs = spaces.to_acs(spaces.mcs_of(last.end, now))
+            end = last.end if last.space == MCS else spaces.mcs_of(last.end, now)
+            near = self._axes_at_end() if space == ACS and not spaces.linear else None
+            acs = spaces.to_acs(end, near=near)
         return self._convert_from_acs(np.asarray(acs), space)
+
+    def _axes_at_end(self) -> np.ndarray:
+        """Where the axes will be at the end of the queued path, turns counted: an axis that
+        may take whole turns (a SCARA's base) runs on past ±180° (``_write_mcs``), so an ACS
+        move buffered after the path must start on the turn the path leaves it on, not on the
+        principal angle. Every element is sampled, and from one sample to the next each such
+        axis keeps the turn nearest to the one before, starting from the path's start."""
+        spaces, now = self.group.spaces, self.group._rt.now
+        acs = self._acs_start if self._acs_start is not None else self.group.acs_set()
+        for index in sorted(self.entries):
+            entry = self.entries[index]
+            element = entry.geometry
+            if entry.space == ACS:
+                acs = np.array(element.end, dtype=float)
+                continue
+            points = element.position(np.linspace(0.0, element.length, 9)[1:])
+            mcs = np.array([spaces.with_xyz(self._orientation, p) for p in points])
+            if entry.space == PCS:
+                mcs = np.array([spaces.mcs_of(m, now) for m in mcs])
+            principal = spaces.to_acs(mcs)
+            # whole turns between neighbours, added up: the nearest turn at every sample
+            turns = spaces.to_acs(mcs, near=np.vstack([acs, principal[:-1]])) - principal
+            acs = principal[-1] + turns.sum(axis=0)
+        return acs
 
     def _begin(self, request: PathCommand, start: np.ndarray) -> None:
         """Start a new path from rest (at ``start``) with ``request`` alone."""
@@ -336,6 +361,11 @@ class PathMotion:
             group.settle(group.acs_set())
             return
         self._orientation = start.copy() if request.space != ACS else None
+        # the path starts from rest: the first difference quotient of the axis velocities
+        # (_write_mcs) is taken from zero, not left out, else the published acceleration
+        # reads 0 in the first cycle and jumps by up to 1.5 times the jerk limit in the next
+        self._last_acs_v = np.zeros(len(group.members))
+        self._acs_start = group.acs_set()
         now = group._rt.now
         pieces = self._pieces(request, geometry, exit_last=0.0)  # may reject: nothing changed
         self.law = TimeLaw(now)
@@ -478,7 +508,8 @@ class PathMotion:
         spaces = group.spaces
         point, tangent, curvature = evaluate(entry.geometry, local)
         if entry.space == ACS:
-            group.write_setpoints(point, tangent * v, tangent * a)
+            self._last_acs_v = tangent * v  # what the next MCS piece differences against
+            group.write_setpoints(point, self._last_acs_v, tangent * a)
             return
         x_v, x_a = tangent * v, tangent * a + curvature * v * v
         assert self._orientation is not None
@@ -495,7 +526,9 @@ class PathMotion:
     def _write_mcs(self, mcs: np.ndarray, x_v: np.ndarray, x_a: np.ndarray,
                    exact_a: bool) -> None:
         group, spaces = self.group, self.group.spaces
-        acs = spaces.to_acs(mcs)
+        # the turn nearest to the last setpoints: a SCARA's base runs on past ±180° (the
+        # principal angle would make it jump a whole turn within one cycle)
+        acs = spaces.to_acs(mcs, near=group._last_setpoints()[0])
         zero = np.zeros(spaces.size)
         acs_v = spaces.acs_rates(acs, spaces.with_xyz(zero, x_v))
         if exact_a:
@@ -549,6 +582,7 @@ class PathMotion:
         self.path_velocity = self.path_acceleration = 0.0
         self._next_piece = 0
         self._last_acs_v = None
+        self._acs_start = None
 
 
 def _speed_change_distance(v1: float, v2: float, acceleration: float, jerk: float) -> float:

@@ -84,10 +84,12 @@ class Spaces:
     def to_mcs(self, acs: Array) -> Array:
         return self.kinematics.forward(acs) + self.mcs_offset
 
-    def to_acs(self, mcs: Array) -> Array:
+    def to_acs(self, mcs: Array, near: Array | None = None) -> Array:
+        """ACS of an MCS vector; ``near``: the axes' positions to stay nearest to, where an
+        axis may take whole turns (``Kinematics.inverse``)."""
         if self.linear:
             return (mcs[self._slot] - self.mcs_offset[self._slot] - self._offset) * self._sign
-        return self.kinematics.inverse(mcs - self.mcs_offset, self.configuration)
+        return self.kinematics.inverse(mcs - self.mcs_offset, self.configuration, near)
 
     def acs_rates(self, acs: Array, mcs_rates: Array) -> Array:
         """Axis velocities (or, for linear kinematics, accelerations) of MCS rates."""

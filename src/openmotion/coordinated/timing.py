@@ -285,7 +285,7 @@ class TimeLaw:
         """Run through the legs ending up to ``now``, then evaluate."""
         if self._dirty:
             self._dirty = False
-            self._plan_from(self._time, self._state[:3])
+            self._plan_from(self._time, self._state[:3], changed_path=self._leg is not None)
         for _ in range(_MAX_EVENTS):
             leg_ = self._leg
             if now < leg_.t0 + leg_.end:
@@ -331,7 +331,8 @@ class TimeLaw:
             self.history.append((new.t0, new.end, Profile.from_data(new.data)))
         self._leg = new
 
-    def _plan_from(self, time: float, state: tuple[float, float, float]) -> None:
+    def _plan_from(self, time: float, state: tuple[float, float, float],
+                   changed_path: bool = False) -> None:
         s, v, a = state
         if self._mode in (_BRAKE, _REST) and self._leg is not None:
             return
@@ -342,7 +343,41 @@ class TimeLaw:
             return
         zone = min(int(np.searchsorted(self._zones.row(_ZEND), s, side="right")),
                    self._zones.n - 1)
-        self._install(self._zone_leg(time, state, zone))
+        if not changed_path:
+            self._install(self._zone_leg(time, state, zone))
+            return
+        new, _ = self._replanned(time, state, zone)
+        if new is not self._leg:
+            self._install(new)
+
+    def _replanned(self, time: float, state: tuple[float, float, float], zone: int
+                   ) -> tuple[_Leg, bool]:
+        """The leg to run on after the path changed under the motion (``append``,
+        ``trim_last``), and whether it ends where the look-ahead assumed: at or below its
+        junction speed, with a = 0. A leg re-planned from a != 0 (ruckig's, or a brake cut at
+        the junction) may miss that by a little, and the legs after it, planned from a = 0
+        at each junction, then by far: a stop corner passed at speed, a contour entered at
+        20 times its speed cap (tests/coordinated/test_properties.py). Where the leg under
+        way still ends as the new look-ahead wants (the new path asks nothing of its zone),
+        it is kept."""
+        new = self._zone_leg(time, state, zone)
+        if self._lands(new, zone):
+            return new, True
+        old = self._leg
+        if self._mode == _RUN and old is not None and old.zone == zone \
+                and old.t0 + old.end > time and old.final[0] == self._zones.data[_ZEND, zone] \
+                and self._lands(old, zone):
+            return old, True
+        return new, False
+
+    def _lands(self, leg_: _Leg, zone: int) -> bool:
+        w = self._window
+        k = zone - w.z0 if w is not None else -1
+        target = w.speeds[k] if w is not None and 0 <= k < w.n else 0.0
+        _, acc, dec, _ = self._caps(zone)
+        _, reached, final_a = leg_.final
+        return reached <= target * (1.0 + _REL) + 1e-12 \
+            and abs(final_a) <= _ZERO_ACCELERATION * max(acc, dec)
 
     # -- legs ----------------------------------------------------------------------------------
 
@@ -660,11 +695,30 @@ class TimeLaw:
         end = start + length
         if end > self._length or self._state[0] >= end or self.rest_point() > end:
             return False
+        zones, z = self._zones, self._zones.n - 1
+        kept = (pieces.n, pieces.data[:, last].copy(), zones.n, zones.data[:, z].copy(),
+                self._length)
         self._truncate(end)
         pieces.data[_EXIT, pieces.n - 1] = exit_velocity
-        self._zones.data[_ZEXIT, self._zones.n - 1] = exit_velocity
+        zones.data[_ZEXIT, zones.n - 1] = exit_velocity
+        if not self._replans_as_looked_ahead():  # keep the old end: the corner stays a stop
+            pieces.n, pieces.data[:, last], zones.n, zones.data[:, z], self._length = kept
+            self._window = None
+            return False
         self._dirty = True
         return True
+
+    def _replans_as_looked_ahead(self) -> bool:
+        """Whether the motion, re-planned on the shortened path, still ends its leg where the
+        look-ahead assumes (``_replanned``): a shorter path under a motion still speeding up
+        may need more than it can, although it could brake to rest in time (``rest_point``)."""
+        s = self._state[0]
+        zone = min(int(np.searchsorted(self._zones.row(_ZEND), s, side="right")),
+                   self._zones.n - 1)
+        self._window = None
+        _, lands = self._replanned(self._time, self._state[:3], zone)
+        self._window = None
+        return lands
 
     # -- override ------------------------------------------------------------------------------
 

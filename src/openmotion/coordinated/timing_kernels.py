@@ -165,10 +165,11 @@ def zones(vel: np.ndarray, acc: np.ndarray, dec: np.ndarray, jerk: np.ndarray,
     A piece joins the zone before when the junction does not bind: the exit cap is at least
     the smaller velocity cap, the space is the same, and the zone's velocity caps stay within
     ``RATIO`` of each other. Then bumps are flattened until none is left: a zone shorter than
-    its own ramp by that ratio, faster than both neighbours, takes the velocity cap of its
-    slower neighbour across a soft junction (one that binds by the ratio only) and so joins
-    it. It could not use its higher cap anyway, and without this a dense contour whose caps
-    alternate (chords and blends) would return to a = 0 at every junction and crawl.
+    its own ramp by that ratio, faster than both neighbours, and too short to climb from the
+    neighbour's speed by that ratio, takes the velocity cap of its slower neighbour across a
+    soft junction (one that binds by the ratio only) and so joins it. It could not use its
+    higher cap anyway, and without this a dense contour whose caps alternate (chords and
+    blends) would return to a = 0 at every junction and crawl.
 
     ``previous`` describes the path so far, (has_pieces, zoning velocity, exit, space of its
     last piece, zone v_min, v_max, acc, dec, jerk): the new pieces join its last zone only
@@ -231,18 +232,16 @@ def _flatten_bumps(vel: np.ndarray, starts: np.ndarray, acc: np.ndarray, dec: np
         return False
     v_min = np.empty(m)
     length = np.zeros(m)
-    ramp = np.empty(m)
     for z in range(m):
         lo, hi = first[z], first[z + 1] if z + 1 < m else n
         v_min[z] = vel[lo:hi].min()
         length[z] = lengths[lo:hi].sum()
-        ramp[z] = ramp_distance(RATIO * v_min[z], v_min[z], acc[lo:hi].min(), dec[lo:hi].min(),
-                                jerk[lo:hi].min())
     changed = False
     for z in range(m):
-        if length[z] >= ramp[z]:
-            continue
         lo, hi = first[z], first[z + 1] if z + 1 < m else n
+        a_z, d_z, j_z = acc[lo:hi].min(), dec[lo:hi].min(), jerk[lo:hi].min()
+        if length[z] >= ramp_distance(RATIO * v_min[z], v_min[z], a_z, d_z, j_z):
+            continue
         # the neighbours' speeds (a binding junction caps them; rest beyond the path)
         left, left_soft = 0.0, False
         if z > 0 or previous[0] != 0.0:
@@ -271,6 +270,11 @@ def _flatten_bumps(vel: np.ndarray, starts: np.ndarray, acc: np.ndarray, dec: np
         if right_soft:
             target = max(target, right)
         if target < 0.0:
+            continue
+        # only where the zone is too short to climb from the target by the ratio (or to its
+        # caps): else the target may be far below what it reaches, and a contour crawling at
+        # 0.02 mm/s would drag a 20 mm line after it down to that speed
+        if length[z] >= ramp_distance(target, min(v_min[z], target / RATIO), a_z, d_z, j_z):
             continue
         for k in range(lo, hi):
             vel[k] = min(vel[k], target)
