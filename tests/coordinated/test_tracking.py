@@ -17,11 +17,14 @@ import pytest
 
 import openmotion as om
 from openmotion.coordinated.blocks import (
+    MC_GroupStop,
     MC_MoveLinearAbsolute,
+    MC_PathSelect,
     MC_ReadCoordinateTransform,
     MC_SetCartesianTransform,
     MC_SetDynCoordTransform,
     MC_SyncAxisToGroup,
+    MC_SyncGroupToAxis,
     MC_TrackConveyorBelt,
     MC_TrackRotaryTable,
 )
@@ -370,3 +373,105 @@ def test_a_member_cannot_be_the_slave():
     sync = MC_SyncAxisToGroup(group)
     sync(execute=True, slave=group.axes[0])
     assert sync.error and sync.error_id is ErrorId.AXIS_IN_GROUP
+
+
+# -- MC_SyncGroupToAxis (§6.4; rules 46, 97, 117, 118) ------------------------------------------
+
+CAM_PATH = [{"line": [100.0, 0.0, 0.0]}, {"line": [100.0, 50.0, 0.0]}]
+SYNC = {k: v for k, v in FAST.items() if k != "velocity"}  #: §6.4 has no velocity input
+
+
+def cam(mode: int = 0, **inputs: Any) -> tuple[om.Runtime, AxesGroup, om.Axis, Any]:
+    """The group at the origin; a path 100 along x, then 50 along y; a master axis."""
+    rt, group, _, master = cell(0.0, 0.0, 0.0)
+    select = MC_PathSelect(group)
+    select(execute=True, path_description=CAM_PATH)
+    assert select.done
+    sync = MC_SyncGroupToAxis(group)
+    sync(execute=True, master=master, path_data=select.path_data, mode=mode, **SYNC, **inputs)
+    return rt, group, master, sync
+
+
+def test_rule117_the_group_follows_the_master_along_the_path():
+    rt, group, master, sync = cam(tuc_numerator=1, tuc_denominator=2)
+    assert sync.busy and sync.active and not sync.in_sync and not sync.error
+    assert group.state is G.MOVING
+    master.move_absolute(100.0, 100.0, acceleration=1000.0, deceleration=1000.0, jerk=1.0e5)
+    run(rt, 300, sync)
+    assert sync.in_sync
+    for _ in range(1000):  # in sync the arc length is half the master's travel
+        rt.step()
+        sync()
+        s = master.set_position / 2.0
+        expected = [s, 0.0, 0.0] if s <= 100.0 else [100.0, s - 100.0, 0.0]
+        assert group.position(MCS)[:3] == pytest.approx(expected, abs=TOL)
+    assert master.set_velocity == 0.0  # at rest: the group at rest too (rule 117)
+    assert group.velocity(MCS)[1] == pytest.approx(0.0, abs=TOL)
+    assert sync.active and not sync.done  # it never ends by itself
+
+
+def test_rule117_a_master_already_running_is_caught_up_within_the_limits():
+    rt, group, _, master = cell(0.0, 0.0, 0.0)
+    select = MC_PathSelect(group)
+    select(execute=True, path_description=[{"line": [400.0, 0.0, 0.0]}])
+    master.move_velocity(100.0, acceleration=1000.0, deceleration=1000.0, jerk=1.0e5)
+    rt.run(0.3)
+    sync = MC_SyncGroupToAxis(group)
+    sync(execute=True, master=master, path_data=select.path_data, **SYNC)
+    previous = 0.0
+    for _ in range(600):
+        rt.step()
+        sync()
+        v = group.velocity(MCS)[1]
+        assert abs(v - previous) <= FAST["acceleration"] * rt.cycle_time * (1 + 1e-9) + 1e-9
+        previous = v
+    assert sync.in_sync
+    assert group.velocity(MCS)[1] == pytest.approx(100.0, abs=1e-6)
+
+
+def test_rule118_group_stop_or_another_motion_ends_the_coupling():
+    rt, group, master, sync = cam()
+    master.move_velocity(20.0, acceleration=1000.0, deceleration=1000.0, jerk=1.0e5)
+    run(rt, 200, sync)
+    stop = MC_GroupStop(group)
+    stop(execute=True, deceleration=4000.0, jerk=1.0e5)
+    sync()
+    assert sync.command_aborted and not sync.in_sync
+    run(rt, 300, stop)
+    assert group.velocity(MCS)[1] == pytest.approx(0.0, abs=TOL)
+    rt, group, master, sync = cam()
+    master.move_velocity(20.0, acceleration=1000.0, deceleration=1000.0, jerk=1.0e5)
+    run(rt, 200, sync)
+    move = group.move_linear_absolute([0.0, 0.0, 0.0], velocity=100.0, **{
+        k: v for k, v in FAST.items() if k != "velocity"})
+    sync()
+    assert sync.command_aborted
+    rt.run_until(lambda: move.done, timeout=5.0)
+
+
+def test_a_non_periodic_path_stops_exactly_at_its_end():
+    rt, group, master, sync = cam()
+    master.move_absolute(1000.0, 200.0, acceleration=1000.0, deceleration=1000.0, jerk=1.0e5)
+    run(rt, 8000, sync)
+    assert group.position(MCS)[:3] == pytest.approx([100.0, 50.0, 0.0], abs=1e-9)
+    assert group.velocity(MCS)[1] == pytest.approx(0.0, abs=TOL)
+    assert sync.active and not sync.in_sync  # waits at the end, out of sync
+
+
+def test_a_periodic_path_must_be_closed_and_bad_conversions_are_errors():
+    rt, group, master, sync = cam(mode=1)
+    assert sync.error and sync.error_id is ErrorId.INVALID_MODE
+    assert group.state is G.STANDBY
+    for numerator, denominator in ((1, 0), ([1, 2], [1, 1]), (float("nan"), 1)):
+        rt, group, master, sync = cam(tuc_numerator=numerator, tuc_denominator=denominator)
+        assert sync.error and sync.error_id is ErrorId.INVALID_GEAR_RATIO, (numerator,
+                                                                            denominator)
+
+
+def test_override_does_not_act_on_a_slave_group():
+    rt, group, master, sync = cam()
+    master.move_velocity(20.0, acceleration=1000.0, deceleration=1000.0, jerk=1.0e5)
+    run(rt, 500, sync)
+    group.set_override(0.5)
+    run(rt, 100, sync)
+    assert group.velocity(MCS)[1] == pytest.approx(20.0, abs=1e-6)  # rule 97

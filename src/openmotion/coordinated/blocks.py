@@ -21,6 +21,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from openmotion.axis.commands import Command, CommandStatus
+from openmotion.coordinated.cam import PathMode
 from openmotion.coordinated.frames import CartesianTransform, Frame
 from openmotion.coordinated.group import AxesGroup
 from openmotion.coordinated.inputs import CoordSystem, TransitionMode, enum_value
@@ -55,7 +56,8 @@ __all__ = [
     "MC_MoveLinearRelative", "MC_MovePath", "MC_PathSelect", "MC_ReadCartesianTransform",
     "MC_ReadCoordinateTransform", "MC_ReadKinTransform", "MC_RemoveAxisFromGroup",
     "MC_SetCartesianTransform", "MC_SetCoordinateTransform", "MC_SetKinTransform",
-    "MC_SetDynCoordTransform", "MC_SyncAxisToGroup", "MC_TrackConveyorBelt",
+    "MC_SetDynCoordTransform", "MC_SyncAxisToGroup", "MC_SyncGroupToAxis",
+    "MC_TrackConveyorBelt",
     "MC_TrackRotaryTable", "MC_UngroupAllAxes",
 ]
 
@@ -488,6 +490,34 @@ class MC_SyncAxisToGroup(_GroupCommand):
         self.in_sync = False
 
 
+class MC_SyncGroupToAxis(_GroupCommand):
+    """The group's arc length along ``path_data`` (MC_PathSelect) follows ``master`` like a
+    cam (§6.4): s = tuc_numerator / tuc_denominator x (master - master at the start).
+    ``in_sync`` once synchronised; MC_GroupStop or any other motion command ends it
+    (CommandAborted); never Done."""
+
+    INPUTS: ClassVar[dict[str, Any]] = {
+        "master": None, "path_data": None, "mode": PathMode.NON_PERIODIC, "tuc_numerator": 1,
+        "tuc_denominator": 1, "acceleration": MC_DEFAULT, "deceleration": MC_DEFAULT,
+        "jerk": MC_DEFAULT, "coord_system": CoordSystem.MCS, "buffer_mode": BufferMode.ABORTING}
+
+    def _reset_outputs(self) -> None:
+        super()._reset_outputs()
+        self.in_sync = False
+
+    def _issue(self, group: Any) -> Command:  # type: ignore[override]
+        return _group(group).sync_group_to_axis(
+            _axis_input(self.master, "Master"), self.path_data, self.mode, self.tuc_numerator,
+            self.tuc_denominator, self.acceleration, self.deceleration, self.jerk,
+            self.coord_system, self.buffer_mode)
+
+    def _show_progress(self, command: Command) -> None:
+        self.in_sync = command.in_velocity
+
+    def _show_result(self, command: Command | None) -> None:
+        self.in_sync = False
+
+
 def _frame_or_identity(value: Any) -> Frame:
     """A frame input; None (not given) is the identity."""
     return Frame() if value is None else _frame(value)
@@ -525,6 +555,7 @@ MC_GrpReadStatus = MC_GroupReadStatus
 MC_GrpReadError = MC_GroupReadError
 MC_GrpReset = MC_GroupReset
 MC_GrpSetOverride = MC_GroupSetOverride
+MC_SyncGrpToAxis = MC_SyncGroupToAxis
 MC_SyncAxisToGrp = MC_SyncAxisToGroup
 MC_SetDynCoordTrans = MC_SetDynCoordTransform
 MC_TrackConvBelt = MC_TrackConveyorBelt

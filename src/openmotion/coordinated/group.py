@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from openmotion.axis.commands import Command, CommandStatus
+from openmotion.coordinated.cam import CamLaw, PathMode, check_periodic
 from openmotion.coordinated.frames import Frame
 from openmotion.coordinated.inputs import (
     CoordSystem,
@@ -51,6 +52,7 @@ from openmotion.core.enums import AxisState, BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, InputValue
 from openmotion.geometry.path import CircMode, PathChoice
+from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 
 if TYPE_CHECKING:
@@ -604,6 +606,49 @@ class AxesGroup:
 
     # -- synchronisation and tracking (§6) -----------------------------------------------------
 
+    def sync_group_to_axis(self, master: Axis, path: Any, mode: PathMode = PathMode.NON_PERIODIC,
+                           tuc_numerator: Any = 1, tuc_denominator: Any = 1,
+                           acceleration: InputValue = MC_DEFAULT,
+                           deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT,
+                           coord_system: CoordSystem = CoordSystem.MCS,
+                           buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
+        """MC_SyncGroupToAxis (§6.4): the arc length along ``path`` (MC_PathSelect's
+        PathData) follows ``master``: s = TuCNumerator / TuCDenominator x (master - master
+        at the start). From standstill; Active while it runs, ``command.in_velocity`` is
+        InSync; MC_GroupStop or any other motion command ends it (CommandAborted)."""
+        command = self._command("MC_SyncGroupToAxis")
+        try:
+            self.machine.accept("MC_SyncGroupToAxis", part4_buffer_mode(buffer_mode))
+            if self.motion.law is not None or self.motion.waiting is not None:
+                raise CommandRejected(ErrorId.GROUP_MOVING, "MC_SyncGroupToAxis starts from "
+                                      "standstill (docs/decisions.md D-127)")
+            ratio = _conversion(tuc_numerator, tuc_denominator)
+            mode = PathMode(mode)
+            request = build_request(self, command, "path", path, None, MC_DEFAULT, acceleration,
+                                    deceleration, jerk, coord_system, BufferMode.ABORTING,
+                                    TransitionMode.TM_NONE, None, False)
+            self.motion.submit(request)
+            law = self.motion.law
+            if law is None:
+                raise CommandRejected(ErrorId.GROUP_MOVING, "the path could not start")
+            if mode is PathMode.PERIODIC:
+                try:
+                    check_periodic(tuple(request.extra["reference"]), tuple(request.end))
+                except CommandRejected:
+                    self.motion._clear()
+                    raise
+            _, a, d, j = request.dynamics  # §6.4 has no velocity: the group's maximum
+            self.motion.law = CamLaw(law, master, ratio, mode,
+                                     Limits(self.dynamics.max_velocity, a, d, j), command,
+                                     self._rt.now, self._rt.cycle_time)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        command.status = CommandStatus.ACTIVE
+        if self.state is G.STANDBY:
+            self.machine.start("MC_SyncGroupToAxis")
+            self._couple()
+        return command
+
     def track_conveyor_belt(self, belt: Axis, origin: Frame, initial_object: Frame) -> Command:
         """MC_TrackConveyorBelt (§6.6): the PCS rides on ``belt`` from now on; Active while
         it tracks, CommandAborted when a transform FB replaces the PCS. Starts no motion."""
@@ -894,3 +939,25 @@ class AxesGroup:
     def _reject(self, command: Command, rejected: CommandRejected) -> Command:
         command._end(CommandStatus.ERROR, self._rt.now, rejected.error_id, rejected.message)
         return command
+
+
+def _conversion(numerator: Any, denominator: Any) -> float:
+    """TuCNumerator / TuCDenominator as one factor of the path parameter: scalars, or arrays
+    whose factors agree (the path is one curve; D-127)."""
+    numerators = list(numerator) if isinstance(numerator, list | tuple) else [numerator]
+    denominators = list(denominator) if isinstance(denominator, list | tuple) else [denominator]
+    if len(numerators) != len(denominators) or not numerators:
+        raise CommandRejected(ErrorId.INVALID_GEAR_RATIO, "TuCNumerator and TuCDenominator "
+                              "need one value each per axis")
+    factors = set()
+    for n, d in zip(numerators, denominators, strict=True):
+        if not isinstance(n, int | float) or not isinstance(d, int | float) or \
+                not math.isfinite(n) or not math.isfinite(d) or d == 0 or n == 0:
+            raise CommandRejected(ErrorId.INVALID_GEAR_RATIO,
+                                  f"TuCNumerator {n!r} / TuCDenominator {d!r}")
+        factors.add(n / d)
+    if len(factors) != 1:
+        raise CommandRejected(ErrorId.INVALID_GEAR_RATIO, "different conversions per axis do "
+                              "not keep the path: one factor for all (D-127)")
+    return factors.pop()
+

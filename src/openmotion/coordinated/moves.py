@@ -130,7 +130,8 @@ class PathMotion:
         now = self.group._rt.now
         command = request.command
         quiet = self.law is None and self.waiting is None
-        if request.buffer_mode is BufferMode.ABORTING or quiet or self.interrupted:
+        cam = self.law is not None and not isinstance(self.law, TimeLaw)  # SyncGroupToAxis
+        if request.buffer_mode is BufferMode.ABORTING or quiet or self.interrupted or cam:
             if request.buffer_mode is not BufferMode.ABORTING and self.interrupted:
                 raise CommandRejected(ErrorId.GROUP_MOVING,
                                       "the group is interrupted: MC_GroupContinue first, or "
