@@ -344,7 +344,7 @@ def test_at_a_switch_the_second_mover_waits_at_its_last_safe_stop(ranges, gap, w
     assert closest >= gap - 1e-6  # b never comes closer than its gap along its path
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=10, deadline=None)
 @given(targets=st.lists(st.floats(0.0, 1200.0), min_size=3, max_size=3),
        gaps=st.lists(st.sampled_from([160.0, 200.0, 260.0]), min_size=3, max_size=3),
        order=st.permutations([0, 1, 2]))
