@@ -705,25 +705,31 @@ class Traffic:
             for field_, value in zip(nxt, profile.at(self.dt), strict=True):
                 field_[k] = value
 
+    def _neighbour(self, slots: np.ndarray, pairs: Pairs, ahead: bool) -> np.ndarray:
+        """The rider ahead of (or behind) each of ``slots`` on its path; -1: none."""
+        found = np.full(self.p.size, -1, dtype=np.int64)
+        if ahead:
+            found[pairs.succ] = pairs.pred
+        else:
+            found[pairs.pred] = pairs.succ
+        return found[slots]
+
     def _head_on(self, slots: np.ndarray, pairs: Pairs) -> np.ndarray:
         """Whether the rider behind each of ``slots`` wants to move forwards."""
-        behind = np.full(self.p.size, -1, dtype=np.int64)
-        behind[pairs.pred] = pairs.succ
-        k = behind[slots]
+        k = self._neighbour(slots, pairs, ahead=False)
         wants = np.zeros(slots.size, dtype=bool)
         has = k >= 0
-        wants[has] = (self.mode[k[has]] != IDLE) & (self.target[k[has]] > self.p[k[has]]
-                                                    + TOLERANCE)
+        k = k[has]
+        wants[has] = (self.mode[k] != IDLE) & (self.target[k] > self.p[k] + TOLERANCE)
         return wants
 
     def _ahead_rests(self, slots: np.ndarray, pairs: Pairs) -> np.ndarray:
         """Whether the rider ahead of each of ``slots`` on its path stands still (none: True)."""
-        ahead = np.full(self.p.size, -1, dtype=np.int64)
-        ahead[pairs.succ] = pairs.pred
-        k = ahead[slots]
+        k = self._neighbour(slots, pairs, ahead=True)
         rests = np.ones(slots.size, dtype=bool)
         has = k >= 0
-        rests[has] = (self.v[k[has]] == 0.0) & (self.a[k[has]] == 0.0)
+        k = k[has]
+        rests[has] = (self.v[k] == 0.0) & (self.a[k] == 0.0)
         return rests
 
     def _room(self, pairs: Pairs) -> tuple[np.ndarray, np.ndarray]:
