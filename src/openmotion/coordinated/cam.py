@@ -46,7 +46,7 @@ class CamLaw:
     """s(t) of a group synchronised to ``master`` on the path of ``law``."""
 
     def __init__(self, law: TimeLaw, master: Axis, ratio: float, mode: PathMode,
-                 limits: Limits, command: Command, now: float, cycle_time: float) -> None:
+                 limits: Limits, command: Command, cycle_time: float) -> None:
         self.law, self.master, self.mode = law, master, mode
         self.length = law.length
         self.command = command
@@ -56,10 +56,8 @@ class CamLaw:
                              start_distance=None, limits=limits, after_sync=limits)
         self.limits = limits
         self.state = (0.0, 0.0, 0.0)  #: s, v, a at the last sample
-        self.offset = 0.0  #: laps of a periodic path [mm]
         self._brake: tuple[Profile, float] | None = None
         self._stopping = False  #: MC_GroupStop or another command: the cam has ended
-        del now
 
     # -- the TimeLaw interface the path motion uses ------------------------------------------
 
@@ -121,7 +119,6 @@ class CamLaw:
         except CommandRejected:
             proposal = None
         if proposal is None:
-            s, v, a = self.state
             profile = plan_stop(self._kinematic(), self.limits.deceleration, self.limits.jerk)
             return profile.at(self.dt)
         if self.mode is PathMode.NON_PERIODIC:

@@ -640,7 +640,7 @@ class AxesGroup:
             _, a, d, j = request.dynamics  # §6.4 has no velocity: the group's maximum
             self.motion.law = CamLaw(law, master, ratio, mode,
                                      Limits(self.dynamics.max_velocity, a, d, j), command,
-                                     self._rt.now, self._rt.cycle_time)
+                                     self._rt.cycle_time)
         except CommandRejected as rejected:
             return self._reject(command, rejected)
         command.status = CommandStatus.ACTIVE

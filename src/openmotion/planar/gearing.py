@@ -104,12 +104,11 @@ def gear_in_pos_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
                               "be an axis of this runtime")
     rider, traffic = _slave(mover, _C.GEAR_IN_POS_ON_TRACK)
     legs = _trail_legs(rider, trail, slave_track, traffic)
-    coupling = _coupling(mover, command, rider, legs, finite(master_sync, "masterSyncPosition"),
-                         slave_track, slave_sync, constraint, options.gap,
-                         options.in_sync_tolerance_distance,
+    coupling = _coupling(mover, command, legs, finite(master_sync, "masterSyncPosition"),
+                         slave_track, slave_sync, constraint, options.in_sync_tolerance_distance,
                          options.allowed_slave_sync_directions)
     coupling.axis = axis
-    traffic.gear(rider, legs, coupling, options.gap, command, mover._system.previous)
+    traffic.gear(rider, legs, coupling, options.gap, command)
 
 
 def gear_in_pos_on_track_with_master_mover(mover: MC_PlanarMover, command: PlanarCommand
@@ -134,11 +133,11 @@ def gear_in_pos_on_track_with_master_mover(mover: MC_PlanarMover, command: Plana
         legs = _follow_legs(rider, trail, master_rider, master_track, traffic)
     else:
         legs = _trail_legs(rider, trail, slave_track, traffic)
-    coupling = _coupling(mover, command, rider, legs, master_at, slave_track, slave_sync,
-                         constraint, options.gap, options.in_sync_tolerance_distance,
+    coupling = _coupling(mover, command, legs, master_at, slave_track, slave_sync,
+                         constraint, options.in_sync_tolerance_distance,
                          options.allowed_slave_sync_directions)
     coupling.master, coupling.follow = master_rider, options.follow_mover
-    traffic.gear(rider, legs, coupling, options.gap, command, mover._system.previous)
+    traffic.gear(rider, legs, coupling, options.gap, command)
 
 
 def _slave(mover: MC_PlanarMover, kind: MoverCommand) -> tuple[Rider, Any]:
@@ -198,16 +197,14 @@ def _legs(tracks: list[MC_PlanarTrack]) -> list[Leg]:
     return legs
 
 
-def _coupling(mover: MC_PlanarMover, command: PlanarCommand, rider: Rider, legs: list[Leg],
+def _coupling(mover: MC_PlanarMover, command: PlanarCommand, legs: list[Leg],
               master_at: float, slave_track: MC_PlanarTrack, slave_sync: float,
-              constraint: Any, gap: float, tolerance: float,
-              directions: SyncDirections) -> Coupling:
+              constraint: Any, tolerance: float, directions: SyncDirections) -> Coupling:
     slave_sync = finite(slave_sync, "slaveSyncPosition")
     if not 0.0 <= slave_sync <= slave_track.length:
         raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
                               f"slaveSyncPosition {slave_sync:g} is off {slave_track.name} "
                               f"(0 to {slave_track.length:g} mm)")
-    del gap
     base = next(leg.base for leg in legs if leg.track is slave_track)
     p = mover.parameters
     limits = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
@@ -216,7 +213,6 @@ def _coupling(mover: MC_PlanarMover, command: PlanarCommand, rider: Rider, legs:
                     slave_sync_position=base + slave_sync, strategy=SyncStrategy.EARLY,
                     start_distance=None, limits=limits, after_sync=limits)
     end = legs[-1].base + legs[-1].track.length
-    del rider
     return Coupling(sync, tolerance=tolerance, low=0.0, high=end, directions=directions)
 
 

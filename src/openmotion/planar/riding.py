@@ -135,7 +135,7 @@ def move_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
                               command.warnings)
     traffic = traffic_of(mover._system)
     here, s, _, _ = traffic.position(rider)
-    route, target = _route(traffic, here, s, track, position, options)
+    route, target = _route(here, s, track, position, options)
     limits = _curve_limits(limits, [leg.track for leg in route])
     _reserve_bands(mover, [leg.track for leg in route])
     traffic.ride(rider, route, target, limits, options.gap, command, mover._system.previous)
@@ -267,11 +267,10 @@ def _free_move(mover: MC_PlanarMover, goal: tuple[float, ...], limits: Limits,
     return profiles
 
 
-def _route(traffic: object, here: MC_PlanarTrack, s: float, track: MC_PlanarTrack,
-           position: float, options: ST_MoveOnTrackOptions) -> tuple[list[Leg], float]:
+def _route(here: MC_PlanarTrack, s: float, track: MC_PlanarTrack, position: float,
+           options: ST_MoveOnTrackOptions) -> tuple[list[Leg], float]:
     """The legs to ``position`` on ``track`` and the odometer target (the current track
     starts at 0). Modulo directions apply on a closed loop only (§6.1.9)."""
-    del traffic
     loop = here.closed_loop
     direction = options.direction
     if track is here and direction is not ModuloDirection.NON_MODULO:

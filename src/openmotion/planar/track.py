@@ -24,7 +24,7 @@ from openmotion.geometry.track_elements import TrackPose
 from openmotion.planar.enums import PlanarObjectType, PlanarState, TrackOperationMode
 from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand, PlanarObjectInfo
 from openmotion.planar.frames import Pose, cos_sin
-from openmotion.planar.network import END, START, TrackNetwork
+from openmotion.planar.network import END, START
 from openmotion.planar.options import (
     CDT_MCTOPLC_PLANAR_TRACK_STD,
     ST_EndAtTrackAdvancedOptions,
@@ -56,7 +56,7 @@ class MC_PlanarTrack(StatefulObject):
                  part_oid: int = 0) -> None:
         system = PlanarSystem.of(runtime)
         super().__init__(system, system.next_oid("object"))
-        self.name = name or f"track{len(_network(system).tracks) + 1}"
+        self.name = name or f"track{len(network_of(system).tracks) + 1}"
         for value, label in ((max_mover_width, "max_mover_width"),
                              (max_mover_height, "max_mover_height")):
             if not (math.isfinite(value) and value > 0.0):
@@ -70,7 +70,7 @@ class MC_PlanarTrack(StatefulObject):
         self.part_oid = part_oid  #: the part the track belongs to (0: the only one, or none)
         self.collision_ranges: tuple[float, float] = collision_ranges or (
             TRACK_COLLISION_RANGE, TRACK_COLLISION_RANGE)
-        self.network = _network(system)
+        self.network = network_of(system)
         self.index = self.network.add(self)
         self.path = TrackPath()
         #: (end, start, condition): condition None for a link on one part, else
@@ -473,7 +473,3 @@ class Link(NamedTuple):
     other_part: int
     other_index: int
     only: bool
-
-
-def _network(system: PlanarSystem) -> TrackNetwork:
-    return network_of(system)

@@ -136,6 +136,10 @@ class Traffic:
         self._arrays(0)
         self._pairs: Pairs | None = None
         self._env: tuple[np.ndarray, np.ndarray] | None = None
+        self.table: Any = None  #: the planar system's SegmentTable (set by traffic_of)
+        self._now = 0.0
+        #: odometer bounds (low, high) of the riders kept out of a switch zone last cycle
+        self._stop_lines: dict[int, tuple[float, float]] = {}
 
     def _arrays(self, n: int) -> None:
         self.p, self.v, self.a = np.zeros(n), np.zeros(n), np.zeros(n)
@@ -308,7 +312,7 @@ class Traffic:
             command.started()
 
     def gear(self, rider: Rider, route: list[Leg], coupling: Any, gap: float,
-             command: PlanarCommand, now: float) -> None:
+             command: PlanarCommand) -> None:
         """Start a gear-in: the rider follows ``coupling`` (gearing.py) along ``route``."""
         k = rider.slot
         shift = route[0].base - float(self.base[k])
@@ -320,7 +324,6 @@ class Traffic:
         self._load(rider)
         self.mode[k] = GEAR
         self._dirty()
-        del now
         command.started()
 
     def _abort(self, rider: Rider, message: str) -> None:
@@ -347,8 +350,6 @@ class Traffic:
         self._dirty()
 
     # -- the cycle -------------------------------------------------------------------------------
-
-    table: Any = None  #: the planar system's SegmentTable (set by the system)
 
     def advance(self, now: float, values: list[np.ndarray]) -> None:
         """Phase 2: proposals, the gap filter, the switch zones, transitions, setpoints.
@@ -744,8 +745,6 @@ class Traffic:
             room_lo[k], room_hi[k] = max(room_lo[k], low), min(room_hi[k], high)
         return room_lo, room_hi
 
-    _now: float = 0.0
-
     def _keep_out(self, nxt: list[np.ndarray], lo: np.ndarray, hi: np.ndarray,
                   braking: np.ndarray) -> np.ndarray:
         """The switch rule (§6.2.2): a rider whose next step would take its brake envelope
@@ -770,8 +769,6 @@ class Traffic:
                                                   nxt[2][slots], self.bdec[slots],
                                                   self.bjerk[slots])
         return slots
-
-    _stop_lines: dict[int, tuple[float, float]] = {}  # noqa: RUF012 - replaced per cycle
 
     def _zone_lines(self, lo: np.ndarray, hi: np.ndarray) -> dict[int, tuple[float, float]]:
         """Odometer bounds (low, high) of the riders kept out of a switch zone this cycle.
