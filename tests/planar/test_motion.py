@@ -15,19 +15,21 @@ from ruckig import InputParameter, Ruckig, RuckigError, Trajectory
 
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar import motion as motion_module
+from openmotion.planar.area_kernels import straight_runs
 from openmotion.planar.motion import (
     PlanarMotion,
     PositionLimits,
+    _positions,
+    _positions_at,
     plan_axis_move,
     plan_halt,
     plan_move_to_position,
     plan_position,
-    poses_at,
     rest_to_rest_time,
     running,
-    sample_path,
     sample_times,
 )
+from openmotion.planar.reservation import RELEASE_STEP, travel_runs
 from openmotion.planar.rotation import CWindows
 from openmotion.trajectory.evaluate import SegmentTable
 from openmotion.trajectory.plan import Limits
@@ -432,13 +434,22 @@ def _plans(draw: st.DrawFn) -> tuple[list[tuple[Profile, float]], float]:
     return plans, start
 
 
-@given(plans=_plans(), picks=st.lists(st.integers(0, 10**6), min_size=1, max_size=6))
-def test_poses_at_a_few_sample_times_are_sample_paths_numbers(plans, picks):
-    """Equivalence: the times of ``sample_path`` are ``sample_times`` of the running plans,
-    and ``poses_at`` gives its rows bit for bit (the straight-path area reads only those)."""
+@given(plans=_plans(), distance=st.floats(0.0, 900.0), c_in_grid=st.booleans())
+def test_straight_runs_are_the_sampled_numbers_of_the_straight_area(plans, distance, c_in_grid):
+    """Equivalence, bit for bit: the compiled ``straight_runs`` gives the ``sample_times`` of
+    the arc length s (and c), the ``travel_runs`` of s at them, and the x, y, c of the plans
+    at the run ends as ``sample_path`` evaluates them (a resting plan: its end)."""
     plans, start = plans
-    samples, path = sample_path(plans, start, 0.01)
-    times = sample_times([plan for plan in plans if running(plan, start)], start, 0.01)
-    assert np.array_equal(times - start, samples)
-    index = sorted({pick % len(times) for pick in picks})
-    assert np.array_equal(np.array(poses_at(plans, start, times[index].tolist())), path[index])
+    s = plan_position(KinematicState(0.0), distance, XY)
+    (x, tx), (y, ty), (c, tc) = plans
+    moving = [running(plan, start) for plan in plans]
+    samples, ends, poses = straight_runs(s.data, x.data, y.data, c.data, np.array((tx, ty, tc)),
+                                         np.array(moving), c_in_grid, start, 0.01, RELEASE_STEP)
+    grid = [(s, start), *([(c, tc)] if c_in_grid else [])]
+    times = sample_times(grid, start, 0.01)
+    assert np.array_equal(samples, times - start)
+    assert np.array_equal(ends, travel_runs(_positions(s, samples), RELEASE_STEP)[1])
+    at = times[[0, *ends.tolist()]]
+    for k, plan in enumerate(plans):
+        expected = _positions_at([plan], at)[0] if moving[k] else np.full(at.size, plan[0].p[-1])
+        assert np.array_equal(poses[:, k], expected)

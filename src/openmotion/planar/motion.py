@@ -28,7 +28,6 @@ default): MoveToPosition has no modulo options.
 from __future__ import annotations
 
 import math
-from bisect import bisect_right
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -151,28 +150,6 @@ def sample_times(plans: Sequence[tuple[Profile, float]], start: float, time_step
     keep[0] = True
     np.greater(times[1:] - times[:-1], 1e-12, out=keep[1:])
     return times[keep]
-
-
-def poses_at(plans: Sequence[tuple[Profile, float]], start: float, times: Sequence[float]
-             ) -> list[list[float]]:
-    """Positions (one per plan) at a few absolute ``times``, as ``sample_path`` computes them:
-    a row per time."""
-    columns = []
-    for profile, t0 in plans:
-        if not running((profile, t0), start):
-            columns.append([float(profile.p[-1])] * len(times))
-            continue
-        t, p, v, a, j = profile.data.tolist()
-        column = []
-        for time in times:
-            dt = time - t0
-            if dt < 0.0:
-                dt = 0.0
-            k = max(bisect_right(t, dt) - 1, 0)
-            dt -= t[k]
-            column.append(p[k] + dt * (v[k] + dt * (a[k] / 2.0 + dt * j[k] / 6.0)))
-        columns.append(column)
-    return [list(row) for row in zip(*columns, strict=True)]
 
 
 def _positions_at(plans: Sequence[tuple[Profile, float]], times: np.ndarray) -> np.ndarray:

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.planar.area_kernels import straight_runs
 from openmotion.planar.enums import (
     CoordinateMode,
     ExternalSetPositionMode,
@@ -39,15 +40,12 @@ from openmotion.planar.frames import Pose
 from openmotion.planar.gearing import gear_in_pos_on_track, gear_in_pos_on_track_with_master_mover
 from openmotion.planar.motion import (
     PositionLimits,
-    _positions,
     plan_axis_move,
     plan_halt,
     plan_move_c,
     plan_move_to_position,
-    poses_at,
     running,
     sample_path,
-    sample_times,
 )
 from openmotion.planar.options import (
     CDT_MCTOPLC_PLANAR_MOVER,
@@ -80,7 +78,6 @@ from openmotion.planar.reservation import (
     footprint_area,
     straight_swept_area,
     swept_area,
-    travel_runs,
 )
 from openmotion.planar.riding import (
     adopt_track_orientation,
@@ -641,11 +638,11 @@ class MC_PlanarMover(StatefulObject):
         turning = running(plans[2], start)
         if straight is not None and ("c" in profiles or not turning or monotonic(plans[2][0])):
             # x and y have the corners of their arc length s
-            times = sample_times([(straight, start), *(plans[2:] if turning else ())], start,
-                                 step)
-            samples = times - start
-            _, ends = travel_runs(_positions(straight, samples), RELEASE_STEP)
-            poses = poses_at(plans, start, times[[0, *ends.tolist()]].tolist())
+            (x, tx), (y, ty), (c, tc) = plans
+            samples, ends, poses = straight_runs(
+                straight.data, x.data, y.data, c.data, np.array((tx, ty, tc)),
+                np.array([running(plan, start) for plan in plans]), turning, start, step,
+                RELEASE_STEP)
             area = straight_swept_area(poses, ends, width, height)
             if area is not None:
                 return samples, area

@@ -50,12 +50,14 @@ Touching is not meeting: areas that share only edges or corners do not block eac
 
 Speed: the boxes of all members' pieces sit in one numpy array, updated in place on every
 change, so an admission check is one vectorised bounding-box scan, then a plain-Python box test
-of each piece against the few slots near, then the exact shapely test (``intersects`` and not
-``touches``) on the candidates in member order, stopping at the first meeting. An STRtree would
-need a rebuild after every accepted command and every release. A piece's polygon is built when
-an exact test first needs it (``SweptArea.piece``): its bounds come exactly from the numbers it
-is made of, and most pieces never meet another member's box. A surface that is one rectangle
-covers a piece exactly when it covers the piece's bounds.
+of each piece against the few slots near, then the exact test (interiors meet: shapely's
+``intersects`` and not ``touches``) on the candidates in member order, stopping at the first
+meeting. An STRtree would need a rebuild after every accepted command and every release. A
+piece's outline is computed when an exact test first needs it (``SweptArea.outline``): its
+bounds come exactly from the numbers it is made of, and most pieces never meet another member's
+box. Two convex outlines (footprints, the pieces of straight moves) are compared by compiled
+separating edges (``area_kernels.interiors_meet``); other pieces by shapely. A surface that is
+one rectangle covers a piece exactly when it covers the piece's bounds.
 """
 
 from __future__ import annotations
@@ -64,7 +66,6 @@ import math
 from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from functools import cached_property
-from itertools import pairwise
 from operator import itemgetter
 from typing import NamedTuple
 
@@ -74,6 +75,7 @@ from shapely.geometry import Polygon
 from shapely.geometry.base import BaseGeometry
 
 from openmotion.core.errors import ConfigError
+from openmotion.planar import area_kernels as kernels
 from openmotion.planar.enums import PlanarObjectType
 from openmotion.planar.frames import cos_sin
 
@@ -120,8 +122,9 @@ def footprint_area(x: float, y: float, c: float = 0.0, width: float = MOVER_WIDT
     corners = ((-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy))
     xs = [x + cos * u - sin * v for u, v in corners]  # footprint's numbers: its bounds
     ys = [y + sin * u + cos * v for u, v in corners]
+    outline = np.array([xs, ys]).T
     return SweptArea.from_bounds(np.array([(min(xs), min(ys), max(xs), max(ys))]), [NEVER],
-                                 lambda _: footprint(x, y, c, width, height, margin))
+                                 lambda _: outline)
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,16 +136,19 @@ class SweptArea:
     ``keys[i]`` in all four; ``key`` is the same for all pieces together. They are computed
     here, with the area, so that the admission check only compares.
 
-    A piece given by its bounds and a way to build it (``from_bounds``) becomes a polygon only
-    when it is first needed (``piece``): the admission check compares boxes first, and few
-    pieces ever meet a box of another member."""
+    A piece given by its bounds and a way to compute its vertices (``from_bounds``) gets them
+    only when it is first needed (``outline``), and becomes a shapely polygon only when a view
+    or a non-convex member asks (``piece``): the admission check compares boxes first, few
+    pieces ever meet a box of another member, and two outlines are compared compiled
+    (``area_kernels.interiors_meet``)."""
 
     until: np.ndarray  #: int64, the last path sample each piece covers
     bounds: np.ndarray  #: (n, 4) min x, min y, max x, max y of each piece [mm]
     keys: np.ndarray  #: (n, 4) query keys of the pieces
     key: np.ndarray  #: (4,) query key of the whole area
     polygons: np.ndarray  #: object array: each piece's polygon, None until it is built
-    build: Callable[[int], BaseGeometry] | None = None  #: piece i's polygon, when not built
+    outlines: np.ndarray | None = None  #: object array: each piece's vertices, None until made
+    vertices: Callable[[int], np.ndarray] | None = None  #: piece i's convex outline, ccw
 
     @classmethod
     def from_pieces(cls, pieces: np.ndarray, until: np.ndarray | list[int]) -> SweptArea:
@@ -152,11 +158,14 @@ class SweptArea:
 
     @classmethod
     def from_bounds(cls, bounds: np.ndarray, until: np.ndarray | list[int],
-                    build: Callable[[int], BaseGeometry]) -> SweptArea:
-        """Piece i is ``build(i)``, a polygon whose bounds are exactly ``bounds[i]``."""
+                    vertices: Callable[[int], np.ndarray]) -> SweptArea:
+        """Piece i is the convex polygon ``vertices(i)`` ((k, 2), counter-clockwise), whose
+        bounds are exactly ``bounds[i]``."""
         keys = bounds[:, _KEY_ORDER] * _FLIP
+        count = len(bounds)
         return cls(np.asarray(until, dtype=np.int64), bounds, keys, keys.max(axis=0),
-                   np.full(len(bounds), None, dtype=object), build)
+                   np.full(count, None, dtype=object), np.full(count, None, dtype=object),
+                   vertices)
 
     @property
     def pieces(self) -> np.ndarray:
@@ -169,8 +178,18 @@ class SweptArea:
         """Piece ``i`` as a shapely polygon (built when it is first needed)."""
         polygon = self.polygons[i]
         if polygon is None:
-            polygon = self.polygons[i] = self.build(i)  # type: ignore[misc]
+            polygon = self.polygons[i] = shapely.polygons(self.outline(i))
         return polygon
+
+    def outline(self, i: int) -> np.ndarray | None:
+        """Piece ``i``'s vertices, counter-clockwise, when it is known convex (a piece given by
+        its bounds); None for a piece given as a polygon."""
+        if self.outlines is None:
+            return None
+        vertices = self.outlines[i]
+        if vertices is None:
+            vertices = self.outlines[i] = self.vertices(i)  # type: ignore[misc]
+        return vertices
 
     @classmethod
     def from_geometry(cls, geometry: BaseGeometry) -> SweptArea:
@@ -247,7 +266,7 @@ def _straight(xy: np.ndarray) -> bool:
     return bool((along[1:] - along[:-1]).min() >= -NOISE)
 
 
-def straight_swept_area(poses: list[list[float]], until: np.ndarray | list[int],
+def straight_swept_area(poses: np.ndarray | list[list[float]], until: np.ndarray | list[int],
                         width: float = MOVER_WIDTH, height: float = MOVER_HEIGHT,
                         margin: float = 0.0) -> SweptArea | None:
     """The area of a centre running forward on one straight line through ``poses`` (m + 1
@@ -256,10 +275,10 @@ def straight_swept_area(poses: list[list[float]], until: np.ndarray | list[int],
     ``swept_area`` gives for the samples of such a path, built from the run ends alone; None
     when a run turns more than ``_STRAIGHT_SPAN`` (then ``swept_area`` on samples)."""
     _check_size(width, height, margin)
-    turns = list(pairwise(c for _, _, c in poses))
-    return _line_pieces([(x, y) for x, y, _ in poses], [min(t) for t in turns],
-                        [max(t) for t in turns], until,
-                        (width / 2 + margin, height / 2 + margin))
+    poses = np.asarray(poses, dtype=float)
+    c = poses[:, 2]
+    return _line_pieces(poses[:, :2], np.minimum(c[:-1], c[1:]), np.maximum(c[:-1], c[1:]),
+                        until, (width / 2 + margin, height / 2 + margin))
 
 
 def _straight_area(xy: np.ndarray, c: np.ndarray, starts: np.ndarray, ends: np.ndarray,
@@ -267,14 +286,14 @@ def _straight_area(xy: np.ndarray, c: np.ndarray, starts: np.ndarray, ends: np.n
     """Pieces for sampled centres on a straight line (``_line_pieces``), with each run's
     lowest and highest c."""
     if (c == c[0]).all():
-        low = high = [float(c[0])] * len(starts)
+        low = high = np.full(len(starts), c[0])
     else:
-        low = np.minimum(np.minimum.reduceat(c, starts), c[ends]).tolist()
-        high = np.maximum(np.maximum.reduceat(c, starts), c[ends]).tolist()
-    return _line_pieces(xy[np.concatenate(([0], ends))].tolist(), low, high, ends, half)
+        low = np.minimum(np.minimum.reduceat(c, starts), c[ends])
+        high = np.maximum(np.maximum.reduceat(c, starts), c[ends])
+    return _line_pieces(xy[np.concatenate(([0], ends))], low, high, ends, half)
 
 
-def _line_pieces(points: list, low: list[float], high: list[float],
+def _line_pieces(points: np.ndarray, low: np.ndarray, high: np.ndarray,
                  until: np.ndarray | list[int], half: tuple[float, float]) -> SweptArea | None:
     """Pieces for a centre on a straight line: run j runs from ``points[j]`` to
     ``points[j + 1]`` turning within [``low[j]``, ``high[j]``]; its piece is K + segment,
@@ -287,62 +306,21 @@ def _line_pieces(points: list, low: list[float], high: list[float],
     1.5 %; the general cover, which hulls every sample, is tighter for big turns).
 
     A piece's bounds are those of the two ends grown by K's reach in x and y, which are
-    exactly the bounds of its hull; the hull itself is built when it is first needed."""
-    first = low[0]
-    translation = all(a == first and b == first for a, b in zip(low, high, strict=True))
-    if translation:
-        reaches = [_reach(first, half)] * len(low)
-    elif max(b - a for a, b in zip(low, high, strict=True)) > _STRAIGHT_SPAN:
+    exactly the bounds of its hull; the hull itself is built when it is first needed. Both
+    are compiled (``area_kernels``): a MoveToPosition computes them in the cycle it starts."""
+    if float((high - low).max()) > _STRAIGHT_SPAN:
         return None
-    else:
-        reaches = []
-        for a, b in zip(low, high, strict=True):
-            (ax, ay), (bx, by) = _reach(a, half), _reach(b, half)
-            if b - a > NOISE:
-                out = math.cos(math.radians(b - a) / 2.0)
-                mx, my = _reach((a + b) / 2.0, half)
-                ax, ay = max(ax, mx / out), max(ay, my / out)
-            reaches.append((max(ax, bx), max(ay, by)))
-    bounds = [(min(x0, x1) - rx, min(y0, y1) - ry, max(x0, x1) + rx, max(y0, y1) + ry)
-              for ((x0, y0), (x1, y1)), (rx, ry) in zip(pairwise(points), reaches, strict=True)]
+    points = np.ascontiguousarray(points, dtype=float)
+    low, high = np.ascontiguousarray(low, dtype=float), np.ascontiguousarray(high, dtype=float)
+    hx, hy = half
+    bounds = kernels.line_piece_bounds(points, low, high, hx, hy, NOISE)
 
-    def build(i: int) -> BaseGeometry:
+    def vertices(i: int) -> np.ndarray:
         """Piece ``i``: the hull of K at both ends of run i."""
-        a, b = low[i], high[i]
-        shape = _turned_corners(a, half)
-        if not translation:  # the corners at the lowest and highest c and the apexes
-            lowest = shape
-            shape = lowest + _turned_corners(b, half)
-            if b - a > NOISE:
-                out = math.cos(math.radians(b - a) / 2.0)
-                shape += [u / out for u in _turned_corners((a + b) / 2.0, half)]
-            else:  # no turn: the lowest angle's corners once more
-                shape += lowest
-        corners = np.array(shape).reshape(-1, 2)
-        cloud = np.concatenate((corners + points[i], corners + points[i + 1]))
-        return shapely.convex_hull(shapely.linestrings(cloud))
+        return kernels.line_piece_hull(points[i, 0], points[i, 1], points[i + 1, 0],
+                                       points[i + 1, 1], low[i], high[i], hx, hy, NOISE)
 
-    return SweptArea.from_bounds(np.array(bounds), until, build)
-
-
-def _reach(c: float, half: tuple[float, float]) -> tuple[float, float]:
-    """How far the corners of a footprint turned by ``c`` [deg] reach from its centre in x
-    and in y: the largest corner coordinates of ``_turned_corners``, exactly (its smallest
-    are their negatives)."""
-    cos, sin = cos_sin(c)
-    cos, sin = abs(cos), abs(sin)
-    hx, hy = half
-    return cos * hx + sin * hy, sin * hx + cos * hy
-
-
-def _turned_corners(c: float, half: tuple[float, float]) -> list[float]:
-    """x0, y0, ..., y3 of the four corners (ccw from (-hx, -hy)) of a footprint about the
-    origin turned by ``c`` [deg], exact at quarter turns: (cos u - sin v, sin u + cos v)
-    written out for u = -hx, hx and v = -hy, hy."""
-    cos, sin = cos_sin(c)
-    hx, hy = half
-    cu, cv, su, sv = cos * hx, cos * hy, sin * hx, sin * hy
-    return [-cu + sv, -su - cv, cu + sv, su - cv, cu - sv, su + cv, -cu - sv, -su + cv]
+    return SweptArea.from_bounds(bounds, until, vertices)
 
 
 def _check_size(width: float, height: float, margin: float) -> None:
@@ -564,8 +542,8 @@ class ReservationRegistry:
 
         The whole area's box against every slot, vectorised; then, for the few slots near,
         each piece's box in plain Python, and the exact test pair by pair in rank order,
-        stopping at the first meeting (scalar shapely calls beat its ufuncs for a handful of
-        pairs)."""
+        stopping at the first meeting: compiled for two convex outlines, else shapely's
+        scalar calls (they beat its ufuncs for a handful of pairs)."""
         hits = _below(self._box, swept.key)
         for slots in excluded:
             hits[slots] = False
@@ -582,7 +560,13 @@ class ReservationRegistry:
                      if b0 < k0 and b1 < k1 and b2 < k2 and b3 < k3]
         pairs.sort(key=_RANK)  # stable: piece by piece, slot by slot within a rank
         for rank, i, j in pairs:
-            mine, theirs = swept.piece(i), self._piece(j)
+            area, index = self._piece_of[j]  # type: ignore[misc]
+            mine, theirs = swept.outline(i), area.outline(index)
+            if mine is not None and theirs is not None:  # two convex outlines: compiled
+                if kernels.interiors_meet(mine, theirs):
+                    return rank
+                continue
+            mine, theirs = swept.piece(i), area.piece(index)
             if mine.intersects(theirs) and not mine.touches(theirs):
                 return rank
         return None

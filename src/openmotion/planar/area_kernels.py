@@ -1,0 +1,270 @@
+"""Compiled loops of the planar group's admission (numba): a straight move's runs, its pieces,
+and the exact test of two convex pieces.
+
+A MoveToPosition asks the group for its swept area in the cycle it is executed; a hundred movers
+send several per cycle. In numpy and shapely the cost of that request is the number of calls on
+arrays of a few dozen numbers, not the arithmetic, so these loops do the arithmetic in one
+compiled pass each (docs/planar.md, "Speed"). They compute what ``motion.sample_times``,
+``motion.sample_path``, ``reservation.travel_runs`` and shapely's ``intersects`` / ``touches``
+do, with the same formulas in the same order (the tests hold them to it, bit for bit).
+
+Exact test. Two convex polygons, vertices counter-clockwise, meet (share interior points, not
+only boundary) unless one of the edges of either has every vertex of the other on its outer
+side or on its line: convex sets with disjoint interiors are separated by a line through an edge
+of one of them. The side of a vertex is the sign of a cross product of coordinate differences;
+it is exactly zero where a vertex lies on an axis-parallel edge, the case of footprints that
+stand edge to edge on the stator grid. Elsewhere shapely's robust predicates and these agree
+except within rounding of the coordinates themselves (~1e-13 mm).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+_DEDUPE = 1e-12  #: [s] sample times closer than this to the one before are dropped
+
+
+@njit(cache=True, error_model="numpy")
+def _position(data: NDArray[np.float64], time: float) -> float:
+    """Position of profile ``data`` (t, p, v, a, j rows) at ``time`` after its start."""
+    t = data[0]
+    k = np.searchsorted(t, time, side="right") - 1
+    if k < 0:
+        k = 0
+    dt = time - t[k]
+    return data[1, k] + dt * (data[2, k] + dt * (data[3, k] / 2.0 + dt * data[4, k] / 6.0))
+
+
+@njit(cache=True, error_model="numpy")
+def _plan_position(data: NDArray[np.float64], t0: float, running: bool, time: float) -> float:
+    """One plan started at ``t0``, as ``motion.sample_path`` evaluates it: its position at the
+    absolute ``time`` (its start position before t0), or its end when it is not ``running``."""
+    if not running:
+        return data[1, data.shape[1] - 1]
+    dt = time - t0
+    return _position(data, dt if dt > 0.0 else 0.0)
+
+
+@njit(cache=True, error_model="numpy")
+def straight_runs(s: NDArray[np.float64], x: NDArray[np.float64], y: NDArray[np.float64],
+                  c: NDArray[np.float64], t0s: NDArray[np.float64], running: NDArray[np.bool_],
+                  c_in_grid: bool, start: float, step: float, release_step: float
+                  ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]:
+    """Sample times after ``start`` [s], the last sample of each run of ``release_step`` [mm]
+    of travel, and the poses at sample 0 and at each run's end, of a centre that runs forward
+    on a line with arc length ``s`` (profile data: t, p, v, a, j rows) started at ``start``.
+
+    The samples are ``sample_times`` of s (and of ``c`` when ``c_in_grid``); the runs are
+    ``travel_runs`` of s at the samples; the poses come from the ``x``, ``y`` and ``c``
+    profiles started at ``t0s`` (three times), each resting at its end unless ``running``."""
+    c_t0 = t0s[2]
+    end = start + s[0, s.shape[1] - 1]
+    if c_in_grid:
+        end = max(end, c_t0 + c[0, c.shape[1] - 1])
+    span = end - start
+    if span < 0.0:
+        span = 0.0
+    count = int(math.ceil(span / step)) + 1
+    extra = s.shape[1] + (c.shape[1] if c_in_grid else 0) + 1
+    times = np.empty(count + extra)
+    n = 0
+    for i in range(count):
+        times[n] = start + i * step
+        n += 1
+    for i in range(s.shape[1]):
+        value = start + s[0, i]
+        if value > start:
+            times[n] = value
+            n += 1
+    if c_in_grid:
+        for i in range(c.shape[1]):
+            value = c_t0 + c[0, i]
+            if value > start:
+                times[n] = value
+                n += 1
+    times[n] = end
+    n += 1
+    times = np.sort(times[:n])
+    n = np.searchsorted(times, end, side="right")
+    samples = np.empty(n)
+    kept = 0
+    for i in range(n):
+        if i == 0 or times[i] - times[i - 1] > _DEDUPE:
+            samples[kept] = times[i] - start
+            kept += 1
+    samples = samples[:kept]
+    marks = np.empty(kept, dtype=np.int64)
+    runs = 0
+    previous = math.floor(_position(s, samples[0]) / release_step)
+    for i in range(1, kept):
+        piece = math.floor(_position(s, samples[i]) / release_step)
+        if piece != previous:
+            marks[runs] = i
+            runs += 1
+        previous = piece
+    if runs == 0 or marks[runs - 1] != kept - 1:
+        marks[runs] = kept - 1
+        runs += 1
+    ends = marks[:runs]
+    poses = np.empty((runs + 1, 3))
+    for row in range(runs + 1):
+        time = start + (samples[0] if row == 0 else samples[ends[row - 1]])
+        poses[row, 0] = _plan_position(x, t0s[0], running[0], time)
+        poses[row, 1] = _plan_position(y, t0s[1], running[1], time)
+        poses[row, 2] = _plan_position(c, c_t0, running[2], time)
+    return samples, ends, poses
+
+
+@njit(cache=True, error_model="numpy")
+def _quarter_cos_sin(c: float) -> tuple[float, float]:
+    """``core.angles.cos_sin``: exact at multiples of 90 degrees."""
+    turns = math.floor(c / 90.0)
+    rest = c - turns * 90.0
+    if rest == 0.0:
+        quarter = int(turns) % 4
+        if quarter == 0:
+            return 1.0, 0.0
+        if quarter == 1:
+            return 0.0, 1.0
+        if quarter == 2:
+            return -1.0, 0.0
+        return 0.0, -1.0
+    radians = math.radians(c)
+    return math.cos(radians), math.sin(radians)
+
+
+@njit(cache=True, error_model="numpy")
+def _reach(c: float, hx: float, hy: float) -> tuple[float, float]:
+    cos, sin = _quarter_cos_sin(c)
+    cos, sin = abs(cos), abs(sin)
+    return cos * hx + sin * hy, sin * hx + cos * hy
+
+
+@njit(cache=True, error_model="numpy")
+def line_piece_bounds(points: NDArray[np.float64], low: NDArray[np.float64],
+                      high: NDArray[np.float64], hx: float, hy: float, noise: float
+                      ) -> NDArray[np.float64]:
+    """(m, 4) bounds of the m pieces of ``reservation._line_pieces``: run j from
+    ``points[j]`` to ``points[j + 1]`` turning within [``low[j]``, ``high[j]``] degrees."""
+    runs = low.shape[0]
+    bounds = np.empty((runs, 4))
+    for j in range(runs):
+        a, b = low[j], high[j]
+        ax, ay = _reach(a, hx, hy)
+        if a != b:
+            bx, by = _reach(b, hx, hy)
+            if b - a > noise:
+                out = math.cos(math.radians(b - a) / 2.0)
+                mx, my = _reach((a + b) / 2.0, hx, hy)
+                ax, ay = max(ax, mx / out), max(ay, my / out)
+            ax, ay = max(ax, bx), max(ay, by)
+        x0, y0, x1, y1 = points[j, 0], points[j, 1], points[j + 1, 0], points[j + 1, 1]
+        bounds[j, 0] = min(x0, x1) - ax
+        bounds[j, 1] = min(y0, y1) - ay
+        bounds[j, 2] = max(x0, x1) + ax
+        bounds[j, 3] = max(y0, y1) + ay
+    return bounds
+
+
+@njit(cache=True, error_model="numpy")
+def _turned_corners(c: float, hx: float, hy: float, scale: float,
+                    out: NDArray[np.float64], row: int) -> None:
+    """The four corners (ccw from (-hx, -hy)) of a footprint about the origin turned by c
+    [deg], times ``scale``, into ``out[row:row + 4]`` (``reservation._turned_corners``)."""
+    cos, sin = _quarter_cos_sin(c)
+    cu, cv, su, sv = cos * hx, cos * hy, sin * hx, sin * hy
+    out[row, 0], out[row, 1] = (-cu + sv) / scale, (-su - cv) / scale
+    out[row + 1, 0], out[row + 1, 1] = (cu + sv) / scale, (su - cv) / scale
+    out[row + 2, 0], out[row + 2, 1] = (cu - sv) / scale, (su + cv) / scale
+    out[row + 3, 0], out[row + 3, 1] = (-cu - sv) / scale, (-su + cv) / scale
+
+
+@njit(cache=True, error_model="numpy")
+def line_piece_hull(x0: float, y0: float, x1: float, y1: float, a: float, b: float,
+                    hx: float, hy: float, noise: float) -> NDArray[np.float64]:
+    """Vertices (ccw) of a piece of ``_line_pieces``: the hull of the footprint's corners at
+    the lowest and highest c and the apexes between, at both ends of the run."""
+    shape = np.empty((12, 2))
+    _turned_corners(a, hx, hy, 1.0, shape, 0)
+    count = 4
+    if a != b:
+        _turned_corners(b, hx, hy, 1.0, shape, 4)
+        count = 8
+        if b - a > noise:
+            _turned_corners((a + b) / 2.0, hx, hy, math.cos(math.radians(b - a) / 2.0),
+                            shape, 8)
+            count = 12
+    cloud = np.empty((2 * count, 2))
+    for i in range(count):
+        cloud[i, 0], cloud[i, 1] = shape[i, 0] + x0, shape[i, 1] + y0
+        cloud[count + i, 0], cloud[count + i, 1] = shape[i, 0] + x1, shape[i, 1] + y1
+    return convex_hull(cloud)
+
+
+@njit(cache=True, error_model="numpy")
+def _cross(ox: float, oy: float, ax: float, ay: float, bx: float, by: float) -> float:
+    return (ax - ox) * (by - oy) - (ay - oy) * (bx - ox)
+
+
+@njit(cache=True, error_model="numpy")
+def convex_hull(points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Vertices of the convex hull of ``points`` (k, 2), counter-clockwise, without collinear
+    points (Andrew's monotone chain)."""
+    sorted_points = points.copy()
+    n = sorted_points.shape[0]
+    for i in range(1, n):  # insertion sort by x, then y: a few dozen points
+        px, py = sorted_points[i, 0], sorted_points[i, 1]
+        j = i - 1
+        while j >= 0 and (sorted_points[j, 0] > px
+                          or (sorted_points[j, 0] == px and sorted_points[j, 1] > py)):
+            sorted_points[j + 1, 0], sorted_points[j + 1, 1] = \
+                sorted_points[j, 0], sorted_points[j, 1]
+            j -= 1
+        sorted_points[j + 1, 0], sorted_points[j + 1, 1] = px, py
+    hull = np.empty((2 * n, 2))
+    k = 0
+    for i in range(n):
+        px, py = sorted_points[i, 0], sorted_points[i, 1]
+        while k >= 2 and _cross(hull[k - 2, 0], hull[k - 2, 1], hull[k - 1, 0], hull[k - 1, 1],
+                                px, py) <= 0.0:
+            k -= 1
+        hull[k, 0], hull[k, 1] = px, py
+        k += 1
+    lower = k + 1
+    for i in range(n - 2, -1, -1):
+        px, py = sorted_points[i, 0], sorted_points[i, 1]
+        while k >= lower and _cross(hull[k - 2, 0], hull[k - 2, 1], hull[k - 1, 0],
+                                    hull[k - 1, 1], px, py) <= 0.0:
+            k -= 1
+        hull[k, 0], hull[k, 1] = px, py
+        k += 1
+    return hull[:k - 1].copy()
+
+
+@njit(cache=True, error_model="numpy")
+def _separates(edges: NDArray[np.float64], others: NDArray[np.float64]) -> bool:
+    """Whether the line of an edge of ``edges`` (ccw) has every vertex of ``others`` on its
+    outer side or on it."""
+    n = edges.shape[0]
+    for i in range(n):
+        ox, oy = edges[i, 0], edges[i, 1]
+        ax, ay = edges[(i + 1) % n, 0], edges[(i + 1) % n, 1]
+        outside = True
+        for q in range(others.shape[0]):
+            if _cross(ox, oy, ax, ay, others[q, 0], others[q, 1]) > 0.0:
+                outside = False
+                break
+        if outside:
+            return True
+    return False
+
+
+@njit(cache=True, error_model="numpy")
+def interiors_meet(first: NDArray[np.float64], second: NDArray[np.float64]) -> bool:
+    """Whether two convex polygons (vertices ccw) share interior points: shapely's
+    ``intersects and not touches`` for convex polygons."""
+    return not (_separates(first, second) or _separates(second, first))
