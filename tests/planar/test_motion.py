@@ -443,8 +443,9 @@ def test_straight_runs_are_the_sampled_numbers_of_the_straight_area(plans, dista
     s = plan_position(KinematicState(0.0), distance, XY)
     (x, tx), (y, ty), (c, tc) = plans
     moving = [running(plan, start) for plan in plans]
-    samples, ends, poses = straight_runs(s.data, x.data, y.data, c.data, np.array((tx, ty, tc)),
-                                         np.array(moving), c_in_grid, start, 0.01, RELEASE_STEP)
+    samples, ends, poses = straight_runs(s.data, x.data, tx, moving[0], y.data, ty, moving[1],
+                                         c.data, tc, moving[2], c_in_grid, start, 0.01,
+                                         RELEASE_STEP)
     grid = [(s, start), *([(c, tc)] if c_in_grid else [])]
     times = sample_times(grid, start, 0.01)
     assert np.array_equal(samples, times - start)

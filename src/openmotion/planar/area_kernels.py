@@ -50,9 +50,10 @@ def _plan_position(data: NDArray[np.float64], t0: float, running: bool, time: fl
 
 
 @njit(cache=True, error_model="numpy")
-def straight_runs(s: NDArray[np.float64], x: NDArray[np.float64], y: NDArray[np.float64],
-                  c: NDArray[np.float64], t0s: NDArray[np.float64], running: NDArray[np.bool_],
-                  c_in_grid: bool, start: float, step: float, release_step: float
+def straight_runs(s: NDArray[np.float64], x: NDArray[np.float64], x_t0: float, x_running: bool,
+                  y: NDArray[np.float64], y_t0: float, y_running: bool, c: NDArray[np.float64],
+                  c_t0: float, c_running: bool, c_in_grid: bool, start: float, step: float,
+                  release_step: float
                   ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]:
     """Sample times after ``start`` [s], the last sample of each run of ``release_step`` [mm]
     of travel, and the poses at sample 0 and at each run's end, of a centre that runs forward
@@ -60,8 +61,7 @@ def straight_runs(s: NDArray[np.float64], x: NDArray[np.float64], y: NDArray[np.
 
     The samples are ``sample_times`` of s (and of ``c`` when ``c_in_grid``); the runs are
     ``travel_runs`` of s at the samples; the poses come from the ``x``, ``y`` and ``c``
-    profiles started at ``t0s`` (three times), each resting at its end unless ``running``."""
-    c_t0 = t0s[2]
+    profiles started at their ``t0``, each resting at its end unless ``running``."""
     end = start + s[0, s.shape[1] - 1]
     if c_in_grid:
         end = max(end, c_t0 + c[0, c.shape[1] - 1])
@@ -113,9 +113,9 @@ def straight_runs(s: NDArray[np.float64], x: NDArray[np.float64], y: NDArray[np.
     poses = np.empty((runs + 1, 3))
     for row in range(runs + 1):
         time = start + (samples[0] if row == 0 else samples[ends[row - 1]])
-        poses[row, 0] = _plan_position(x, t0s[0], running[0], time)
-        poses[row, 1] = _plan_position(y, t0s[1], running[1], time)
-        poses[row, 2] = _plan_position(c, c_t0, running[2], time)
+        poses[row, 0] = _plan_position(x, x_t0, x_running, time)
+        poses[row, 1] = _plan_position(y, y_t0, y_running, time)
+        poses[row, 2] = _plan_position(c, c_t0, c_running, time)
     return samples, ends, poses
 
 

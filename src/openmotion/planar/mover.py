@@ -112,6 +112,7 @@ if TYPE_CHECKING:
 COORDINATES = ("x", "y", "z", "a", "b", "c")
 _GROUP_OF = {"x": "xy", "y": "xy", "z": "z", "a": "a", "b": "b", "c": "c"}
 _AREA = frozenset("xyc")  #: coordinates whose motion changes the footprint
+_STATE_COMMANDS = frozenset(StateCommand)
 _SAMPLE_CYCLES = 10  #: a path is sampled every this many cycles for its swept area
 _C = MoverCommand
 
@@ -370,7 +371,7 @@ class MC_PlanarMover(StatefulObject):
 
     def _execute(self, command: PlanarCommand) -> None:
         kind = command.kind
-        if kind in set(StateCommand):
+        if kind in _STATE_COMMANDS:
             environment = self._system.environment()
             if kind == StateCommand.RESET and environment is not None:
                 environment._reset_parts(self.coordinate_system)  # §6.6: parts first
@@ -640,8 +641,8 @@ class MC_PlanarMover(StatefulObject):
             # x and y have the corners of their arc length s
             (x, tx), (y, ty), (c, tc) = plans
             samples, ends, poses = straight_runs(
-                straight.data, x.data, y.data, c.data, np.array((tx, ty, tc)),
-                np.array([running(plan, start) for plan in plans]), turning, start, step,
+                straight.data, x.data, tx, running(plans[0], start), y.data, ty,
+                running(plans[1], start), c.data, tc, turning, turning, start, step,
                 RELEASE_STEP)
             area = straight_swept_area(poses, ends, width, height)
             if area is not None:

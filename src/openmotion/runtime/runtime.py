@@ -104,19 +104,22 @@ class Runtime:
 
     def _advance_motion(self) -> None:
         kernel, now = self._kernel, self.now
-        for row in kernel.overlay_ended(now).tolist():
-            self._axis_list[row]._on_superposition_end()
-        ended = kernel.ended(now)
-        if ended.size:
-            end = kernel.segments.end
-            for row in ended.tolist():
-                self._axis_list[row]._on_profile_end(float(end[row]))
+        if kernel.size:  # a machine of planar movers only has no single axes to advance
+            for row in kernel.overlay_ended(now).tolist():
+                self._axis_list[row]._on_superposition_end()
+            ended = kernel.ended(now)
+            if ended.size:
+                end = kernel.segments.end
+                for row in ended.tolist():
+                    self._axis_list[row]._on_profile_end(float(end[row]))
         kernel.evaluate(now)
         for advance in self._systems:
             advance(now)
 
     def _simulate_drives(self) -> None:
         kernel = self._kernel
+        if not kernel.size:
+            return
         kernel.simulate_drives()
         alarms = kernel.lag_alarms()
         if alarms.size:

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 from numpy.typing import ArrayLike
 
 
@@ -71,19 +72,7 @@ class Profile:
 
     def velocity_extrema(self) -> tuple[float, float]:
         """Lowest and highest velocity over the whole profile (segment ends and interior)."""
-        t, v, a, j = self.t.tolist(), self.v.tolist(), self.a.tolist(), self.j.tolist()
-        lo = hi = v[0]
-        for k in range(len(t) - 1):
-            dt = t[k + 1] - t[k]
-            v0, a0, jk = v[k], a[k], j[k]
-            end = v0 + dt * (a0 + dt * jk / 2.0)
-            lo, hi = min(lo, end), max(hi, end)
-            if jk != 0.0:
-                tm = -a0 / jk
-                if 0.0 < tm < dt:
-                    peak = v0 + tm * (a0 + tm * jk / 2.0)
-                    lo, hi = min(lo, peak), max(hi, peak)
-        return lo, hi
+        return _velocity_extrema(self.data)
 
     def position_extrema(self) -> tuple[float, float]:
         """Lowest and highest position over the whole profile (where velocity is zero)."""
@@ -127,3 +116,21 @@ def _roots_of_velocity(v0: float, a0: float, j: float) -> list[float]:
         return []
     root = disc ** 0.5
     return [(-a0 - root) / j, (-a0 + root) / j]
+
+
+@njit(cache=True, error_model="numpy")
+def _velocity_extrema(data: np.ndarray) -> tuple[float, float]:
+    """``Profile.velocity_extrema`` compiled: every plan asks it (does a motion turn back?)."""
+    t, v, a, j = data[0], data[2], data[3], data[4]
+    low = high = v[0]
+    for k in range(t.shape[0] - 1):
+        dt = t[k + 1] - t[k]
+        v0, a0, jk = v[k], a[k], j[k]
+        end = v0 + dt * (a0 + dt * jk / 2.0)
+        low, high = min(low, end), max(high, end)
+        if jk != 0.0:
+            tm = -a0 / jk
+            if 0.0 < tm < dt:
+                peak = v0 + tm * (a0 + tm * jk / 2.0)
+                low, high = min(low, peak), max(high, peak)
+    return low, high
