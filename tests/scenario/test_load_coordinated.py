@@ -310,3 +310,37 @@ def test_group_stop_holds_then_interrupt_and_continue_finish_the_move() -> None:
     rows = {row.id: row for row in result.commands}
     assert rows["stop"].ended_at == pytest.approx(0.5)  # Done at rest, held until 0.8
     assert rows["again"].ended_at > rows["resume"].issued_at
+
+
+CAM = """\
+name: cam
+axes: [{name: x}, {name: y}, {name: m}]
+axes_groups: [{name: xy, axes: [x, y]}]
+timeline:
+  - {id: sync, at: 0, group: xy, command: sync_group_to_axis, master: m,
+     path: [{line: [100, 0]}, {line: [100, 50]}], tuc_numerator: 2}
+  - {at: 0, axis: m, command: power}
+  - {id: go, at: 0.1, axis: m, command: move_absolute, position: TARGET, velocity: 50}
+checks:
+  - {command: go, result: done}
+"""
+
+
+@pytest.mark.parametrize(("target", "end"), [(40.0, (80.0, 0.0)), (100.0, (100.0, 50.0))])
+def test_sync_group_to_axis_follows_the_master_along_the_path_and_stops_at_its_end(
+        target: float, end: tuple[float, float]) -> None:
+    """MC_SyncGroupToAxis from a scenario (§6.4): the arc length is twice the master's travel,
+    at every cycle (the group takes on the master's acceleration x 2, above its own default
+    deceleration: that is no reason to run for the path's end); a master that goes on past
+    the end leaves the group standing exactly on it, still Busy."""
+    result = run_scenario(parse_scenario(CAM.replace("TARGET", str(target))))
+    assert result.passed, result.checks
+    rows = {row.id: row for row in result.commands}
+    assert rows["sync"].result == "BUSY"
+    trace = result.trace
+    s = 2.0 * trace["m.set_position"]
+    x, y = trace["xy.x"], trace["xy.y"]
+    following = s <= (100.0 if target < 50.0 else 50.0)  # before it brakes for the end
+    assert np.allclose(x[following], s[following], atol=1e-9)
+    assert np.all(y[following] == 0.0) and np.all(x <= 100.0) and np.all(y <= 50.0 + 1e-9)
+    assert (x[-1], y[-1]) == pytest.approx(end, abs=1e-9)

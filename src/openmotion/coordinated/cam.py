@@ -122,14 +122,16 @@ class CamLaw:
             profile = plan_stop(self._kinematic(), self.limits.deceleration, self.limits.jerk)
             return profile.at(self.dt)
         if self.mode is PathMode.NON_PERIODIC:
-            s, v, a, _ = proposal
-            stop = plan_stop(KinematicState(s, v, a), self.limits.deceleration,
-                             self.limits.jerk).end.position
+            s, v, a, j = proposal
+            # the group follows the master's acceleration and jerk (ratio x), which may be
+            # above the command's: it can brake at least as hard as it is moving now
+            deceleration = max(self.limits.deceleration, abs(a))
+            jerk = max(self.limits.jerk, abs(j))
+            stop = plan_stop(KinematicState(s, v, a), deceleration, jerk).end.position
             end = self.length if stop > self.length else 0.0 if stop < 0.0 else None
             if end is not None:
-                hard = Limits(max(abs(self.state[1]), self.limits.velocity),
-                              self.limits.deceleration, self.limits.deceleration,
-                              self.limits.jerk)
+                hard = Limits(max(abs(self.state[1]), self.limits.velocity), deceleration,
+                              deceleration, jerk)
                 try:
                     profile = plan_position(self._kinematic(), end, hard)
                 except CommandRejected:

@@ -163,7 +163,8 @@ class SweptArea:
         bounds are exactly ``bounds[i]``."""
         keys = bounds[:, _KEY_ORDER] * _FLIP
         count = len(bounds)
-        return cls(np.asarray(until, dtype=np.int64), bounds, keys, keys.max(axis=0),
+        return cls(np.asarray(until, dtype=np.int64), bounds, keys,
+                   keys.max(axis=0) if count > 1 else keys[0],
                    np.full(count, None, dtype=object), np.full(count, None, dtype=object),
                    vertices)
 

@@ -31,6 +31,7 @@ from pydantic import (
 )
 from pydantic_core import InitErrorDetails, PydanticCustomError
 
+from openmotion.coordinated.cam import PathMode
 from openmotion.coordinated.frames import CartesianTransform, Frame
 from openmotion.coordinated.inputs import CoordSystem, PathDynamics, TransitionMode
 from openmotion.coordinated.kinematics import (
@@ -66,6 +67,7 @@ TransitionModeName = _enum_by_name(TransitionMode)
 CircModeName = _enum_by_name(CircMode)
 PathChoiceName = _enum_by_name(PathChoice)
 ExecutionModeName = _enum_by_name(ExecutionMode)
+PathModeName = _enum_by_name(PathMode)
 Loc = tuple[str | int, ...]
 #: a position: one value per member axis (ACS) or per kinematics coordinate (MCS, PCS)
 Position = Annotated[list[Number], Field(min_length=1)]
@@ -650,15 +652,55 @@ class SyncAxisToGroup(AxesGroupEntry):
     """Of the slave while it syncs [mm/s²]; MC_DEFAULT: its default acceleration."""
 
 
+class SyncGroupToAxis(AxesGroupEntry):
+    """MC_PathSelect, then MC_SyncGroupToAxis (§5.26, §6.4) in the same cycle: the arc length
+    along ``path`` follows ``master``, s = tuc_numerator / tuc_denominator x (master - master
+    at the start); from standstill. Busy while it follows (``<id>.in_velocity``: InSync); a
+    non-periodic path stops at its end and waits. Does not keep an open-ended run going."""
+
+    method = "sync_group_to_axis"
+    command: Literal["sync_group_to_axis"]
+    axis_fields: ClassVar[tuple[str, ...]] = ("master",)
+    master: Annotated[StrictStr, AfterValidator(_check_axis)]
+    """The master axis."""
+    path: Annotated[list[PathElementSpec], Field(min_length=1)]
+    """The path description, as in move_path."""
+    select: PathSelectSpec = PathSelectSpec()
+    """MC_PathSelect's coord_system and corner contours."""
+    mode: PathModeName = PathMode.NON_PERIODIC  # type: ignore[valid-type]
+    """non_periodic (stop at the path's end) or periodic (the path must be closed)."""
+    tuc_numerator: Number = 1.0
+    """Path millimetres per ``tuc_denominator`` master units."""
+    tuc_denominator: Number = 1.0
+    """!= 0."""
+    acceleration: InputValue = MC_DEFAULT
+    """While it engages [mm/s²]."""
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³]."""
+
+    def description(self) -> list[dict[str, Any]]:
+        return [element.description() for element in self.path]
+
+    def arguments(self) -> dict[str, Any]:
+        arguments = super().arguments()
+        del arguments["path"], arguments["select"]
+        arguments["coord_system"] = self.select.coord_system
+        return arguments
+
+
 COORDINATED_ENTRIES: tuple[type, ...] = (
     MoveLinearAbsolute, MoveLinearRelative, MoveCircularAbsolute, MoveCircularRelative,
     MoveDirectAbsolute, MoveDirectRelative, MovePath, GroupInterrupt, GroupContinue,
     GroupSetOverride, GroupHome, GroupSetPosition, SetKinematics, SetCartesianTransform,
-    TrackConveyorBelt, TrackRotaryTable, SetDynCoordTransform, SyncAxisToGroup)
+    TrackConveyorBelt, TrackRotaryTable, SetDynCoordTransform, SyncAxisToGroup,
+    SyncGroupToAxis)
 #: the axes-group entries by their ``command`` (schema.TIMELINE_COMMANDS holds them all)
 COORDINATED_COMMANDS: dict[str, type] = {
     get_args(model.model_fields["command"].annotation)[0]: model
     for model in COORDINATED_ENTRIES}
 #: entries whose command stays Busy while it runs in the background: it does not keep an
 #: open-ended run going
-BACKGROUND = (TrackConveyorBelt, TrackRotaryTable, SetDynCoordTransform, SyncAxisToGroup)
+BACKGROUND = (TrackConveyorBelt, TrackRotaryTable, SetDynCoordTransform, SyncAxisToGroup,
+              SyncGroupToAxis)

@@ -25,6 +25,7 @@ from openmotion.scenario.coordinated import (
     AxesGroupEntry,
     AxesGroupSpec,
     MovePath,
+    SyncGroupToAxis,
     frame_of,
 )
 from openmotion.scenario.programs import cycle_of
@@ -97,7 +98,7 @@ class AxesGroups:
             arguments[name] = rt.axes[arguments[name]]
         for name in entry.group_fields:
             arguments[name] = self.groups[arguments[name]]
-        if isinstance(entry, MovePath):
+        if isinstance(entry, MovePath | SyncGroupToAxis):
             select = entry.select
             try:
                 arguments["path"] = select_path(group, entry.description(), select.coord_system,
