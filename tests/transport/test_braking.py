@@ -30,8 +30,11 @@ def test_brake_state_is_the_planned_stop(state, fraction) -> None:
     got = brake_state(*(np.array([x]) for x in state), t)[:3]  # the jerk of an instant on
     want = stop.at(t)[:3]  # a phase boundary is either phase's: compare p, v, a
     scale = max(1.0, abs(p), abs(v), abs(a) * 1e-3)
-    for g, w, name in zip(got, want, ("p", "v", "a"), strict=True):
-        assert abs(float(g[0]) - w) <= 1e-9 * scale, (name, float(g[0]), w)
+    # the planner drops phases under 1e-12 s: an acceleration a jerk takes away within one
+    # (a <= jerk x 1e-12) is left out of its profile, so a is compared to the deceleration
+    for g, w, name, size in zip(got, want, ("p", "v", "a"), (scale, scale, max(scale, dec)),
+                                strict=True):
+        assert abs(float(g[0]) - w) <= 1e-9 * size, (name, float(g[0]), w)
 
 
 @settings(deadline=None, max_examples=300)
