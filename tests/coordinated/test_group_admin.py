@@ -42,6 +42,7 @@ from openmotion.coordinated.inputs import CoordSystem
 from openmotion.coordinated.kinematics import CartesianGantry
 from openmotion.coordinated.states import AxesGroupState
 from openmotion.core.enums import AxisState, BufferMode, ReferenceMode
+from openmotion.plcopen.stop import MC_Stop
 
 G = AxesGroupState
 S = AxisState
@@ -633,7 +634,7 @@ def test_rules52_53_69_reset_clears_the_group_error_and_leaves_other_fbs_alone()
     assert read.valid and read.group_error_id is ErrorId.GROUP_ERROR
     assert move.error and move.error_id is ErrorId.GROUP_ERROR
     drive(rt, move, read, until=lambda: np.all(set_velocities(group) == 0.0))
-    member_reset = axes[1].reset()  # MC_Reset of the member first (see the xfail below)
+    member_reset = axes[1].reset()  # MC_Reset of the member first
     rt.run_until(member_reset, timeout=1.0)
     reset(execute=True)
     read()
@@ -685,12 +686,14 @@ def test_rule56_group_home_is_homing_then_standby_at_the_position_input():
     assert all(a.homed for a in axes)
 
 
-@pytest.mark.xfail(reason="Table 5 and D-104: members of a homing group show "
-                   "SynchronizedMotion; AxesGroup._couple skips members in Homing, so "
-                   "they show Homing", strict=True)
 def test_rule56_members_show_synchronized_motion_while_the_group_homes():
     rt, group, axes, home = homing_group()
-    assert all(a.state is S.SYNCHRONIZED_MOTION for a in axes)
+    while home.busy:
+        assert all(a.state is S.SYNCHRONIZED_MOTION for a in axes)
+        rt.step()
+    assert home.done
+    rt.step()
+    assert all(a.state is S.STANDSTILL for a in axes)
 
 
 def test_rule56_sync_pulse_homing_takes_its_time_and_ends_standby():
@@ -701,9 +704,6 @@ def test_rule56_sync_pulse_homing_takes_its_time_and_ends_standby():
     assert group.state is G.STANDBY
 
 
-@pytest.mark.xfail(reason="§5.7: a Buffered (or Blending) MC_GroupHome issued during a motion "
-                   "waits for it; MC_GroupHome ignores its buffer_mode input and "
-                   "AxesGroup.home has none, so it is refused (GROUP_MOVING)", strict=True)
 @pytest.mark.parametrize("mode", [BufferMode.BUFFERED, BufferMode.BLENDING_LOW],
                          ids=lambda m: m.name)
 def test_rule57_buffered_group_home_waits_for_the_motion(mode):
@@ -712,22 +712,128 @@ def test_rule57_buffered_group_home_waits_for_the_motion(mode):
     move(execute=True, position=[20.0, 0.0], velocity=100.0)
     home(execute=True, position=[0.0, 0.0], buffer_mode=mode)
     assert home.busy and not home.active and not home.error
+    assert group.state is G.MOVING
+    drive(rt, move, home, until=lambda: home.active, limit=2000)
+    assert move.done and group.state is G.HOMING  # the home takes over when the move is Done
     drive(rt, move, home, until=lambda: home.done, limit=2000)
-    assert move.done
+    assert tcp(group, CoordSystem.ACS).tolist() == pytest.approx([0.0, 0.0], abs=TOL)
+    rt.step()
+    assert group.state is G.STANDBY
+
+
+def test_rule57_a_move_buffered_behind_a_buffered_home_runs_after_it():
+    rt, group, axes = group_of(0.0, 0.0, reference_mode=ReferenceMode.DIRECT)
+    move = group.move_linear_absolute([20.0, 0.0], velocity=100.0)
+    home = group.home([100.0, 0.0], buffer_mode=BufferMode.BUFFERED)
+    after = group.move_linear_relative([5.0, 0.0], buffer_mode=BufferMode.BUFFERED)
+    assert after.busy and not after.active
+    rt.run_until(home, timeout=2.0)
+    assert move.done and home.done and after.busy
+    rt.run_until(after, timeout=2.0)
+    assert after.done
+    assert tcp(group, CoordSystem.ACS).tolist() == pytest.approx([105.0, 0.0], abs=TOL)
+
+
+@pytest.mark.parametrize("abort", ["move", "halt", "stop"])
+def test_rule57_a_waiting_group_home_is_aborted_like_a_buffered_motion(abort):
+    rt, group, axes = group_of(0.0, 0.0, reference_mode=ReferenceMode.DIRECT)
+    group.move_linear_absolute([20.0, 0.0], velocity=100.0)
+    home = group.home([0.0, 0.0], buffer_mode=BufferMode.BUFFERED)
+    other = {"move": lambda: group.move_linear_absolute([0.0, 10.0]),
+             "halt": group.halt, "stop": group.stop}[abort]()
+    assert not other.error
+    assert home.aborted
+    rt.run(0.5)
+    assert not any(a.homed for a in axes)
 
 
 # -- member axes (§3.2; rules 58-61) ------------------------------------------------------------
 
 
-@pytest.mark.xfail(reason="§3.2 and D-104: a single-axis MC_Stop on a member always passes "
-                   "and makes the group GroupMoving; Axis._admit refuses every command of a "
-                   "grouped axis (AXIS_IN_GROUP) and states.member_command_event is unused",
-                   strict=True)
 def test_rule58_single_axis_stop_on_a_member_makes_the_group_moving():
     rt, group, (a1, a2) = group_of(0.0, 0.0)
     stop = a1.stop()
     assert not stop.error
     assert group.state is G.MOVING
+
+
+def test_rule58_the_group_is_moving_while_the_member_stop_holds_then_standby():
+    rt, group, (a1, a2) = group_of(0.0, 0.0)
+    stop = MC_Stop(a1)
+    stop(execute=True)
+    assert stop.busy or stop.done
+    assert group.state is G.MOVING and a1.state is S.STOPPING  # the member shows its own stop
+    assert a2.state is S.SYNCHRONIZED_MOTION
+    drive(rt, stop, until=lambda: stop.done, limit=100)
+    rt.run(0.05)
+    assert group.state is G.MOVING and a1.state is S.STOPPING  # Execute still TRUE
+    stop(execute=False)
+    rt.step()
+    rt.step()
+    assert group.state is G.STANDBY
+    assert all(a.state is S.STANDSTILL for a in (a1, a2))
+    assert group.move_linear_absolute([10.0, 0.0]).active  # the group moves again
+
+
+def test_rule58_single_axis_home_on_a_resting_member_makes_the_group_moving():
+    rt, group, (a1, a2) = group_of(3.0, 4.0, reference_mode=ReferenceMode.DIRECT)
+    home = a1.home(10.0)
+    assert not home.error
+    assert group.state is G.MOVING
+    rt.run_until(home, timeout=1.0)
+    assert home.done and a1.position == pytest.approx(10.0, abs=TOL)
+    rt.step()
+    assert group.state is G.STANDBY and a1.state is S.STANDSTILL
+
+
+def test_rule58_single_axis_home_on_a_moving_member_is_refused():
+    rt, group, axes, move = moving_group()
+    home = axes[0].home()
+    assert home.error and home.error_id is ErrorId.AXIS_IN_GROUP
+    assert move.active and group.state is G.MOVING
+
+
+def test_rule58_single_axis_stop_on_a_member_of_a_moving_group_ends_the_group_motion():
+    rt, group, axes, move = moving_group()  # axis 1 cruises at 100 mm/s
+    buffered = group.move_linear_absolute([0.0, 0.0, 0.0], buffer_mode=BufferMode.BUFFERED)
+    stop = axes[0].stop(deceleration=1000.0, jerk=1.0e5)
+    assert not stop.error
+    assert move.aborted and buffered.aborted  # the group motion ends (decisions D-129)
+    assert group.state is G.MOVING and axes[0].state is S.STOPPING
+    assert member_jump(rt, axes[0]) <= 100.0 * rt.cycle_time * (1 + 1e-6)  # brakes smoothly
+    rt.run_until(stop, timeout=1.0)
+    assert stop.done
+    rt.step()
+    assert group.state is G.STANDBY
+    assert all(a.state is S.STANDSTILL and a.set_velocity == 0.0 for a in axes)
+
+
+def test_rule58_single_axis_stop_on_a_homing_member_aborts_group_home():
+    rt, group, axes, home = homing_group()
+    stop = axes[0].stop()
+    assert not stop.error
+    assert home.aborted and group.state is G.MOVING
+    rt.run_until(lambda: group.state is G.STANDBY, timeout=1.0)
+    assert all(a.state is S.STANDSTILL and a.set_velocity == 0.0 for a in axes)
+    assert not any(a.homed for a in axes)
+
+
+def test_rule58_single_axis_stop_while_the_group_stops_keeps_the_group_stop():
+    rt, group, axes, move = moving_group()
+    group_stop = MC_GroupStop(group)
+    group_stop(execute=True)
+    stop = MC_Stop(axes[0])
+    stop(execute=True)
+    assert not stop.error and group.state is G.STOPPING and group_stop.busy
+    drive(rt, group_stop, stop, until=lambda: group_stop.done, limit=1000)
+    assert all(a.set_velocity == 0.0 for a in axes)
+    group_stop(execute=False)
+    rt.step()
+    assert group.state is G.MOVING  # the member's MC_Stop still holds (§3.2)
+    stop(execute=False)
+    rt.step()
+    rt.step()
+    assert group.state is G.STANDBY and axes[0].state is S.STANDSTILL
 
 
 def test_rule59_single_axis_move_on_a_member_is_refused_and_the_group_moves_on():

@@ -89,18 +89,15 @@ def pcs_origin(group: AxesGroup) -> np.ndarray:
 def test_rule119_tracking_starts_no_motion_and_keeps_the_state():
     rt, group, axes, belt = cell(0.0, 0.0, 0.0)
     belt.move_velocity(100.0)
-    fb = track(group, belt)
-    assert (fb.busy, fb.active, fb.error) == (True, True, False)
+    fb = track(group, belt)  # Done once set, not Busy (§3.3), Active while tracking (D-131)
+    assert (fb.done, fb.busy, fb.active, fb.error) == (True, False, True, False)
     run(rt, 300, fb)
-    assert fb.busy and fb.active and not fb.command_aborted
+    assert fb.done and fb.active and not fb.busy and not fb.command_aborted
     assert group.state is G.STANDBY
     assert group.position(MCS).tolist() == [0.0, 0.0, 0.0]
     assert all(a.set_velocity == 0.0 for a in axes)
 
 
-@pytest.mark.xfail(reason="§6.6, §6.7, §6.5: Done (a B output of MC_TrackConveyorBelt) says "
-                   "the transformation is set; AxesGroup._track keeps the command Active and "
-                   "never Done, so done stays FALSE while the PCS moves", strict=True)
 @pytest.mark.parametrize("kind", ["belt", "table", "dyn"])
 def test_rules119_124_tracking_fbs_report_done_once_the_transform_is_set(kind):
     rt, group, axes, belt = cell(0.0, 0.0, 0.0)
@@ -114,7 +111,17 @@ def test_rules119_124_tracking_fbs_report_done_once_the_transform_is_set(kind):
         fb = MC_SetDynCoordTransform(group)
         fb(execute=True, master=master)
     run(rt, 5, fb)
-    assert fb.done
+    assert fb.done and fb.active and not fb.busy  # §3.3: Busy falls with Done
+    fb(execute=False)  # Done is a result: reset by the falling edge; the tracking goes on
+    assert not fb.done and fb.active and not fb.busy
+    run(rt, 5, fb)
+    assert fb.active and group.spaces.dynamic is not None
+    other = MC_SetCartesianTransform(group)
+    other(execute=True, trans_x=1.0)
+    fb()  # CommandAborted shows for one call with Execute low, then every output is reset
+    assert (fb.done, fb.busy, fb.active, fb.command_aborted) == (False, False, False, True)
+    fb()
+    assert not (fb.done or fb.busy or fb.active or fb.command_aborted)
 
 
 def test_rule120_the_pcs_starts_at_origin_and_object_and_rides_on_the_belt():
@@ -137,7 +144,7 @@ def test_rule120_an_origin_given_as_an_array_works_too():
     fb = MC_TrackConveyorBelt(group)
     fb(execute=True, conveyor_belt=belt, conveyor_belt_origin=np.array(BELT_ORIGIN),
        initial_object_position=np.array(OBJECT))
-    assert fb.busy and not fb.error
+    assert fb.done and fb.active and not fb.error
     assert pcs_origin(group) == pytest.approx([-5.0, 120.0, 0.0], abs=1e-12)
 
 
@@ -226,7 +233,7 @@ def test_rule123_the_pcs_turns_with_the_table():
     fb = MC_TrackRotaryTable(group)
     fb(execute=True, rotary_table=table, rotary_table_origin=origin,
        initial_object_position=obj)
-    assert fb.busy and fb.active
+    assert fb.done and fb.active
     move = group.move_linear_absolute([0.0, 0.0, 0.0], coord_system=PCS, **FAST)
     rt.run_until(move)
     assert group.position(MCS) == pytest.approx([130.0, 50.0, 0.0], abs=TOL)
@@ -258,7 +265,7 @@ def test_rule124_the_pcs_of_the_slave_group_rides_on_the_master_tcp():
     master.enable()
     fb = MC_SetDynCoordTransform(group)
     fb(execute=True, master=master, coord_transform=[0.0, 0.0, 5.0, 0.0, 0.0, 0.0])
-    assert fb.busy and not fb.error
+    assert fb.done and fb.active and not fb.error
     assert pcs_origin(group) == pytest.approx([10.0, 20.0, 35.0], abs=1e-12)
     move = master.move_linear_absolute([60.0, -20.0, 30.0], **FAST)
     while not move.done:

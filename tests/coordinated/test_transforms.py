@@ -228,10 +228,6 @@ def test_rule3_the_scara_elbow_configurations_reach_one_point_two_ways():
 # -- transforms and the group (§5.8; rules 8-13) --------------------------------------------
 
 
-@pytest.mark.xfail(reason="§5.8.2: several Cartesian transforms may be active together and "
-                   "MC_ReadCartesianTransform gives their composition; the group keeps one "
-                   "static PCS (Spaces.cartesian) and a second MC_SetCartesianTransform "
-                   "replaces the first", strict=True)
 def test_rule8_two_cartesian_transforms_compose():
     rt, group, axes = group_of(0.0, 0.0, 0.0)
     set_example(group)
@@ -243,6 +239,24 @@ def test_rule8_two_cartesian_transforms_compose():
     transform = MC_ReadCoordinateTransform(group)
     transform(enable=True)
     assert transform.coord_transform.translation == pytest.approx(expected.translation)
+    cartesian = MC_ReadCartesianTransform(group)  # §5.8.5: the resulting transformation
+    cartesian(enable=True)
+    assert (cartesian.trans_x, cartesian.trans_y, cartesian.trans_z, cartesian.rot_z) == \
+        pytest.approx([*EXAMPLE_PCS_10, 30.0], abs=1e-9)  # the second one in the first's PCS
+    assert read(group, PCS) == pytest.approx(  # and PCS <-> MCS uses it
+        expected.inverse().apply([0.0, 0.0, 0.0]), abs=1e-9)
+
+
+def test_rule8_all_zeros_deselect_the_pcs_and_set_coordinate_transform_replaces():
+    rt, group, axes = group_of(1.0, 2.0, 3.0)
+    set_example(group)
+    zeros = MC_SetCartesianTransform(group)
+    zeros(execute=True)  # §5.8.2: {0, 0, 0, 0, 0, 0} de-selects the PCS
+    assert zeros.done and read(group, PCS) == pytest.approx([1.0, 2.0, 3.0], abs=1e-12)
+    set_example(group)
+    coord = MC_SetCoordinateTransform(group)
+    coord(execute=True, coord_transform=Frame.from_cartesian(5.0))  # §5.8.3: sets the PCS
+    assert coord.done and read(group, PCS) == pytest.approx([-4.0, 2.0, 3.0], abs=1e-12)
 
 
 def test_rules9_10_set_coordinate_transform_starts_no_motion_and_keeps_the_state():
@@ -429,18 +443,20 @@ def test_set_position_while_moving_is_refused():
     assert fb.error and fb.error_id is ErrorId.GROUP_MOVING
 
 
-@pytest.mark.xfail(reason="§5.9: MC_GroupSetPosition has a BufferMode; Buffered should wait for "
-                   "the running motion. MC_GroupSetPosition ignores buffer_mode and "
-                   "AxesGroup.set_position has none: refused with GROUP_MOVING", strict=True)
-def test_buffered_set_position_waits_for_the_motion():
+@pytest.mark.parametrize("mode", [BufferMode.BUFFERED, BufferMode.BLENDING_NEXT],
+                         ids=lambda m: m.name)
+def test_buffered_set_position_waits_for_the_motion(mode):
     rt, group, axes = group_of(0.0, 0.0, 0.0)
     move = MC_MoveLinearRelative(group)
     move(execute=True, distance=[50.0, 0.0, 0.0])
     fb = MC_GroupSetPosition(group)
-    fb(execute=True, position=[0.0, 0.0, 0.0], buffer_mode=BufferMode.BUFFERED)
-    assert fb.busy and not fb.error
+    fb(execute=True, position=[0.0, 0.0, 0.0], buffer_mode=mode)
+    assert fb.busy and not fb.active and not fb.error  # D-130: Blending acts as Buffered
     finish(rt, move, fb)
+    assert move.done
     assert read(group, ACS).tolist() == [0.0, 0.0, 0.0]
+    rt.step()
+    assert group.state is G.STANDBY
 
 
 # -- reads (§5.10-§5.12; rules 19-21) ------------------------------------------------------------

@@ -989,11 +989,17 @@ class Axis:
 
     def _admit(self, family: str) -> None:
         """PLCopen state check; a group member only moves through its group (TF5410; Part 4
-        §3.2 option 1)."""
+        §3.2 option 1). A Part 4 group decides for its members (``AxesGroup._admit_member``:
+        MC_Stop and MC_Home pass and make it GroupMoving, §3.2)."""
         if self.group is not None:
-            raise CommandRejected(ErrorId.AXIS_IN_GROUP,
-                                  f"the axis is in group {getattr(self.group, 'name', '')!r}: "
-                                  "use the group's blocks")
+            admit_member = getattr(self.group, "_admit_member", None)
+            if admit_member is None:
+                raise CommandRejected(ErrorId.AXIS_IN_GROUP,
+                                      f"the axis is in group "
+                                      f"{getattr(self.group, 'name', '')!r}: use the group's "
+                                      "blocks")
+            admit_member(self, family)
+            return
         admit(self.state, family)
 
     def _move(self, kind: str, target_of: Callable[[float], float], velocity: InputValue,

@@ -14,6 +14,9 @@ Figures:
 - path speed: mean (length / time), the fraction of time at the commanded speed, and the
   duration against a single time-optimal profile of the same length (a lower bound that
   ignores the curvature);
+- the bounds of the mean path speed (path_bound.py): ``steady_bound_velocity`` from what the
+  axes allow at a steady speed on each element (the physics of the geometry) and
+  ``caps_bound_velocity`` from the time law's velocity caps (what the look-ahead may reach);
 - ``limit_violations``: samples where an axis setpoint exceeds its velocity, acceleration or
   jerk limit (jerk as the change of acceleration over one cycle) by more than 1e-9 relative;
 - ``end_error_mm``: the distance of the final position from the path's end.
@@ -32,9 +35,11 @@ from typing import Any
 import numpy as np
 
 import openmotion as om
+from openmotion.bench.path_bound import fastest_time, steady_speeds
 from openmotion.coordinated.blocks import MC_MovePath, MC_PathSelect
 from openmotion.coordinated.group import AxesGroup
 from openmotion.coordinated.inputs import TransitionMode
+from openmotion.coordinated.limits_bridge import axis_limits
 from openmotion.trajectory.plan import Limits, plan_position
 from openmotion.trajectory.segments import KinematicState
 
@@ -95,6 +100,8 @@ def run_path(segments: int = 10_000, progress: Callable[[str], None] | None = No
     start_us = (time.perf_counter() - began) * 1e6
     if move.error:
         raise RuntimeError(f"MC_MovePath failed: {move.message}")
+    geometry = [entry.geometry for _, entry in sorted(group.motion.entries.items())]
+    lengths, caps, exits = group.motion.law.speed_limits()
     k, rows = rt._kernel, group.rows
     limit_v = np.array([a.parameters.max_velocity for a in axes])
     limit_a = np.array([min(a.parameters.max_acceleration, a.parameters.max_deceleration)
@@ -125,6 +132,9 @@ def run_path(segments: int = 10_000, progress: Callable[[str], None] | None = No
     reference = plan_position(KinematicState(0.0), length,
                               Limits(VELOCITY, ACCELERATION, ACCELERATION, JERK)).duration
     end = group.position(actual=False)
+    limits = axis_limits(group)
+    steady = steady_speeds(geometry, group.spaces.kinematics, limits, VELOCITY)
+    run_length = float(lengths.sum())
     return {
         "segments": segments,
         "done": bool(move.done),
@@ -136,6 +146,10 @@ def run_path(segments: int = 10_000, progress: Callable[[str], None] | None = No
         "planner_us_p99": float(np.percentile(us, 99)) if us.size else None,
         "planner_us_max": float(us.max()) if us.size else None,
         "mean_path_velocity": length / duration if duration else 0.0,
+        "steady_bound_velocity": run_length / fastest_time(lengths, steady, ACCELERATION,
+                                                           ACCELERATION),
+        "caps_bound_velocity": run_length / fastest_time(lengths, caps, ACCELERATION,
+                                                         ACCELERATION, exits),
         "commanded_velocity": VELOCITY,
         "time_at_commanded_speed": at_speed / max(cycles, 1),
         "duration_s": duration,

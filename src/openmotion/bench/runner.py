@@ -470,12 +470,13 @@ def _render_path(results: dict[str, Any]) -> list[str]:
     r = results
     return _table(
         ["segments", "cycles", "select ms", "start us", "planner p50", "planner p99",
-         "planner max", "mean v", "commanded v", "at v", "duration s", "1-profile s",
-         "violations"],
+         "planner max", "mean v", "caps bound v", "steady bound v", "commanded v", "at v",
+         "duration s", "1-profile s", "violations"],
         [[r["segments"], r["cycles"], r["select_ms"], r["start_us"], r["planner_us_p50"],
           r["planner_us_p99"], r["planner_us_max"], r["mean_path_velocity"],
-          r["commanded_velocity"], r["time_at_commanded_speed"], r["duration_s"],
-          r["single_profile_s"], r["limit_violations"]]])
+          r["caps_bound_velocity"], r["steady_bound_velocity"], r["commanded_velocity"],
+          r["time_at_commanded_speed"], r["duration_s"], r["single_profile_s"],
+          r["limit_violations"]]])
 
 
 _RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,

@@ -190,23 +190,27 @@ class MC_MovePath(_Move):
 
 
 class MC_GroupHome(_GroupCommand):
-    """Home every member (§5.7); ``position``: ACS values or None for the configured ones."""
+    """Home every member (§5.7); ``position``: ACS values or None for the configured ones.
+    ``buffer_mode`` Aborting needs GroupStandby; Buffered (the Blending modes act as
+    Buffered) waits, Busy and not Active, until the motion before it is over."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"position": None, "buffer_mode": BufferMode.ABORTING}
 
     def _issue(self, group: Any) -> Command:  # type: ignore[override]
-        return _group(group).home(self.position)
+        return _group(group).home(self.position, self.buffer_mode)
 
 
 class MC_GroupSetPosition(_GroupCommand):
-    """New coordinates without motion (§5.9); ``relative`` adds them."""
+    """New coordinates without motion (§5.9); ``relative`` adds them. ``buffer_mode`` as
+    MC_GroupHome: Aborting needs GroupStandby, the others wait for the motion before."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"position": None, "relative": False,
                                         "coord_system": CoordSystem.ACS,
                                         "buffer_mode": BufferMode.ABORTING}
 
     def _issue(self, group: Any) -> Command:  # type: ignore[override]
-        return _group(group).set_position(self.position, bool(self.relative), self.coord_system)
+        return _group(group).set_position(self.position, bool(self.relative), self.coord_system,
+                                          self.buffer_mode)
 
 
 class MC_GroupInterrupt(_GroupCommand):
@@ -352,8 +356,9 @@ class MC_ReadKinTransform(_GroupRead):
 
 
 class MC_SetCartesianTransform(_GroupCommand):
-    """Place the PCS in the MCS (§5.8.2): translation [mm], then rotations [°] about z, y, x
-    (frames.py); ends a tracking FB on the PCS."""
+    """One more Cartesian transform of the PCS (§5.8.2): translation [mm], then rotations
+    [°] about z, y, x (frames.py), composed with those active (given in the frame they set
+    up); all zeros de-select the PCS. Ends a tracking FB on the PCS."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"trans_x": 0.0, "trans_y": 0.0, "trans_z": 0.0,
                                         "rot_x": 0.0, "rot_y": 0.0, "rot_z": 0.0,
@@ -384,15 +389,16 @@ class MC_ReadCartesianTransform(_GroupRead):
 
 
 class MC_SetCoordinateTransform(_GroupCommand):
-    """Place the PCS in the MCS (§5.8.3): ``coord_transform`` is a ``Frame`` or six values
-    (trans_x, trans_y, trans_z, rot_x, rot_y, rot_z)."""
+    """Place the PCS in the MCS (§5.8.3), replacing the transforms active before:
+    ``coord_transform`` is a ``Frame`` or six values (trans_x, trans_y, trans_z, rot_x,
+    rot_y, rot_z)."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"coord_transform": None,
                                         "execution_mode": ExecutionMode.IMMEDIATELY}
 
     def _issue(self, group: Any) -> Command:  # type: ignore[override]
-        return _group(group).set_cartesian_transform(_frame(self.coord_transform),
-                                                     self.execution_mode)
+        return _group(group).set_coordinate_transform(_frame(self.coord_transform),
+                                                      self.execution_mode)
 
 
 class MC_ReadCoordinateTransform(_GroupRead):
@@ -421,11 +427,35 @@ def _frame(value: Any) -> Frame:
 # -- synchronisation and tracking (§6) -----------------------------------------------------------
 
 
-class MC_TrackConveyorBelt(_GroupCommand):
+class _Tracking(_GroupCommand):
+    """A block that sets a moving PCS (§6.5-§6.7): Done once the transformation is set (at
+    once), with Busy FALSE (§3.3: Busy falls with Done); Active while the frame is computed
+    every cycle, whatever Execute does; CommandAborted when another transform replaces it
+    (decisions D-131). Done follows Execute as any result does: shown at least one cycle."""
+
+    def _reset_outputs(self) -> None:
+        super()._reset_outputs()
+        self._set_shown = False
+
+    def _clear(self) -> None:
+        super()._clear()
+        self._set_shown = False
+
+    def _show_progress(self, command: Command) -> None:
+        self.busy = False
+        self.done = bool(self.execute) or not self._set_shown
+        self._set_shown = True
+
+    def _show_result(self, command: Command | None) -> None:
+        if command is None:  # Execute fell after the end: outputs reset
+            self._set_shown = False
+
+
+class MC_TrackConveyorBelt(_Tracking):
     """The PCS rides on ``conveyor_belt`` (an axis) (§6.6): ``conveyor_belt_origin`` places the
     belt frame in the MCS (its x axis is the belt's direction), ``initial_object_position``
-    the object on the belt. Active while tracking; CommandAborted when another transform FB
-    replaces the PCS. Moves in PCS then follow the object."""
+    the object on the belt. Done once set, Active while tracking; CommandAborted when another
+    transform FB replaces the PCS. Moves in PCS then follow the object."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"conveyor_belt": None, "conveyor_belt_origin": None,
                                         "initial_object_position": None,
@@ -438,7 +468,7 @@ class MC_TrackConveyorBelt(_GroupCommand):
             _frame_or_identity(self.initial_object_position))
 
 
-class MC_TrackRotaryTable(_GroupCommand):
+class MC_TrackRotaryTable(_Tracking):
     """The PCS turns with ``rotary_table`` (an axis, degrees) about the z axis of
     ``rotary_table_origin`` (§6.7)."""
 
@@ -453,7 +483,7 @@ class MC_TrackRotaryTable(_GroupCommand):
             _frame_or_identity(self.initial_object_position))
 
 
-class MC_SetDynCoordTransform(_GroupCommand):
+class MC_SetDynCoordTransform(_Tracking):
     """This group's PCS rides on the TCP of ``master`` (another AxesGroup), offset by
     ``coord_transform`` (§6.5)."""
 

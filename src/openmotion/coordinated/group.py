@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from openmotion.axis.commands import Command, CommandStatus
+from openmotion.axis.state_machine import admit
 from openmotion.coordinated.cam import CamLaw, PathMode, check_periodic
 from openmotion.coordinated.frames import Frame
 from openmotion.coordinated.inputs import (
@@ -39,6 +40,8 @@ from openmotion.coordinated.states import (
     ExecutionMode,
     GroupEvent,
     GroupStateMachine,
+    check_member_accepts,
+    member_command_event,
     member_event,
     member_state,
 )
@@ -99,6 +102,10 @@ class AxesGroup:
         self._syncs: dict[int, AxisSync] = {}  #: MC_SyncAxisToGroup slaves by kernel row
         self._written: tuple[float, np.ndarray, np.ndarray, np.ndarray] | None = None
         self._reset: tuple[Command, list[Command]] | None = None
+        self._solo: dict[int, Axis] = {}  #: members running their own MC_Stop / MC_Home
+        #: commands buffered behind the motion: a Buffered MC_GroupHome or MC_GroupSetPosition
+        #: (§5.7, §5.9), and the motions buffered behind those; (command, is_motion, start)
+        self._queued: list[tuple[Command, bool, Callable[[], None]]] = []
         runtime._add_system(self._advance)
 
     # -- reading -------------------------------------------------------------------------------
@@ -327,18 +334,36 @@ class AxesGroup:
 
     def set_cartesian_transform(self, frame: Frame, mode: ExecutionMode = ExecutionMode.IMMEDIATELY
                                 ) -> Command:
-        """MC_SetCartesianTransform / MC_SetCoordinateTransform (§5.8.2, §5.8.3): the PCS
-        placed in the MCS; ends a tracking FB on the PCS (§6.6)."""
-        command = self._command("set_cartesian_transform")
+        """MC_SetCartesianTransform (§5.8.2): one more Cartesian transform, active together
+        with those set before: composed with them, given in the frame they set up (D-133);
+        MC_ReadCartesianTransform reads the result (§5.8.5). All zeros de-select the PCS
+        (PCS = MCS). Ends a tracking FB on the PCS (§6.6)."""
+        def place() -> None:
+            cartesian = self.spaces.cartesian
+            self.spaces.cartesian = Frame() if frame == Frame() else cartesian.compose(frame)
+        return self._set_pcs("set_cartesian_transform", "MC_SetCartesianTransform", mode, place)
+
+    def set_coordinate_transform(self, frame: Frame,
+                                 mode: ExecutionMode = ExecutionMode.IMMEDIATELY) -> Command:
+        """MC_SetCoordinateTransform (§5.8.3): the PCS placement as a whole; it replaces the
+        transforms active before (the identity is the neutral one). Ends a tracking FB."""
+        def place() -> None:
+            self.spaces.cartesian = frame
+        return self._set_pcs("set_coordinate_transform", "MC_SetCoordinateTransform", mode,
+                             place)
+
+    def _set_pcs(self, kind: str, block: str, mode: ExecutionMode, place: Callable[[], None]
+                 ) -> Command:
+        command = self._command(kind)
         try:
-            self.machine.accept("MC_SetCartesianTransform")
+            self.machine.accept(block)
             mode = enum_value(ExecutionMode, mode, "ExecutionMode")
         except CommandRejected as rejected:
             return self._reject(command, rejected)
 
         def apply() -> None:
             self.motion.end_tracking("the PCS was set by a transform FB")
-            self.spaces.cartesian = frame
+            place()
         return self._when(command, mode, apply)
 
     def _when(self, command: Command, mode: ExecutionMode, apply: Callable[[], None]) -> Command:
@@ -352,36 +377,94 @@ class AxesGroup:
         return command
 
     def set_position(self, position: Any, relative: bool = False,
-                     coord_system: CoordSystem = CoordSystem.ACS) -> Command:
-        """MC_GroupSetPosition (§5.9): new coordinates without motion (rules 14-16)."""
+                     coord_system: CoordSystem = CoordSystem.ACS,
+                     buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
+        """MC_GroupSetPosition (§5.9): new coordinates without motion (rules 14-16). Aborting
+        needs GroupStandby; any other BufferMode waits until the motion before it is over
+        (decisions D-130)."""
         command = self._command("group_set_position")
         try:
-            self.machine.accept("MC_GroupSetPosition")
+            mode = part4_buffer_mode(buffer_mode)
+            self.machine.accept("MC_GroupSetPosition", mode)
             coord_system = enum_value(CoordSystem, coord_system, "CoordSystem")
             size = len(self.members) if coord_system is CoordSystem.ACS else self.spaces.size
             from openmotion.coordinated.inputs import vector
             value = vector(position, size, "Position")
-            if coord_system is CoordSystem.ACS:
-                self._set_acs(value, relative)
-            else:
-                old = self.position(coord_system, actual=False)
-                new = old + value if relative else value
-                if coord_system is CoordSystem.MCS:
-                    self.spaces.mcs_offset = self.spaces.mcs_offset + (new - old)
-                else:
-                    shift = self.spaces.xyz(old) - self.spaces.xyz(new)
-                    frame = self.spaces.cartesian
-                    moved = Frame(frame.rotation, frame.translation + frame.rotate(shift))
-                    self.spaces.cartesian = moved
         except CommandRejected as rejected:
             return self._reject(command, rejected)
-        return self._finish(command)
+
+        def apply() -> None:
+            self._set_position(value, relative, coord_system)
+            command._end(CommandStatus.DONE, self._rt.now)
+        return self._after_motion(command, mode, apply)
+
+    def _set_position(self, value: np.ndarray, relative: bool, coord_system: CoordSystem
+                      ) -> None:
+        if coord_system is CoordSystem.ACS:
+            self._set_acs(value, relative)
+            return
+        old = self.position(coord_system, actual=False)
+        new = old + value if relative else value
+        if coord_system is CoordSystem.MCS:
+            self.spaces.mcs_offset = self.spaces.mcs_offset + (new - old)
+        else:
+            shift = self.spaces.xyz(old) - self.spaces.xyz(new)
+            frame = self.spaces.cartesian
+            self.spaces.cartesian = Frame(frame.rotation,
+                                          frame.translation + frame.rotate(shift))
+
+    def _after_motion(self, command: Command, mode: BufferMode, start: Callable[[], None]
+                      ) -> Command:
+        """Start now (Aborting, or nothing runs), or wait in ``_queued`` until the motion
+        issued before is over: §5.7 (MC_GroupHome: the Blending modes act as Buffered), §5.9
+        (MC_GroupSetPosition: likewise). Stays Busy, not Active, while it waits."""
+        if mode is BufferMode.ABORTING or (self.state is G.STANDBY and not self._queued):
+            try:
+                start()
+            except CommandRejected as rejected:
+                return self._reject(command, rejected)
+            return command
+        self._queued.append((command, False, start))
+        return command
+
+    def _run_queued(self) -> None:
+        """Start what waits in ``_queued``, in order: an administrative command once the
+        motion before it is over (the group passes GroupStandby on the way), a motion once
+        no MC_GroupHome runs."""
+        while self._queued:
+            command, is_motion, start = self._queued[0]
+            if command.finished:  # aborted while it waited
+                self._queued.pop(0)
+                continue
+            if self._home_command is not None or self.state not in (G.STANDBY, G.MOVING):
+                return
+            if not is_motion:
+                if not self.motion.finished or self._solo_running():
+                    return
+                if self.state is G.MOVING:
+                    self.machine.fire(GroupEvent.MOTION_END)
+                    self._couple()
+            self._queued.pop(0)
+            try:
+                start()
+            except CommandRejected as rejected:
+                self._reject(command, rejected)
+
+    def _abort_queued(self, reason: str) -> None:
+        """An Aborting motion, a halt or stop, disable, an error: what waits is aborted."""
+        queued, self._queued = self._queued, []
+        for command, _, _ in queued:
+            command._end(CommandStatus.ABORTED, self._rt.now, message=reason)
 
     def _set_acs(self, value: np.ndarray, relative: bool) -> None:
+        """Each member's setpoint reads ``value`` (or moves by it), its actual position
+        shifts along: as MCS and PCS, the set position is the reference (a buffered call
+        acts in the cycle the motion ends, before the drives caught up)."""
         for axis, new in zip(self.axes, value, strict=True):
-            target = axis.position + new if relative else new
+            target = axis.set_position + new if relative else new
             with self._ungrouped(axis):
-                part = axis.set_actual_position(float(target))
+                part = axis.set_actual_position(axis.position + float(target)
+                                                - axis.set_position)
             if part.error:
                 raise CommandRejected(part.error_id, f"{axis.name}: {part.message}")
 
@@ -418,6 +501,7 @@ class AxesGroup:
         self.machine.fire(GroupEvent.HALT)
         self._couple()
         self.motion.halt(command, dec, jerk_value)
+        self._abort_queued("aborted by MC_GroupHalt")
         return command
 
     def interrupt(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT
@@ -463,12 +547,16 @@ class AxesGroup:
             self.motion.set_factors(*self.factors)
         return self._finish(command)
 
-    def home(self, position: Any = None) -> Command:
+    def home(self, position: Any = None, buffer_mode: BufferMode = BufferMode.ABORTING
+             ) -> Command:
         """MC_GroupHome (§5.7): every member homes (its own MC_Home); GroupHoming until all
-        are Done. ``position``: one ACS value per axis, or None for the configured ones."""
+        are Done. ``position``: one ACS value per axis, or None for the configured ones.
+        Aborting needs GroupStandby; Buffered (and the Blending modes, which act as
+        Buffered) waits until the motion before it is over."""
         command = self._command("group_home")
         try:
-            self.machine.accept("MC_GroupHome")
+            mode = part4_buffer_mode(buffer_mode)
+            self.machine.accept("MC_GroupHome", mode)
             if position is not None:
                 from openmotion.coordinated.inputs import vector
                 values = vector(position, len(self.members), "Position").tolist()
@@ -476,6 +564,9 @@ class AxesGroup:
                 values = [None] * len(self.members)
         except CommandRejected as rejected:
             return self._reject(command, rejected)
+        return self._after_motion(command, mode, lambda: self._start_home(command, values))
+
+    def _start_home(self, command: Command, values: list[Any]) -> None:
         self.machine.fire(GroupEvent.HOME_START)
         self._home = []
         for axis, value in zip(self.axes, values, strict=True):
@@ -485,7 +576,15 @@ class AxesGroup:
         self._couple()
         command.status = CommandStatus.ACTIVE
         self._home_command = command
+        # after the members' homing sequences (watchers run by row, then by age): the group
+        # is GroupStandby in the cycle its last member is homed, never StandStill under
+        # GroupHoming (Table 5)
+        self._rt._watch(max(self.axes, key=lambda a: a.row), self._watch_home)
         return command
+
+    def _watch_home(self, now: float) -> bool:
+        self._end_home(now)
+        return self._home_command is not None
 
     # -- path moves (§5.20-§5.27) --------------------------------------------------------------
 
@@ -595,14 +694,22 @@ class AxesGroup:
             request = build_request(self, command, kind, target, circle, velocity,
                                     acceleration, deceleration, jerk, coord_system, buffer_mode,
                                     transition_mode, transition_parameter, relative)
-            was = self.state
-            self.motion.submit(request)
+            if self._queued and buffer_mode is not BufferMode.ABORTING:  # behind them
+                self._queued.append((command, True, lambda: self._submit(block, request)))
+                return command
+            self._submit(block, request)
         except CommandRejected as rejected:
             return self._reject(command, rejected)
+        if buffer_mode is BufferMode.ABORTING:
+            self._abort_queued(f"aborted by {block}")
+        return command
+
+    def _submit(self, block: str, request: Any) -> None:
+        was = self.state
+        self.motion.submit(request)
         if was is G.STANDBY or self.state is G.STANDBY:
             self.machine.start(block)
             self._couple()
-        return command
 
     # -- synchronisation and tracking (§6) -----------------------------------------------------
 
@@ -643,6 +750,7 @@ class AxesGroup:
                                      self._rt.cycle_time)
         except CommandRejected as rejected:
             return self._reject(command, rejected)
+        self._abort_queued("aborted by MC_SyncGroupToAxis")
         command.status = CommandStatus.ACTIVE
         if self.state is G.STANDBY:
             self.machine.start("MC_SyncGroupToAxis")
@@ -743,15 +851,21 @@ class AxesGroup:
         self._end_home(now)
         self._end_stop(now)
         self._end_pending()
-        if self.state is G.MOVING and self.motion.finished and self._home_command is None:
+        self._run_queued()
+        solo = self._solo_running()
+        if self.state is G.MOVING and self.motion.finished and self._home_command is None \
+                and not solo:
             self.machine.fire(GroupEvent.MOTION_END)
+            self._couple()
+        elif self.state is G.STANDBY and solo:  # a member's MC_Stop outlasted MC_GroupStop
+            self.machine.fire(GroupEvent.MOTION_START)
             self._couple()
 
     def _end_stop(self, now: float) -> None:
         command = self._stop
         if command is None:
             return
-        if command.busy and not self.motion.running:
+        if command.busy and not self.motion.running and self.all_axes_standing:
             command._end(CommandStatus.DONE, now)
             command.hold = command.hold  # the FB keeps it until Execute falls
         if command.done and not command.hold:
@@ -761,7 +875,10 @@ class AxesGroup:
 
     def _end_home(self, now: float) -> None:
         command = self._home_command
-        if command is None or any(part.busy for part in self._home):
+        if command is None:
+            return
+        if any(part.busy for part in self._home):
+            self._couple()  # a member whose MC_Home is Done waits in SynchronizedMotion
             return
         self._home_command = None
         failed = next((part for part in self._home if part.error), None)
@@ -780,6 +897,8 @@ class AxesGroup:
             command._end(CommandStatus.ABORTED, now, message="the group left GroupHoming")
 
     def _home_abort(self, reason: str) -> None:
+        """MC_GroupHome ends (its members stop); what waits in ``_queued`` ends too."""
+        self._abort_queued(reason)
         if self._home_command is None:
             return
         for axis in self.axes:
@@ -837,12 +956,51 @@ class AxesGroup:
         self._brake_members()
         self.machine.fire(GroupEvent.ERROR)
 
+    # -- single-axis commands on members (§3.2) ----------------------------------------------
+
+    def _admit_member(self, axis: Axis, family: str) -> None:
+        """``Axis._admit`` of a member: moves are refused (§3.2 option 1); MC_Stop always
+        passes and MC_Home in GroupStandby, and the group is GroupMoving until that command
+        is over and every member stands (§3.2 general rules; decisions D-129). A running
+        group motion or MC_GroupHome ends (CommandAborted) and the other members brake on
+        their own, as by an implicit MC_Halt."""
+        check_member_accepts(self.state, family)
+        admit(axis.state, family)
+        if family not in ("stop", "home"):
+            return
+        reason = f"aborted by MC_{family.capitalize()} on member {axis.name}"
+        if self.state is G.HOMING:
+            self._home_abort(reason)
+            self.machine.fire(GroupEvent.HOME_END)
+        elif self.state in (G.MOVING, G.STOPPING) and (self.motion.running
+                                                        or not self.all_axes_standing):
+            self.motion.abort_all(reason)
+            self._brake_members()
+        self._solo[axis.row] = axis
+        event = member_command_event(self.state, family)
+        if event is not None:
+            self.machine.fire(event)
+            self._couple()
+
+    def _solo_running(self) -> bool:
+        """A member's own MC_Stop or MC_Home runs or is held, or the members still brake
+        after it; once all is over the members follow the group again."""
+        if not self._solo:
+            return False
+        own = (AxisState.STOPPING, AxisState.HOMING)
+        if self.all_axes_standing and not any(a.state in own or a.has_job
+                                              for a in self._solo.values()):
+            self._solo = {}
+            return False
+        return True
+
     # -- members' setpoints --------------------------------------------------------------------
 
     def _couple(self) -> None:
-        """Table 5: members show SynchronizedMotion while the group moves, homes or stops."""
+        """Table 5: members show SynchronizedMotion while the group moves, homes or stops
+        (a member's own MC_Home, run by MC_GroupHome, included: D-104)."""
         for axis in self.axes:
-            if self.state is G.HOMING and axis.state is AxisState.HOMING:
+            if axis.row in self._solo:  # its own MC_Stop or MC_Home shows (§3.2)
                 continue
             axis.state = member_state(self.state, axis.state)
             self._last_axis_states[axis.row] = axis.state
@@ -905,6 +1063,7 @@ class AxesGroup:
 
     def _release(self, axis: Axis) -> None:
         axis.group = None
+        self._solo.pop(axis.row, None)
         if axis.state is AxisState.SYNCHRONIZED_MOTION:
             axis.state = AxisState.STANDSTILL
         self._last_axis_states.pop(axis.row, None)

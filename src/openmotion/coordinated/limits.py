@@ -20,16 +20,24 @@ Budget. With v, a, j an axis' velocity, acceleration and jerk limits (a the smal
 acceleration and deceleration: on a curve an axis may speed up or slow down whichever way the
 path goes) and M = max(A, D), over all axes:
 
-    V = min(Velocity,     v/T,  sqrt(a / 2K),  cbrt(j / 4R))
-    A = min(Acceleration, (a - K·V²)/T,  j / (12·K·V))        D the same with Deceleration
+    V = min(Velocity,     v/T,  sqrt(a / 2K),  cbrt(3j / 4R))
+    A = min(Acceleration, (a - K·V²)/T,  j / (24·K·V))        D the same with Deceleration
     J = min(Jerk,         (j - R·V³ - 3·K·V·M)/T)
 
 Proof, per axis: |q'| <= T·V <= v; |q''| <= T·M + K·V² <= a; |q'''| <= T·J + 3·K·V·M + R·V³ <= j.
 All caps are positive: K·V² <= a/2 leaves at least half the acceleration to the path, and
-R·V³ <= j/4, 3·K·V·M <= j/4 leave at least half the jerk. The split (half of a to the
-centripetal term, a quarter of j to each of the two curvature terms, the rest to the path) is
+R·V³ <= 3j/4, 3·K·V·M <= j/8 leave at least an eighth of the jerk. The split (half of a to the
+centripetal term; three quarters of j to the curvature rate, an eighth to the turning term,
+the rest to the path: ``CENTRIPETAL_SHARE``, ``CURVATURE_RATE_SHARE``, ``TURNING_SHARE``) is
 fixed: a few operations per element and no policy for trading speed against acceleration.
 It is not loose: on random arcs and blends some axis reaches its limit in the worst case.
+
+The shares favour speed on curves. At a steady speed (s'' = s''' = 0) only K·V² and R·V³ load
+the axes, so the highest steady speed an element allows is min(v/T, sqrt(a/K), cbrt(j/R))
+(``steady_speed``); the caps reach sqrt(1/2) of it where the curvature binds and cbrt(3/4)
+(0.91) where its rate does. The rate binds on short contours: a dense path of chords rounded
+by tiny blends runs at the contours' V throughout, so their V sets its speed, while the
+path's own A, D and J only shape its few speed changes (decisions D-134, `bench path`).
 
 Straight elements (K = R = 0 on every axis: a gantry's lines, MoveDirect's lines in ACS) are
 exact: each axis keeps the sign of its velocity, so speeding the path up speeds every axis up,
@@ -81,6 +89,9 @@ _RESOLVED = 0.05  #: largest change of any axis' q_s/v between samples, of the l
 _MIN_SAMPLES, _MAX_SAMPLES = 32, 2**15  #: sample intervals along one element
 _SINGULAR_CONDITION = 1e8  #: a Jacobian worse than this on the path: the axes cannot follow
 _UNDRIVEN = 1e-9  #: largest |tangent| along a coordinate that no axis drives
+CENTRIPETAL_SHARE = 0.5  #: of an axis' acceleration, the most K·V² takes on a curve
+CURVATURE_RATE_SHARE = 0.75  #: of an axis' jerk, the most R·V³ takes
+TURNING_SHARE = 0.125  #: of an axis' jerk, the most 3·K·V·M takes; the path keeps the rest
 
 
 class DirectLine:
@@ -249,14 +260,35 @@ def limits_from_bounds(bounds: ArrayLike, axis_limits: Sequence[Limits],
         return Limits(_capped(c_vel, np.max(t / v)), _capped(c_acc, np.max(t / acc)),
                       _capped(c_dec, np.max(t / dec)), _capped(c_jerk, np.max(t / jerk)))
     a = np.minimum(acc, dec)
-    velocity = _capped(c_vel, max(np.max(t / v), math.sqrt(np.max(2.0 * k / a)),
-                                  math.cbrt(np.max(4.0 * r / jerk))))
+    velocity = _capped(c_vel, max(np.max(t / v),
+                                  math.sqrt(np.max(k / (CENTRIPETAL_SHARE * a))),
+                                  math.cbrt(np.max(r / (CURVATURE_RATE_SHARE * jerk)))))
     if not math.isfinite(velocity):  # no axis limit and no command: nothing to divide
         return commanded
-    rate = max(np.max(t / (a - k * velocity**2)), np.max(12.0 * k * velocity / jerk))
+    rate = max(np.max(t / (a - k * velocity**2)),
+               np.max(3.0 * k * velocity / (TURNING_SHARE * jerk)))
     acceleration, deceleration = _capped(c_acc, rate), _capped(c_dec, rate)
     rest = jerk - r * velocity**3 - 3.0 * k * velocity * max(acceleration, deceleration)
     return Limits(velocity, acceleration, deceleration, _capped(c_jerk, np.max(t / rest)))
+
+
+def steady_speed(element: PathElement, gantry: CartesianGantry,
+                 axis_limits: Sequence[Limits]) -> float:
+    """The highest constant path speed [mm/s] along ``element`` at which every axis of the
+    gantry keeps its limits: min(v/T, sqrt(a/K), cbrt(j/R)) over the axes (module text).
+
+    Not a cap: speeding up or slowing down needs more than it leaves. It measures what the
+    shares of the budget give up, and bounds any motion that holds its speed over the
+    element (``openmotion bench path``).
+    """
+    bounds = element.derivative_bounds()
+    _check_driven(bounds[0], gantry.coordinates, element)
+    t, k, r = _gantry_bounds(bounds, gantry)
+    v, acc, dec, jerk = _axis_arrays(axis_limits, len(t))
+    with np.errstate(divide="ignore"):
+        speeds = np.minimum.reduce([v / t, np.sqrt(np.minimum(acc, dec) / k),
+                                    np.cbrt(jerk / r)])
+    return float(speeds.min())
 
 
 def _capped(commanded: float, rate: float) -> float:

@@ -44,6 +44,7 @@ _TRANSITION_SPEED: dict[BufferMode, Callable[[float, float], float]] = {
     BufferMode.BLENDING_NEXT: lambda _v1, v2: v2,
     BufferMode.BLENDING_HIGH: max,
 }
+_TAKE_OVER_TOLERANCE = 1e-6  #: tangent [1] and curvature [1/mm] a halted path is taken over at
 _CONTOURS = (TransitionMode.TM_START_VELOCITY, TransitionMode.TM_CONSTANT_VELOCITY,
              TransitionMode.TM_CORNER_DISTANCE, TransitionMode.TM_MAX_CORNER_DEVIATION)
 
@@ -94,6 +95,7 @@ class PathMotion:
         self._last_acs_v: np.ndarray | None = None
         self._acs_start: np.ndarray | None = None  #: the axes where the path began
         self._orientation: np.ndarray | None = None
+        self._sampled: tuple[float, int, float] | None = None  #: last sample: time, piece, local
 
     # -- reading -------------------------------------------------------------------------------
 
@@ -138,8 +140,12 @@ class PathMotion:
                                       "abort (§5.15)")
             start = self._start_point(request)
             request.extra["reference"] = start
+            takes_over = self._takes_over_halt(request, start)
             self._abort_queue(f"aborted by {command.kind}")
             self.follow = None
+            if takes_over is not None:
+                self._begin(request, start, moving=takes_over)
+                return command
             if self.law is not None and not self.law.standing:
                 _, _, dec, jerk = request.dynamics
                 self.law.stop(now, dec, jerk, keep=False)
@@ -151,6 +157,38 @@ class PathMotion:
             return command
         self._append(request)
         return command
+
+    def _takes_over_halt(self, request: PathCommand, start: np.ndarray
+                         ) -> tuple[float, float, float] | None:
+        """§5.14: a motion issued while MC_GroupHalt brakes aborts it and runs on without
+        standstill, where its path leaves the TCP as it moves now (same tangent and curvature)
+        and the speed and braking rate lie within its first piece's caps (decisions D-132).
+        Returns (time, path velocity, path acceleration) of the last sample to start from,
+        or None: then it starts from rest (D-110)."""
+        law, sampled = self.law, self._sampled
+        if self.halt_command is None or law is None or law.standing or sampled is None \
+                or self.interrupted:
+            return None
+        time, piece, local = sampled
+        entry = self.entries.get(piece)
+        if entry is None or entry.space != request.space or request.space == ACS:
+            return None
+        geometry = request.build(start, request.extra["reference"])
+        if not geometry:
+            return None
+        _, tangent, curvature = evaluate(entry.geometry, local)
+        _, new_tangent, new_curvature = evaluate(geometry[0], 0.0)
+        if np.linalg.norm(new_tangent - tangent) > _TAKE_OVER_TOLERANCE \
+                or np.linalg.norm(new_curvature - curvature) > _TAKE_OVER_TOLERANCE:
+            return None
+        v, a = self.path_velocity, self.path_acceleration
+        try:
+            first = self._pieces(request, geometry, exit_last=0.0)[0]
+        except CommandRejected:  # refused from rest too, where the old path stops
+            return None
+        if v <= 0.0 or v > first.velocity or -a > first.deceleration or a > first.acceleration:
+            return None
+        return time, v, a
 
     def halt(self, command: Command, deceleration: float, jerk: float) -> None:
         now = self.group._rt.now
@@ -240,6 +278,7 @@ class PathMotion:
             s, v, a, _ = self.law.sample(now)
             self.path_velocity, self.path_acceleration = v, a
             piece, local = self.law.locate(s)
+            self._sampled = (now, piece, local)
             entry = self.entries[piece]
             try:
                 self._output(entry, local, v, a, now)
@@ -351,10 +390,13 @@ class PathMotion:
             acs = principal[-1] + turns.sum(axis=0)
         return acs
 
-    def _begin(self, request: PathCommand, start: np.ndarray) -> None:
-        """Start a new path from rest (at ``start``) with ``request`` alone."""
+    def _begin(self, request: PathCommand, start: np.ndarray,
+               moving: tuple[float, float, float] | None = None) -> None:
+        """Start a new path from rest (at ``start``) with ``request`` alone; ``moving``: from
+        the last sample's (time, path velocity, path acceleration) instead (§5.14)."""
         group = self.group
         geometry = request.build(start, request.extra["reference"])
+        last_acs_v = self._last_acs_v
         self._clear()
         if not geometry:  # already there: Done without motion
             request.end = start
@@ -366,10 +408,12 @@ class PathMotion:
         # (_write_mcs) is taken from zero, not left out, else the published acceleration
         # reads 0 in the first cycle and jumps by up to 1.5 times the jerk limit in the next
         self._last_acs_v = np.zeros(len(group.members))
+        if moving is not None and last_acs_v is not None:
+            self._last_acs_v = last_acs_v
         self._acs_start = group.acs_set()
         now = group._rt.now
         pieces = self._pieces(request, geometry, exit_last=0.0)  # may reject: nothing changed
-        self.law = TimeLaw(now)
+        self.law = TimeLaw(now) if moving is None else TimeLaw(*moving)
         if group.factors != (1.0, 1.0, 1.0):
             self.law.set_factors(now, *group.factors)
         request.command.status = CommandStatus.ACTIVE
@@ -584,6 +628,7 @@ class PathMotion:
         self._next_piece = 0
         self._last_acs_v = None
         self._acs_start = None
+        self._sampled = None
 
 
 def _speed_change_distance(v1: float, v2: float, acceleration: float, jerk: float) -> float:

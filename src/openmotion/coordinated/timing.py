@@ -7,7 +7,7 @@ never backwards, within every cap, as fast as the caps allow. It plans on events
 evaluates stored constant-jerk segments every cycle (docs/architecture.md, "Plan on events").
 
 Zones. A zone is a maximal run of pieces whose junctions do not bind: the exit cap is at least
-the smaller velocity cap, the space is the same, and the zone's velocity caps lie within 0.8 of
+the smaller velocity cap, the space is the same, and the zone's velocity caps lie within 0.95 of
 each other. The zone's caps are the minima over its pieces, so keeping them keeps every piece's.
 Within a zone, one leg runs from the current state to the zone's end; at a binding junction
 the acceleration is zero and the speed is the junction speed of a forward/backward pass. With
@@ -19,7 +19,11 @@ Look-ahead. A path may have 10 000+ pieces. The backward pass covers a window of
 that assumes rest at its end; the window grows until the junction speeds it fixes no longer
 depend on that assumption over half of it (timing_kernels.look_ahead), and the motion looks
 again before it enters a zone whose speeds would. Each event costs the window, each cycle one
-segment evaluation.
+segment evaluation. On a dense path (chords with tiny blend contours) the speed is carried
+through every junction the caps allow: its zones hold caps within 0.95 of each other, short
+fast pieces between slower ones join them (the bump rule), and the contours' velocity caps,
+which their curvature rate sets (limits.py), are all that slows it (D-134; `bench path` sets
+the mean speed against the fastest profile under the caps and under the axes' own limits).
 
 Stops (§5.13-§5.16). ``stop`` brakes with the requested deceleration and jerk, lowered to the
 smallest caps of the pieces within the braking distance. Where that brake would pass a junction
@@ -250,6 +254,12 @@ class TimeLaw:
     def length(self) -> float:
         """Total arc length of the path [mm]; a stop that drops pieces shortens it."""
         return self._length
+
+    def speed_limits(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(length [mm], velocity cap, exit cap [mm/s]) of every piece, as appended (copies;
+        ``openmotion bench path`` sets the achieved speed against them)."""
+        pieces = self._pieces
+        return (pieces.row(_LEN).copy(), pieces.row(_V).copy(), pieces.row(_EXIT).copy())
 
     def locate(self, s: float) -> tuple[int, float]:
         """(piece index, arc length within it) of ``s``; indices count from the first piece

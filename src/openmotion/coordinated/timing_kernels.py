@@ -18,7 +18,9 @@ import math
 import numpy as np
 from numba import njit
 
-RATIO = 0.8  #: a zone's velocity caps lie within this factor of each other
+#: a zone's velocity caps lie within this factor of each other; a zone runs at its smallest
+#: cap, so a path whose caps change gradually keeps at least this share of them (D-134)
+RATIO = 0.95
 _BISECTIONS = 200  #: bound on bisection steps; they stop earlier when the interval is one ulp
 
 
