@@ -127,7 +127,7 @@ def footprint_area(x: float, y: float, c: float = 0.0, width: float = MOVER_WIDT
                                  lambda _: outline)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(eq=False)
 class SweptArea:
     """An area as convex pieces in path order, each with the last sample it covers.
 
@@ -146,8 +146,8 @@ class SweptArea:
     bounds: np.ndarray  #: (n, 4) min x, min y, max x, max y of each piece [mm]
     keys: np.ndarray  #: (n, 4) query keys of the pieces
     key: np.ndarray  #: (4,) query key of the whole area
-    polygons: np.ndarray  #: object array: each piece's polygon, None until it is built
-    outlines: np.ndarray | None = None  #: object array: each piece's vertices, None until made
+    polygons: np.ndarray | list  #: each piece's polygon, None until it is built
+    outlines: list | None = None  #: each piece's vertices, None until they are made
     vertices: Callable[[int], np.ndarray] | None = None  #: piece i's convex outline, ccw
 
     @classmethod
@@ -161,19 +161,19 @@ class SweptArea:
                     vertices: Callable[[int], np.ndarray]) -> SweptArea:
         """Piece i is the convex polygon ``vertices(i)`` ((k, 2), counter-clockwise), whose
         bounds are exactly ``bounds[i]``."""
-        keys = bounds[:, _KEY_ORDER] * _FLIP
+        keys = bounds[:, _KEY_ORDER]
+        keys *= _FLIP
         count = len(bounds)
         return cls(np.asarray(until, dtype=np.int64), bounds, keys,
-                   keys.max(axis=0) if count > 1 else keys[0],
-                   np.full(count, None, dtype=object), np.full(count, None, dtype=object),
+                   keys.max(axis=0) if count > 1 else keys[0], [None] * count, [None] * count,
                    vertices)
 
     @property
     def pieces(self) -> np.ndarray:
         """All pieces as shapely polygons (object array), in path order."""
-        for i in range(len(self.polygons)):
-            self.piece(i)
-        return self.polygons
+        pieces = np.empty(len(self.polygons), dtype=object)
+        pieces[:] = [self.piece(i) for i in range(len(self.polygons))]
+        return pieces
 
     def piece(self, i: int) -> BaseGeometry:
         """Piece ``i`` as a shapely polygon (built when it is first needed)."""

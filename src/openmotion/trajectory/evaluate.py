@@ -54,13 +54,7 @@ class SegmentTable:
         n = data.shape[1]
         if n > self.columns:
             raise ValueError(f"profile has {n} segments, the table holds {self.columns}")
-        records = self.seg[row]
-        records[:n] = data.T
-        records[:n, _T] += time
-        records[n:, _T] = np.inf
-        self.cur[:, row] = records[0]
-        self.next_start[row] = records[1, _T] if n > 1 else np.inf
-        self.end[row] = records[n - 1, _T]
+        _install(self.seg, self.cur, self.next_start, self.end, row, data, time)
 
     def end_position(self, row: int) -> float:
         """Position of the open segment of ``row`` (where its profile comes to rest)."""
@@ -120,3 +114,21 @@ def _evaluate(seg: np.ndarray, cur: np.ndarray, next_start: np.ndarray, n: int, 
         a[row] = dt * j0 + a0
         v[row] = ((j0 * 0.5) * dt + a0) * dt + v0
         p[row] = ((a0 * 0.5 + (j0 * (1.0 / 6.0)) * dt) * dt + v0) * dt + p0
+
+
+@njit(cache=True, error_model="numpy")
+def _install(seg: np.ndarray, cur: np.ndarray, next_start: np.ndarray, end: np.ndarray,
+             row: int, data: np.ndarray, time: float) -> None:
+    """``SegmentTable.install``: the records of ``data`` from absolute ``time`` on (a planar
+    command installs three rows, a cycle of a hundred movers many)."""
+    n = data.shape[1]
+    for k in range(n):
+        seg[row, k, _T] = data[0, k] + time
+        for field in range(1, 5):
+            seg[row, k, field] = data[field, k]
+    for k in range(n, seg.shape[1]):
+        seg[row, k, _T] = np.inf
+    for field in range(5):
+        cur[field, row] = seg[row, 0, field]
+    next_start[row] = seg[row, 1, _T] if n > 1 else np.inf
+    end[row] = seg[row, n - 1, _T]

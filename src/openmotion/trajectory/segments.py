@@ -76,17 +76,7 @@ class Profile:
 
     def position_extrema(self) -> tuple[float, float]:
         """Lowest and highest position over the whole profile (where velocity is zero)."""
-        lo = hi = float(self.p[0])
-        for k in range(len(self.t) - 1):
-            dt = self.t[k + 1] - self.t[k]
-            p0, v0, a0, j = self.p[k], self.v[k], self.a[k], self.j[k]
-            candidates = [self.p[k + 1]]
-            for tm in _roots_of_velocity(v0, a0, j):
-                if 0.0 < tm < dt:
-                    candidates.append(p0 + tm * (v0 + tm * (a0 / 2.0 + tm * j / 6.0)))
-            lo = min(lo, *candidates)
-            hi = max(hi, *candidates)
-        return lo, hi
+        return _position_extrema(self.data)
 
     @staticmethod
     def hold(state: KinematicState) -> Profile:
@@ -107,15 +97,31 @@ class Profile:
         return Profile.from_data(both)
 
 
-def _roots_of_velocity(v0: float, a0: float, j: float) -> list[float]:
-    """Times where v0 + a0 t + j t²/2 = 0."""
-    if j == 0.0:
-        return [-v0 / a0] if a0 != 0.0 else []
-    disc = a0 * a0 - 2.0 * j * v0
-    if disc < 0.0:
-        return []
-    root = disc ** 0.5
-    return [(-a0 - root) / j, (-a0 + root) / j]
+@njit(cache=True, error_model="numpy")
+def _position_extrema(data: np.ndarray) -> tuple[float, float]:
+    """``Profile.position_extrema`` compiled: segment ends and the instants where the
+    velocity v0 + a0 t + j t²/2 is zero inside a segment (position limits of every plan)."""
+    t, p, v, a, j = data[0], data[1], data[2], data[3], data[4]
+    low = high = p[0]
+    for k in range(t.shape[0] - 1):
+        dt = t[k + 1] - t[k]
+        p0, v0, a0, jk = p[k], v[k], a[k], j[k]
+        low, high = min(low, p[k + 1]), max(high, p[k + 1])
+        if jk == 0.0:
+            if a0 == 0.0:
+                continue
+            first = second = -v0 / a0
+        else:
+            disc = a0 * a0 - 2.0 * jk * v0
+            if disc < 0.0:
+                continue
+            root = disc ** 0.5
+            first, second = (-a0 - root) / jk, (-a0 + root) / jk
+        for tm in (first, second):
+            if 0.0 < tm < dt:
+                here = p0 + tm * (v0 + tm * (a0 / 2.0 + tm * jk / 6.0))
+                low, high = min(low, here), max(high, here)
+    return low, high
 
 
 @njit(cache=True, error_model="numpy")
