@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from itertools import accumulate
 
 import numpy as np
+from numba import njit
 from ruckig import ControlInterface, InputParameter, Result, Ruckig, RuckigError, Trajectory
 
 from openmotion.core.errors import CommandRejected, ErrorId
@@ -267,7 +267,8 @@ def _segments(profile) -> Profile:  # noqa: ANN001 - ruckig.Profile has no publi
     """Flatten ruckig's brake and main phases into non-empty segments.
 
     Ruckig's post-phase (``accel``) only serves target states beyond the limits, which we
-    never command, so it is not read. Plain lists here: this runs on every plan.
+    never command, so it is not read. One array and one compiled pass: this runs on every
+    plan.
     """
     brake = profile.brake
     durations, jerks, ps, vs, accs = profile.t, profile.j, profile.p, profile.v, profile.a
@@ -275,22 +276,38 @@ def _segments(profile) -> Profile:  # noqa: ANN001 - ruckig.Profile has no publi
         durations = brake.t + durations
         jerks, ps, vs, accs = brake.j + jerks, brake.p + ps[:7], brake.v + vs[:7], \
             brake.a + accs[:7]
-    keep = [k for k, duration in enumerate(durations) if duration > _MIN_SEGMENT]
-    t = [0.0, *accumulate([durations[k] for k in keep])]
-    p = [ps[k] for k in keep]
-    v = [vs[k] for k in keep]
-    a = [accs[k] for k in keep]
-    j = [jerks[k] for k in keep]
-    if keep:
-        dt, p0, v0, a0, j0 = t[-1] - t[-2], p[-1], v[-1], a[-1], j[-1]
-        p.append(p0 + dt * (v0 + dt * (a0 / 2.0 + dt * j0 / 6.0)))
-        v.append(v0 + dt * (a0 + dt * j0 / 2.0))
+        return Profile.from_data(_flatten(np.array((durations, jerks, ps, vs, accs))))
+    return Profile.from_data(_flatten(np.array((durations, jerks, ps[:7], vs[:7], accs[:7]))))
+
+
+@njit(cache=True, error_model="numpy")
+def _flatten(raw: np.ndarray) -> np.ndarray:
+    """(t, p, v, a, j) rows of the phases in ``raw`` (rows: durations, jerks, p, v, a at each
+    phase's start) that last longer than ``_MIN_SEGMENT``, and the end state after them."""
+    count = 0
+    for k in range(raw.shape[1]):
+        if raw[0, k] > _MIN_SEGMENT:
+            count += 1
+    out = np.empty((5, count + 1))
+    out[0, 0] = 0.0
+    n = 0
+    total = 0.0
+    for k in range(raw.shape[1]):
+        if raw[0, k] > _MIN_SEGMENT:
+            out[1, n], out[2, n], out[3, n], out[4, n] = raw[2, k], raw[3, k], raw[4, k], raw[1, k]
+            total += raw[0, k]
+            n += 1
+            out[0, n] = total
+    if n:
+        dt = out[0, n] - out[0, n - 1]
+        p0, v0, a0, j0 = out[1, n - 1], out[2, n - 1], out[3, n - 1], out[4, n - 1]
+        out[1, n] = p0 + dt * (v0 + dt * (a0 / 2.0 + dt * j0 / 6.0))
+        out[2, n] = v0 + dt * (a0 + dt * j0 / 2.0)
     else:
-        p.append(ps[0])
-        v.append(vs[0])
-    a.append(0.0)
-    j.append(0.0)
-    return Profile.from_data(np.array((t, p, v, a, j)))
+        out[1, 0], out[2, 0] = raw[2, 0], raw[3, 0]
+    out[3, n] = 0.0
+    out[4, n] = 0.0
+    return out
 
 
 def _with_exact_end(profile: Profile, position: float, velocity: float) -> Profile:
