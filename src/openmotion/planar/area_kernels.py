@@ -171,6 +171,22 @@ def line_piece_bounds(points: NDArray[np.float64], low: NDArray[np.float64],
 
 
 @njit(cache=True, error_model="numpy")
+def run_turns(poses: NDArray[np.float64], span: float
+              ) -> tuple[NDArray[np.float64], NDArray[np.float64], bool]:
+    """Lowest and highest c [deg] of each run between consecutive ``poses`` (x, y, c rows),
+    and whether every run turns at most ``span``."""
+    runs = poses.shape[0] - 1
+    low, high = np.empty(runs), np.empty(runs)
+    fits = True
+    for j in range(runs):
+        a, b = poses[j, 2], poses[j + 1, 2]
+        low[j], high[j] = min(a, b), max(a, b)
+        if high[j] - low[j] > span:
+            fits = False
+    return low, high, fits
+
+
+@njit(cache=True, error_model="numpy")
 def _turned_corners(c: float, hx: float, hy: float, scale: float,
                     out: NDArray[np.float64], row: int) -> None:
     """The four corners (ccw from (-hx, -hy)) of a footprint about the origin turned by c
@@ -268,3 +284,26 @@ def interiors_meet(first: NDArray[np.float64], second: NDArray[np.float64]) -> b
     """Whether two convex polygons (vertices ccw) share interior points: shapely's
     ``intersects and not touches`` for convex polygons."""
     return not (_separates(first, second) or _separates(second, first))
+
+
+@njit(cache=True, error_model="numpy")
+def near_slots(boxes: NDArray[np.float64], key: NDArray[np.float64], ranks: NDArray[np.int64],
+               skip: NDArray[np.int64]) -> NDArray[np.int64]:
+    """Slots whose stored box (min x, min y, -max x, -max y) lies below ``key`` in all four
+    (the boxes overlap with positive area), in slot order, leaving out the slots of the
+    members whose ranks are in ``skip``. A free slot's box is +inf: never near."""
+    near = np.empty(boxes.shape[0], dtype=np.int64)
+    count = 0
+    for slot in range(boxes.shape[0]):
+        if boxes[slot, 0] < key[0] and boxes[slot, 1] < key[1] and boxes[slot, 2] < key[2] \
+                and boxes[slot, 3] < key[3]:
+            rank = ranks[slot]
+            skipped = False
+            for other in skip:
+                if rank == other:
+                    skipped = True
+                    break
+            if not skipped:
+                near[count] = slot
+                count += 1
+    return near[:count]

@@ -489,7 +489,7 @@ class MC_PlanarMover(StatefulObject):
         options.check()
         kind = MoverCommand(command.kind)
         if kind is _C.START_EXTERNAL_SETPOINT_GENERATION:
-            self._abort_all("external setpoints take over")
+            self._abort_all()  # external setpoints take over
         self._modes.started(kind)
         self._stream = ExternalSetpointStream()
         self._started_external = True
@@ -615,7 +615,7 @@ class MC_PlanarMover(StatefulObject):
             for motion in self._motions:  # the new area replaces theirs
                 if motion.coordinates & _AREA:
                     motion.samples, motion.releases = None, []
-        self._abort(set(profiles), f"aborted by {command.kind}")
+        self._abort(set(profiles))  # the new command takes over its coordinates
         for name, profile in profiles.items():
             self._install(name, profile, previous)
         end = previous + max(p.duration for p in profiles.values())
@@ -668,7 +668,8 @@ class MC_PlanarMover(StatefulObject):
         self._system.table.install(self._rows[name], profile, time)
         self._profiles[name] = (profile, time)
 
-    def _abort(self, coordinates: set[str], message: str) -> None:
+    def _abort(self, coordinates: set[str]) -> None:
+        """The motions on ``coordinates`` end: their commands are CommandAborted."""
         for motion in list(self._motions):
             if motion.coordinates & coordinates:
                 if motion.command is not None:
@@ -680,16 +681,15 @@ class MC_PlanarMover(StatefulObject):
                 motion.coordinates -= coordinates
                 if not motion.coordinates:
                     self._motions.remove(motion)
-        del message
         self._reschedule()
 
-    def _abort_all(self, message: str) -> None:
-        self._abort(set(COORDINATES), message)
+    def _abort_all(self) -> None:
+        self._abort(set(COORDINATES))
 
     def _brake(self, dynamics: str) -> None:
         """Stop every coordinate (Disable, QuickStop): no command, no area to ask for, as the
         hardest brake stays on the reserved path. On a track the mover brakes along it."""
-        self._abort_all("the mover stops")
+        self._abort_all()  # the mover stops
         if self._rider is not None:
             traffic_of(self._system).halt(self._rider, self._limits(dynamics)["xy"], None,
                                           self._system.previous)
@@ -703,7 +703,7 @@ class MC_PlanarMover(StatefulObject):
 
     def _freeze(self) -> None:
         """Abort reaction: the mover stops where it is (it lands, §4.1)."""
-        self._abort_all("error")
+        self._abort_all()  # error
         now = self._system.now
         for name in COORDINATES:
             p, _, _ = self._system.value(self._rows[name])

@@ -93,6 +93,7 @@ _RANK = itemgetter(0)
 NEVER = int(np.iinfo(np.int64).max)  #: ``until`` of a piece that progress never releases
 _FLIP = np.array([1.0, 1.0, -1.0, -1.0])  #: bounds to the stored box, keys to query keys
 _KEY_ORDER = np.array([2, 3, 0, 1])
+_NO_RANKS = np.empty(0, dtype=np.int64)  #: no member's slots are left out
 
 
 class MemberId(NamedTuple):
@@ -276,10 +277,12 @@ def straight_swept_area(poses: np.ndarray | list[list[float]], until: np.ndarray
     ``swept_area`` gives for the samples of such a path, built from the run ends alone; None
     when a run turns more than ``_STRAIGHT_SPAN`` (then ``swept_area`` on samples)."""
     _check_size(width, height, margin)
-    poses = np.asarray(poses, dtype=float)
-    c = poses[:, 2]
-    return _line_pieces(poses[:, :2], np.minimum(c[:-1], c[1:]), np.maximum(c[:-1], c[1:]),
-                        until, (width / 2 + margin, height / 2 + margin))
+    poses = np.ascontiguousarray(poses, dtype=float)
+    low, high, fits = kernels.run_turns(poses, _STRAIGHT_SPAN)
+    if not fits:
+        return None
+    return _pieces_on_line(poses[:, :2], low, high, until,
+                           (width / 2 + margin, height / 2 + margin))
 
 
 def _straight_area(xy: np.ndarray, c: np.ndarray, starts: np.ndarray, ends: np.ndarray,
@@ -311,8 +314,14 @@ def _line_pieces(points: np.ndarray, low: np.ndarray, high: np.ndarray,
     are compiled (``area_kernels``): a MoveToPosition computes them in the cycle it starts."""
     if float((high - low).max()) > _STRAIGHT_SPAN:
         return None
-    points = np.ascontiguousarray(points, dtype=float)
-    low, high = np.ascontiguousarray(low, dtype=float), np.ascontiguousarray(high, dtype=float)
+    return _pieces_on_line(np.ascontiguousarray(points, dtype=float),
+                           np.ascontiguousarray(low, dtype=float),
+                           np.ascontiguousarray(high, dtype=float), until, half)
+
+
+def _pieces_on_line(points: np.ndarray, low: np.ndarray, high: np.ndarray,
+                    until: np.ndarray | list[int], half: tuple[float, float]) -> SweptArea:
+    """``_line_pieces`` of runs known to turn at most ``_STRAIGHT_SPAN`` (float arrays)."""
     hx, hy = half
     bounds = kernels.line_piece_bounds(points, low, high, hx, hy, NOISE)
 
@@ -409,6 +418,7 @@ class ReservationRegistry:
         # index there), the rank of its member (-1 when free), the last sample it covers
         self._piece_of: list[tuple[SweptArea, int] | None] = []
         self._owner: list[int] = []
+        self._ranks = np.empty(0, dtype=np.int64)  # ``_owner`` as an array, for near_slots
         self._until: list[int] = []
         self._free: list[int] = []
         self._grow(max(1, capacity))
@@ -441,7 +451,7 @@ class ReservationRegistry:
             self.set_surface(area)
         elif area is not None:
             swept = _as_swept(area)
-            block = self._blocker(swept, [])
+            block = self._blocker(swept, _NO_RANKS)
             if block is not None:
                 return block
             self._slots[member] = self._store(swept, self._next_rank)
@@ -480,7 +490,8 @@ class ReservationRegistry:
         ``owner``'s own reservation never blocks; nor do the members in ``ignore`` (e.g. the
         movers on a track that reserves its band)."""
         self._mover_rank(owner)
-        skip = [self._slots[m] for m in (owner, *ignore) if m in self._slots]
+        skip = np.array([self._order[m] for m in (owner, *ignore) if m in self._slots],
+                        dtype=np.int64)
         return self._blocker(_as_swept(area), skip)
 
     def request(self, owner: MemberId, area: SweptArea | BaseGeometry,
@@ -529,7 +540,7 @@ class ReservationRegistry:
             raise ConfigError(f"{_name(owner)}: the environment holds its surface, not an area")
         return self._order[owner]
 
-    def _blocker(self, swept: SweptArea, excluded: list[list[int]]) -> MemberId | None:
+    def _blocker(self, swept: SweptArea, excluded: np.ndarray) -> MemberId | None:
         rank = self._first_meeting(swept, excluded)
         environment = self._environment
         if environment is not None and (rank is None or self._order[environment] < rank) \
@@ -537,18 +548,15 @@ class ReservationRegistry:
             return environment
         return None if rank is None else self._members[rank]
 
-    def _first_meeting(self, swept: SweptArea, excluded: list[list[int]]) -> int | None:
+    def _first_meeting(self, swept: SweptArea, excluded: np.ndarray) -> int | None:
         """Lowest rank among the members whose pieces meet (not only touch) ``swept``; the
-        pieces in the ``excluded`` slots do not count.
+        pieces of the members ranked ``excluded`` do not count.
 
-        The whole area's box against every slot, vectorised; then, for the few slots near,
-        each piece's box in plain Python, and the exact test pair by pair in rank order,
-        stopping at the first meeting: compiled for two convex outlines, else shapely's
+        The whole area's box against every slot in one compiled pass; then, for the few
+        slots near, each piece's box in plain Python, and the exact test pair by pair in rank
+        order, stopping at the first meeting: compiled for two convex outlines, else shapely's
         scalar calls (they beat its ufuncs for a handful of pairs)."""
-        hits = _below(self._box, swept.key)
-        for slots in excluded:
-            hits[slots] = False
-        near = np.flatnonzero(hits).tolist()
+        near = kernels.near_slots(self._box, swept.key, self._ranks, excluded).tolist()
         if not near:
             return None
         owner = self._owner
@@ -601,6 +609,7 @@ class ReservationRegistry:
             del self._free[-count:]
         if slots:
             self._box[slots] = swept.bounds * _FLIP
+            self._ranks[slots] = rank
             for index, (slot, until) in enumerate(zip(slots, swept.until.tolist(),
                                                       strict=True)):
                 self._piece_of[slot] = (swept, index)
@@ -612,6 +621,7 @@ class ReservationRegistry:
         if not slots:
             return
         self._box[slots] = np.inf
+        self._ranks[slots] = -1
         for slot in slots:
             self._piece_of[slot] = None
             self._owner[slot] = -1
@@ -622,14 +632,9 @@ class ReservationRegistry:
         self._box = np.concatenate([self._box, np.full((extra, 4), np.inf)])  # free: meets none
         self._piece_of.extend([None] * extra)
         self._owner.extend([-1] * extra)
+        self._ranks = np.concatenate([self._ranks, np.full(extra, -1, dtype=np.int64)])
         self._until.extend([0] * extra)
         self._free.extend(range(size + extra - 1, size - 1, -1))
-
-
-def _below(box: np.ndarray, key: np.ndarray) -> np.ndarray:
-    """``(box < key).all(axis=-1)`` for a last axis of 4, without the slow axis reduction."""
-    less = np.ascontiguousarray(box < key)
-    return less.view(np.uint32)[..., 0] == 0x01010101  # four True bytes
 
 
 def _name(member: MemberId) -> str:
