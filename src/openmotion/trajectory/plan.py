@@ -26,6 +26,9 @@ _otg = Ruckig(1)
 _input = InputParameter(1)
 _trajectory = Trajectory(1)
 _loaded: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)  #: limits given to ruckig
+_given: tuple[float, float, float, float] | None = None  #: the limits ``_input`` holds now
+_input.control_interface = ControlInterface.Position  # the one interface we plan with
+_input.target_acceleration = [0.0]
 
 
 @dataclass(frozen=True, slots=True)
@@ -132,10 +135,10 @@ def _ruckig_position_once(
     minimum_duration: float | None = None,
 ) -> Profile:
     _load_state(start, limits, sign)
-    _input.control_interface = ControlInterface.Position
-    _input.max_velocity = [limits.velocity]
     _input.target_position = [target]
     _input.target_velocity = [target_velocity]
+    if minimum_duration is None:
+        return _with_exact_end(_calculate(), target, target_velocity)
     _input.minimum_duration = minimum_duration
     try:
         profile = _calculate()
@@ -224,15 +227,24 @@ def _load_state(start: KinematicState, limits: Limits, sign: int) -> None:
     _input.current_position = [start.position]
     _input.current_velocity = [velocity]
     _input.current_acceleration = [acceleration]
-    _input.target_acceleration = [0.0]
     global _loaded
     if sign >= 0:
         _loaded = (limits.velocity, limits.acceleration, -limits.deceleration, limits.jerk)
     else:
         _loaded = (limits.velocity, limits.deceleration, -limits.acceleration, limits.jerk)
-    _input.max_acceleration = [_loaded[1]]
-    _input.min_acceleration = [_loaded[2]]
-    _input.max_jerk = [_loaded[3]]
+    _give(_loaded)
+
+
+def _give(values: tuple[float, float, float, float]) -> None:
+    """Velocity, acceleration bounds and jerk into ruckig's input, when they changed (each
+    setter converts a list: a plan that keeps its limits skips four)."""
+    global _given
+    if values != _given:
+        _input.max_velocity = [values[0]]
+        _input.max_acceleration = [values[1]]
+        _input.min_acceleration = [values[2]]
+        _input.max_jerk = [values[3]]
+        _given = values
 
 
 #: ruckig's community build fails on a few inputs in its numerical step 1; the same problem
@@ -246,11 +258,7 @@ def _calculate() -> Profile:
     failure = ""
     for factor in _RETRY_FACTORS:
         if factor != 1.0:
-            if _input.control_interface == ControlInterface.Position:
-                _input.max_velocity = [velocity * factor]
-            _input.max_acceleration = [max_acc * factor]
-            _input.min_acceleration = [min_acc * factor]
-            _input.max_jerk = [jerk * factor]
+            _give((velocity * factor, max_acc * factor, min_acc * factor, jerk * factor))
         try:
             result = _otg.calculate(_input, _trajectory)
         except (RuckigError, RuntimeError, ValueError) as exc:  # ruckig raises on inputs it
