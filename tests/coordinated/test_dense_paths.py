@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 import openmotion as om
+from openmotion.bench.path import gantry
 from openmotion.bench.path_bound import fastest_time, steady_speeds
 from openmotion.coordinated.blocks import MC_MovePath, MC_PathSelect
 from openmotion.coordinated.group import AxesGroup
@@ -49,16 +50,8 @@ def run_dense(points: np.ndarray) -> dict[str, float]:
     as the acceleration's change over a cycle) and the distance of the end from the last
     point."""
     rt = om.Runtime(cycle_time=0.001)
-    axes = [rt.add_axis(name, position=float(value), max_acceleration=ACCELERATION,
-                        max_deceleration=ACCELERATION, max_jerk=JERK)
-            for name, value in zip(("x", "y"), points[0], strict=True)]
-    for axis in axes:
-        axis.power()
-    rt.step()
-    group = AxesGroup(rt, "gantry")
-    for ident, axis in enumerate(axes, start=1):
-        group.add_axis(axis, ident)
-    group.enable()
+    group = gantry(rt, points[0])
+    axes = group.axes
     select, move = MC_PathSelect(group), MC_MovePath(group)
     select(execute=True, path_description=[{"line": p.tolist()} for p in points[1:]],
            transition_mode=TransitionMode.TM_MAX_CORNER_DEVIATION, transition_parameter=0.02)

@@ -59,13 +59,11 @@ def rose(segments: int) -> np.ndarray:
     return points
 
 
-def run_path(segments: int = 10_000, progress: Callable[[str], None] | None = None
-             ) -> dict[str, Any]:
-    rt = om.Runtime(cycle_time=0.001)
-    points = rose(segments)
+def gantry(rt: om.Runtime, start: np.ndarray) -> AxesGroup:
+    """An enabled XY gantry group of two powered axes (the benchmark's limits) at ``start``."""
     axes = [rt.add_axis(name, position=float(value), max_acceleration=ACCELERATION,
                         max_deceleration=ACCELERATION, max_jerk=JERK)
-            for name, value in zip(("x", "y"), points[0], strict=True)]
+            for name, value in zip(("x", "y"), start, strict=True)]
     for axis in axes:
         axis.power()
     rt.step()
@@ -73,6 +71,15 @@ def run_path(segments: int = 10_000, progress: Callable[[str], None] | None = No
     for ident, axis in enumerate(axes, start=1):
         group.add_axis(axis, ident)
     group.enable()
+    return group
+
+
+def run_path(segments: int = 10_000, progress: Callable[[str], None] | None = None
+             ) -> dict[str, Any]:
+    rt = om.Runtime(cycle_time=0.001)
+    points = rose(segments)
+    group = gantry(rt, points[0])
+    axes = group.axes
     description = [{"line": p.tolist()} for p in points[1:]]
     if progress is not None:
         progress(f"path: preparing {segments} segments (MC_PathSelect)")
