@@ -54,9 +54,12 @@ from openmotion.coordinated.kinematics import (
     Kinematics,
     Scara,
 )
+from openmotion.coordinated.limits import path_limits
 from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected
+from openmotion.geometry.blend import corner_distance_blend
 from openmotion.geometry.path import Arc, CircMode, Line, PathChoice
+from openmotion.trajectory.plan import Limits
 
 B, T = BufferMode, TransitionMode
 REL = 1e-9  #: relative tolerance on the axis limits
@@ -496,13 +499,14 @@ def check_axis_limits(run: Run, scene: Scene) -> None:
     """
     dt, (v_max, acc, dec, jerk) = run.dt, limit_arrays(scene)
     p, v, a = run.p, run.v, run.a
-    # a position carries the round-off of the arc length s along the whole path, times
-    # |dq/ds| = |q'|/|x'|
+    # a position carries the round-off of the arc length s along the whole path and of the
+    # MCS coordinates it is computed from (a gantry's offset makes them larger than the
+    # axis' own), times |dq/ds| = |q'|/|x'|
     speed = np.linalg.norm(run.tcp_velocity, axis=1)
     moving = speed > 1e-6 * speed.max()
     gain = (np.abs(v[moving]) / speed[moving, None]).max(axis=0)
     length = np.linalg.norm(np.diff(run.tcp, axis=0), axis=1).sum()
-    p_noise = EPS * (np.abs(p).max(axis=0) + gain * length)
+    p_noise = EPS * (np.abs(p).max(axis=0) + gain * (length + np.abs(run.tcp).max()))
     v_noise = EPS * np.abs(v).max(axis=0)
     a_noise = EPS * np.abs(a).max(axis=0)
     assert np.all(np.abs(v) <= v_max * (1 + REL)), np.abs(v).max(axis=0) / v_max
@@ -658,10 +662,19 @@ LATE_APPEND = Scene(SCARAS[1], (AxisLimits(60.0, 500.0, 500.0, 2e4),) * 2 + (
          (20.0, 500.0, 500.0, 10000.0), B.BLENDING_NEXT, T.TM_START_VELOCITY, 1.0, 286)),
     (0.0, 0.0, 0.0), 0.001)
 
-#: open bug (reproduced on 6c44177, before issue 7's look-ahead work): a TMConstantVelocity
-#: contour from a line into a 0.63 mm arc turning 2.1 rad bends on a radius of 0.15 µm
-#: (geometry/blend.py near a reversal); the delta robot's sampled caps cannot resolve it and
-#: refuse the arc as KINEMATICS_SINGULAR, so command 1 ends in an error
+#: the test: on the gantry shifted by 40 mm in y, the y axis at its jerk limit on the line
+#: (a cubic, so the trapezoid rule's error is exactly j·dt³/12) missed the bound by 6e-15 mm:
+#: the round-off of the MCS coordinate y = 40.1 mm, which the noise allowance left out
+OFFSET_GANTRY = Scene(GANTRIES[3], (SLOW, AxisLimits(100.0, 1000.0, 1000.0, 10**4.5), SLOW),
+                      (0.0,) * 3, (
+    Step("arc", 0.0, 1.0, 0.5, CircMode.BORDER, False, (100.0, 1000.0, 1000.0, 1e4),
+         B.BUFFERED, T.TM_NONE, None, 0),
+    step(1.0)), (0.0, 0.0, 0.0), 0.001)
+
+#: geometry/blend.py: a TMConstantVelocity contour from a line into a 0.63 mm arc turning
+#: 2.1 rad bent on a radius of 0.15 µm (its handles came from the turn between the trimmed
+#: tangents, 179.6°, not from the 0.31 mm between its ends); the delta robot's sampled caps
+#: could not resolve it and refused the arc as KINEMATICS_SINGULAR (D-138)
 NEAR_CUSP_DELTA = Scene(DELTA, (AxisLimits(60.0, 500.0, 500.0, 1e6),) + (
     AxisLimits(60.0, 500.0, 500.0, 2e4),) * 2, (29.746868292083605, 5.0, 5.0), (
     Step("line", 0.0, 1.821707851320244, 0.0, CircMode.BORDER, False,
@@ -678,6 +691,7 @@ NEAR_CUSP_DELTA = Scene(DELTA, (AxisLimits(60.0, 500.0, 500.0, 1e6),) + (
 @settings(max_examples=40, deadline=None)
 @given(scene=gantry_scenes())
 @example(scene=COLLINEAR_BLEND)
+@example(scene=OFFSET_GANTRY)
 def test_gantry_contours_issued_at_once(scene):
     check_all(scene)
 
@@ -694,10 +708,27 @@ def test_gantry_contours_issued_while_the_path_runs(scene):
 @example(scene=SCARA_PAST_180)
 @example(scene=CRAWL)
 @example(scene=LATE_APPEND)
-@example(scene=NEAR_CUSP_DELTA).xfail(raises=AssertionError, reason="open bug: a near-cusp "
-                                      "contour refused as singular on the delta robot")
+@example(scene=NEAR_CUSP_DELTA)
 def test_scara_and_delta_contours(scene):
     check_all(scene)
+
+
+def test_a_contour_into_a_nearly_reversing_arc_bends_on_a_sane_radius():
+    """NEAR_CUSP_DELTA's corner (D-138): the path the contour replaces turned 180.4° (122° at
+    the corner, 58° of arc); the contour bent on 0.15 µm over its 0.31 mm and the delta
+    robot's caps refused it as a singular pose. Now the arc gives up at most 3/4 of what the
+    corner leaves to a half turn, the contour bends on no less than an eighth of its length,
+    and its caps let it run at the 1 % of 20 mm/s that TMConstantVelocity asks (§7.4.3)."""
+    line, arc = (c.element for c in program(NEAR_CUSP_DELTA, DELTA.forward(
+        np.array(NEAR_CUSP_DELTA.start)))[:2])
+    blend = corner_distance_blend(line, arc, 1e12)  # TMConstantVelocity's widest contour
+    contour = blend.contour
+    assert blend.clamped and contour.max_curvature * contour.length <= 8.0
+    assert 1.0 / contour.max_curvature >= 0.05  # [mm]: the arc's own radius is 0.63
+    axes = [Limits(x.velocity, x.acceleration, x.deceleration, x.jerk)
+            for x in NEAR_CUSP_DELTA.limits]
+    caps = path_limits(contour, DELTA, axes, Limits(0.2, 500.0, 500.0, 5000.0))
+    assert caps.velocity == 0.2
 
 
 @pytest.mark.slow

@@ -11,11 +11,16 @@ at its ends, so curvature is continuous along the whole path (G2). Why:
 - One polynomial serves lines and arcs alike, in 3-D and in closed form; clothoids need an
   iterative fit and have none for arcs in different planes.
 - The inner control points lie at h and 2h along the end tangents, plus the curvature term
-  1.25·h²·κN that makes the ends G2. We take h = 0.75·d·c/(1+c), with d the corner distance and
-  c = cos(θ/2) for a turn θ between the end tangents. A sweep over θ chose it: between two lines
-  the peak curvature stays within 1.27x that of the circular fillet with the same d (tan(θ/2)/d)
-  and the curvature rate (the jerk v³·dκ/ds) stays moderate. A shorter h brings the peak down
-  towards 1.03x but makes the rate grow steeply; a longer one does the reverse.
+  1.25·h²·κN that makes the ends G2. We take h = 0.375·|S2' - E1'|/(1+c), with c = cos(ψ/2)
+  for a turn ψ between the end tangents. Between two lines the chord |S2' - E1'| is 2·d·c (d
+  the corner distance), so h = 0.75·d·c/(1+c): a sweep over ψ chose it, the peak curvature
+  stays within 1.27x that of the circular fillet with the same d (tan(ψ/2)/d) and the
+  curvature rate (the jerk v³·dκ/ds) stays moderate. A shorter h brings the peak down towards
+  1.03x but makes the rate grow steeply; a longer one does the reverse. Next to an arc the
+  trimmed tangents turn by more than the corner while the chord stays wide: near a half turn
+  h from d·c shrank to 1/200 of the chord and the curve bent on a radius of 1/2000 of its
+  length (decisions D-138); h from the chord keeps the peak curvature within about 2.5x of
+  the circle through both ends that turns as far (tests/geometry/test_blend.py).
 
 ``max_curvature`` bounds the contour speed: v <= sqrt(a_max / max_curvature) (§7.4.3-§7.4.5:
 curvature and acceleration may keep the blending velocity from being reached).
@@ -24,7 +29,12 @@ Parameters. The corner distance d (§1.4, §7.1) is the straight distance from t
 contour's start E1' and to its end S2' (TF5410's "tolerance ball"; along a line it is the path
 distance). A segment gives up at most its half to a blend, so that the blend at its other end
 fits too: d is clamped to the distance from the corner to the nearer segment midpoint and the
-same d applies on both sides (§7.4.4 has one parameter); ``Blend.clamped`` reports it. The
+same d applies on both sides (§7.4.4 has one parameter). An arc gives up at most so much that
+the path the contour replaces turns by less than half a turn: with θ the corner's turn, the
+trimmed pieces of the arcs turn by at most ``_WINDING`` of π - θ together (each by
+2·asin(d/2r)). A contour only knows its end tangents, which cannot tell a turn ψ from 2π - ψ,
+so beyond half a turn it bends the other way or loops on a tiny radius (D-138). Either clamp
+shortens the blend, as §7.4 lets the supplier; ``Blend.clamped`` reports it. The
 corner deviation e (§1.4) is the shortest distance from the corner to the contour; for a
 requested e we solve for d so that the deviation equals e, or take the largest d when even that
 stays below e.
@@ -51,7 +61,8 @@ from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.geometry.path import TOLERANCE, Arc, Segment, Vector, as_point
 
 REVERSAL_ANGLE = 1e-6  #: [rad] a corner turning back by more than π minus this cannot blend
-_HANDLE = 0.75  #: h = _HANDLE·d·c/(1+c), see the module docstring
+_HANDLE = 0.375  #: h = _HANDLE·|S2' - E1'|/(1+c), see the module docstring
+_WINDING = 0.75  #: of π minus the corner's turn, the most the trimmed arcs may turn (module text)
 _PIECES = 64  #: pieces of the curve parameter in the arc-length table
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(8)
 _NEWTON = 3  #: Newton steps from arc length to curve parameter: two reach round-off already
@@ -106,14 +117,18 @@ class Contour:
             raise _reject("contour: zero tangent vector")
         t0, t1 = t0 / np.linalg.norm(t0), t1 / np.linalg.norm(t1)
         step = np.empty((5, 3))  # differences of consecutive control points
+        bend0, bend1 = 1.25 * handle**2 * k0, 1.25 * handle**2 * k1  # B''(0) = (5·handle)²·k0
         step[0] = handle * t0
-        step[1] = step[0] + 1.25 * handle**2 * k0  # B''(0) = (5·handle)²·k0
+        step[1] = step[0] + bend0
         step[4] = handle * t1
-        step[3] = step[4] - 1.25 * handle**2 * k1
+        step[3] = step[4] - bend1
         step[2] = (self.end - self.start) - step[0] - step[1] - step[3] - step[4]
         self._local = np.vstack([np.zeros(3), np.cumsum(step, axis=0)])
         self._first = 5.0 * step
         self._second = 20.0 * np.diff(step, axis=0)
+        # the ends exactly: on a contour much smaller than the radii next to it, bend is
+        # rounding against handle·t, and the difference above loses the curvature's digits
+        self._second[0], self._second[3] = 20.0 * bend0, 20.0 * bend1
         self._power = _monomial(4) @ self._first  # B' in powers of u, for fast arc lengths
         self.control_points = self.start + self._local  #: [mm], for plots
         speed = self._speed(np.linspace(0.0, 1.0, _SAMPLES))
@@ -348,7 +363,7 @@ class Blend:
     corner: Vector  #: the programmed corner E1 = S2 [mm]
     corner_distance: float  #: straight distance from the corner to E1' and to S2' [mm]
     corner_deviation: float  #: shortest distance from the corner to the contour [mm]
-    clamped: bool  #: the request did not fit in half of a segment (module docstring)
+    clamped: bool  #: the request did not fit: half a segment, or an arc's turn (module text)
 
 
 def corner_distance_blend(before: Segment, after: Segment, distance: float) -> Blend:
@@ -387,12 +402,30 @@ def _corner(before: Segment, after: Segment) -> tuple[Vector, float]:
     corner = before.end
     if float(np.linalg.norm(after.start - corner)) > TOLERANCE:
         raise _reject("blend: the second segment does not start where the first ends")
-    turn = float(before.tangent(before.length) @ after.tangent(0.0))
-    if turn <= -math.cos(REVERSAL_ANGLE):
+    t0, t1 = before.tangent(before.length), after.tangent(0.0)
+    if float(t0 @ t1) <= -math.cos(REVERSAL_ANGLE):
         raise _reject("blend: the path turns back at the corner (180°): it must stop there")
     limit = min(float(np.linalg.norm(before.position(0.5 * before.length) - corner)),
                 float(np.linalg.norm(after.position(0.5 * after.length) - after.start)))
+    radii = [segment.radius for segment in (before, after) if isinstance(segment, Arc)]
+    if radii:  # π minus the corner's turn, accurate near a reversal too
+        left = 2.0 * math.atan2(float(np.linalg.norm(t0 + t1)), float(np.linalg.norm(t0 - t1)))
+        limit = _winding_limit(radii, _WINDING * left, limit)
     return corner, limit
+
+
+def _winding_limit(radii: list[float], budget: float, limit: float) -> float:
+    """The largest corner distance up to ``limit`` at which the one or two arcs of these radii,
+    trimmed by it, turn by at most ``budget`` [rad] together (module docstring).
+
+    An arc of radius r trimmed by the straight distance d turns by 2·asin(d/2r). For two arcs
+    the half-turns α and β add up to budget/2 with r1·sin α = r2·sin β = d/2, so
+    tan α = r2·sin(budget/2) / (r1 + r2·cos(budget/2)).
+    """
+    half = 0.5 * budget
+    alpha = half if len(radii) == 1 else math.atan2(
+        radii[1] * math.sin(half), radii[0] + radii[1] * math.cos(half))
+    return min(limit, 2.0 * radii[0] * math.sin(alpha))
 
 
 def _along(segment: Segment, distance: float) -> float:
@@ -408,8 +441,9 @@ def _blend(before: Segment, after: Segment, corner: Vector, distance: float,
     tail = after.substring(_along(after, distance), after.length)
     t0, t1 = head.tangent(head.length), tail.tangent(0.0)
     c = math.sqrt(max(0.0, 0.5 * (1.0 + float(t0 @ t1))))
+    chord = float(np.linalg.norm(tail.start - head.end))
     contour = Contour(head.end, t0, head.curvature_vector(head.length), tail.start, t1,
-                      tail.curvature_vector(0.0), _HANDLE * distance * c / (1.0 + c))
+                      tail.curvature_vector(0.0), _HANDLE * chord / (1.0 + c))
     return Blend(head, contour, tail, corner, distance, contour.distance_to(corner), clamped)
 
 
