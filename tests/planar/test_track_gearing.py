@@ -170,3 +170,26 @@ def test_6_2_12_follow_mover_takes_the_master_s_branch_at_the_switch():
     assert m.set_pos == pytest.approx(500.0, abs=1e-9)
     assert s.set_pos == pytest.approx(300.0, abs=1e-9) and s.set_velo == 0.0
     assert gear.active and not gear.error
+
+
+def test_a_gear_in_to_a_moving_master_starts_where_the_slave_stands():
+    """The slave stands at 1000 when it gears in to an axis cruising at 500 mm/s (its coupled
+    position lies ahead): its first setpoints run on from rest without a jump. Found by the
+    track properties: the sync was planned with the master of this cycle as if it were last
+    cycle's, so the slave jumped back by the master's travel in one cycle (0.5 mm). Fixed
+    (D-137): the axis's values one cycle back along its jerk."""
+    rt = om.Runtime(0.001)
+    track = _track(rt, (0.0, 0.0), (3000.0, 0.0))
+    mover = _mover(rt, 1000.0, 0.0)
+    _join(rt, mover, track)
+    axis = _axis(rt)
+    axis.move_absolute(5000.0, 500.0)
+    rt.run(1.0)
+    assert axis.set_velocity == pytest.approx(500.0)
+    mover.gear_in_pos_on_track(axis, None, axis.set_position + 500.0, 2000.0, track)
+    last = mover.mc_to_plc.set_on_track.set_pos
+    for _ in range(50):
+        rt.step()
+        now = mover.mc_to_plc.set_on_track.set_pos
+        assert now >= last - 1e-9, now - last
+        last = now

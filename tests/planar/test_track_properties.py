@@ -31,9 +31,9 @@ Exclusions: situations the manual does not protect (§6.2.2, digest §4.6) are n
 Movers join where they stand, turned along the track (``C_LOW``/``C_HIGH``: JoinTrack is a
 move of zero length), on a grid along the tracks: footprints apart and at least max(200,
 both gaps) apart along every path (200 mm is the gap JoinTrack leaves in force). Two movers
-may join inside the collision ranges of one switch: D-120 leaves that unprotected, but
-§6.2.2 has every mover whose braking interval is within its range at a switch coordinate
-with every other such mover, and the manual lists no such exception.
+may join inside the collision ranges of one switch: §6.2.2 has every mover whose braking
+interval is within its range at a switch coordinate with every other such mover (they keep
+their footprints apart, D-136).
 
 Commands: MoveOnTrack to a random point of a track the mover can reach (its own or one
 downstream), Halt, GearInPosOnTrackWithMasterMover with followMover to another mover, and
@@ -57,10 +57,15 @@ Checked when the commands have ended and nothing has moved for ``AT_REST_CYCLES`
 3. Every command ended Done, Aborted (only by a later command of its mover), Error with an
    error id and a message, or waits as documented: a gear-in stays Active (§6.2.8); a
    MoveOnTrack waits behind a mover standing within the gap on its way (§6.2.4), head on
-   for a mover behind it that waits to go forwards (D-120), or at its last safe stop before
-   a switch another mover holds (§6.2.2). Waits form a graph; a cycle in it with a wait at
-   a switch is a deadlock and fails. A ring of movers queued behind each other, or two
-   movers head on, is the program's own deadlock (movers never pass each other) and passes.
+   for a mover behind it that waits to go forwards (D-120), at its last safe stop before
+   a switch another mover holds (§6.2.2), or inside its zone at a switch where a mover on
+   a conflicting track is inside its own (they keep their footprints apart, and at a merge
+   both go through, their gap as if on one way already; D-136). Waits form a
+   graph; a cycle in it with a wait at a last safe stop is a deadlock and fails, unless the
+   mover waited for there is stuck in the program's own deadlock anyway. A ring of movers
+   queued behind each other, two movers head on, or two movers inside the zones of one
+   switch that each want to go where the other stands, is the program's own deadlock
+   (movers never pass each other) and passes, as do the movers waiting for it.
 
 And on the networks themselves:
 
@@ -643,6 +648,7 @@ class Run:
         rt.run(0.01)
         self.sent: list[Sent] = []
         self.pairs: dict[tuple[int, int], tuple[float, tuple[int, ...]]] = {}
+        self._paths: dict[int, tuple[tuple, list[tuple[int, float]]]] = {}  #: ``_legs``
         self.v = np.zeros(len(self.movers))
         self.last = [self.where(i) for i in range(len(self.movers))]
         self.cycle = 0
@@ -771,7 +777,24 @@ class Run:
         is only one, or round a closed track (up to ``NEAR_PATH`` + 400 mm past the route):
         the arc length to each and the tracks from here to it. ``on``: the movers on each
         track."""
-        rider = self.movers[i]._rider
+        legs = self._legs(self.movers[i]._rider)
+        on = on if on is not None else _on_tracks(where)
+        found: dict[int, tuple[float, tuple[int, ...]]] = {}
+        s_i = where[i][1]
+        for n, (k, offset) in enumerate(legs):
+            for j in on.get(k, ()):
+                d = offset + where[j][1] - s_i
+                if j != i and j not in found and d > 0.0:
+                    found[j] = (d, tuple(k for k, _ in legs[:n + 1]))
+        return found
+
+    def _legs(self, rider: Rider) -> list[tuple[int, float]]:
+        """(track, offset from the start of the rider's track) of the legs of its path:
+        its route, then the one way on (``ahead``); kept while its route stays."""
+        key = tuple((id(leg.track), leg.base) for leg in rider.route)
+        cached = self._paths.get(id(rider))
+        if cached is not None and cached[0] == key:
+            return cached[1]
         base = rider.route[0].base
         legs = [(self.index[id(leg.track)], leg.base - base) for leg in rider.route]
         last, offset = legs[-1]
@@ -785,15 +808,8 @@ class Run:
                 break
             legs.append((last, end))
             end += self.net.lengths[last]
-        on = on if on is not None else _on_tracks(where)
-        found: dict[int, tuple[float, tuple[int, ...]]] = {}
-        s_i = where[i][1]
-        for n, (k, offset) in enumerate(legs):
-            for j in on.get(k, ()):
-                d = offset + where[j][1] - s_i
-                if j != i and j not in found and d > 0.0:
-                    found[j] = (d, tuple(k for k, _ in legs[:n + 1]))
-        return found
+        self._paths[id(rider)] = (key, legs)
+        return legs
 
     def _check_gaps(self, where: list[tuple[int, float, float]], moved: np.ndarray) -> None:
         """Property 1 for each pair m, o ahead of it: the movers that moved towards each other
@@ -810,8 +826,10 @@ class Run:
                 steps = ((i, moved[i]), (j, -moved[j]))
                 closing = {x: step for x, step in steps if step > MOTION_NOISE}
                 noise = sum(step for _, step in steps if 0.0 < step <= MOTION_NOISE)
-                crept = [x for x in closing if self.gaps[x] > old[0] + GAP_TOLERANCE]
-                floor = max(self.gaps[x] for x in closing) if closing else old[0]
+                within = [x for x in closing if self.gaps[x] > old[0] + GAP_TOLERANCE]
+                crept = within if d < old[0] - GAP_TOLERANCE - noise else []
+                keep = [self.gaps[x] for x in closing if x not in within]
+                floor = max(keep) if keep else old[0] if not within else -math.inf
                 if not crept and d >= floor - GAP_TOLERANCE - noise:
                     continue
                 raise AssertionError(
@@ -844,9 +862,12 @@ class Run:
     def blockers(self, sent: Sent) -> list[tuple[int, str]]:
         """The movers a standing MoveOnTrack waits for: one standing within its gap on its
         way ("queue", §6.2.4; going backwards also one behind it that waits to go forwards:
-        head on, the forward one goes first, D-120), or one that holds the switch ahead of
-        it from a track off its way ("switch": it stands at its last safe stop, §6.2.2, or
-        in its zone, where another holder came first)."""
+        head on, the forward one goes first, D-120), one that holds the switch ahead of it
+        from a track off its way ("switch": it stands at its last safe stop, §6.2.2), or,
+        standing inside its zone at a switch (ahead or behind), one inside its own zone
+        there on a track off its way and close enough to be in the way ("footprints": the
+        two keep their footprints apart, §6.2.2), or nearer a merge that both go on
+        through, within their gap ("merge": a pair through it, D-136)."""
         i = sent.mover
         where = [self.where(k) for k in range(len(self.movers))]
         k, s, _ = where[i]
@@ -862,30 +883,75 @@ class Run:
                     and (d := self.ahead(j, where).get(i)) is not None
                     and (d[0] <= max(self.gaps[i], self.movers[j]._rider.gap) + 1e-3
                          or self._wants_forwards(j))]
-        side = END if forward else START
-        vertex = self._switch(k, side)
-        line = self._zone_line(k, side, rider.gap) if vertex is not None else math.nan
-        if (s >= line - 1e-3) if side == END else (s <= line + 1e-3):  # at or in its zone
-            mine = self._next_legs(rider)
+        ahead_side = END if forward else START
+        centres = (self.system._values[0][self.rows] + self.offsets)[:, :2]
+        for side in (START, END):
+            vertex = self._switch(k, side)
+            if vertex is None:
+                continue
+            line = self._zone_line(k, side, rider.zone_gap)
+            inside = self._inside(k, side, s, line)
+            at = (s >= line - 1e-3) if side == END else (s <= line + 1e-3)
+            if not (inside or (at and side == ahead_side)):
+                continue
+            why = "footprints" if inside else "switch"
             for j, (kj, sj, _) in enumerate(where):
                 other = self.movers[j]._rider
-                theirs = self._next_legs(other)
-                related = kj in mine or k in theirs  # a pair through the next leg
-                if kj == k:  # one track: only round the seam of a closed one, leaving it
-                    related = not (self.net.paths[k].closed and len(mine | theirs) > 1)
-                if j == i or related:
-                    continue
+                if inside and side == END and self._merges_behind((k, s, rider), (kj, sj, other),
+                                                                  vertex):
+                    out.append((j, "merge"))
+                if why == "footprints" and math.dist(centres[i], centres[j]) > HOSE + CLEARANCE:
+                    continue  # too far from each other for their footprints to be in the way
                 for side_j in (START, END):
-                    if self._switch(kj, side_j) != vertex:
+                    if j == i or self._switch(kj, side_j) != vertex or \
+                            self._related((k, side, rider), (kj, side_j, other)):
                         continue
-                    line = self._zone_line(kj, side_j, other.gap)
-                    if (sj > line + 1e-6) if side_j == END else (sj < line - 1e-6):
-                        out.append((j, "switch"))  # inside its zone: it holds the switch
+                    if self._inside(kj, side_j, sj, self._zone_line(kj, side_j, other.zone_gap)):
+                        out.append((j, why))  # inside its zone: it holds the switch
         return out
 
-    def _next_legs(self, rider: Rider) -> set[int]:
-        """The rider's track and the next one on its route."""
-        return {self.index[id(leg.track)] for leg in rider.route[:2]}
+    def _related(self, a: tuple[int, int, Rider], b: tuple[int, int, Rider]) -> bool:
+        """Whether two movers at one switch (track, side of it, rider) keep their gap as a
+        pair there: one passes it from the end of its track onto the other's, at whose start
+        the other is; on one track always, except round the seam of a closed one, where one
+        at its end leaves it."""
+        (ka, side_a, ra), (kb, side_b, rb) = a, b
+        na, nb = self._next_track(ra), self._next_track(rb)
+        if ka != kb:
+            return (side_a == END and na == kb and side_b == START) or \
+                (side_b == END and nb == ka and side_a == START)
+        leaves = (side_a == END and na not in (None, ka)) or \
+            (side_b == END and nb not in (None, kb))
+        return not (self.net.paths[ka].closed and leaves)
+
+    def _merges_behind(self, a: tuple[int, float, Rider], b: tuple[int, float, Rider],
+                       vertex: object) -> bool:
+        """Whether mover a, inside its zone at the end of its track, follows mover b through
+        the merge ``vertex`` within their gap: b is inside its zone at the end of its own
+        track there, nearer the switch, and both go on the same way (traffic.py keeps the
+        two as a pair through it)."""
+        (ka, sa, ra), (kb, sb, rb) = a, b
+        if ka == kb or self._switch(kb, END) != vertex or \
+                not self._inside(kb, END, sb, self._zone_line(kb, END, rb.zone_gap)):
+            return False
+        way = self._path_next(ka, ra)
+        if way is None or way != self._path_next(kb, rb):
+            return False
+        da, db = self.net.lengths[ka] - sa, self.net.lengths[kb] - sb
+        return db <= da <= db + max(ra.gap, rb.gap) + 1e-3
+
+    def _path_next(self, k: int, rider: Rider) -> int | None:
+        """The next track of the mover's path: of its route, else the one way on."""
+        following = self.net.successors[k]
+        if len(rider.route) > 1:
+            return self._next_track(rider)
+        if self.net.paths[k].closed:
+            return k
+        return following[0] if len(following) == 1 else None
+
+    def _next_track(self, rider: Rider) -> int | None:
+        """The next track on the rider's route."""
+        return self.index[id(rider.route[1].track)] if len(rider.route) > 1 else None
 
     def _wants_forwards(self, j: int) -> bool:
         """Mover ``j`` waits with a MoveOnTrack to a point ahead of it."""
@@ -899,8 +965,17 @@ class Run:
         track = self.tracks[k]
         return track.network.switches(track)[side]
 
+    def _inside(self, k: int, side: int, s: float, line: float) -> bool:
+        """Whether arc length ``s`` on track ``k`` is inside its zone at ``side`` beyond
+        ``line``: anywhere on the track when the zone covers all of it (traffic.py)."""
+        if side == END:
+            return s > line + 1e-6 or line <= 1e-9
+        return s < line - 1e-6 or line >= self.net.lengths[k] - 1e-9
+
     def _zone_line(self, k: int, side: int, gap: float) -> float:
-        """Where the zone of track ``k`` at its start (end) switch begins (traffic.py)."""
+        """Where the zone of track ``k`` at its start (end) switch begins (traffic.py), for a
+        rider whose zones are measured with ``gap`` (its ``zone_gap``: a larger gap of a new
+        command counts only once it is outside the wider zones, D-136)."""
         reach = max(self.tracks[k].collision_ranges[side], gap)
         return reach if side == START else self.net.lengths[k] - reach
 
@@ -945,12 +1020,21 @@ def _check_endings(run: Run) -> None:
             assert blockers, (f"{what} to {sent.target} waits at {run.where(sent.mover)} "
                               f"(track, s, v) for no mover\n{run.scenario}")
             waits[sent.mover] = blockers
+    own = {i: [(j, why) for j, why in blockers if why != "switch"]
+           for i, blockers in waits.items()}
     for i, blockers in waits.items():
         for j, why in blockers:
-            if why == "switch" and _reaches(waits, j, i):
+            if why == "switch" and _reaches(waits, j, i) and not _stuck(own, j):
                 raise AssertionError(f"deadlock: mover {i} waits at a switch for mover {j}, "
                                      f"which waits for mover {i} in turn: {waits}\n"
                                      f"{run.scenario}")
+
+
+def _stuck(own: dict[int, list[tuple[int, str]]], start: int) -> bool:
+    """Whether mover ``start`` waits, through the program's own waits (queues, head on,
+    footprints), for a ring of them: stuck whatever the switches do."""
+    return any(any(_reaches(own, j, m) for j, _ in own.get(m, ()))
+               for m in own if _reaches(own, start, m))
 
 
 def _reaches(waits: dict[int, list[tuple[int, str]]], start: int, goal: int) -> bool:
@@ -1065,16 +1149,14 @@ def _overlap(a: MC_PlanarMover, b: MC_PlanarMover) -> bool:
     return bool(overlaps(pa.x, pa.y, math.radians(pa.c), pb.x, pb.y, math.radians(pb.c)))
 
 
-@pytest.mark.xfail(strict=True, reason="traffic.py: riders standing inside their switch zones "
-                   "all hold the switch, and a holder is never stopped (_zone_lines)")
 def test_two_movers_standing_in_the_collision_ranges_of_one_switch_do_not_collide():
     """A trunk and two branches from its end: a straight one and a left arc that stays in
     the straight's hose (automatic collision ranges: both branches whole). Mover a joins at
     100 on the straight, mover b at 300 on the arc: both inside their collision ranges of
     the switch, 200 mm apart. Mover a alone moves on along its branch, towards b; b stands.
     §6.2.2: a mover whose braking interval is within its range coordinates with every other
-    such mover at the switch, so a must stop short of b. (D-120 declares movers placed inside
-    zones unprotected; the manual makes no such exception.)"""
+    such mover at the switch, so a must stop short of b. It drove into b: holders were
+    never stopped. Fixed (D-136): conflicting holders keep their footprints apart."""
     rt = om.Runtime(CYCLE)
     trunk, straight, curve = (MC_PlanarTrack(rt, n) for n in ("trunk", "straight", "curve"))
     trunk.append_line(PositionXYC(-400.0, 0.0), PositionXYC(0.0, 0.0))
@@ -1095,16 +1177,14 @@ def test_two_movers_standing_in_the_collision_ranges_of_one_switch_do_not_collid
         assert not _overlap(a, b), (a.position, b.position, move.phase)
 
 
-@pytest.mark.xfail(strict=True, reason="traffic.py _zone_lines: zone membership is judged with "
-                   "the gap in force now, so a command with a larger gap makes a mover that "
-                   "stood outside its zone a holder at once, past the entry check")
 def test_a_larger_gap_does_not_let_a_mover_skip_the_entry_to_a_switch():
     """Two feeders end at U (a merge; automatic collision ranges 302 mm at their ends).
     Mover a, on the left feeder, enters its zone and drives through the switch onto U.
     Mover b stands on the right feeder 327 mm before its end: outside its zone with the
     200 mm of JoinTrack, and with gap 200 its MoveOnTrack waits at the zone boundary until a
-    is through. With gap 369 its zone reaches 369 mm: it is inside at once, holds the switch
-    together with a, and drives into a at the merge (§6.2.2: it must wait)."""
+    is through. With gap 369 its zone reaches 369 mm: it was inside at once, held the switch
+    together with a, and drove into a at the merge (§6.2.2: it must wait). Fixed (D-136):
+    its zones keep the smaller gap until it is outside the wider ones."""
     rt = om.Runtime(CYCLE)
     p = PositionXYC
     merge, left, right = MC_PlanarTrack(rt, "U"), MC_PlanarTrack(rt, "left"), \
@@ -1125,16 +1205,10 @@ def test_a_larger_gap_does_not_let_a_mover_skip_the_entry_to_a_switch():
         assert not _overlap(a, b), (a.position, b.position)
 
 
-@pytest.mark.xfail(strict=True, reason="traffic.py ride: the new profile is planned from the "
-                   "state gap control left with the command's dynamics; from a brake harder "
-                   "than the command's deceleration its jerk limit forces a turn round")
-def test_a_move_on_track_to_a_point_ahead_never_drives_the_mover_back():
-    """Mover a runs at 2000 mm/s towards its target behind mover b, and gap control brakes it
-    with the mover's maximum dynamics (20000 mm/s², more than the command's 10000) to stop
-    one gap behind b. While it brakes, the same MoveOnTrack is sent again. The mover must go
-    on forwards (or stand); it turns round and drives back 38 mm at up to 480 mm/s, towards
-    whoever follows it (the properties found a mover behind it undercut its gap so)."""
-    rt = om.Runtime(CYCLE)
+def _braking_hard(rt: om.Runtime) -> MC_PlanarMover:
+    """Mover a runs at 2000 mm/s towards 1900 behind mover b at 1200, and gap control brakes
+    it with the mover's maximum dynamics (20000 mm/s², more than the command's 10000) to stop
+    one gap behind b: a, caught while it brakes so."""
     track = MC_PlanarTrack(rt)
     track.append_line(PositionXYC(0.0, 0.0), PositionXYC(2000.0, 0.0))
     _enabled(rt, track)
@@ -1144,12 +1218,40 @@ def test_a_move_on_track_to_a_point_ahead_never_drives_the_mover_back():
     rt.run(0.075)
     s = a.mc_to_plc.set_on_track
     assert s.set_velo > 0.0 and s.set_acc < -15000.0
-    a.move_on_track(None, 1900.0)
-    lowest = s.set_pos
-    for _ in range(2000):
+    return a
+
+
+def _lowest(rt: om.Runtime, mover: MC_PlanarMover, cycles: int = 2000) -> float:
+    lowest = mover.mc_to_plc.set_on_track.set_pos
+    for _ in range(cycles):
         rt.step()
-        lowest = min(lowest, a.mc_to_plc.set_on_track.set_pos)
-    assert lowest >= s.set_pos - GAP_TOLERANCE
+        lowest = min(lowest, mover.mc_to_plc.set_on_track.set_pos)
+    return lowest
+
+
+def test_a_move_on_track_to_a_point_ahead_never_drives_the_mover_back():
+    """While gap control brakes mover a hard (``_braking_hard``), the same MoveOnTrack is
+    sent again. The mover must go on forwards (or stand); it turned round and drove back
+    38 mm at up to 480 mm/s, towards whoever follows it (found by the properties: a mover
+    behind it undercut its gap so). Fixed (D-137): it brakes on with gap control's brake
+    first."""
+    rt = om.Runtime(CYCLE)
+    a = _braking_hard(rt)
+    start = a.mc_to_plc.set_on_track.set_pos
+    a.move_on_track(None, 1900.0)
+    assert _lowest(rt, a) >= start - GAP_TOLERANCE
+
+
+def test_a_halt_while_gap_control_brakes_hard_never_drives_the_mover_back():
+    """As above with a Halt (its deceleration is the command's 10000 mm/s²): planned from
+    that state with the Halt's jerk, the stop turned the mover round by 39 mm. It stops with
+    gap control's brake instead (D-137)."""
+    rt = om.Runtime(CYCLE)
+    a = _braking_hard(rt)
+    start = a.mc_to_plc.set_on_track.set_pos
+    halt = a.halt()
+    assert _lowest(rt, a) >= start - GAP_TOLERANCE
+    assert halt.done
 
 
 def test_a_mover_moving_backwards_keeps_its_own_gap_to_the_mover_behind():
@@ -1171,16 +1273,14 @@ def test_a_mover_moving_backwards_keeps_its_own_gap_to_the_mover_behind():
     assert closest >= 300.0 - GAP_TOLERANCE
 
 
-@pytest.mark.xfail(strict=True, reason="traffic.py _pair_list: a geared leader counts as "
-                   "moving back only while v < 0 at the start of the cycle; held at rest by the "
-                   "gap, it gets the follower's gap every third cycle and creeps into its own")
 def test_a_geared_slave_moving_backwards_keeps_its_own_gap_to_the_mover_behind():
     """As above with a slave: mover b, geared 1:1 to an axis with gap 300 and in sync, follows
     the axis back from 500 to 0 towards mover a at 0 (gap 200 from JoinTrack). It must stay
     300 mm from a (and lose sync, §6.2.8). Found by the properties: first it came to 200
     (the pair kept a's gap for a geared leader, fixed in 2b4c8fe); now the gap holds it at
-    300, but at rest (v = 0) the pair has a's 200 for a cycle, the sync steps back, the next
-    cycle brakes it: 6e-5 mm closer every three cycles, 0.16 mm inside its gap in 4 s."""
+    300, but at rest (v = 0) the pair had a's 200 for a cycle, the sync stepped back, the
+    next cycle braked it: 6e-5 mm closer every three cycles, 0.16 mm inside its gap in 4 s.
+    Fixed (D-137): a proposal that goes back counts as going back."""
     rt = om.Runtime(CYCLE)
     track = MC_PlanarTrack(rt)
     track.append_line(PositionXYC(0.0, 0.0), PositionXYC(1200.0, 0.0))
@@ -1201,6 +1301,39 @@ def test_a_geared_slave_moving_backwards_keeps_its_own_gap_to_the_mover_behind()
         closest = min(closest, b.mc_to_plc.set_on_track.set_pos - a.mc_to_plc.set_on_track.set_pos)
     assert gear.active
     assert closest >= 300.0 - GAP_TOLERANCE
+
+
+def test_a_geared_slave_turning_back_does_not_close_in_on_the_mover_behind_within_its_gap():
+    """Mover b, geared 1:1 to an axis with gap 300, runs forwards at 300 mm/s; mover a
+    follows it with its own gap 200, about 209 mm behind. The axis turns back (20000
+    mm/s²): b must not move back towards a, which is within b's gap already (§6.1.9: each
+    keeps its own gap in its direction of travel). Found by the properties: b's pair got
+    its gap only once its sync stepped back, from a state in which even its hardest brake
+    turns it round, so it crept 7 µm back into its gap. Fixed (D-137): it brakes before it
+    starts back."""
+    rt = om.Runtime(CYCLE)
+    track = MC_PlanarTrack(rt)
+    track.append_line(PositionXYC(0.0, 0.0), PositionXYC(2000.0, 0.0))
+    _enabled(rt, track)
+    a, b = _joined(rt, (track, 0.0), (track, 500.0))
+    axis = rt.add_axis("master")
+    axis.power()
+    axis.move_absolute(500.0, 500.0)
+    rt.run(2.0)
+    b.gear_in_pos_on_track(axis, None, 500.0, 500.0, track,
+                           options=ST_GearInPosOnTrackOptions(gap=300.0))
+    rt.run(0.1)
+    a.move_on_track(None, 1900.0)
+    axis.move_absolute(1500.0, 300.0)
+    rt.run(1.0)
+    assert 200.0 < b.mc_to_plc.set_on_track.set_pos - a.mc_to_plc.set_on_track.set_pos < 300.0
+    axis.move_absolute(0.0, 200.0, acceleration=20000.0, deceleration=20000.0)
+    last = b.mc_to_plc.set_on_track.set_pos
+    for _ in range(3000):
+        rt.step()
+        now = b.mc_to_plc.set_on_track.set_pos
+        assert now >= last - MOTION_NOISE, (now - last, now - a.mc_to_plc.set_on_track.set_pos)
+        last = now
 
 
 def test_a_slave_synchronises_after_its_master_mover_stopped():
@@ -1260,14 +1393,12 @@ def test_a_mover_keeps_its_gap_across_the_seam_of_a_closed_track_with_a_switch()
     assert b.mc_to_plc.set_on_track.set_pos == pytest.approx(length + 100.0 - 200.0, abs=1e-6)
 
 
-@pytest.mark.xfail(strict=True, reason="traffic.py _conflicts: riders of one track never "
-                   "conflict, also where one leaves a closed track at its seam and the other "
-                   "stands just past the seam")
 def test_a_mover_leaving_a_closed_track_at_its_seam_keeps_clear_of_one_just_past_it():
     """The stadium with a branch from its seam: mover a stands at 100 on the loop, just past
     the seam and inside the loop's collision range there. Mover b comes round the loop and
     turns onto the branch at the seam: a is not on b's way, so b must wait at its last safe
-    stop (§6.2.2) until a has gone; it passes 100 mm from a's centre."""
+    stop (§6.2.2) until a has gone; it passed 100 mm from a's centre, because riders of one
+    track never conflicted. Fixed (D-136)."""
     rt = om.Runtime(CYCLE)
     loop, branch = _stadium_with_branch(rt)
     assert loop.collision_ranges[0] > 100.0

@@ -503,6 +503,35 @@ def test_6_2_5_a_mover_crosses_onto_the_track_that_starts_from_its_track():
         (390.0, 120.0, 0.0), abs=1e-9)
 
 
+def test_a_move_back_that_cannot_stop_before_the_end_of_the_track_is_refused():
+    """Track one (0,0)-(2000,0), track two starts from it. The mover runs at 2000 mm/s onto
+    track two; 100 mm before the end of track one it is sent back to 500 on track one. With
+    the command's dynamics it cannot stop before the end of track one, and from track two it
+    may not come back (movers change track only from the end of one to the start of the
+    next, §6.2.2): the command is refused and the mover goes on. Found by the track
+    properties: the reversal ran past the end of track one while the mover stood at its end
+    (D-137)."""
+    rt = om.Runtime(0.001)
+    (mover,) = _movers(rt, (100.0, 0.0))
+    one, two = MC_PlanarTrack(rt), MC_PlanarTrack(rt)
+    one.append_line(PositionXYC(0.0, 0.0), PositionXYC(2000.0, 0.0))
+    two.start_from_track(one)
+    two.append_line(PositionXYC(2000.0, 0.0), PositionXYC(3000.0, 0.0))
+    one.enable()
+    two.enable()
+    rt.run(0.005)
+    _joined(rt, one, mover)
+    onward = mover.move_on_track(two, 900.0)
+    assert rt.run_until(lambda: mover.mc_to_plc.set_on_track.set_pos > 1900.0, timeout=5.0)
+    assert mover.mc_to_plc.set_on_track.set_velo == pytest.approx(2000.0)
+    back = mover.move_on_track(one, 500.0)
+    rt.step()
+    assert back.error and back.error_id == ErrorId.PLANAR_POSITION_LIMIT, back.message
+    _run_until(rt, onward)
+    s = mover.mc_to_plc.set_on_track
+    assert s.track_oid == two.oid and s.set_pos == pytest.approx(900.0, abs=1e-9)
+
+
 def test_6_2_10_four_tracks_make_a_loop_and_a_switch():
     """§6.2.10: track one (three lines), track two from its end back to its start, tracks
     three and four from its end as well: the end of track one is a switch with three

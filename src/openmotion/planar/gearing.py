@@ -108,6 +108,7 @@ def gear_in_pos_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
                          slave_track, slave_sync, constraint, options.in_sync_tolerance_distance,
                          options.allowed_slave_sync_directions)
     coupling.axis = axis
+    _prime(coupling, traffic)
     traffic.gear(rider, legs, coupling, options.gap, command)
 
 
@@ -137,6 +138,7 @@ def gear_in_pos_on_track_with_master_mover(mover: MC_PlanarMover, command: Plana
                          constraint, options.in_sync_tolerance_distance,
                          options.allowed_slave_sync_directions)
     coupling.master, coupling.follow = master_rider, options.follow_mover
+    _prime(coupling, traffic)
     traffic.gear(rider, legs, coupling, options.gap, command)
 
 
@@ -214,6 +216,20 @@ def _coupling(mover: MC_PlanarMover, command: PlanarCommand, legs: list[Leg],
                     start_distance=None, limits=limits, after_sync=limits)
     end = legs[-1].base + legs[-1].track.length
     return Coupling(sync, tolerance=tolerance, low=0.0, high=end, directions=directions)
+
+
+def _prime(coupling: Coupling, traffic: Any) -> None:
+    """The sync is planned from the slave's state of the last cycle, so it needs the master's
+    of the last cycle too (GearSync otherwise takes this cycle's for both, and a slave gearing
+    in to a moving master jumps by the master's travel in one cycle). A master mover has not
+    moved yet this cycle; an axis has (axes run before the planar system): its values one
+    cycle back along its jerk."""
+    mp, mv, ma, mj = master_state(coupling, traffic)
+    if coupling.axis is not None:
+        dt = traffic.dt
+        mp, mv, ma = (mp - dt * (mv - dt * (ma / 2.0 - dt * mj / 6.0)),
+                      mv - dt * (ma - dt * mj / 2.0), ma - dt * mj)
+    coupling.sync._previous_master = (mp, mv, ma, mj)
 
 
 def master_state(coupling: Coupling, traffic: Any) -> tuple[float, float, float, float]:

@@ -70,7 +70,7 @@ def join_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
         brake = p.maximum_dynamic_xy
         rider = Rider(mover, track, s, row, rows, ST_MoveOnTrackOptions().gap,
                       (brake.deceleration, brake.jerk), options.use_orientation,
-                      mover._set_pose().c)
+                      mover._set_pose().c, half=(p.mover_width / 2, p.mover_height / 2))
         traffic_of(mover._system).couple(rider)
         mover._rider = rider
 

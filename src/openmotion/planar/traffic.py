@@ -21,8 +21,9 @@ switch. A rider whose brake envelope (where it could still stop) reaches into it
 *holds* the switch. A rider that wants to enter its zone while another rider holds the same
 switch from a track that is not on its path ahead is stopped at its zone boundary: the
 last safe stop point (§6.2.2, the two examples where mover 2 waits at the start of the
-collision range or one gap before the end of its track). docs/planar-tracks.md has the
-argument and the choices.
+collision range or one gap before the end of its track). Riders that hold one switch from
+conflicting tracks at once (they joined there, or a new route made them conflict) keep
+their footprints apart. docs/planar-tracks.md has the argument and the choices.
 
 Then the odometers are mapped to x, y and (when the orientation follows the track) c, with
 their velocities and accelerations, and written into the planar system's setpoint rows.
@@ -50,10 +51,13 @@ if TYPE_CHECKING:
 IDLE, FOLLOW, HELD, GEAR = 0, 1, 2, 3
 _RESYNC = 0.05  #: a master velocity change of this share of the slave's limit re-plans its sync
 _EXTEND = 5.0  #: [mm] a queue end that moved on this far gets a new profile
-_HORIZON_TRACKS = 8
+_HORIZON_TRACKS = 8  #: a path ahead is searched this many tracks beyond the route at most
 #: [mm] riders this close to a zone get its stop line (held riders plan their goal with it);
 #: further away they cannot reach the zone within a cycle
-_ZONE_LOOKAHEAD = 1000.0  #: a path ahead is searched this many tracks beyond the route at most
+_ZONE_LOOKAHEAD = 1000.0
+_PAST = 1e-6  #: [mm] a motion that stops this far past the end of its way is refused
+_CLEAR_STEP = 2.0  #: [mm] footprints of riders holding one switch together are sampled so
+_CLEAR_SAMPLES = 32  #: ... this many steps on each side of an envelope (the horizon)
 
 
 class Rail(Protocol):
@@ -61,6 +65,7 @@ class Rail(Protocol):
 
     index: int
     length: float
+    path: Any  #: its TrackPath (``max_curvature`` [1/mm])
 
     def frame_at(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray,
                                                np.ndarray]:
@@ -85,6 +90,10 @@ class Network(Protocol):
 
     def refresh(self) -> None:
         """Once per cycle: notice parts that changed position (links across parts)."""
+        ...
+
+    def closed_loop(self, track: Rail) -> bool:
+        """Whether ``track`` ends where it starts."""
         ...
 
 
@@ -124,6 +133,11 @@ class Rider:
     halting: bool = False
     gear: Any = None  #: a gearing.Coupling while the rider is geared to a master
     slot: int = -1
+    #: the gap its switch zones are measured with (NaN: its gap): a larger gap widens them
+    #: only once the rider is outside the wider ones, so that it enters them by the entry
+    #: check like any other rider (D-136)
+    zone_gap: float = math.nan
+    half: tuple[float, float] = (77.5, 77.5)  #: half its width and height [mm] (footprint)
 
 
 class Traffic:
@@ -138,8 +152,18 @@ class Traffic:
         self._env: tuple[np.ndarray, np.ndarray] | None = None
         self.table: Any = None  #: the planar system's SegmentTable (set by traffic_of)
         self._now = 0.0
+        self._values: list[np.ndarray] = []  #: the system's p, v, a, j rows of this cycle
         #: odometer bounds (low, high) of the riders kept out of a switch zone last cycle
         self._stop_lines: dict[int, tuple[float, float]] = {}
+        self._widening = False  #: a rider's zones may widen to its gap (``_widen_zones``)
+        self._held: tuple = ()  #: who holds which switch this cycle (``_holding``)
+        self._clashes: dict[tuple, np.ndarray] = {}  #: ``_clash``'s answers
+        self._merges: dict[tuple, list[list[int]]] = {}  #: ``_merging``'s groups
+        self._merged: tuple[tuple, Pairs] | None = None  #: and its last pair list
+        self._path_next = np.empty(0, dtype=np.int64)  #: next track of each path (_geometry)
+        #: per rider holding a switch with others: the question asked and _clear_stretch's
+        #: answer (kept while the riders and their routes stay; see _geometry)
+        self._stretches: dict[int, tuple[tuple, tuple]] = {}
 
     def _arrays(self, n: int) -> None:
         self.p, self.v, self.a = np.zeros(n), np.zeros(n), np.zeros(n)
@@ -147,6 +171,7 @@ class Traffic:
         self.goal = np.zeros(n)  #: where the running profile ends (the target, or a queue)
         self.lim = np.ones((4, n))
         self.bdec, self.bjerk, self.gap = np.ones(n), np.ones(n), np.zeros(n)
+        self.zgap = np.zeros(n)  #: the gap of the switch zones (``Rider.zone_gap``)
         self.base = np.zeros(n)
         self.shift = np.zeros(n)  #: sum of odometer shifts: p - shift is the path coordinate
         self.target = np.zeros(n)  #: odometer target of the command (NaN: geared)
@@ -175,6 +200,7 @@ class Traffic:
         """Before the arrays are rebuilt: each rider keeps its c and target."""
         for r in self.riders:
             r.c, r.target = float(self.cdeg[r.slot]), float(self.target[r.slot])
+            r.zone_gap = float(self.zgap[r.slot])
 
     def _state(self, r: Rider) -> tuple[float, float, float, int, float, float]:
         k = r.slot
@@ -199,6 +225,9 @@ class Traffic:
             self.lim[:, k] = (lim.velocity, lim.acceleration, lim.deceleration, lim.jerk)
         self.bdec[k], self.bjerk[k] = r.brake
         self.gap[k] = r.gap
+        r.zone_gap = r.gap if math.isnan(r.zone_gap) else min(r.zone_gap, r.gap)
+        self.zgap[k] = r.zone_gap
+        self._widening |= r.zone_gap < r.gap
         self.target[k] = r.target
         self.oriented[k], self.cdeg[k] = r.oriented, r.c
 
@@ -240,17 +269,30 @@ class Traffic:
                 groups.setdefault(t.index, []).append(k)
             by_track = [(self.riders[ks[0]].track, np.array(ks, dtype=np.int64))
                         for ks in groups.values()]
-            # on[k, t]: track t is rider k's track or the next one on its route: riders so
-            # related at a switch keep their gap as a pair (a route that comes round a loop
-            # to another rider's track much later does not relate them there)
-            on = np.zeros((n, len(self.network.tracks) + 1), dtype=bool)
-            track_of = np.empty(n, dtype=np.int64)
+            # the next track of each rider's route (-1: none): a rider that passes a switch
+            # onto another rider's track keeps its gap to it as a pair (a route that comes
+            # round a loop to that track much later does not relate them there); seam: the
+            # rider's track is closed, so its riders meet at its switch when one leaves it
+            track_of, next_of = np.empty(n, dtype=np.int64), np.full(n, -1, dtype=np.int64)
+            path_next = np.full(n, -1, dtype=np.int64)  #: the same, or the one way on
+            seam = np.zeros(n, dtype=bool)
+            closed: dict[int, bool] = {}
             for r in self.riders:
                 track_of[r.slot] = r.track.index
-                on[r.slot, r.track.index] = True
+                if r.track.index not in closed:
+                    closed[r.track.index] = self.network.closed_loop(r.track)
+                seam[r.slot] = closed[r.track.index]
                 if len(r.route) > 1:
-                    on[r.slot, r.route[1].track.index] = True
-            self._routes = (on, track_of)
+                    next_of[r.slot] = path_next[r.slot] = r.route[1].track.index
+                else:
+                    following = self.network.successors(r.track)
+                    if r.track in following:
+                        following = [r.track]
+                    if len(following) == 1:
+                        path_next[r.slot] = following[0].index
+            self._routes = (track_of, next_of, seam)
+            self._path_next = path_next
+            self._stretches, self._clashes, self._merges, self._merged = {}, {}, {}, None
             self._geo = (rows, xr, yr, cr, length, sws, swe, crs, cre, by_track)
         return self._geo
 
@@ -288,21 +330,61 @@ class Traffic:
         k = rider.slot
         shift = route[0].base - float(self.base[k])  # a new odometer origin
         start = KinematicState(float(self.p[k]) + shift, float(self.v[k]), float(self.a[k]))
-        profile = plan_position(start, target, limits)
+        sign = 1.0 if target >= start.position else -1.0
+        # gap control may brake a rider moving towards the target harder than the command's
+        # dynamics take back without turning round: it goes on held, braking so, and plans
+        # from rest (_track)
+        u = sign * start.velocity
+        hard = u > 0.0 and bool(_hard(np.array(u), np.array(sign * start.acceleration),
+                                      np.array(limits.deceleration), np.array(limits.jerk)))
+        profile = None if hard else plan_position(start, target, limits)
+        self._check_stops_on_way(k, start, profile, route)
         self._abort(rider, f"aborted by {command.kind}")
         self._rebase(k, shift)
         rider.route, rider.limits, rider.gap, rider.target = route, limits, gap, target
         rider.command, rider.halting = command, False
         self._load(rider)
-        self._follow(rider, profile, target, now)
+        if profile is None:
+            self.mode[k] = HELD
+            self._dirty()
+        else:
+            self._follow(rider, profile, target, now)
         command.started()
+
+    def _check_stops_on_way(self, k: int, start: KinematicState, profile: Profile | None,
+                            route: list[Leg]) -> None:
+        """A MoveOnTrack whose motion (its profile, or gap control's brake from a hard
+        brake) would run past an end of its way is refused: from the end of a track a mover
+        goes on only onto the next one of its route, and never back over a track's start
+        (§6.2.2). The command before it goes on."""
+        if profile is not None:
+            lo, hi = profile.position_extrema()
+        else:
+            lo_a, hi_a = brake_envelope(*(np.array([x]) for x in (
+                start.position, start.velocity, start.acceleration, self.bdec[k],
+                self.bjerk[k])))
+            lo, hi = float(lo_a[0]), float(hi_a[0])
+        first, last = route[0], route[-1]
+        end = last.base + last.track.length
+        if hi > end + _PAST or lo < first.base - _PAST:
+            track, where = (last.track, "end") if hi > end + _PAST else (first.track, "start")
+            raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
+                                  f"MoveOnTrack: with these dynamics the mover cannot stop "
+                                  f"before the {where} of {getattr(track, 'name', track)}, "
+                                  "and it changes track only from the end of one to the "
+                                  "start of the next on its way (§6.2.2)")
 
     def halt(self, rider: Rider, limits: Limits, command: PlanarCommand | None,
              now: float) -> None:
         """Stop on the track with ``limits`` (§6.1.9 Halt); Done at rest."""
         k = rider.slot
         start = KinematicState(float(self.p[k]), float(self.v[k]), float(self.a[k]))
-        profile = plan_stop(start, limits.deceleration, limits.jerk)
+        dec, jerk = limits.deceleration, limits.jerk
+        u = abs(start.velocity)
+        b = math.copysign(1.0, start.velocity) * start.acceleration
+        if u > 0.0 and _hard(np.array(u), np.array(b), np.array(dec), np.array(jerk)):
+            dec, jerk = rider.brake  # gap control brakes harder: its brake, not a turn round
+        profile = plan_stop(start, dec, jerk)
         self._abort(rider, "aborted by Halt")
         rider.limits, rider.command, rider.halting = limits, command, True
         rider.target = profile.end.position
@@ -357,7 +439,7 @@ class Traffic:
         n = len(self.riders)
         if n == 0 or not (self.mode != IDLE).any():
             return
-        self._now = now
+        self._now, self._values = now, values
         self.network.refresh()
         rows = self._rows()
         nxt = [self.p.copy(), np.zeros(n), np.zeros(n), np.zeros(n)]
@@ -367,7 +449,9 @@ class Traffic:
             field_[follow] = column[rows[follow]]
         idle = self.mode == IDLE
         known[0][idle], known[1][idle], known[2][idle] = True, self.p[idle], self.p[idle]
-        pairs = self._pair_list()
+        going = self._going_back(self.v, self.a, self.bjerk)
+        self._holding()
+        pairs = self._merging(self._pair_list(going), going)
         queued = np.flatnonzero(follow & (self.goal != self._targets()))
         if queued.size:
             self._extend(queued, nxt, pairs)
@@ -377,10 +461,14 @@ class Traffic:
         geared = np.flatnonzero(self.mode == GEAR)
         if geared.size:
             self._gear_steps(geared, now, nxt)
+        turning = self._going_back(nxt[1], nxt[2], self.bjerk) & ~going
+        self._pair_gaps(pairs, going | turning)
         cur = (self.p, self.v, self.a)
         braking, lo, hi = filter_steps(cur, self._envelope(), nxt, self.dt, self.bdec,
                                        self.bjerk, pairs, known)
-        kept = self._keep_out(nxt, lo, hi, braking)
+        kept = self._no_turning_back(pairs, turning & ~braking, nxt, lo, hi)
+        braking[kept] = True
+        kept = np.concatenate((kept, self._keep_out(nxt, lo, hi, braking)))
         if kept.size:  # their followers may have to brake now too
             mask = np.ones(n, dtype=bool)
             more, lo, hi = filter_steps(cur, self._envelope(), nxt, self.dt, self.bdec,
@@ -406,11 +494,11 @@ class Traffic:
             self._env = brake_envelope(self.p, self.v, self.a, self.bdec, self.bjerk)
         return self._env
 
-    def _pair_list(self) -> Pairs:
+    def _pair_list(self, going: np.ndarray) -> Pairs:
         """Each rider with the rider ahead on its path (cached until a rider changes track or
         route): on its track the next one by arc length; the front rider of a track looks
         along its route (then along the one way on, if the network leaves one) for the first
-        rider of each track."""
+        rider of each track. Their gaps: ``_pair_gaps`` with ``going``."""
         if self._pairs is None:
             *_, by_track = self._geometry()
             s = self.p - self.base
@@ -433,15 +521,26 @@ class Traffic:
             pa = (np.concatenate(pred) if pred else np.empty(0)).astype(np.int64)
             self._pairs = Pairs(sa, pa, np.concatenate(offset) if offset else np.empty(0),
                                 self.gap[sa], np.zeros(sa.size, dtype=bool), True)
-        pairs = self._pairs
-        # each keeps its own gap to the mover in front of it in its direction of travel
-        # (§6.1.9): a leader that moves back onto its follower (a MoveOnTrack behind it, or
-        # a geared slave following its master back) keeps the leader's
+        self._pair_gaps(self._pairs, going)
+        return self._pairs
+
+    def _pair_gaps(self, pairs: Pairs, going: np.ndarray) -> None:
+        """Each keeps its own gap to the mover in front of it in its direction of travel
+        (§6.1.9): a leader that moves back onto its follower keeps the larger of the two
+        gaps. Back: a MoveOnTrack behind it, or ``going`` (``_going_back``, of its state
+        and, once they are known, of this cycle's proposals: a geared slave held at rest by
+        the gap goes back whenever its master still does)."""
         k = pairs.pred
-        back = (self.mode[k] != IDLE) & ((self.target[k] < self.p[k]) | (self.v[k] < 0.0))
+        back = (self.mode[k] != IDLE) & ((self.target[k] < self.p[k]) | going[k])
         pairs.gap = np.where(back, np.maximum(self.gap[pairs.succ], self.gap[k]),
                              self.gap[pairs.succ])
-        return pairs
+
+    @staticmethod
+    def _going_back(v: np.ndarray, a: np.ndarray, jerk: np.ndarray) -> np.ndarray:
+        """Riders moving back, or in a state that even their own brake (``jerk``) turns
+        round: a forward motion braked harder than it needs to stop."""
+        release = v + a * np.abs(a) / (2.0 * jerk)
+        return (v < 0.0) | (release < -TOLERANCE)
 
     def _ahead(self, m: Rider, order: dict[int, np.ndarray]) -> tuple[int, float] | None:
         """The first rider on the tracks after ``m``'s along its route (then the one way on,
@@ -533,8 +632,7 @@ class Traffic:
         lost = rows[~fitted]
         if lost.size:  # the command's brake, or the hardest one where gap control braked the
             # rider beyond what the command's brake takes back without turning round
-            ul, bl = u[lost], b[lost]
-            hard = (bl < -dec[lost]) | (ul + bl * np.abs(bl) / (2.0 * jerk[lost]) < 0.0)
+            hard = _hard(u[lost], b[lost], dec[lost], jerk[lost])
             k = held[lost]
             step = brake_state(self.p[k], self.v[k], self.a[k],
                                np.where(hard, self.bdec[k], dec[lost]),
@@ -745,93 +843,308 @@ class Traffic:
             room_lo[k], room_hi[k] = max(room_lo[k], low), min(room_hi[k], high)
         return room_lo, room_hi
 
+    def _no_turning_back(self, pairs: Pairs, turning: np.ndarray, nxt: list[np.ndarray],
+                         lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """A leader closer to its follower than their gap does not start to go back: one
+        whose next step would (``turning``: ``_going_back`` now, not before) brakes instead,
+        and its brake from a state that does not turn round never does (§6.1.9). The filter
+        lets such a step through while it keeps the envelope where it was, but the motion
+        inside the envelope would still take the leader back towards a follower it is too
+        close to already. Writes the brakes into ``nxt``, ``lo`` and ``hi``; returns the
+        riders."""
+        if not turning.any() or not pairs.succ.size:
+            return np.empty(0, dtype=np.int64)
+        s, k = pairs.succ, pairs.pred
+        unsafe = hi[s] + pairs.gap > lo[k] + pairs.offset + TOLERANCE
+        slots = np.unique(k[unsafe & turning[k]])
+        self._brake(slots, nxt, lo, hi)
+        return slots
+
     def _keep_out(self, nxt: list[np.ndarray], lo: np.ndarray, hi: np.ndarray,
                   braking: np.ndarray) -> np.ndarray:
         """The switch rule (§6.2.2): a rider whose next step would take its brake envelope
         into a switch zone that another rider holds from a track off its path brakes
         instead (its brake stays behind the zone boundary: the envelope of a brake is
-        inside the envelope it starts from). Writes the brakes into ``nxt``, ``lo`` and
-        ``hi``; returns the riders it braked."""
-        lines = self._stop_lines = self._zone_lines(lo, hi)
-        if not lines:
-            return np.empty(0, dtype=np.int64)
-        out = []
-        for k, (low, high) in lines.items():
-            if (hi[k] > high + TOLERANCE or lo[k] < low - TOLERANCE) and not braking[k]:
-                out.append(k)
+        inside the envelope it starts from); riders that hold one switch from conflicting
+        tracks at once keep their footprints apart (``_apart``). Writes the brakes into
+        ``nxt``, ``lo`` and ``hi``; returns the riders it braked."""
+        lines, contested = self._zone_lines(lo, hi)
+        self._stop_lines = lines
+        out = [k for k, (low, high) in lines.items() if k not in contested and not braking[k]
+               and (hi[k] > high + TOLERANCE or lo[k] < low - TOLERANCE)]
         slots = np.array(out, dtype=np.int64)
-        if slots.size:
-            step = brake_state(self.p[slots], self.v[slots], self.a[slots], self.bdec[slots],
-                               self.bjerk[slots], self.dt)
-            for field_, value in zip(nxt, step, strict=True):
-                field_[slots] = value
-            lo[slots], hi[slots] = brake_envelope(nxt[0][slots], nxt[1][slots],
-                                                  nxt[2][slots], self.bdec[slots],
-                                                  self.bjerk[slots])
+        self._brake(slots, nxt, lo, hi)
+        if contested:
+            slots = np.concatenate((slots, self._apart(contested, lines, nxt, lo, hi, braking)))
         return slots
 
-    def _zone_lines(self, lo: np.ndarray, hi: np.ndarray) -> dict[int, tuple[float, float]]:
-        """Odometer bounds (low, high) of the riders kept out of a switch zone this cycle.
+    def _brake(self, slots: np.ndarray, nxt: list[np.ndarray], lo: np.ndarray,
+               hi: np.ndarray) -> None:
+        """``slots`` brake this cycle instead: their step and its envelope."""
+        if not slots.size:
+            return
+        step = brake_state(self.p[slots], self.v[slots], self.a[slots], self.bdec[slots],
+                           self.bjerk[slots], self.dt)
+        for field_, value in zip(nxt, step, strict=True):
+            field_[slots] = value
+        lo[slots], hi[slots] = brake_envelope(nxt[0][slots], nxt[1][slots], nxt[2][slots],
+                                              self.bdec[slots], self.bjerk[slots])
+
+    def _holding(self) -> None:
+        """Who holds which switch at the start of the cycle (``_held``): the riders whose
+        envelope reaches into a zone, and among them those that hold one switch together
+        with a rider of a conflicting track (``contested``, each with those riders).
 
         A rider is in its zone at the switch at the end of its track when its envelope
         reaches within max(collision range at end, gap) of the track end, and at the switch
-        at its start within max(collision range at start, gap) of the start. Holders (in a
-        zone now) keep the switch; riders that enter a zone are decided in rider order: the
-        first whom no holder from a track off its path blocks becomes a holder too."""
+        at its start within max(collision range at start, gap) of the start (the gap of its
+        zones, ``Rider.zone_gap``), or anywhere on the track when the zone covers all of it
+        (no point of the track is safe then)."""
         _, _, _, _, length, sws, swe, crs, cre, _ = self._geometry()
         lo_now, hi_now = self._envelope()
-        end_line = self.base + length - np.maximum(cre, self.gap)
-        start_line = self.base + np.maximum(crs, self.gap)
         has_end, has_start = swe >= 0, sws >= 0
-        near = (has_end & (hi > end_line - _ZONE_LOOKAHEAD)) | \
-            (has_start & (lo < start_line + _ZONE_LOOKAHEAD))
-        if not near.any():
-            return {}
-        in_end = has_end & (hi_now > end_line + TOLERANCE)
-        in_start = has_start & (lo_now < start_line - TOLERANCE)
-        wants = (has_end & ~in_end & (hi > end_line + TOLERANCE)) | \
-            (has_start & ~in_start & (lo < start_line - TOLERANCE))
-        holders: dict[int, list[int]] = {}
-        for k in np.flatnonzero(in_end).tolist():
-            holders.setdefault(int(swe[k]), []).append(k)
-        for k in np.flatnonzero(in_start).tolist():
-            holders.setdefault(int(sws[k]), []).append(k)
-        asked = set(swe[wants & has_end].tolist()) | set(sws[wants & has_start].tolist())
-        lines: dict[int, tuple[float, float]] = {}
-        for switch in sorted(set(holders) | asked):
-            held = holders.get(switch, [])
-            at_end = np.flatnonzero((swe == switch) & ~in_end
-                                    & (hi > end_line - _ZONE_LOOKAHEAD))
-            at_start = np.flatnonzero((sws == switch) & ~in_start
-                                      & (lo < start_line + _ZONE_LOOKAHEAD))
-            slots = np.concatenate((at_end, at_start))
-            low = np.concatenate((np.full(at_end.size, -math.inf), start_line[at_start]))
-            high = np.concatenate((end_line[at_end], np.full(at_start.size, math.inf)))
-            order = np.argsort(slots, kind="stable")
-            slots, low, high = slots[order], low[order], high[order]
-            blocked = self._conflicts(slots, np.array(held, dtype=np.int64))
-            wanting = (hi[slots] > high + TOLERANCE) | (lo[slots] < low - TOLERANCE)
-            for i in np.flatnonzero(blocked).tolist():
-                lines[int(slots[i])] = (float(low[i]), float(high[i]))
-            granted: list[int] = []
-            for i in np.flatnonzero(wanting & ~blocked).tolist():  # in rider order
-                k = int(slots[i])
-                if granted and self._conflicts(np.array([k]), np.array(granted))[0]:
-                    lines[k] = (float(low[i]), float(high[i]))
-                else:
-                    granted.append(k)
-        return lines
+        self._widen_zones(length, crs, cre, has_start, has_end, lo_now, hi_now)
+        end_line = self.base + length - np.maximum(cre, self.zgap)
+        start_line = self.base + np.maximum(crs, self.zgap)
+        in_end = has_end & ((hi_now > end_line + TOLERANCE) | (end_line <= self.base + TOLERANCE))
+        in_start = has_start & ((lo_now < start_line - TOLERANCE)
+                                | (start_line >= self.base + length - TOLERANCE))
+        ends, starts = np.flatnonzero(in_end), np.flatnonzero(in_start)
+        k = np.concatenate((ends, starts))
+        end = np.arange(k.size) < ends.size
+        switch = np.where(end, swe[k], sws[k])
+        contested: dict[int, set[int]] = {}
+        if k.size > 1:  # placed there, or a new route turned a pair into a conflict
+            clash = self._clash(k, end, switch, k, end, switch)
+            for i, j in zip(*np.nonzero(clash), strict=True):
+                contested.setdefault(int(k[i]), set()).add(int(k[j]))
+        self._held = (end_line, start_line, in_end, in_start, k, end, switch, contested)
 
-    def _conflicts(self, slots: np.ndarray, holders: np.ndarray) -> np.ndarray:
-        """Whether each of ``slots`` may meet any of ``holders`` at their switch: on another
-        track, and neither's track on the other's route (those keep their gap as a pair)."""
+    def _merging(self, pairs: Pairs, going: np.ndarray) -> Pairs:
+        """``pairs`` and, for riders that hold a merge together from the ends of their
+        tracks with one way on after it, a pair as if they were on that way already (the
+        one nearer the switch ahead, unless it goes back): once the first passes the switch
+        they are one, and the gap must be there then (§6.1.9)."""
+        *_, k, end, switch, contested = self._held
+        if not contested:
+            return pairs
+        key = (k.tobytes(), end.tobytes())
+        groups = self._merges.get(key)
+        if groups is None:  # the same riders hold for many cycles: grouped once
+            path_next = self._path_next
+            found: dict[tuple[int, int], list[int]] = {}
+            for i in np.flatnonzero(end).tolist():
+                r = int(k[i])
+                if r in contested and path_next[r] >= 0:
+                    found.setdefault((int(switch[i]), int(path_next[r])), []).append(r)
+            groups = self._merges[key] = [g for g in found.values() if len(g) > 1]
+        if not groups:
+            return pairs
+        exit_at = self.base + self._geometry()[4]  # the odometer of a track's end switch
+        ahead = (exit_at - self.p).tolist()
+        # a leader going back, away from the switch, is free of it: only the footprints
+        back = ((self.mode != IDLE) & ((self.target < self.p) | going)).tolist()
+        succ, pred = [], []
+        for riders in groups:
+            riders = sorted(riders, key=lambda r: (ahead[r], r))
+            for f, lead in zip(riders[1:], riders[:-1], strict=True):
+                if not back[lead]:
+                    succ.append(f)
+                    pred.append(lead)
+        if not succ:
+            return pairs
+        order = (id(pairs), tuple(succ), tuple(pred))
+        if self._merged is None or self._merged[0] != order:
+            sa, pa = np.array(succ, dtype=np.int64), np.array(pred, dtype=np.int64)
+            self._merged = (order, Pairs(
+                np.concatenate((pairs.succ, sa)), np.concatenate((pairs.pred, pa)),
+                np.concatenate((pairs.offset, exit_at[sa] - exit_at[pa])),
+                np.concatenate((pairs.gap, self.gap[sa])),
+                np.zeros(pairs.succ.size + sa.size, dtype=bool), True))
+        merged = self._merged[1]
+        self._pair_gaps(merged, going)
+        return merged
+
+    def _zone_lines(self, lo: np.ndarray, hi: np.ndarray
+                    ) -> tuple[dict[int, tuple[float, float]], dict[int, set[int]]]:
+        """Odometer bounds (low, high) of the riders kept out of a switch zone this cycle,
+        and the contested holders (``_holding``). Holders keep the switch; riders that enter
+        a zone are decided in rider order: the first whom no holder from a track off its
+        path blocks becomes a holder too."""
+        _, _, _, _, length, sws, swe, _, _, _ = self._geometry()
+        end_line, start_line, in_end, in_start, hk, he, hs, contested = self._held
+        near_end = (swe >= 0) & ~in_end & (hi > end_line - _ZONE_LOOKAHEAD)
+        near_start = (sws >= 0) & ~in_start & (lo < start_line + _ZONE_LOOKAHEAD)
+        ends, starts = np.flatnonzero(near_end), np.flatnonzero(near_start)
+        if not (hk.size and (ends.size or starts.size)):
+            return {}, contested
+        k = np.concatenate((ends, starts))
+        end = np.arange(k.size) < ends.size
+        switch = np.where(end, swe[k], sws[k])
+        blocked = self._clash(k, end, switch, hk, he, hs).any(axis=1)
+        low = np.where(end, -math.inf, start_line[k])
+        high = np.where(end, end_line[k], math.inf)
+        wanting = (hi[k] > high + TOLERANCE) | (lo[k] < low - TOLERANCE)
+        lines: dict[int, tuple[float, float]] = {}
+        for i in np.flatnonzero(blocked).tolist():
+            _narrow(lines, int(k[i]), float(low[i]), float(high[i]))
+        entering = np.flatnonzero(wanting & ~blocked)
+        if entering.size > 1:  # decided in rider order: the first of a conflict enters
+            entering = entering[np.lexsort((k[entering], switch[entering]))]
+            granted: dict[int, list[int]] = {}
+            for i in entering.tolist():
+                mine = granted.setdefault(int(switch[i]), [])
+                if mine and self._conflicts(k[i:i + 1], end[i:i + 1], k[mine],
+                                            end[mine]).any():
+                    _narrow(lines, int(k[i]), float(low[i]), float(high[i]))
+                else:
+                    mine.append(i)
+        return lines, contested
+
+    def _widen_zones(self, length: np.ndarray, crs: np.ndarray, cre: np.ndarray,
+                     has_start: np.ndarray, has_end: np.ndarray, lo_now: np.ndarray,
+                     hi_now: np.ndarray) -> None:
+        """A rider whose gap grew measures its zones with the larger gap once its envelope
+        is outside them: inside, it would hold the switch at once, past the entry check."""
+        if not self._widening:
+            return
+        k = np.flatnonzero(self.zgap < self.gap)
+        self._widening = bool(k.size)
+        if not k.size:
+            return
+        base, gap = self.base[k], self.gap[k]
+        end = base + length[k] - np.maximum(cre[k], gap)
+        start = base + np.maximum(crs[k], gap)
+        inside = (has_end[k] & ((hi_now[k] > end + TOLERANCE) | (end <= base + TOLERANCE))) | \
+            (has_start[k] & ((lo_now[k] < start - TOLERANCE)
+                             | (start >= base + length[k] - TOLERANCE)))
+        for slot in k[~inside].tolist():
+            self.zgap[slot] = self.riders[slot].zone_gap = self.gap[slot]
+
+    def _apart(self, contested: dict[int, set[int]], lines: dict[int, tuple[float, float]],
+               nxt: list[np.ndarray], lo: np.ndarray, hi: np.ndarray,
+               braking: np.ndarray) -> np.ndarray:
+        """Riders that hold a switch from conflicting tracks at once (§6.2.2: every rider
+        within its range there is part of the others' planning): in rider order, each may
+        move only where its footprint stays clear of where the others can still be (their
+        envelopes; for the ones decided this cycle, old and new). Safe by induction: a
+        brake stays inside its old envelope, which was clear. Returns the riders it braked.
+        """
+        lo_now, hi_now = (x.tolist() for x in self._envelope())
+        turns = {k: self._turn(k) for k in contested}
+        seen: dict[int, tuple[float, float]] = {}
+        out = []
+        for k in sorted(contested):
+            if self.mode[k] == IDLE:  # it stands: only in the others' way
+                continue
+            others = [(j, *seen.get(j, (lo_now[j], hi_now[j]))) for j in sorted(contested[k])]
+            key = (lo_now[k], hi_now[k], turns[k], tuple((*o, turns[o[0]]) for o in others))
+            cached = self._stretches.get(k)
+            if cached is None or cached[0] != key:  # standing riders ask again and again
+                cached = self._stretches[k] = (key, self._clear_stretch(k, *key[:2], others))
+            scan, room = cached[1]
+            _narrow(lines, k, *room)
+            low, high = lines[k]
+            low, high = max(low, scan[0]), min(high, scan[1])
+            if not braking[k] and (hi[k] > high + TOLERANCE or lo[k] < low - TOLERANCE):
+                out.append(k)
+                self._brake(np.array([k]), nxt, lo, hi)
+            seen[k] = (min(lo_now[k], float(lo[k])), max(hi_now[k], float(hi[k])))
+        return np.array(out, dtype=np.int64)
+
+    def _clear_stretch(self, k: int, low: float, high: float,
+                       others: list[tuple[int, float, float]]
+                       ) -> tuple[tuple[float, float], tuple[float, float]]:
+        """The stretch of rider ``k``'s way around its envelope [low, high] on which its
+        footprint stays clear of the footprints of ``others`` (rider, envelope) anywhere in
+        their envelopes: searched ``_CLEAR_SAMPLES`` steps of ``_CLEAR_STEP`` on each side,
+        footprints grown by what they can move between two samples. Returns the stretch
+        searched and the stretch for planning (infinite on a side found clear to the
+        horizon); both are the envelope itself where it is not clear already."""
+        rider = self.riders[k]
+        start = float(self.base[k])
+        end = rider.route[-1].base + rider.route[-1].track.length
+        own = _samples(low, high)
+        ahead = np.minimum(high + _CLEAR_STEP * np.arange(1, _CLEAR_SAMPLES + 1), end)
+        behind = np.maximum(low - _CLEAR_STEP * np.arange(1, _CLEAR_SAMPLES + 1), start)
+        q = np.concatenate((own, ahead, behind))
+        mine = self._footprints(k, q)
+        hit = np.zeros(q.size, dtype=bool)
+        for j, lo_j, hi_j in others:
+            hit |= _touch(mine, self._footprints(j, _samples(lo_j, hi_j)))
+        if hit[:own.size].any():
+            return (low, high), (low, high)
+        fwd, back = hit[own.size:own.size + ahead.size], hit[own.size + ahead.size:]
+        first_f = int(np.argmax(fwd)) if fwd.any() else ahead.size
+        first_b = int(np.argmax(back)) if back.any() else behind.size
+        top = float(ahead[first_f - 1]) if first_f else high
+        bottom = float(behind[first_b - 1]) if first_b else low
+        return (bottom, top), (bottom if back.any() else -math.inf,
+                               top if fwd.any() else math.inf)
+
+    def _turn(self, k: int) -> float:
+        """C [deg] of a rider whose c does not follow the track (0 for one whose does)."""
+        if self.oriented[k]:
+            return 0.0
+        return float(self._values[0][self._geometry()[3][k]])
+
+    def _footprints(self, k: int, q: np.ndarray) -> tuple[np.ndarray, ...]:
+        """Rider ``k``'s footprints at the odometer positions ``q`` along its route: centre
+        x, y, turn c [rad], half sides grown by the margin of the sampling (the centre moves
+        up to half a step, a corner turns with the curvature where c follows the track)."""
+        rider = self.riders[k]
+        x, y, c = np.empty(q.size), np.empty(q.size), np.empty(q.size)
+        bases = np.array([leg.base for leg in rider.route])
+        leg_of = np.clip(np.searchsorted(bases, q, side="right") - 1, 0, bases.size - 1)
+        curvature = 0.0
+        for i in np.unique(leg_of).tolist():
+            track = rider.route[i].track
+            here = leg_of == i
+            s = np.clip(q[here] - bases[i], 0.0, track.length)
+            x[here], y[here], c[here], _ = track.frame_at(s)
+            curvature = max(curvature, track.path.max_curvature)
+        if not self.oriented[k]:  # c stands where its own commands left it
+            c[:] = math.radians(self._turn(k))
+            curvature = 0.0
+        hx, hy = rider.half
+        margin = 0.5 * _CLEAR_STEP * (1.0 + math.hypot(hx, hy) * curvature)
+        return x, y, c, hx + margin, hy + margin
+
+    def _clash(self, k: np.ndarray, end: np.ndarray, switch: np.ndarray, hk: np.ndarray,
+               he: np.ndarray, hs: np.ndarray) -> np.ndarray:
+        """``_conflicts`` of riders ``k`` with holders ``hk`` at the same switch, remembered
+        while the routes stay (the same riders hold and wait at a switch for many cycles)."""
+        key = (k.tobytes(), end.tobytes(), hk.tobytes(), he.tobytes())
+        found = self._clashes.get(key)
+        if found is None:
+            if len(self._clashes) > 64:
+                self._clashes.clear()
+            found = self._clashes[key] = self._conflicts(k, end, hk, he) & \
+                (switch[:, None] == hs[None, :])
+        return found
+
+    def _conflicts(self, slots: np.ndarray, ends: np.ndarray, holders: np.ndarray,
+                   holder_ends: np.ndarray) -> np.ndarray:
+        """Whether each of ``slots`` may meet each of ``holders`` at their switch, a matrix;
+        ``ends``: at the end of its track (else at its start). Riders of two tracks meet
+        unless one passes the switch onto the other's track where the other is (it keeps its
+        gap to it as a pair): at the end of its track, the other's being the next on its
+        route, the other at its start (not at the end of a closed one). Riders of
+        one closed track meet at the switch at its seam when one at its end leaves the track
+        there (it turns off beside the one just past the seam)."""
         if not holders.size or not slots.size:
-            return np.zeros(slots.size, dtype=bool)
-        on, track_of = self._routes
+            return np.zeros((slots.size, holders.size), dtype=bool)
+        track_of, next_of, seam = self._routes
         mine, theirs = track_of[slots][:, None], track_of[holders][None, :]
-        clash = (mine != theirs) & ~on[slots][:, track_of[holders]] & \
-            ~on[holders][:, track_of[slots]].T
-        return clash.any(axis=1)
+        my_next, their_next = next_of[slots][:, None], next_of[holders][None, :]
+        at_end, their_end = ends[:, None], holder_ends[None, :]
+        onto = (at_end & (my_next == theirs) & ~their_end) | \
+            (their_end & (their_next == mine) & ~at_end)
+        other = (mine != theirs) & ~onto
+        leaving = (at_end & (my_next >= 0) & (my_next != mine)) | \
+            (their_end & (their_next >= 0) & (their_next != theirs))
+        same = (mine == theirs) & seam[slots][:, None] & leaving
+        return (other | same) & (slots[:, None] != holders[None, :])
 
     def _transitions(self) -> None:
         """Riders past the end of their track's leg go on to the next leg of their route."""
@@ -899,7 +1212,9 @@ class Traffic:
                 if rider.gear is not None and rider.gear.failed is not None and command:
                     command.rejected(*rider.gear.failed)
                 rider.gear = None
-                rider.route = rider.route[:1]
+                if len(rider.route) > 1:  # its pairs and switch relations came from the route
+                    rider.route = rider.route[:1]
+                    self._pairs = self._geo = None
                 self._hold(rider, values)
                 rider.owner._on_track_finished(command)
             else:
@@ -925,6 +1240,46 @@ class Traffic:
 
     def _rows(self) -> np.ndarray:
         return self._geometry()[0]
+
+
+def _narrow(lines: dict[int, tuple[float, float]], k: int, low: float, high: float) -> None:
+    """Rider ``k`` stays within [low, high] too."""
+    old = lines.get(k, (-math.inf, math.inf))
+    lines[k] = (max(old[0], low), min(old[1], high))
+
+
+def _samples(low: float, high: float) -> np.ndarray:
+    """Odometer positions from ``low`` to ``high`` no more than ``_CLEAR_STEP`` apart."""
+    return np.linspace(low, high, max(1, math.ceil((high - low) / _CLEAR_STEP) + 1))
+
+
+def _touch(a: tuple[np.ndarray, ...], b: tuple[np.ndarray, ...]) -> np.ndarray:
+    """For each footprint of ``a`` (x, y, c, half sides): whether it overlaps any of ``b``
+    (separating axes; touching is apart)."""
+    ax, ay, ac, ahx, ahy = a
+    bx, by, bc, bhx, bhy = b
+    dx, dy = bx[None, :] - ax[:, None], by[None, :] - ay[:, None]
+    near = np.hypot(dx, dy) < math.hypot(ahx, ahy) + math.hypot(bhx, bhy)
+    if not near.any():
+        return np.zeros(ax.size, dtype=bool)
+    i, j = np.nonzero(near)
+    dx, dy = dx[i, j], dy[i, j]
+    ca, sa, cb, sb = np.cos(ac[i]), np.sin(ac[i]), np.cos(bc[j]), np.sin(bc[j])
+    overlap = np.ones(i.size, dtype=bool)
+    for nx, ny in ((ca, sa), (-sa, ca), (cb, sb), (-sb, cb)):
+        reach = (ahx * np.abs(ca * nx + sa * ny) + ahy * np.abs(-sa * nx + ca * ny)
+                 + bhx * np.abs(cb * nx + sb * ny) + bhy * np.abs(-sb * nx + cb * ny))
+        overlap &= np.abs(dx * nx + dy * ny) < reach
+    out = np.zeros(ax.size, dtype=bool)
+    out[i[overlap]] = True
+    return out
+
+
+def _hard(u: np.ndarray, b: np.ndarray, dec: np.ndarray, jerk: np.ndarray) -> np.ndarray:
+    """Whether a rider moving at ``u`` with ``b`` (both towards its target) brakes harder than
+    the deceleration ``dec`` and ``jerk`` of its command take back without turning it round:
+    then only its own brake (gap control's, the hardest) stops it without going back."""
+    return (b < -dec) | (u + b * np.abs(b) / (2.0 * jerk) < 0.0)
 
 
 def network_of(system: Any) -> Any:
