@@ -648,7 +648,7 @@ class Run:
         rt.run(0.01)
         self.sent: list[Sent] = []
         self.pairs: dict[tuple[int, int], tuple[float, tuple[int, ...]]] = {}
-        self._paths: dict[int, tuple[tuple, list[tuple[int, float]]]] = {}  #: ``_legs``
+        self._paths: dict[int, tuple[tuple, list]] = {}  #: ``_legs``
         self.v = np.zeros(len(self.movers))
         self.last = [self.where(i) for i in range(len(self.movers))]
         self.cycle = 0
@@ -684,6 +684,15 @@ class Run:
         self.rt.step()
         self.cycle += 1
         self.observe()
+
+    def _everywhere(self) -> list[tuple[int, float, float]]:
+        """``where`` of every mover, read from the traffic's arrays at once."""
+        traffic = self.traffic
+        riders = [m._rider for m in self.movers]
+        slots = [r.slot for r in riders]
+        s = (traffic.p[slots] - traffic.base[slots]).tolist()
+        v = traffic.v[slots].tolist()
+        return [(self.index[id(r.track)], s[n], v[n]) for n, r in enumerate(riders)]
 
     def where(self, i: int) -> tuple[int, float, float]:
         """Track, arc length and velocity of mover ``i``."""
@@ -750,8 +759,9 @@ class Run:
     def observe(self) -> None:
         if not self.movers:
             return
-        where = [self.where(i) for i in range(len(self.movers))]
-        moved = np.array([self._moved(w, old) for w, old in zip(where, self.last, strict=True)])
+        where = self._everywhere()
+        moved = np.array([self._moved(w, old) if w != old else 0.0
+                          for w, old in zip(where, self.last, strict=True)])
         if moved.any():  # else every distance and footprint is as it was
             self._check_gaps(where, moved)
             self._check_footprints()
@@ -781,16 +791,17 @@ class Run:
         on = on if on is not None else _on_tracks(where)
         found: dict[int, tuple[float, tuple[int, ...]]] = {}
         s_i = where[i][1]
-        for n, (k, offset) in enumerate(legs):
+        for k, offset, path in legs:
             for j in on.get(k, ()):
                 d = offset + where[j][1] - s_i
                 if j != i and j not in found and d > 0.0:
-                    found[j] = (d, tuple(k for k, _ in legs[:n + 1]))
+                    found[j] = (d, path)
         return found
 
-    def _legs(self, rider: Rider) -> list[tuple[int, float]]:
-        """(track, offset from the start of the rider's track) of the legs of its path:
-        its route, then the one way on (``ahead``); kept while its route stays."""
+    def _legs(self, rider: Rider) -> list[tuple[int, float, tuple[int, ...]]]:
+        """(track, offset from the start of the rider's track, tracks up to it) of the legs
+        of its path: its route, then the one way on (``ahead``); kept while its route
+        stays."""
         key = tuple((id(leg.track), leg.base) for leg in rider.route)
         cached = self._paths.get(id(rider))
         if cached is not None and cached[0] == key:
@@ -808,8 +819,10 @@ class Run:
                 break
             legs.append((last, end))
             end += self.net.lengths[last]
-        self._paths[id(rider)] = (key, legs)
-        return legs
+        tracks = [k for k, _ in legs]
+        out = [(k, offset, tuple(tracks[:n + 1])) for n, (k, offset) in enumerate(legs)]
+        self._paths[id(rider)] = (key, out)
+        return out
 
     def _check_gaps(self, where: list[tuple[int, float, float]], moved: np.ndarray) -> None:
         """Property 1 for each pair m, o ahead of it: the movers that moved towards each other
@@ -817,9 +830,12 @@ class Run:
         closer than its gap already does not close in at all."""
         pairs = {}
         on = _on_tracks(where)
+        still = [step == 0.0 for step in moved.tolist()]
         for i in range(len(self.movers)):
             for j, (d, path) in self.ahead(i, where, on).items():
                 pairs[i, j] = (d, path)
+                if still[i] and still[j]:
+                    continue  # as it was
                 old = self.pairs.get((i, j))
                 if old is None or not _same_path(old[1], path):
                     continue
@@ -1055,9 +1071,6 @@ def _reaches(waits: dict[int, list[tuple[int, str]]], start: int, goal: int) -> 
 SLOW = [HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large]
 
 
-# Fails until the open bugs reproduced by the strict xfails below are fixed (issue 8): kept
-# out of the default run with them; run it with `pytest -m slow` while fixing them.
-@pytest.mark.slow
 @settings(max_examples=15, deadline=None, suppress_health_check=SLOW,
           phases=[Phase.explicit, Phase.reuse, Phase.generate])
 @given(scenario=scenarios())
@@ -1443,3 +1456,99 @@ def test_a_holder_whose_route_loops_back_still_keeps_the_switch():
     for _ in range(3000):
         rt.step()
         assert not _overlap(a, c), (a.position, c.position)
+
+
+#: Scenarios the random networks found whose fixes have no smaller reproducer, as drawn
+#: (D-136); each with what went wrong (each fails without its fix).
+FOUND = {
+    # a mover just past the seam of a closed track, whose route goes round onto the
+    # branch, counted as the pair of a mover on the branch and drove into it: a
+    # route relates two movers only where one leaves its track
+    'lap_later': Scenario(
+        layout=((('circle', 0.0, 0.0, 0.0, 0.0, 1318.454871, 931.507233, False), ('close',)),
+                (('from', 0), ('line', 181.597214, -1556.797047, 597.05711, -2144.838776)),
+                (('line', -2861.226876, 2052.628711, -2070.876867, 933.967704), ('end', 0))),
+        movers=((2, 2790.0, 190.0), (2, 930.0, 190.0), (0, 3100.0, 210.0), (1, 930.0, 210.0),
+                (0, 2790.0, 210.0), (2, 1240.0, 190.0), (0, 620.0, 250.0), (0, 0.0, 250.0),
+                (0, 3410.0, 190.0), (0, 5580.0, 190.0), (0, 1550.0, 190.0), (1, 620.0, 250.0),
+                (1, 310.0, 310.0), (0, 9610.0, 250.0), (0, 6820.0, 310.0), (0, 4960.0, 310.0),
+                (0, 930.0, 210.0), (1, 1860.0, 310.0), (0, 4650.0, 310.0), (0, 8370.0, 190.0),
+                (2, 1550.0, 190.0)),
+        rounds=((162,
+                 (('move', 28, 9, 0.6017821843885626), ('move', 16, 8, 5e-324), ('halt', 16),
+                  ('move', 16, 1, 0.7515015191575565),
+                  ('gear mover', 29, 15, 0.32828573561960434, 4.891991630799652e-162))),)),
+    # a mover at the far end of a feeder whose collision range is all of it was
+    # no holder, and a mover on another feeder drove into it
+    'whole_track_zone': Scenario(
+        layout=((('line', 0.0, 0.0, 561.10691, -0.0),),
+                (('line', -500.0, -250.0, -300.0, -250.0), ('end', 0)),
+                (('line', -250.0, 0.0, 0.0, 0.0), ('end', 0)),
+                (('circle', -200.221444, 51.124928, 0.0, 0.0, 0.0, 417.627823, False), ('end', 0))),
+        movers=((3, 0.0, 237.0), (1, 357.0, 257.0), (0, 357.0, 297.0), (1, 0.0, 297.0)),
+        rounds=((130,
+                 (('halt', 29),
+                  ('gear axis', 22, 1640.4208648530102, 800.0, 354.56182864661594,
+                   0.8940537512672224),
+                  ('gear axis', 12, 1768.117948655286, 120.18932606433157, 2.5182486390013208e-284,
+                   0.9210668034879235),
+                  ('move', 3, 3, 0.9406459497697335), ('move', 8, 0, 0.4531910980671513),
+                  ('move', 25, 4, 1.8500229903046734e-109),
+                  ('gear mover', 29, 24, 0.8356756590458765, 1e-10), ('halt', 29))),
+                (1024,
+                 (('move', 25, 5, 0.2511848333625704), ('move', 29, 6, 0.0),
+                  ('move', 22, 9, 0.3841754237318339))),
+                (105,
+                 (('move', 29, 0, 0.3515380616490165), ('move', 25, 4, 1.8500229903046734e-109),
+                  ('gear mover', 5, 9, 0.4483928859324934, 0.8124519097599747),
+                  ('gear mover', 25, 5, 0.7483812224892988, 4.2624453998909074e-27),
+                  ('move', 28, 8, 0.9305624125335585),
+                  ('gear axis', 20, 274.4695347851374, 727.4813217306295, 461.0684251554483,
+                   0.7712552786024713),
+                  ('gear axis', 8, 490.37157602002344, 720.0, 279.1892760242221,
+                   2.5182486390013208e-284))),
+                (265,
+                 (('move', 29, 0, 0.3515380616490165), ('move', 25, 4, 1.8500229903046734e-109),
+                  ('gear mover', 5, 9, 0.4483928859324934, 0.8124519097599747),
+                  ('gear mover', 25, 5, 0.7483812224892988, 4.2624453998909074e-27),
+                  ('move', 28, 8, 0.9305624125335585),
+                  ('gear axis', 20, 274.4695347851374, 727.4813217306295, 461.0684251554483,
+                   0.7712552786024713),
+                  ('gear axis', 8, 490.37157602002344, 720.0, 279.1892760242221,
+                   2.5182486390013208e-284))))),
+    # two movers placed in the zones of a merge drove side by side; when the
+    # first passed onto the merged track, the other was inside its gap
+    'merge_gap': Scenario(
+        layout=((('line', -518.450289, -807.438486, 0.0, 0.0),),
+                (('line', 990.554507, 1542.697241, 1282.317752, 1997.091572),),
+                (('from', 0), ('line', 766.844917, 398.91087, 978.907135, 729.178206), ('end', 1)),
+                (('from', 0), ('line', 353.362071, 550.328819, 645.125316, 1004.723151),
+                 ('end', 1)),
+                (('from', 0), ('line', -147.459692, 985.979109, 145.127876, 1441.657247),
+                 ('end', 1))),
+        movers=((2, 1750.0, 350.0), (4, 2100.0, 230.0), (3, 1750.0, 250.0), (2, 700.0, 250.0),
+                (1, 350.0, 350.0), (4, 700.0, 290.0), (0, 350.0, 290.0), (3, 700.0, 350.0),
+                (3, 1050.0, 290.0), (2, 350.0, 250.0), (4, 1750.0, 290.0), (2, 1050.0, 290.0)),
+        rounds=((128,
+                 (('move', 22, 9, 0.6272875362704694),
+                  ('gear mover', 26, 19, 0.8429284101924013, 0.10322306306565479),
+                  ('gear mover', 12, 10, 0.8684883612966239, 0.3586871446183422), ('halt', 10))),
+                (121,
+                 (('gear axis', 23, 74.84895431682449, 504.95229767787725, 83.57216184603278,
+                   0.7985652306948245),)),
+                (235,
+                 (('gear axis', 1, 381.1766034079304, 145.28293137713098, 632.0148901856722,
+                   0.3563919892986776),
+                  ('move', 9, 3, 0.177922060255201), ('move', 0, 5, 0.9592799336282503),
+                  ('halt', 15), ('move', 13, 9, 0.04495768215728214),
+                  ('gear axis', 8, 634.2677500684318, 429.15548705087645, 569.9942400413468,
+                   2.2250738585e-313),
+                  ('gear mover', 23, 28, 0.19639351130699773, 9.862092016116455e-177),
+                  ('move', 26, 4, 0.39481555914122624))))),
+}
+
+
+@pytest.mark.parametrize("name", sorted(FOUND))
+def test_a_scenario_the_random_networks_found(name: str):
+    """Properties 1-3 (module docstring) on a scenario of ``FOUND``."""
+    Run(FOUND[name]).play()
