@@ -1464,7 +1464,7 @@ FOUND = {
     # a mover just past the seam of a closed track, whose route goes round onto the
     # branch, counted as the pair of a mover on the branch and drove into it: a
     # route relates two movers only where one leaves its track
-    'lap_later': Scenario(
+    "lap_later": Scenario(
         layout=((('circle', 0.0, 0.0, 0.0, 0.0, 1318.454871, 931.507233, False), ('close',)),
                 (('from', 0), ('line', 181.597214, -1556.797047, 597.05711, -2144.838776)),
                 (('line', -2861.226876, 2052.628711, -2070.876867, 933.967704), ('end', 0))),
@@ -1480,7 +1480,7 @@ FOUND = {
                   ('gear mover', 29, 15, 0.32828573561960434, 4.891991630799652e-162))),)),
     # a mover at the far end of a feeder whose collision range is all of it was
     # no holder, and a mover on another feeder drove into it
-    'whole_track_zone': Scenario(
+    "whole_track_zone": Scenario(
         layout=((('line', 0.0, 0.0, 561.10691, -0.0),),
                 (('line', -500.0, -250.0, -300.0, -250.0), ('end', 0)),
                 (('line', -250.0, 0.0, 0.0, 0.0), ('end', 0)),
@@ -1518,7 +1518,7 @@ FOUND = {
                    2.5182486390013208e-284))))),
     # two movers placed in the zones of a merge drove side by side; when the
     # first passed onto the merged track, the other was inside its gap
-    'merge_gap': Scenario(
+    "merge_gap": Scenario(
         layout=((('line', -518.450289, -807.438486, 0.0, 0.0),),
                 (('line', 990.554507, 1542.697241, 1282.317752, 1997.091572),),
                 (('from', 0), ('line', 766.844917, 398.91087, 978.907135, 729.178206), ('end', 1)),
