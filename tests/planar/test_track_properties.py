@@ -82,6 +82,7 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pytest
@@ -1150,6 +1151,24 @@ def _joined(rt: om.Runtime, *places: tuple[MC_PlanarTrack, float]) -> list[MC_Pl
     return movers
 
 
+def _geared_on_a_line(rt: om.Runtime, length: float) -> tuple[MC_PlanarMover, MC_PlanarMover,
+                                                               om.Axis, Any]:
+    """Movers a at 0 and b at 500 on a line track of ``length``; b geared 1:1 (gap 300) to
+    an axis standing at 500, 0.1 s after the gear-in."""
+    track = MC_PlanarTrack(rt)
+    track.append_line(PositionXYC(0.0, 0.0), PositionXYC(length, 0.0))
+    _enabled(rt, track)
+    a, b = _joined(rt, (track, 0.0), (track, 500.0))
+    axis = rt.add_axis("master")
+    axis.power()
+    axis.move_absolute(500.0, 500.0)
+    rt.run(2.0)
+    gear = b.gear_in_pos_on_track(axis, None, 500.0, 500.0, track,
+                                  options=ST_GearInPosOnTrackOptions(gap=300.0))
+    rt.run(0.1)
+    return a, b, axis, gear
+
+
 def _enabled(rt: om.Runtime, *tracks: MC_PlanarTrack) -> None:
     for track in tracks:
         track.enable()
@@ -1295,17 +1314,7 @@ def test_a_geared_slave_moving_backwards_keeps_its_own_gap_to_the_mover_behind()
     next cycle braked it: 6e-5 mm closer every three cycles, 0.16 mm inside its gap in 4 s.
     Fixed (D-137): a proposal that goes back counts as going back."""
     rt = om.Runtime(CYCLE)
-    track = MC_PlanarTrack(rt)
-    track.append_line(PositionXYC(0.0, 0.0), PositionXYC(1200.0, 0.0))
-    _enabled(rt, track)
-    a, b = _joined(rt, (track, 0.0), (track, 500.0))
-    axis = rt.add_axis("master")
-    axis.power()
-    axis.move_absolute(500.0, 500.0)
-    rt.run(2.0)
-    gear = b.gear_in_pos_on_track(axis, None, 500.0, 500.0, track,
-                                  options=ST_GearInPosOnTrackOptions(gap=300.0))
-    rt.run(0.1)
+    a, b, axis, gear = _geared_on_a_line(rt, 1200.0)
     assert gear.in_sync
     axis.move_absolute(0.0, 200.0)
     closest = math.inf
@@ -1325,17 +1334,7 @@ def test_a_geared_slave_turning_back_does_not_close_in_on_the_mover_behind_withi
     turns it round, so it crept 7 µm back into its gap. Fixed (D-137): it brakes before it
     starts back."""
     rt = om.Runtime(CYCLE)
-    track = MC_PlanarTrack(rt)
-    track.append_line(PositionXYC(0.0, 0.0), PositionXYC(2000.0, 0.0))
-    _enabled(rt, track)
-    a, b = _joined(rt, (track, 0.0), (track, 500.0))
-    axis = rt.add_axis("master")
-    axis.power()
-    axis.move_absolute(500.0, 500.0)
-    rt.run(2.0)
-    b.gear_in_pos_on_track(axis, None, 500.0, 500.0, track,
-                           options=ST_GearInPosOnTrackOptions(gap=300.0))
-    rt.run(0.1)
+    a, b, axis, _ = _geared_on_a_line(rt, 2000.0)
     a.move_on_track(None, 1900.0)
     axis.move_absolute(1500.0, 300.0)
     rt.run(1.0)
