@@ -400,6 +400,40 @@ def test_knowing_the_faster_motion_beforehand_plans_the_same(limits, c_limits, t
         assert np.array_equal(getattr(fast, name).data, getattr(full, name).data)
 
 
+@given(limits=_equal_limits(), c_limits=_equal_limits(), tx=coordinate, ty=coordinate,
+       c0=st.floats(-14.0, 14.0), c_target=st.one_of(st.none(), st.floats(-14.0, 14.0)))
+def test_a_move_from_rest_in_closed_form_is_ruckigs_move(limits, c_limits, tx, ty, c0,
+                                                         c_target):
+    """From rest with acceleration equal to deceleration the path and C are planned in closed
+    form (trajectory.double_s): the duration of ruckig's plan, the same straight path to the
+    same target, and the slower of path and C the same motion (D-139)."""
+    assume(math.hypot(tx, ty) >= 1e-3 and (c_target is None or abs(c_target - c0) >= 1e-3))
+    start = _at_rest(0.0, 0.0, c0)
+    target = (tx, ty) if c_target is None else (tx, ty, c_target)
+    fast = plan_move_to_position(start, target, limits, c_limits)
+    with mock.patch.object(motion_module, "_rest_move", return_value=None):
+        oracle = plan_move_to_position(start, target, limits, c_limits)
+    assert fast.duration == pytest.approx(oracle.duration, rel=1e-9, abs=1e-12)
+    assert fast.s is not None
+    for name in "xyc":
+        mine, theirs = getattr(fast, name), getattr(oracle, name)
+        if theirs is None:
+            assert mine is None
+            continue
+        assert mine.p[-1] == theirs.p[-1] and mine.p[0] == theirs.p[0]
+    times = np.linspace(0.0, fast.duration, 33)
+    s = _evaluate(fast.s, times)[0]
+    length = math.hypot(tx, ty)
+    assert np.allclose(_evaluate(fast.x, times)[0], tx / length * s, atol=1e-9 * length)
+    assert np.allclose(_evaluate(fast.y, times)[0], ty / length * s, atol=1e-9 * length)
+    path_time = rest_to_rest_time(length, limits)
+    turn_time = 0.0 if c_target is None else rest_to_rest_time(c_target - c0, c_limits)
+    slower = "x" if path_time >= turn_time else "c"
+    scale = max(1.0, length) if slower == "x" else max(1.0, abs(c_target - c0))
+    assert np.allclose(_evaluate(getattr(fast, slower), times)[0],
+                       _evaluate(getattr(oracle, slower), times)[0], atol=1e-8 * scale)
+
+
 def test_a_straight_move_from_rest_carries_its_arc_length():
     """``PlanarMotion.s``: x and y are x0 + ux s and y0 + uy s; none after a braking lead."""
     motion = plan_move_to_position(_at_rest(10.0, 20.0, 3.0), (310.0, -380.0, -9.0), XY, C)

@@ -120,6 +120,22 @@ def straight_runs(s: NDArray[np.float64], x: NDArray[np.float64], x_t0: float, x
 
 
 @njit(cache=True, error_model="numpy")
+def straight_area_numbers(s: NDArray[np.float64], x: NDArray[np.float64], x_t0: float,
+                          x_running: bool, y: NDArray[np.float64], y_t0: float,
+                          y_running: bool, c: NDArray[np.float64], c_t0: float,
+                          c_running: bool, c_in_grid: bool, start: float, step: float,
+                          release_step: float, span: float, hx: float, hy: float,
+                          noise: float):  # noqa: ANN201 - the two tuples below, joined
+    """``straight_runs`` and then ``straight_pieces`` of its poses, in one call (the swept
+    area of a MoveToPosition in the cycle it starts): samples, ends, poses, and fits, low,
+    high, bounds, keys, key."""
+    samples, ends, poses = straight_runs(s, x, x_t0, x_running, y, y_t0, y_running, c, c_t0,
+                                         c_running, c_in_grid, start, step, release_step)
+    fits, low, high, bounds, keys, key = straight_pieces(poses, span, hx, hy, noise)
+    return samples, ends, poses, fits, low, high, bounds, keys, key
+
+
+@njit(cache=True, error_model="numpy")
 def _quarter_cos_sin(c: float) -> tuple[float, float]:
     """``core.angles.cos_sin``: exact at multiples of 90 degrees."""
     turns = math.floor(c / 90.0)
@@ -147,11 +163,14 @@ def _reach(c: float, hx: float, hy: float) -> tuple[float, float]:
 @njit(cache=True, error_model="numpy")
 def line_piece_bounds(points: NDArray[np.float64], low: NDArray[np.float64],
                       high: NDArray[np.float64], hx: float, hy: float, noise: float
-                      ) -> NDArray[np.float64]:
-    """(m, 4) bounds of the m pieces of ``reservation._line_pieces``: run j from
-    ``points[j]`` to ``points[j + 1]`` turning within [``low[j]``, ``high[j]``] degrees."""
+                      ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """(m, 4) bounds of the m pieces of ``reservation._line_pieces`` (run j from
+    ``points[j]`` to ``points[j + 1]`` turning within [``low[j]``, ``high[j]``] degrees), their
+    query keys (max x, max y, -min x, -min y) and the key of all of them (``SweptArea``)."""
     runs = low.shape[0]
     bounds = np.empty((runs, 4))
+    keys = np.empty((runs, 4))
+    key = np.full(4, -np.inf)
     for j in range(runs):
         a, b = low[j], high[j]
         ax, ay = _reach(a, hx, hy)
@@ -167,7 +186,27 @@ def line_piece_bounds(points: NDArray[np.float64], low: NDArray[np.float64],
         bounds[j, 1] = min(y0, y1) - ay
         bounds[j, 2] = max(x0, x1) + ax
         bounds[j, 3] = max(y0, y1) + ay
-    return bounds
+        keys[j, 0], keys[j, 1] = bounds[j, 2], bounds[j, 3]
+        keys[j, 2], keys[j, 3] = -bounds[j, 0], -bounds[j, 1]
+        for k in range(4):
+            key[k] = max(key[k], keys[j, k])
+    return bounds, keys, key
+
+
+@njit(cache=True, error_model="numpy")
+def straight_pieces(poses: NDArray[np.float64], span: float, hx: float, hy: float,
+                    noise: float) -> tuple[bool, NDArray[np.float64], NDArray[np.float64],
+                                           NDArray[np.float64], NDArray[np.float64],
+                                           NDArray[np.float64]]:
+    """``run_turns`` and ``line_piece_bounds`` of the runs between ``poses`` in one call:
+    whether every run turns at most ``span``, each run's lowest and highest c, and (when it
+    does) the pieces' bounds, keys and key."""
+    low, high, fits = run_turns(poses, span)
+    if not fits:
+        empty = np.empty((0, 4))
+        return False, low, high, empty, empty, np.empty(4)
+    bounds, keys, key = line_piece_bounds(poses[:, :2], low, high, hx, hy, noise)
+    return True, low, high, bounds, keys, key
 
 
 @njit(cache=True, error_model="numpy")
@@ -291,8 +330,9 @@ def near_slots(boxes: NDArray[np.float64], key: NDArray[np.float64], ranks: NDAr
                skip: NDArray[np.int64]) -> NDArray[np.int64]:
     """Slots whose stored box (min x, min y, -max x, -max y) lies below ``key`` in all four
     (the boxes overlap with positive area), in slot order, leaving out the slots of the
-    members whose ranks are in ``skip``. A free slot's box is +inf: never near."""
-    near = np.empty(boxes.shape[0], dtype=np.int64)
+    members whose ranks are in ``skip``: row 0 the slots, row 1 their members' ranks. A free
+    slot's box is +inf: never near."""
+    near = np.empty((2, boxes.shape[0]), dtype=np.int64)
     count = 0
     for slot in range(boxes.shape[0]):
         if boxes[slot, 0] < key[0] and boxes[slot, 1] < key[1] and boxes[slot, 2] < key[2] \
@@ -304,6 +344,56 @@ def near_slots(boxes: NDArray[np.float64], key: NDArray[np.float64], ranks: NDAr
                     skipped = True
                     break
             if not skipped:
-                near[count] = slot
+                near[0, count] = slot
+                near[1, count] = rank
                 count += 1
-    return near[:count]
+    return near[:, :count]
+
+
+@njit(cache=True, error_model="numpy")
+def write_slots(boxes: NDArray[np.float64], ranks: NDArray[np.int64], until: NDArray[np.int64],
+                slots: NDArray[np.int64], bounds: NDArray[np.float64],
+                piece_until: NDArray[np.int64], rank: int) -> None:
+    """Store piece i (``bounds[i]``: min x, min y, max x, max y; last sample
+    ``piece_until[i]``) of the member ranked ``rank`` in slot ``slots[i]``: its box as
+    ``near_slots`` reads it (min x, min y, -max x, -max y)."""
+    for i in range(slots.shape[0]):
+        slot = slots[i]
+        boxes[slot, 0], boxes[slot, 1] = bounds[i, 0], bounds[i, 1]
+        boxes[slot, 2], boxes[slot, 3] = -bounds[i, 2], -bounds[i, 3]
+        ranks[slot] = rank
+        until[slot] = piece_until[i]
+
+
+@njit(cache=True, error_model="numpy")
+def clear_slots(boxes: NDArray[np.float64], ranks: NDArray[np.int64],
+                slots: NDArray[np.int64]) -> None:
+    """Free ``slots``: a box of +inf meets none, rank -1 belongs to nobody."""
+    for i in range(slots.shape[0]):
+        slot = slots[i]
+        for k in range(4):
+            boxes[slot, k] = np.inf
+        ranks[slot] = -1
+
+
+@njit(cache=True, error_model="numpy")
+def footprint_outline(x: float, y: float, c: float, hx: float, hy: float
+                      ) -> tuple[NDArray[np.float64], NDArray[np.float64],
+                                 NDArray[np.float64], NDArray[np.float64]]:
+    """A footprint's corners (ccw from (-hx, -hy), as ``reservation.footprint`` builds
+    them), its bounds (1, 4), query keys (1, 4) and key (4,): a standing mover's
+    reservation, renewed whenever a motion ends."""
+    cos, sin = _quarter_cos_sin(c)
+    outline = np.empty((4, 2))
+    for i in range(4):
+        u = hx if i == 1 or i == 2 else -hx
+        v = hy if i >= 2 else -hy
+        outline[i, 0] = x + cos * u - sin * v
+        outline[i, 1] = y + sin * u + cos * v
+    bounds = np.empty((1, 4))
+    bounds[0, 0], bounds[0, 1] = outline[:, 0].min(), outline[:, 1].min()
+    bounds[0, 2], bounds[0, 3] = outline[:, 0].max(), outline[:, 1].max()
+    keys = np.empty((1, 4))
+    keys[0, 0], keys[0, 1], keys[0, 2], keys[0, 3] = \
+        bounds[0, 2], bounds[0, 3], -bounds[0, 0], -bounds[0, 1]
+    return outline, bounds, keys, keys[0].copy()

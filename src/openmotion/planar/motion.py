@@ -10,7 +10,9 @@ path is that straight line. One 1-D plan on the arc length s is mapped to x and 
 direction cosines, so both profiles are exact, the path is exactly straight, the tangential
 limits hold exactly and the duration is the 1-D time-optimal one. With a C target, the slower
 of path and C sets the duration and the other is replanned with ruckig's minimum duration, so
-both end together.
+both end together. From rest with acceleration equal to deceleration (the usual command, and
+the mover's default dynamics) both come in closed form instead (``trajectory.double_s``,
+D-139): the same optimum, and the faster one cruises slower to end with the other.
 
 Decision (§6.1.9, digest §8 q16): a target off the current line of motion (a new command while
 the mover moves in another direction) first brakes to rest along the current path with the XY
@@ -32,10 +34,12 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from openmotion.core.enums import ModuloDirection
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar.rotation import CWindows, monotonic, move_c_target
+from openmotion.trajectory.double_s import rest_to_rest, synchronised
 from openmotion.trajectory.plan import Limits, plan_position, plan_position_in, plan_stop
 from openmotion.trajectory.segments import KinematicState, Profile
 
@@ -202,24 +206,28 @@ def plan_move_to_position(
     lead = None if _on_line(x, y, tx, ty, limits) else _xy_brake(x, y, limits)
     lead_time = 0.0 if lead is None else max(lead[0].duration, lead[1].duration)
     line = _Line(x, y, tx, ty) if lead is None else _Line(lead[0].end, lead[1].end, tx, ty)
+    c_target = None if len(target) == 2 else _finite(target[2], "c")
     c_monotonic = True
-    if len(target) == 2:
+    rest = None if lead is not None else _rest_move(line, limits, c, c_target, c_limits)
+    if rest is not None:
+        s, c_profile = rest
+    elif c_target is None:
         s, c_profile = plan_position(line.s_start, line.length, limits), None
     else:
-        s, c_profile = _synchronise(line, limits, lead_time, c, _finite(target[2], "c"),
-                                    c_limits)
+        s, c_profile = _synchronise(line, limits, lead_time, c, c_target, c_limits)
         c_monotonic = monotonic(c_profile)
-        if c_windows is not None and not c_windows.contains_motion(c_profile, c_monotonic):
-            raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
-                                  f"c {c.position:g} -> {c_profile.end.position:g} leaves its "
-                                  f"C window; only MoveC rotates outside the windows (§4.2)")
+    if c_profile is not None and c_windows is not None \
+            and not c_windows.contains_motion(c_profile, c_monotonic):
+        raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
+                              f"c {c.position:g} -> {c_profile.end.position:g} leaves its "
+                              f"C window; only MoveC rotates outside the windows (§4.2)")
     px, py = line.profiles(s)
     if lead is not None:
         px = Profile.concatenate(_pad(lead[0], lead_time), px)
         py = Profile.concatenate(_pad(lead[1], lead_time), py)
     x_limits.check(px, "x")
     y_limits.check(py, "y")
-    straight = lead is None and c_monotonic and monotonic(s)
+    straight = lead is None and c_monotonic and (rest is not None or monotonic(s))
     return PlanarMotion(px, py, c_profile, c.position, s if straight else None)
 
 
@@ -238,9 +246,8 @@ class _Line:
 
     def profiles(self, s: Profile) -> tuple[Profile, Profile]:
         """x and y of the arc-length profile ``s``, ending exactly on the target."""
-        px, py = _along(s, self.x0, self.ux), _along(s, self.y0, self.uy)
-        px.p[-1], py.p[-1] = self.tx, self.ty
-        return px, py
+        px, py = _along_line(s.data, self.x0, self.ux, self.tx, self.y0, self.uy, self.ty)
+        return Profile.from_data(px), Profile.from_data(py)
 
 
 def _along(s: Profile, origin: float, component: float) -> Profile:
@@ -249,6 +256,21 @@ def _along(s: Profile, origin: float, component: float) -> Profile:
     data[0] = s.t
     data[1] += origin
     return Profile.from_data(data)
+
+
+@njit(cache=True, error_model="numpy")
+def _along_line(s: np.ndarray, x0: float, ux: float, tx: float, y0: float, uy: float,
+                ty: float) -> tuple[np.ndarray, np.ndarray]:
+    """``_along`` for x and y in one compiled pass, the open segments on the target exactly
+    (every MoveToPosition maps its arc length so)."""
+    x, y = np.empty_like(s), np.empty_like(s)
+    for k in range(s.shape[1]):
+        x[0, k] = y[0, k] = s[0, k]
+        x[1, k], y[1, k] = s[1, k] * ux + x0, s[1, k] * uy + y0
+        for row in range(2, 5):
+            x[row, k], y[row, k] = s[row, k] * ux, s[row, k] * uy
+    x[1, s.shape[1] - 1], y[1, s.shape[1] - 1] = tx, ty
+    return x, y
 
 
 def _on_line(x: KinematicState, y: KinematicState, tx: float, ty: float, limits: Limits) -> bool:
@@ -305,6 +327,28 @@ def _pad(profile: Profile, duration: float) -> Profile:
     end = profile.end.position
     return Profile.concatenate(profile, Profile([0.0, rest], [end, end], [0.0, 0.0],
                                                 [0.0, 0.0], [0.0, 0.0]))
+
+
+def _rest_move(line: _Line, limits: Limits, c: KinematicState, c_target: float | None,
+               c_limits: Limits | None) -> tuple[Profile, Profile | None] | None:
+    """The arc length and C profiles (C: None without a C target) of a move from rest with
+    acceleration equal to deceleration, in closed form (``double_s``): the slower of path and
+    C is time-optimal and the other lasts as long. None outside that case, or for moves
+    shorter than ``_PREDICTION_DISTANCE`` (ruckig plans those as before)."""
+    s = line.s_start
+    if not (s.velocity == s.acceleration == 0.0 and limits.acceleration == limits.deceleration
+            and line.length >= _PREDICTION_DISTANCE):
+        return None
+    v, a, j = limits.velocity, limits.acceleration, limits.jerk
+    if c_target is None:
+        return Profile.from_data(rest_to_rest(0.0, line.length, v, a, j, 0.0)), None
+    if not (c_limits is not None and c.velocity == c.acceleration == 0.0
+            and c_limits.acceleration == c_limits.deceleration
+            and abs(c_target - c.position) >= _PREDICTION_DISTANCE):
+        return None
+    path, rotation = synchronised(line.length, v, a, j, c.position, c_target,
+                                  c_limits.velocity, c_limits.acceleration, c_limits.jerk)
+    return Profile.from_data(path), Profile.from_data(rotation)
 
 
 def _synchronise(line: _Line, limits: Limits, lead_time: float, c: KinematicState,

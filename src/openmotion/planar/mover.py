@@ -22,7 +22,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from openmotion.core.errors import CommandRejected, ErrorId
-from openmotion.planar.area_kernels import straight_runs
 from openmotion.planar.enums import (
     CoordinateMode,
     ExternalSetPositionMode,
@@ -71,12 +70,11 @@ from openmotion.planar.options import (
 )
 from openmotion.planar.positions import PositionXYC, finite
 from openmotion.planar.reservation import (
-    RELEASE_STEP,
     MemberId,
     SweptArea,
     footprint,
     footprint_area,
-    straight_swept_area,
+    straight_run_area,
     swept_area,
 )
 from openmotion.planar.riding import (
@@ -639,14 +637,11 @@ class MC_PlanarMover(StatefulObject):
         turning = running(plans[2], start)
         if straight is not None and ("c" in profiles or not turning or monotonic(plans[2][0])):
             # x and y have the corners of their arc length s
-            (x, tx), (y, ty), (c, tc) = plans
-            samples, ends, poses = straight_runs(
-                straight.data, x.data, tx, running(plans[0], start), y.data, ty,
-                running(plans[1], start), c.data, tc, turning, turning, start, step,
-                RELEASE_STEP)
-            area = straight_swept_area(poses, ends, width, height)
-            if area is not None:
-                return samples, area
+            found = straight_run_area(straight, plans, (running(plans[0], start),
+                                                        running(plans[1], start), turning),
+                                      turning, start, step, width, height)
+            if found is not None:
+                return found
         samples, path = sample_path(plans, start, step)
         return samples, swept_area(path, width, height)
 

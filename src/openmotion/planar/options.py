@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, fields
+from functools import cached_property
 
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE, InputValue
@@ -455,9 +456,10 @@ class PlanarMoverParameters:
             raise ConfigError("minimum_position.c: the C limits must be finite; they set the "
                               "C windows (§4.2)")
 
-    @property
+    @cached_property
     def c_windows(self) -> CWindows:
-        """The four C windows the C position limits give (§4.2)."""
+        """The four C windows the C position limits give (§4.2); made once (the parameters
+        are frozen), as every MoveToPosition with C checks its motion against them."""
         return CWindows(self.minimum_position.c, self.maximum_position.c)
 
     def _check_dynamics(self, group: str) -> None:

@@ -63,11 +63,11 @@ one rectangle covers a piece exactly when it covers the piece's bounds.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Collection
+from collections.abc import Callable, Collection, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from operator import itemgetter
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 import shapely
@@ -78,6 +78,9 @@ from openmotion.core.errors import ConfigError
 from openmotion.planar import area_kernels as kernels
 from openmotion.planar.enums import PlanarObjectType
 from openmotion.planar.frames import cos_sin
+
+if TYPE_CHECKING:
+    from openmotion.trajectory.segments import Profile
 
 MOVER_WIDTH = 155.0  #: default footprint extent in x at c = 0 [mm] (§6.1.1 "Mover width")
 MOVER_HEIGHT = 155.0  #: default footprint extent in y at c = 0 [mm] (§6.1.1 "Mover height")
@@ -91,6 +94,7 @@ _RING = np.stack([np.cos(np.arange(32) * math.pi / 16), np.sin(np.arange(32) * m
                  axis=1) / math.cos(math.pi / 32)  #: a 32-gon that encloses the unit disc
 _RANK = itemgetter(0)
 NEVER = int(np.iinfo(np.int64).max)  #: ``until`` of a piece that progress never releases
+_NEVER = np.array([NEVER], dtype=np.int64)  #: the ``until`` of an area never released
 _FLIP = np.array([1.0, 1.0, -1.0, -1.0])  #: bounds to the stored box, keys to query keys
 _KEY_ORDER = np.array([2, 3, 0, 1])
 _NO_RANKS = np.empty(0, dtype=np.int64)  #: no member's slots are left out
@@ -118,14 +122,9 @@ def footprint_area(x: float, y: float, c: float = 0.0, width: float = MOVER_WIDT
     """``footprint`` as one piece that progress never releases, its polygon built only when
     a check needs it (a standing mover's reservation)."""
     _check_size(width, height, margin)
-    cos, sin = cos_sin(float(c))
-    hx, hy = width / 2 + margin, height / 2 + margin
-    corners = ((-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy))
-    xs = [x + cos * u - sin * v for u, v in corners]  # footprint's numbers: its bounds
-    ys = [y + sin * u + cos * v for u, v in corners]
-    outline = np.array([xs, ys]).T
-    return SweptArea.from_bounds(np.array([(min(xs), min(ys), max(xs), max(ys))]), [NEVER],
-                                 lambda _: outline)
+    outline, bounds, keys, key = kernels.footprint_outline(
+        float(x), float(y), float(c), width / 2 + margin, height / 2 + margin)
+    return SweptArea.from_keys(bounds, keys, key, _NEVER, lambda _: outline)
 
 
 @dataclass(eq=False)
@@ -164,10 +163,17 @@ class SweptArea:
         bounds are exactly ``bounds[i]``."""
         keys = bounds[:, _KEY_ORDER]
         keys *= _FLIP
+        return cls.from_keys(bounds, keys, keys.max(axis=0) if len(bounds) > 1 else keys[0],
+                             until, vertices)
+
+    @classmethod
+    def from_keys(cls, bounds: np.ndarray, keys: np.ndarray, key: np.ndarray,
+                  until: np.ndarray | list[int], vertices: Callable[[int], np.ndarray]
+                  ) -> SweptArea:
+        """``from_bounds`` with the keys computed by the caller (a compiled loop)."""
         count = len(bounds)
-        return cls(np.asarray(until, dtype=np.int64), bounds, keys,
-                   keys.max(axis=0) if count > 1 else keys[0], [None] * count, [None] * count,
-                   vertices)
+        return cls(np.asarray(until, dtype=np.int64), bounds, keys, key, [None] * count,
+                   [None] * count, vertices)
 
     @property
     def pieces(self) -> np.ndarray:
@@ -278,11 +284,33 @@ def straight_swept_area(poses: np.ndarray | list[list[float]], until: np.ndarray
     when a run turns more than ``_STRAIGHT_SPAN`` (then ``swept_area`` on samples)."""
     _check_size(width, height, margin)
     poses = np.ascontiguousarray(poses, dtype=float)
-    low, high, fits = kernels.run_turns(poses, _STRAIGHT_SPAN)
+    hx, hy = width / 2 + margin, height / 2 + margin
+    fits, low, high, bounds, keys, key = kernels.straight_pieces(poses, _STRAIGHT_SPAN, hx, hy,
+                                                                 NOISE)
     if not fits:
         return None
-    return _pieces_on_line(poses[:, :2], low, high, until,
-                           (width / 2 + margin, height / 2 + margin))
+    return SweptArea.from_keys(bounds, keys, key, until, _line_hulls(poses, low, high, hx, hy))
+
+
+def straight_run_area(s: Profile, plans: Sequence[tuple[Profile, float]],
+                      moving: Sequence[bool], c_in_grid: bool, start: float, step: float,
+                      width: float = MOVER_WIDTH, height: float = MOVER_HEIGHT
+                      ) -> tuple[np.ndarray, SweptArea] | None:
+    """The sample times [s after ``start``] and swept area of a centre running forward on a
+    straight line with arc length ``s`` from ``start``: the runs of ``RELEASE_STEP`` of
+    ``area_kernels.straight_runs`` and the pieces of ``straight_swept_area`` at their ends,
+    from one compiled call. ``plans``: (profile, t0) of x, y and c, each resting at its end
+    unless ``moving``. None when a run turns more than ``_STRAIGHT_SPAN``."""
+    _check_size(width, height, 0.0)
+    (x, tx), (y, ty), (c, tc) = plans
+    hx, hy = width / 2, height / 2
+    samples, ends, poses, fits, low, high, bounds, keys, key = kernels.straight_area_numbers(
+        s.data, x.data, tx, moving[0], y.data, ty, moving[1], c.data, tc, moving[2],
+        c_in_grid, start, step, RELEASE_STEP, _STRAIGHT_SPAN, hx, hy, NOISE)
+    if not fits:
+        return None
+    return samples, SweptArea.from_keys(bounds, keys, key, ends,
+                                        _line_hulls(poses, low, high, hx, hy))
 
 
 def _straight_area(xy: np.ndarray, c: np.ndarray, starts: np.ndarray, ends: np.ndarray,
@@ -323,14 +351,19 @@ def _pieces_on_line(points: np.ndarray, low: np.ndarray, high: np.ndarray,
                     until: np.ndarray | list[int], half: tuple[float, float]) -> SweptArea:
     """``_line_pieces`` of runs known to turn at most ``_STRAIGHT_SPAN`` (float arrays)."""
     hx, hy = half
-    bounds = kernels.line_piece_bounds(points, low, high, hx, hy, NOISE)
+    bounds, keys, key = kernels.line_piece_bounds(points, low, high, hx, hy, NOISE)
+    return SweptArea.from_keys(bounds, keys, key, until, _line_hulls(points, low, high, hx, hy))
+
+
+def _line_hulls(points: np.ndarray, low: np.ndarray, high: np.ndarray, hx: float, hy: float
+                ) -> Callable[[int], np.ndarray]:
+    """The vertices of piece i of ``_line_pieces``: the hull of K at both ends of run i."""
 
     def vertices(i: int) -> np.ndarray:
-        """Piece ``i``: the hull of K at both ends of run i."""
         return kernels.line_piece_hull(points[i, 0], points[i, 1], points[i + 1, 0],
                                        points[i + 1, 1], low[i], high[i], hx, hy, NOISE)
 
-    return SweptArea.from_bounds(bounds, until, vertices)
+    return vertices
 
 
 def _check_size(width: float, height: float, margin: float) -> None:
@@ -414,12 +447,11 @@ class ReservationRegistry:
         self._surface: BaseGeometry | None = None
         self._rectangle: tuple[float, float, float, float] | None = None  # a box surface
         self._box = np.empty((0, 4))  # min x, min y, -max x, -max y of each slot's piece
-        # per slot, plain lists (a handful are read per check): the piece (its area and its
-        # index there), the rank of its member (-1 when free), the last sample it covers
+        # per slot: the piece (its area and its index there), the rank of its member (-1 when
+        # free), the last sample it covers; the arrays are written by compiled loops
         self._piece_of: list[tuple[SweptArea, int] | None] = []
-        self._owner: list[int] = []
-        self._ranks = np.empty(0, dtype=np.int64)  # ``_owner`` as an array, for near_slots
-        self._until: list[int] = []
+        self._ranks = np.empty(0, dtype=np.int64)
+        self._until = np.empty(0, dtype=np.int64)
         self._free: list[int] = []
         self._grow(max(1, capacity))
 
@@ -434,7 +466,7 @@ class ReservationRegistry:
     @property
     def piece_count(self) -> int:
         """Pieces reserved by all members together."""
-        return len(self._owner) - len(self._free)
+        return len(self._piece_of) - len(self._free)
 
     def add_member(self, member: MemberId,
                    area: SweptArea | BaseGeometry | None = None) -> MemberId | None:
@@ -508,11 +540,11 @@ class ReservationRegistry:
         """Free the pieces wholly behind ``sample``, the index of the path sample the owner's
         setpoint has reached (release while moving; the last piece always stays)."""
         slots = self._slots.get(owner)
-        until = self._until
-        if slots is None or len(slots) < 2 or until[slots[0]] >= sample:
+        if slots is None or len(slots) < 2 or self._until[slots[0]] >= sample:
             return
-        self._free_slots([slot for slot in slots[:-1] if until[slot] < sample])
-        self._slots[owner] = [slot for slot in slots[:-1] if until[slot] >= sample] + slots[-1:]
+        held = list(zip(slots[:-1], self._until[slots[:-1]].tolist(), strict=True))
+        self._free_slots([slot for slot, last in held if last < sample])
+        self._slots[owner] = [slot for slot, last in held if last >= sample] + slots[-1:]
 
     def settle(self, owner: MemberId, area: SweptArea | BaseGeometry) -> None:
         """Replace ``owner``'s reservation without a check: only for an area inside it, such
@@ -556,16 +588,16 @@ class ReservationRegistry:
         slots near, each piece's box in plain Python, and the exact test pair by pair in rank
         order, stopping at the first meeting: compiled for two convex outlines, else shapely's
         scalar calls (they beat its ufuncs for a handful of pairs)."""
-        near = kernels.near_slots(self._box, swept.key, self._ranks, excluded).tolist()
-        if not near:
+        found = kernels.near_slots(self._box, swept.key, self._ranks, excluded)
+        if not found.shape[1]:
             return None
-        owner = self._owner
+        near, ranks = found.tolist()
         if len(swept.until) == 1:  # its box is the area's: every slot near meets it
-            pairs = [(owner[j], 0, j) for j in near]
+            pairs = [(rank, 0, j) for j, rank in zip(near, ranks, strict=True)]
         else:
-            boxes = self._box[near].tolist()
-            pairs = [(owner[j], i, j) for i, (k0, k1, k2, k3) in enumerate(swept.keys.tolist())
-                     for j, (b0, b1, b2, b3) in zip(near, boxes, strict=True)
+            near_boxes = list(zip(near, ranks, self._box[found[0]].tolist(), strict=True))
+            pairs = [(rank, i, j) for i, (k0, k1, k2, k3) in enumerate(swept.keys.tolist())
+                     for j, rank, (b0, b1, b2, b3) in near_boxes
                      if b0 < k0 and b1 < k1 and b2 < k2 and b3 < k3]
         pairs.sort(key=_RANK)  # stable: piece by piece, slot by slot within a rank
         for rank, i, j in pairs:
@@ -604,36 +636,32 @@ class ReservationRegistry:
         else:
             count -= len(reuse)
             if len(self._free) < count:
-                self._grow(max(len(self._owner), count))
+                self._grow(max(len(self._piece_of), count))
             slots = reuse + self._free[:-count - 1:-1]
             del self._free[-count:]
         if slots:
-            self._box[slots] = swept.bounds * _FLIP
-            self._ranks[slots] = rank
-            for index, (slot, until) in enumerate(zip(slots, swept.until.tolist(),
-                                                      strict=True)):
-                self._piece_of[slot] = (swept, index)
-                self._owner[slot] = rank
-                self._until[slot] = until
+            kernels.write_slots(self._box, self._ranks, self._until,
+                                np.array(slots, dtype=np.int64), swept.bounds, swept.until, rank)
+            piece_of = self._piece_of
+            for index, slot in enumerate(slots):
+                piece_of[slot] = (swept, index)
         return slots
 
     def _free_slots(self, slots: list[int]) -> None:
         if not slots:
             return
-        self._box[slots] = np.inf
-        self._ranks[slots] = -1
+        kernels.clear_slots(self._box, self._ranks, np.array(slots, dtype=np.int64))
+        piece_of = self._piece_of
         for slot in slots:
-            self._piece_of[slot] = None
-            self._owner[slot] = -1
+            piece_of[slot] = None
         self._free.extend(reversed(slots))
 
     def _grow(self, extra: int) -> None:
-        size = len(self._owner)
+        size = len(self._piece_of)
         self._box = np.concatenate([self._box, np.full((extra, 4), np.inf)])  # free: meets none
         self._piece_of.extend([None] * extra)
-        self._owner.extend([-1] * extra)
         self._ranks = np.concatenate([self._ranks, np.full(extra, -1, dtype=np.int64)])
-        self._until.extend([0] * extra)
+        self._until = np.concatenate([self._until, np.zeros(extra, dtype=np.int64)])
         self._free.extend(range(size + extra - 1, size - 1, -1))
 
 
