@@ -304,3 +304,22 @@ def test_a_modulo_sync_mode_on_an_open_rail_is_an_error() -> None:
     command = group.gear_in_pos(master, slave, 1.0, 1, MSP, SSP, sync_mode=SyncMode.POSITIVE,
                                 velocity=1000.0)
     assert command.error and command.error_id is ErrorId.MODULO_ON_OPEN_RAIL
+
+
+@pytest.mark.parametrize("strategy", [SyncStrategy.EARLY, SyncStrategy.SLOW])
+def test_a_standing_slave_starts_smoothly_to_a_cruising_master(strategy: SyncStrategy) -> None:
+    """The sync starts from the slave's state of the last cycle with the master's of that
+    cycle: a slave standing at 0 behind a master cruising at 500 mm/s starts with the jerk of
+    its default jerk, not with a jump back by the master's travel in one cycle (0.5 mm)."""
+    rt, group, master, slave = setup()
+    master.move_velocity(500.0)
+    rt.run(1.0)
+    assert master.set_velocity == pytest.approx(500.0)
+    group.gear_in_pos(master, slave, 1.0, 1, 3000.0, 3500.0, strategy, velocity=2000.0)
+    positions = []
+    for _ in range(20):
+        rt.step()
+        positions.append(slave.set_position)
+        assert abs(slave.set_acceleration) <= LIMITS["max_acceleration"] * (1 + 1e-9)
+    assert positions[0] == pytest.approx(LIMITS["jerk"] * 0.001 ** 3 / 6.0, rel=1e-6)
+    assert all(b >= a for a, b in zip(positions, positions[1:], strict=False))

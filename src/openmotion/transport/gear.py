@@ -104,10 +104,20 @@ class GearSync:
         self.phase = SYNCING
         self._plan(now, 0.0, slave, master, master, self.after_sync, early=True)
 
+    def prime(self, master_then: tuple[float, float, float, float]) -> None:
+        """The master's set values of the cycle before the first step (position, velocity,
+        acceleration, jerk). The sync is planned from the slave's state of that cycle, so it
+        needs the master's of the same cycle; without a prime the first step takes the
+        master's values one cycle back along its jerk (an axis, evaluated before the group)."""
+        self._previous_master = master_then
+
     def _may_start(self, now: float, slave: tuple[float, float, float],
                    master: tuple[float, float, float, float], cycle_time: float) -> bool:
-        if self._previous_master is None:
-            self._previous_master = master
+        if self._previous_master is None:  # the master of the slave's cycle: no jump back
+            mp, mv, ma, mj = master
+            dt = cycle_time
+            self._previous_master = (mp - dt * (mv - dt * (ma / 2.0 - dt * mj / 6.0)),
+                                     mv - dt * (ma - dt * mj / 2.0), ma - dt * mj, mj)
         mp, mv = master[0], master[1]
         if self.start_distance is not None:
             threshold = self.master_sync_position - self.start_distance
