@@ -236,6 +236,24 @@ def test_profile_at_matches_segment_table_rows(cases, data):
                clock)
 
 
+@given(cases=st.lists(planned_cases(), min_size=1, max_size=4), data=st.data())
+def test_states_of_several_rows_are_state_bit_for_bit(cases, data):
+    """``SegmentTable.states`` (compiled, a planar move starts x, y and c from it) gives
+    exactly what ``state`` gives row by row: inside the cached segment, after a bulk
+    evaluation moved it, and at times that need a search."""
+    table = SegmentTable()
+    rows = [table.add(KinematicState(0.0), 0.0) for _ in cases]
+    for row, case in zip(rows, cases, strict=True):
+        table.install(row, _plan(case), data.draw(st.floats(0.0, 5.0)))
+    buffers = [np.zeros(table.capacity) for _ in range(4)]
+    for now in data.draw(st.lists(st.floats(0.0, 20.0), min_size=1, max_size=5)):
+        if data.draw(st.booleans()):
+            table.evaluate(now, *buffers)
+        time = data.draw(st.sampled_from([now, now + 0.001])) if data.draw(st.booleans()) \
+            else data.draw(st.floats(0.0, 20.0))
+        assert table.states(rows, time) == [table.state(row, time) for row in rows]
+
+
 def _dense(profile: Profile, points: int = 4001) -> tuple[np.ndarray, float]:
     grid = np.linspace(0.0, profile.duration, points)
     times = np.unique(np.concatenate([grid, profile.t]))

@@ -831,8 +831,10 @@ class MC_PlanarMover(StatefulObject):
 
     def _start_states(self, *names: str) -> dict[str, KinematicState]:
         """The states new plans start from (all coordinates unless ``names`` are given)."""
-        previous = self._system.previous
-        return {name: self._state_at(name, previous) for name in names or COORDINATES}
+        names = names or COORDINATES
+        states = self._system.table.states([self._rows[name] for name in names],
+                                           self._system.previous)
+        return dict(zip(names, states, strict=True))
 
     def _set_pose(self) -> Pose:
         x, y, c = (self._system.value(self._rows[k])[0] for k in ("x", "y", "c"))
