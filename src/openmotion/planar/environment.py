@@ -10,14 +10,17 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import shapely
+
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
-from openmotion.planar.enums import PlanarObjectType, PlanarState
+from openmotion.planar.enums import ExternalSetPositionMode, PlanarObjectType, PlanarState
 from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand, PlanarObjectInfo
 from openmotion.planar.frames import Pose
+from openmotion.planar.motion import sample_path
 from openmotion.planar.options import CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD
-from openmotion.planar.parts import Part, PartLayout, PartPosition
+from openmotion.planar.parts import TOLERANCE, Part, PartLayout, PartPosition
 from openmotion.planar.positions import PositionXYC, finite
-from openmotion.planar.reservation import MemberId
+from openmotion.planar.reservation import MemberId, footprint
 from openmotion.planar.states import ErrorReaction
 from openmotion.planar.stators import Boundary, StatorField
 from openmotion.planar.system import PlanarObject, PlanarSystem
@@ -29,8 +32,42 @@ if TYPE_CHECKING:
     from openmotion.planar.mover import MC_PlanarMover
     from openmotion.runtime.runtime import Runtime
 
-_ACTIVE = (PlanarState.ENABLING, PlanarState.ENABLED)
+#: a mover in these states keeps the parts of its coordinate system on (§6.6): until it is off
+_ACTIVE = (PlanarState.ENABLING, PlanarState.ENABLED, PlanarState.DISABLING)
 _FAILED = (PlanarState.ERROR_PENDING, PlanarState.ERROR, PlanarState.RESETTING)
+_PART_ERRORS = (PlanarState.ERROR_PENDING, PlanarState.ERROR)
+_SAMPLE_CYCLES = 10  #: a running motion is sampled every this many cycles for the part check
+
+
+def _keeps_parts_on(mover: MC_PlanarMover) -> bool:
+    """§6.6: parts stay on while a mover of their system is on, is being switched off, or is
+    in an error with the QuickStop reaction (through the error and its Reset). The Abort
+    reaction, also one a Disable forces during the error, lets them go off."""
+    states = mover._states
+    if states.current in _ACTIVE:
+        return True
+    return states.current in _FAILED and states.reaction is ErrorReaction.QUICK_STOP
+
+
+def _busy(mover: MC_PlanarMover) -> bool:
+    """Not at standstill: a motion runs (a brake too), it rides a track, or external
+    setpoints drive it."""
+    if mover._motions or mover._modes.external is not ExternalSetPositionMode.NONE:
+        return True
+    traffic = mover._system.traffic
+    return mover._rider is not None and traffic is not None and traffic.moving(mover._rider)
+
+
+def _overlap(area: BaseGeometry, footprints: list[BaseGeometry]) -> bool:
+    """Whether any footprint covers part of ``area``; touching edges do not count."""
+    return bool((shapely.area(shapely.intersection(area, footprints)) > TOLERANCE).any())
+
+
+def _oid_text(oid: object) -> str:
+    """An object id as the manual prints it (16#01010080); anything else as Python shows it."""
+    if isinstance(oid, int) and not isinstance(oid, bool) and 0 <= oid <= 0xFFFF_FFFF:
+        return f"16#{oid:08X}"
+    return repr(oid)
 
 
 class MC_PlanarEnvironment(PlanarObject):
@@ -130,15 +167,20 @@ class MC_PlanarEnvironment(PlanarObject):
 
     def _build_boundary(self) -> None:
         if self.layout is not None:
-            field = StatorField()
-            for part in self.layout.parts_in(self._system_oid()):
-                for x, y in part.stators:
-                    corner = part.active_position.pose.compose(Pose(x, y, 0.0))
-                    placed = part.active_position.pose.compose(Pose(x + 240.0, y + 240.0, 0.0))
-                    field.add_stator(min(corner.x, placed.x), min(corner.y, placed.y))
-            self.field = field
+            self.field = self._layout_field()
         self.boundary = self.field.create_boundary()
         self._surface_changed()
+
+    def _layout_field(self) -> StatorField:
+        """The stators of the parts in their active positions in the group's coordinate
+        system; ``ConfigError`` if they are not on one grid."""
+        field = StatorField()
+        for part in self.layout.parts_in(self._system_oid()):
+            for x, y in part.stators:
+                corner = part.active_position.pose.compose(Pose(x, y, 0.0))
+                placed = part.active_position.pose.compose(Pose(x + 240.0, y + 240.0, 0.0))
+                field.add_stator(min(corner.x, placed.x), min(corner.y, placed.y))
+        return field
 
     def _add_to_group(self, group: MC_PlanarGroup) -> None:
         if self._group is not None:
@@ -160,8 +202,7 @@ class MC_PlanarEnvironment(PlanarObject):
         """Parts follow the movers of their coordinate system, and a part that fails or is
         force-disabled takes the movers on it into error (§6.6): checked every cycle."""
         if self.layout is not None:
-            active = {m.coordinate_system for m in self._system.movers
-                      if m._states.current in _ACTIVE}
+            active = {m.coordinate_system for m in self._system.movers if _keeps_parts_on(m)}
             self.layout.follow_movers(active)
             self.layout.update()
             for mover in self._system.movers:
@@ -182,16 +223,29 @@ class MC_PlanarEnvironment(PlanarObject):
         return self.layout._part_under(mover.coordinate_system, mover.pose)
 
     def _part_ready(self, mover: MC_PlanarMover) -> bool:
-        """Enable and Reset of a mover wait for the part under it (§6.6 rule 2 and 8); a part
-        that cannot be enabled fails the mover's command."""
+        """Enable and Reset of a mover wait for the part under it (§6.6): Enable, and a Reset
+        that ends Enabled (QuickStop), need the part Enabled; a Reset that ends Disabled
+        (Abort) needs it only free of errors. A part that cannot get there fails the mover's
+        command."""
         part = self._part_of(mover)
         if part is None:
             return True
-        if part.disable_forced or part.state in _FAILED:
-            mover._states.fail(ErrorId.PLANAR_PART_NOT_ENABLED, ErrorReaction.ABORT,
-                               f"part 16#{part.oid:08X} under the mover cannot be enabled (§6.6)")
+        if part.state is PlanarState.RESETTING:  # the mover's Reset is resetting it (§6.6)
             return False
+        if part.state in _PART_ERRORS:
+            return self._part_refuses(mover, part, "has an error")
+        if mover._states.current is PlanarState.RESETTING and \
+                mover._states.reaction is ErrorReaction.ABORT:
+            return True
+        if part.disable_forced:
+            return self._part_refuses(mover, part, "is force-disabled")
         return part.state is PlanarState.ENABLED
+
+    @staticmethod
+    def _part_refuses(mover: MC_PlanarMover, part: Part, why: str) -> bool:
+        mover._states.fail(ErrorId.PLANAR_PART_NOT_ENABLED, ErrorReaction.ABORT,
+                           f"part 16#{part.oid:08X} under the mover {why} (§6.6)")
+        return False
 
     def _reset_parts(self, coordinate_system: int) -> None:
         """A mover's Reset first resets the failed parts of its coordinate system (§6.6)."""
@@ -241,18 +295,20 @@ class MC_PlanarEnvironment(PlanarObject):
     def _part_command(self, command: PlanarCommand) -> None:
         part_oid, *args = command.args
         if self.layout is None:
+            raise CommandRejected(ErrorId.INVALID_REFERENCE_ID, f"part {_oid_text(part_oid)}: "
+                                  "the environment has no parts (§5.2)")
+        known = isinstance(part_oid, int) and part_oid in self.layout.parts
+        if not known:
             raise CommandRejected(ErrorId.INVALID_REFERENCE_ID,
-                                  f"part 16#{part_oid:08X}: the environment has no parts (§5.2)")
-        part = self.layout.part(part_oid) if part_oid in self.layout.parts else None
-        if part is None:
-            raise CommandRejected(ErrorId.INVALID_REFERENCE_ID,
-                                  f"16#{part_oid:08X} is no part of the processing unit")
+                                  f"{_oid_text(part_oid)} is no part of the processing unit")
+        part = self.layout.part(part_oid)
         kind = command.kind.removeprefix("Part.")
-        if kind == "ActivatePosition":
-            (index,) = args
-            before, area = part.active_position, part.surface()
-            self.layout.activate_position(part_oid, index)
-            self._carry(before, part.active_position, area)
+        if kind == "Initialize":
+            (handle,) = args
+            if handle.part_oid == part_oid and handle._environment is self:  # not re-aimed
+                handle._initialized = True
+        elif kind == "ActivatePosition":
+            self._activate_position(part, *args)
         elif kind == "AllowEnable":
             part.allow_enable()
         elif kind == "ForceDisable":
@@ -261,49 +317,134 @@ class MC_PlanarEnvironment(PlanarObject):
             part.reset()
         command.finished()
 
-    def _carry(self, before: PartPosition, after: PartPosition, area: BaseGeometry) -> None:
-        """Movers standing on a part that changes position ride along (§6.6.1)."""
-        if before == after:
+    def _activate_position(self, part: Part, index: int) -> None:
+        """ActivatePosition (§7.2.2.9.2): the part moves with the movers standing on it
+        (§6.6.1). It moves only under movers at standstill and hits no mover where it leaves
+        or arrives (D-141). A boundary made by CreateBoundary follows the parts, so that a
+        group checks against the parts where they are (§6.4)."""
+        layout = self.layout
+        assert layout is not None
+        layout.check_activation(part.oid, index)
+        before, area = part.active_position, part.surface()
+        if part.positions[index - 1] == before:
+            part._position_index = index
             return
+        old_index = part.position_index
+        self._check_movers(part, index)
+        layout.activate_position(part.oid, index)
+        field = None
+        if self.boundary is not None:
+            try:
+                field = self._layout_field()
+            except ConfigError as bad:  # the parts would leave the stator grid
+                part._position_index = old_index
+                raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT, str(bad)) from None
+        self._carry(before, part.active_position, area)
+        if field is not None:
+            self.field = field
+            self.boundary = field.create_boundary()
+            self._surface_changed()
+
+    def _check_movers(self, part: Part, index: int) -> None:
+        """Refuse the part's move to ``index`` while a mover is not at standstill on it, or
+        its motion reaches the part where it is or where it goes (PLANAR_WRONG_STATE), and
+        while a standing mover it does not carry (its centre is off the part) reaches into
+        either place (PLANAR_COLLISION, naming the mover)."""
+        before, after = part.active_position, part.positions[index - 1]
+        places = ((before.coordinate_system, part.surface()),
+                  (after.coordinate_system, part.surface(index)))
+        for mover in self._system.movers:
+            busy = _busy(mover)
+            if not busy and mover.coordinate_system == before.coordinate_system and \
+                    places[0][1].covers(mover.footprint().centroid):
+                continue  # it rides along
+            footprints = self._footprints_ahead(mover) if busy else [mover.footprint()]
+            for system, area in places:
+                if mover.coordinate_system != system or not _overlap(area, footprints):
+                    continue
+                name = f"mover {mover.name} (16#{mover.oid:08X})"
+                if busy:
+                    raise CommandRejected(ErrorId.PLANAR_WRONG_STATE, f"part 16#{part.oid:08X}"
+                                          f" cannot change position while {name}, on it or "
+                                          "moving onto it, is not at standstill (§6.6)")
+                rejection = CommandRejected(ErrorId.PLANAR_COLLISION, f"part 16#{part.oid:08X}"
+                                            f" would hit {name}, which reaches over its edge")
+                rejection.object_info = mover.get_planar_object_info()
+                raise rejection
+
+    def _footprints_ahead(self, mover: MC_PlanarMover) -> list[BaseGeometry]:
+        """The footprints of a moving mover now and along the rest of its free motion (on a
+        track the traffic drives it: only where it is now counts)."""
+        if mover._rider is not None:
+            return [mover.footprint()]
+        previous = self._system.previous
+        _, path = sample_path(mover._future_plans({}, previous), previous,
+                              self._system.cycle_time * _SAMPLE_CYCLES)
+        width, height = mover.parameters.mover_width, mover.parameters.mover_height
+        return [mover.footprint(), *(footprint(x, y, c, width, height)
+                                     for x, y, c in path.tolist())]
+
+    def _carry(self, before: PartPosition, after: PartPosition, area: BaseGeometry) -> None:
+        """Movers standing on a part that changes position ride along (§6.6.1); in a group
+        their footprint goes with them."""
         move = after.pose.compose(before.pose.inverse())
         for mover in self._system.movers:
             if mover.coordinate_system == before.coordinate_system and \
                     area.covers(mover.footprint().centroid):
+                pose = move.compose(mover.pose)
                 mover.coordinate_system = after.coordinate_system
-                mover._place(move.compose(mover.pose))
+                mover._place(pose)
+                if mover._group is not None:
+                    mover._group.registry.settle(mover.member, mover._standing_area(pose))
 
 
 class MC_PlanarPart:
-    """MC_PlanarPart (§7.2.2.9, V3.2.60): the PLC handle of a part. Its commands travel
-    through the environment, which the runtime updates every cycle (§6.6.1)."""
+    """MC_PlanarPart (§7.2.2.9, V3.2.60): the PLC handle of a part. Its commands, Initialize
+    too, travel through the environment, which runs them in the motion phase (§6.6.1)."""
 
     def __init__(self) -> None:
         self.part_oid = 0
         self._environment: MC_PlanarEnvironment | None = None
+        self._initialized = False  #: set by the environment when it knows the part
 
     @property
     def is_initialized(self) -> bool:
-        return self._environment is not None
+        """True once the environment has accepted Initialize: read it from the next cycle on,
+        as §6.6.1 does."""
+        return self._initialized
 
-    def initialize(self, part_oid: int, environment: MC_PlanarEnvironment) -> None:
-        """Connect to the part ``part_oid`` of ``environment``'s processing unit."""
-        if environment.layout is None or part_oid not in environment.layout.parts:
-            raise ConfigError(f"part 16#{part_oid:08X}: no such part in the environment's "
-                              "layout (§5.2)")
+    def initialize(self, part_oid: int, environment: MC_PlanarEnvironment,
+                   feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
+        """Initialize (§7.2.2.9.1): connect to the part ``part_oid`` of ``environment``'s
+        processing unit. An OID that names no part ends the command with
+        INVALID_REFERENCE_ID and leaves the handle uninitialized."""
+        if not isinstance(environment, MC_PlanarEnvironment):
+            raise TypeError("MC_PlanarPart.initialize: environment must be an "
+                            f"MC_PlanarEnvironment, got {type(environment).__name__}")
         self.part_oid = part_oid
         self._environment = environment
+        self._initialized = False
+        return environment._send("Part.Initialize", feedback, part_oid, self)
 
     @property
     def position_index(self) -> int:
-        return self._part().position_index
+        """The active position (1-based); 0 while the handle is not initialized."""
+        part = self._part()
+        return 0 if part is None else part.position_index
 
     @property
     def state(self) -> PlanarState:
-        return self._part().state
+        """The part's PlanarState; Disabled while the handle is not initialized."""
+        part = self._part()
+        return PlanarState.DISABLED if part is None else part.state
 
     def get_position(self) -> PositionXYC:
-        """The active position: the part frame in its coordinate system."""
-        position = self._part().active_position
+        """The active position: the part frame in its coordinate system (zeros while the
+        handle is not initialized)."""
+        part = self._part()
+        if part is None:
+            return PositionXYC()
+        position = part.active_position
         return PositionXYC(*position.pose, position.coordinate_system)
 
     def activate_position(self, position_index: int,
@@ -319,14 +460,21 @@ class MC_PlanarPart:
     def reset(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         return self._command("Reset", feedback)
 
-    def _part(self):  # noqa: ANN202 - parts.Part
-        if self._environment is None or self._environment.layout is None:
-            raise ConfigError("MC_PlanarPart: call initialize(part_oid, environment) first")
-        return self._environment.layout.part(self.part_oid)
+    def _part(self) -> Part | None:
+        environment = self._environment
+        if not self._initialized or environment is None or environment.layout is None:
+            return None
+        return environment.layout.part(self.part_oid)
 
     def _command(self, kind: str, feedback: MC_PlanarFeedbackBase | None,
                  *args: object) -> PlanarCommand:
+        """Send through the environment. Without an Initialize call there is no environment
+        to send to: the command ends at once with INVALID_REFERENCE_ID (part OID 0)."""
         if self._environment is None:
-            raise ConfigError("MC_PlanarPart: call initialize(part_oid, environment) first")
+            command = PlanarCommand(f"Part.{kind}", feedback, args)
+            command.rejected(ErrorId.INVALID_REFERENCE_ID, "MC_PlanarPart is not initialized "
+                             "(part OID 0): call initialize(part_oid, environment) first "
+                             "(§7.2.2.9.1)")
+            command.publish()
+            return command
         return self._environment._send(f"Part.{kind}", feedback, self.part_oid, *args)
-

@@ -88,3 +88,11 @@ class MC_PlanarGroup(StatefulObject):
         self._states.update()
         self._queue.publish()
         return not self._states.settled
+
+
+def planar_group(group: object) -> MC_PlanarGroup:
+    """The group an AddToGroup names: anything else is a Python error at the call, as a
+    wrong input type is (never an exception out of a cycle)."""
+    if not isinstance(group, MC_PlanarGroup):
+        raise TypeError(f"AddToGroup needs an MC_PlanarGroup, got {type(group).__name__}")
+    return group

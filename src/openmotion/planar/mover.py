@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeVar
 
 import numpy as np
 
@@ -37,6 +37,7 @@ from openmotion.planar.feedback import (
 )
 from openmotion.planar.frames import Pose
 from openmotion.planar.gearing import gear_in_pos_on_track, gear_in_pos_on_track_with_master_mover
+from openmotion.planar.group import MC_PlanarGroup, planar_group
 from openmotion.planar.motion import (
     PositionLimits,
     plan_axis_move,
@@ -103,16 +104,17 @@ from openmotion.trajectory.segments import KinematicState, Profile
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
     from openmotion.planar.gearing import MC_PlanarTrackTrail
-    from openmotion.planar.group import MC_PlanarGroup
     from openmotion.planar.track import MC_PlanarTrack
     from openmotion.runtime.runtime import Runtime
 
 COORDINATES = ("x", "y", "z", "a", "b", "c")
 _GROUP_OF = {"x": "xy", "y": "xy", "z": "z", "a": "a", "b": "b", "c": "c"}
 _AREA = frozenset("xyc")  #: coordinates whose motion changes the footprint
+_XY = frozenset("xy")
 _STATE_COMMANDS = frozenset(StateCommand)
 _SAMPLE_CYCLES = 10  #: a path is sampled every this many cycles for its swept area
 _C = MoverCommand
+_T = TypeVar("_T")
 
 
 class Collision(CommandRejected):
@@ -192,41 +194,45 @@ class MC_PlanarMover(StatefulObject):
                          options: ST_MoveToPositionOptions | None = None,
                          feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         """A straight move to ``target`` (x, y; and c with ``options.use_orientation``)."""
-        return self._send(_C.MOVE_TO_POSITION, feedback, _copy(target), constraint, options)
+        return self._send(_C.MOVE_TO_POSITION, feedback, _copy(target), _constraint(constraint),
+                          _options(options, ST_MoveToPositionOptions))
 
     def move_c(self, target_position: float, constraint: IPlcDynamicConstraint | None = None,
                options: ST_MoveCOptions | None = None,
                feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send(_C.MOVE_C, feedback, target_position, constraint, options)
+        return self._send(_C.MOVE_C, feedback, target_position, _constraint(constraint),
+                          _options(options, ST_MoveCOptions))
 
     def move_z(self, target_position: float, constraint: IPlcDynamicConstraint | None = None,
                feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send(_C.MOVE_Z, feedback, target_position, constraint)
+        return self._send(_C.MOVE_Z, feedback, target_position, _constraint(constraint))
 
     def move_a(self, target_position: float, constraint: IPlcDynamicConstraint | None = None,
                feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send(_C.MOVE_A, feedback, target_position, constraint)
+        return self._send(_C.MOVE_A, feedback, target_position, _constraint(constraint))
 
     def move_b(self, target_position: float, constraint: IPlcDynamicConstraint | None = None,
                feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send(_C.MOVE_B, feedback, target_position, constraint)
+        return self._send(_C.MOVE_B, feedback, target_position, _constraint(constraint))
 
     def halt(self, constraint: IPlcDynamicConstraint | None = None,
              feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         """Brake every coordinate to rest; the constraint limits x and y (§7.2.2.8.12)."""
-        return self._send(_C.HALT, feedback, constraint)
+        return self._send(_C.HALT, feedback, _constraint(constraint))
 
     def join_track(self, track: MC_PlanarTrack, constraint: IPlcDynamicConstraint | None = None,
                    options: ST_JoinTrackOptions | None = None,
                    feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         """A free move onto the nearest point of ``track``, coupled to it at the end (§4.2)."""
-        return self._send(_C.JOIN_TRACK, feedback, track, constraint, options)
+        return self._send(_C.JOIN_TRACK, feedback, track, _constraint(constraint),
+                          _options(options, ST_JoinTrackOptions))
 
     def leave_track(self, target: PositionXYC, constraint: IPlcDynamicConstraint | None = None,
                     options: ST_LeaveTrackOptions | None = None,
                     feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         """Uncouple from the track and move freely to ``target`` (§4.2)."""
-        return self._send(_C.LEAVE_TRACK, feedback, _copy(target), constraint, options)
+        return self._send(_C.LEAVE_TRACK, feedback, _copy(target), _constraint(constraint),
+                          _options(options, ST_LeaveTrackOptions))
 
     def move_on_track(self, target_track: MC_PlanarTrack | None, target_position: float,
                       constraint: IPlcDynamicConstraint | None = None,
@@ -236,7 +242,7 @@ class MC_PlanarMover(StatefulObject):
         ``target_track`` (None or 0: the current track), keeping ``options.gap`` to the
         mover ahead (§6.1.9, §6.2.2)."""
         return self._send(_C.MOVE_ON_TRACK, feedback, target_track, target_position,
-                          constraint, options)
+                          _constraint(constraint), _options(options, ST_MoveOnTrackOptions))
 
     def gear_in_pos_on_track(self, master_axis: Axis, track_trail: MC_PlanarTrackTrail | None,
                              master_sync_position: float, slave_sync_position: float,
@@ -250,7 +256,7 @@ class MC_PlanarMover(StatefulObject):
         command or an error; ``feedback.in_sync`` shows the sync."""
         return self._send(_C.GEAR_IN_POS_ON_TRACK, feedback, master_axis, track_trail,
                           master_sync_position, slave_sync_position, slave_sync_position_track,
-                          constraint, options)
+                          _constraint(constraint), _options(options, ST_GearInPosOnTrackOptions))
 
     def gear_in_pos_on_track_with_master_mover(
             self, master_mover: MC_PlanarMover, track_trail: MC_PlanarTrackTrail | None,
@@ -262,14 +268,17 @@ class MC_PlanarMover(StatefulObject):
         """Couple 1:1 to another mover on a track (§6.2.9, §6.2.12)."""
         return self._send(_C.GEAR_IN_POS_ON_TRACK_WITH_MASTER_MOVER, feedback, master_mover,
                           track_trail, master_sync_position, master_sync_position_track,
-                          slave_sync_position, slave_sync_position_track, constraint, options)
+                          slave_sync_position, slave_sync_position_track,
+                          _constraint(constraint),
+                          _options(options, ST_GearInPosOnTrackWithMasterMoverOptions))
 
     def adopt_track_orientation(self, constraint: IPlcDynamicConstraint | None = None,
                                 options: ST_AdoptTrackOrientationOptions | None = None,
                                 feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         """Turn a standing mover on a track to the track's heading; C then follows the track
         again (§6.2.7)."""
-        return self._send(_C.ADOPT_TRACK_ORIENTATION, feedback, constraint, options)
+        return self._send(_C.ADOPT_TRACK_ORIENTATION, feedback, _constraint(constraint),
+                          _options(options, ST_AdoptTrackOrientationOptions))
 
     def set_position(self, position: PositionXYC,
                      feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
@@ -278,7 +287,7 @@ class MC_PlanarMover(StatefulObject):
 
     def add_to_group(self, group: MC_PlanarGroup,
                      feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send(_C.ADD_TO_GROUP, feedback, group)
+        return self._send(_C.ADD_TO_GROUP, feedback, planar_group(group))
 
     def remove_from_group(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         return self._send(_C.REMOVE_FROM_GROUP, feedback)
@@ -288,7 +297,8 @@ class MC_PlanarMover(StatefulObject):
             feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         """From this cycle on a setpoint must come every cycle (§6.1.6). Absolute: the mover
         follows only them; Relative: they are offsets to whatever else moves it (§4.2)."""
-        options = options or ST_ExternalSetpointGenerationOptions()
+        options = _options(options, ST_ExternalSetpointGenerationOptions) \
+            or ST_ExternalSetpointGenerationOptions()
         kind = (_C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION
                 if options.mode == ExternalSetPositionMode.RELATIVE
                 else _C.START_EXTERNAL_SETPOINT_GENERATION)
@@ -307,7 +317,7 @@ class MC_PlanarMover(StatefulObject):
         """One setpoint in the frame ``reference_system_oid``; pass the same feedback every
         call: its errors show after the next call (§6.1.7)."""
         self._send(_C.SET_EXTERNAL_SETPOINT, None, set_position, set_velocity, set_acceleration,
-                   reference_system_oid, feedback)
+                   _reference_id(reference_system_oid), feedback)
 
     def stop_external_setpoint_generation(
             self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
@@ -420,6 +430,11 @@ class MC_PlanarMover(StatefulObject):
         profile = plan_move_c(self._start_states("c")["c"], finite(target, "c"), limits,
                               options.direction, options.additional_turns, p.c_coordinate_modulus,
                               p.c_coordinate_modulo_tolerance_window)
+        if any(m.coordinates & _XY for m in self._motions) \
+                and not p.c_windows.contains_motion(profile):
+            raise CommandRejected(ErrorId.PLANAR_WRONG_MODE,
+                                  "MoveC would turn the mover out of its C window while x and y "
+                                  "move; X and Y stand still outside the windows (§4.2)")
         self._begin(command, {"c": profile}, "the rotation", c_motion=True)
 
     def _move_aux(self, command: PlanarCommand) -> None:
@@ -444,9 +459,14 @@ class MC_PlanarMover(StatefulObject):
         limits = self._limits("default")
         limits["xy"] = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
                                         command.warnings)
+        if self._modes.external is not ExternalSetPositionMode.NONE:  # the halt ends them
+            self._end_external(self._external_kind(), brake=False, aborted=True)
         profiles = plan_halt(self._start_states(), limits)
+        # a halt is never refused (D-084): without collision avoidance in force (a group
+        # not Enabled) it keeps to the area the mover holds
+        admit = self._group is None or self._group.state is PlanarState.ENABLED
         try:
-            self._begin(command, profiles, "the halt")
+            self._begin(command, profiles, "the halt", admit=admit)
         except Collision:  # the hardest brake stays on the path the mover has reserved
             command.warnings.append("the halt's stop would leave the reserved area: it brakes "
                                     "with the mover's maximum dynamics")
@@ -471,7 +491,10 @@ class MC_PlanarMover(StatefulObject):
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                                   f"{self.name} is in group 16#{self._group.oid:08X} already: "
                                   "RemoveFromGroup first (§6.3)")
-        group._admit(self, self._standing_area(), self._member)
+        moving = any(m.coordinates & _AREA for m in self._motions)
+        area = self._future_area({}, self._system.previous, None)[1] if moving \
+            else self._standing_area()
+        group._admit(self, area, self._member)  # a moving mover holds its whole way on
         self._group = group
         command.finished()
 
@@ -514,11 +537,15 @@ class MC_PlanarMover(StatefulObject):
         try:
             values = [np.array([getattr(v, k) for k in COORDINATES], dtype=float)
                       for v in (position, velocity, acceleration)]
-            if reference is not None:  # SetExternalSetpointReferenceId: 0 follows §5.3 too
+            if reference is not None and self._modes.external is ExternalSetPositionMode.RELATIVE:
+                self._turn_offset(values, reference)
+            elif reference is not None:  # SetExternalSetpointReferenceId: 0 follows §5.3 too
                 pose = self._resolve(PositionXYC(values[0][0], values[0][1], values[0][5],
                                                  reference))[1]
                 values[0][0], values[0][1], values[0][5] = pose
             self._check_setpoint(values)
+            if self._modes.external is ExternalSetPositionMode.RELATIVE:
+                self._cover_offset(values[0])
         except (CommandRejected, TypeError, AttributeError) as bad:
             error_id = getattr(bad, "error_id", ErrorId.PLANAR_EXT_SETPOINT)
             message = getattr(bad, "message", str(bad))
@@ -540,6 +567,57 @@ class MC_PlanarMover(StatefulObject):
         else:
             self._offset = values[0]
 
+    def _cover_offset(self, offset: np.ndarray) -> None:
+        """Relative setpoints keep the mover in its mode, so collision avoidance holds
+        (§4.2): the footprint the offset moves must be free, and the group holds it for the
+        mover besides the path its commands reserved (D-141)."""
+        group = self._group
+        if group is None or group.state is not PlanarState.ENABLED:
+            return
+        now = self._system.now
+        x, y, c = (self._state_at(name, now).position for name in "xyc")
+        pose = Pose(x + offset[0], y + offset[1], c + offset[5])
+        blocker = group.registry.cover(self._member, self._standing_area(pose))
+        if blocker is not None:
+            raise Collision(blocker, "the offset setpoint")
+
+    def _turn_offset(self, values: list[np.ndarray], reference: int) -> None:
+        """Relative setpoints given in the frame ``reference`` names: offsets, so they turn
+        with the frame but do not move with its origin, and need not lie on a part (§4.2)."""
+        environment = self._system.environment()
+        layout = None if environment is None else environment.layout
+        if layout is None:
+            if reference != 0:
+                raise CommandRejected(ErrorId.INVALID_REFERENCE_ID,
+                                      f"reference id 16#{reference:08X} names no part or "
+                                      "coordinate system: there are none (§5.3)")
+            return
+        system, origin = layout.to_coordinate_system(reference, Pose(0.0, 0.0, 0.0))
+        if self.coordinate_system and system != self.coordinate_system:
+            raise CommandRejected(ErrorId.INVALID_REFERENCE_ID,
+                                  f"reference id 16#{reference:08X} lies in coordinate system "
+                                  f"16#{system:08X}, not the mover's (§5.1)")
+        for row in range(3):  # position, velocity, acceleration offsets turn alike
+            vector = values[row]
+            _, moved = layout.to_coordinate_system(reference, Pose(vector[0], vector[1], 0.0))
+            vector[0], vector[1] = moved.x - origin.x, moved.y - origin.y
+
+    def _hold_shifted_way(self, now: float) -> None:
+        """After relative setpoints end, the group holds where the offset left the mover:
+        its footprint, or the rest of its shifted way (refused: the mover stops with
+        PLANAR_COLLISION)."""
+        if self._group is None:
+            return
+        if not any(m.coordinates & _AREA for m in self._motions):
+            x, y, c = (self._state_at(name, now).position for name in "xyc")  # shifted
+            self._group.registry.settle(self._member, self._standing_area(Pose(x, y, c)))
+            return
+        _, area = self._future_area({}, now, None)
+        blocker = self._group.registry.request(self._member, area)
+        if blocker is not None:
+            message = Collision(blocker, "the way left by the offset").message
+            self._states.fail(ErrorId.PLANAR_COLLISION, ErrorReaction.QUICK_STOP, message)
+
     def _stop_external(self, command: PlanarCommand) -> None:
         self._end_external(self._external_kind())
         command.finished()
@@ -550,16 +628,24 @@ class MC_PlanarMover(StatefulObject):
                 if self._modes.external is ExternalSetPositionMode.RELATIVE
                 else _C.START_EXTERNAL_SETPOINT_GENERATION)
 
-    def _end_external(self, kind: MoverCommand,
-                      failure: tuple[ErrorId, str] | None = None) -> None:
-        """Stop external setpoints; ``failure`` ends the start command with an error."""
+    def _end_external(self, kind: MoverCommand, failure: tuple[ErrorId, str] | None = None,
+                      *, brake: bool = True, aborted: bool = False) -> None:
+        """Stop external setpoints; ``failure`` ends the start command with an error,
+        ``aborted`` with CommandAborted (a Halt took over, which also does the braking when
+        not ``brake``)."""
         now = self._system.now
         if kind is _C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION:
             for k, name in enumerate(COORDINATES):  # the offset stays where it is
                 if self._offset[k]:
                     self._system.table.shift(self._rows[name], float(self._offset[k]))
+                    if name in self._profiles:
+                        profile, start = self._profiles[name]
+                        data = profile.data.copy()
+                        data[1] += float(self._offset[k])
+                        self._profiles[name] = (Profile.from_data(data), start)
             self._offset = np.zeros(6)
-        else:  # brake to rest with the maximum dynamics (§6.1.6)
+            self._hold_shifted_way(now)
+        elif brake:  # brake to rest with the maximum dynamics (§6.1.6)
             states = {name: self._state_at(name, now) for name in COORDINATES}
             profiles = plan_halt(states, self._limits("maximum"))
             for name, profile in profiles.items():
@@ -570,7 +656,9 @@ class MC_PlanarMover(StatefulObject):
         self._modes.ended(kind, done=True, c=self._state_at("c", now).position)
         command = self._external_command
         if command is not None:
-            if failure is None:
+            if aborted:
+                command.aborted()
+            elif failure is None:
                 command.finished()
             else:
                 command.rejected(*failure)
@@ -778,7 +866,8 @@ class MC_PlanarMover(StatefulObject):
             mover_oid=self.oid, group_oid=self._group.oid if self._group else 0,
             state=self._states.state, command_mode=self._modes.mode,
             busy=MoverBusy(bool(self._motions) or riding,
-                           any(m.coordinates & _AREA for m in self._motions) or riding))
+                           any(m.coordinates & _AREA for m in self._motions) or riding),
+            error_code=int(self._states.error_id))
         vectors = [MoverVector(*self._vector(which)) for which in range(3)]
         on_track = CDT_MCTOPLC_PLANAR_MOVER_TRACK()
         modes = CDT_MCTOPLC_PLANAR_MOVER_COORDMODE()
@@ -857,7 +946,30 @@ def _copy(position: PositionXYC) -> PositionXYC:
     """The PLC passes targets IN_OUT but the command keeps the values of the call."""
     if not isinstance(position, PositionXYC):
         raise TypeError(f"a target must be a PositionXYC, got {type(position).__name__}")
-    return PositionXYC(position.x, position.y, position.c, position.reference_id)
+    return PositionXYC(position.x, position.y, position.c, _reference_id(position.reference_id))
+
+
+def _reference_id(value: int) -> int:
+    """An object id is a UDINT: a wrong type is a Python error at the call (a value that
+    names nothing is an error id when the command runs)."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        raise TypeError(f"a reference id must be an int (an object id), got "
+                        f"{type(value).__name__}")
+    return int(value)
+
+
+def _constraint(value: IPlcDynamicConstraint | None) -> IPlcDynamicConstraint | None:
+    if value is not None and not isinstance(value, IPlcDynamicConstraint):
+        raise TypeError(f"a constraint must be a DynamicConstraint_... object or None, got "
+                        f"{type(value).__name__}")
+    return value
+
+
+def _options(value: _T | None, kind: type[_T]) -> _T | None:
+    if value is not None and not isinstance(value, kind):
+        raise TypeError(f"options must be a {kind.__name__} or None, got "
+                        f"{type(value).__name__}")
+    return value
 
 
 _HANDLERS = {

@@ -310,7 +310,14 @@ class PartLayout:
         return bool(here)
 
     def activate_position(self, part_oid: int, position_index: int) -> None:
-        """ActivatePosition (§7.2.2.9.2): move a part; movers on it ride along (§6.6.1)."""
+        """ActivatePosition (§7.2.2.9.2): move a part. The movers on it are the environment's
+        business (it carries them, §6.6.1)."""
+        self.check_activation(part_oid, position_index)
+        self.parts[part_oid]._position_index = position_index
+
+    def check_activation(self, part_oid: int, position_index: int) -> Part:
+        """The part, if it may go to ``position_index``; else ``CommandRejected``. Split from
+        ``activate_position`` so that the environment can add its own checks in between."""
         part = self.part(part_oid)
         if problem := _index_problem(position_index, len(part.positions)):
             raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT, f"{part.name}: {problem}")
@@ -320,7 +327,7 @@ class PartLayout:
         if other := self._overlapping(part, position_index):
             raise CommandRejected(ErrorId.PLANAR_COLLISION, f"{part.name} in position "
                                   f"{position_index} would overlap {other.name}")
-        part._position_index = position_index
+        return part
 
     def follow_movers(self, active_coordinate_systems: Collection[int]) -> None:
         """Enable the parts of the systems that hold an active mover and disable the others.

@@ -443,6 +443,7 @@ class ReservationRegistry:
         self._members: dict[int, MemberId] = {}
         self._next_rank = 0
         self._slots: dict[MemberId, list[int]] = {}  # member -> its pieces' slots, path order
+        self._extra: dict[MemberId, list[int]] = {}  # the slots of a member's ``cover``
         self._environment: MemberId | None = None
         self._surface: BaseGeometry | None = None
         self._rectangle: tuple[float, float, float, float] | None = None  # a box surface
@@ -496,6 +497,7 @@ class ReservationRegistry:
         """Drop a member and free its area (``RemoveFromGroup``, §7.2.2)."""
         rank = self._order.pop(member)
         del self._members[rank]
+        self._extra.pop(member, None)
         self._free_slots(self._slots.pop(member, []))
         if member == self._environment:
             self._environment, self._surface, self._rectangle = None, None, None
@@ -546,15 +548,33 @@ class ReservationRegistry:
         self._free_slots([slot for slot, last in held if last < sample])
         self._slots[owner] = [slot for slot, last in held if last >= sample] + slots[-1:]
 
+    def cover(self, owner: MemberId, area: SweptArea | BaseGeometry) -> MemberId | None:
+        """Hold ``area`` for ``owner`` besides its reservation, in place of what its last
+        cover held (the footprint a relative external setpoint moves, §4.2): None, or the
+        blocking member and the last cover stays. The next ``settle`` or ``request`` replaces
+        reservation and cover together."""
+        swept = _as_swept(area)
+        block = self.blocker(owner, swept)
+        if block is not None:
+            return block
+        rank = self._mover_rank(owner)
+        old = self._extra.pop(owner, [])
+        kept = [slot for slot in self._slots.get(owner, []) if slot not in old]
+        self._extra[owner] = self._store(swept, rank, old)
+        self._slots[owner] = kept + self._extra[owner]  # last: ``release`` never frees it
+        return None
+
     def settle(self, owner: MemberId, area: SweptArea | BaseGeometry) -> None:
         """Replace ``owner``'s reservation without a check: only for an area inside it, such
         as the standing footprint at the end of the path (which the last piece contains)."""
         rank = self._mover_rank(owner)
+        self._extra.pop(owner, None)
         self._slots[owner] = self._store(_as_swept(area), rank, self._slots.pop(owner, []))
 
     def vacate(self, owner: MemberId) -> None:
         """Give up ``owner``'s whole reservation (a track that stops Moving, §4.3)."""
         self._mover_rank(owner)
+        self._extra.pop(owner, None)
         self._free_slots(self._slots.pop(owner, []))
 
     def reserved(self, member: MemberId) -> BaseGeometry:
