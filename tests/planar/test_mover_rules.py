@@ -17,6 +17,7 @@ from openmotion.planar import (
     MC_PlanarFeedback,
     MC_PlanarGroup,
     MC_PlanarMover,
+    MC_PlanarTrack,
     MoverCommandMode,
     MoverVector,
     PlanarMoverParameters,
@@ -261,3 +262,27 @@ def test_the_published_error_code_is_the_error_id():
     mover.reset()
     rt.run(0.01)
     assert mover.state is PlanarState.ENABLED and mover.mc_to_plc.std.error_code == 0
+
+
+def test_add_to_group_of_an_environment_or_a_track_needs_a_group():
+    rt = om.Runtime()
+    environment = MC_PlanarEnvironment(rt)
+    track = MC_PlanarTrack(rt)
+    for member in (environment, track):
+        with pytest.raises(TypeError, match="needs an MC_PlanarGroup"):
+            member.add_to_group(None)
+
+
+def test_a_target_far_off_every_part_is_an_error_id_not_an_overflow():
+    """1e300 mm lies on no part: PLANAR_PART_NOT_ENABLED, and no numeric warning (warnings are
+    errors in this suite) from the distance to a part."""
+    layout = PartLayout([CS_1], [Part(PART_1, [(0.0, 0.0)], [PartPosition(CS_1, Pose())])])
+    rt = om.Runtime()
+    MC_PlanarEnvironment(rt, layout=layout)
+    mover = MC_PlanarMover(rt, PlanarMoverParameters(initial_position=MoverVector(120.0, 120.0)))
+    mover.enable()
+    rt.run(0.02)
+    command = mover.move_to_position(PositionXYC(1e300, 120.0))
+    rt.step()
+    assert command.error and command.error_id == ErrorId.PLANAR_PART_NOT_ENABLED
+    assert mover.position.x == 120.0

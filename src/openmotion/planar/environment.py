@@ -16,6 +16,7 @@ from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.planar.enums import ExternalSetPositionMode, PlanarObjectType, PlanarState
 from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand, PlanarObjectInfo
 from openmotion.planar.frames import Pose
+from openmotion.planar.group import planar_group
 from openmotion.planar.motion import sample_path
 from openmotion.planar.options import CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD
 from openmotion.planar.parts import TOLERANCE, Part, PartLayout, PartPosition
@@ -110,7 +111,7 @@ class MC_PlanarEnvironment(PlanarObject):
 
     def add_to_group(self, group: MC_PlanarGroup,
                      feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send("AddToGroup", feedback, group)
+        return self._send("AddToGroup", feedback, planar_group(group))
 
     def remove_from_group(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         return self._send("RemoveFromGroup", feedback)

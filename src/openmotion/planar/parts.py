@@ -103,6 +103,10 @@ class Part:
 
     def covers(self, x: float, y: float, position_index: int | None = None) -> bool:
         """Whether a point of the position's coordinate system is on the part (edges count)."""
+        low_x, low_y, high_x, high_y = self.surface(position_index).bounds
+        if not (low_x - TOLERANCE <= x <= high_x + TOLERANCE
+                and low_y - TOLERANCE <= y <= high_y + TOLERANCE):
+            return False  # far off (also no overflow in the distance of a huge coordinate)
         return shapely.dwithin(self.surface(position_index), Point(x, y), TOLERANCE)
 
     def allow_enable(self) -> None:

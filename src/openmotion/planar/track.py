@@ -24,6 +24,7 @@ from openmotion.geometry.track_elements import TrackPose
 from openmotion.planar.enums import PlanarObjectType, PlanarState, TrackOperationMode
 from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand, PlanarObjectInfo
 from openmotion.planar.frames import Pose, cos_sin
+from openmotion.planar.group import planar_group
 from openmotion.planar.network import END, START
 from openmotion.planar.options import (
     CDT_MCTOPLC_PLANAR_TRACK_STD,
@@ -130,7 +131,7 @@ class MC_PlanarTrack(StatefulObject):
 
     def add_to_group(self, group: MC_PlanarGroup,
                      feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
-        return self._send("AddToGroup", feedback, group)
+        return self._send("AddToGroup", feedback, planar_group(group))
 
     def remove_from_group(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         return self._send("RemoveFromGroup", feedback)
