@@ -229,7 +229,7 @@ def _prime(coupling: Coupling, traffic: Any) -> None:
         dt = traffic.dt
         mp, mv, ma = (mp - dt * (mv - dt * (ma / 2.0 - dt * mj / 6.0)),
                       mv - dt * (ma - dt * mj / 2.0), ma - dt * mj)
-    coupling.sync._previous_master = (mp, mv, ma, mj)
+    coupling.sync.prime((mp, mv, ma, mj))
 
 
 def master_state(coupling: Coupling, traffic: Any) -> tuple[float, float, float, float]:
