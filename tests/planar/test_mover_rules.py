@@ -25,6 +25,7 @@ from openmotion.planar import (
     PlanarState,
     PositionXYC,
     ST_ExternalSetpointGenerationOptions,
+    ST_JoinTrackOptions,
     ST_MoveCOptions,
     ST_MoveToPositionOptions,
 )
@@ -286,3 +287,49 @@ def test_a_target_far_off_every_part_is_an_error_id_not_an_overflow():
     rt.step()
     assert command.error and command.error_id == ErrorId.PLANAR_PART_NOT_ENABLED
     assert mover.position.x == 120.0
+
+
+def test_halt_on_a_track_also_brakes_a_running_move_c_and_move_z():
+    """§7.2.2.8.12: Halt stops every coordinate. On a track the track brakes x and y; a MoveC
+    or MoveZ that runs brakes too and its command is aborted."""
+    rt = om.Runtime()
+    mover = MC_PlanarMover(rt, PlanarMoverParameters(initial_position=MoverVector(100.0, 0.0)))
+    mover.enable()
+    track = MC_PlanarTrack(rt)
+    track.append_line(PositionXYC(0.0, 0.0), PositionXYC(600.0, 0.0))
+    track.enable()
+    rt.run(0.01)
+    join = mover.join_track(track, None, ST_JoinTrackOptions(use_orientation=False))
+    rt.run_until(lambda: join.done, timeout=5.0)
+    turn = mover.move_c(200.0)
+    lift = mover.move_z(5.0)
+    rt.run(0.05)
+    halt = mover.halt()
+    rt.run(0.5)
+    assert halt.done and turn.aborted and lift.aborted
+    c, z = mover.position.c, mover.position.z
+    assert 0.0 < c < 30.0 and 0.0 < z < 5.0  # stopped on the way, far from 200 and 5
+    velocity = mover.mc_to_plc.set.set_velo
+    assert velocity.c == 0.0 and velocity.z == 0.0
+    rt.run(0.5)
+    assert (mover.position.c, mover.position.z) == (c, z)
+
+
+@pytest.mark.parametrize("call", [
+    lambda m, t, ax: m.join_track(None),
+    lambda m, t, ax: m.move_on_track(1.5, 100.0),
+    lambda m, t, ax: m.gear_in_pos_on_track(ax, None, 0.0, 100.0, None),
+    lambda m, t, ax: m.gear_in_pos_on_track(ax, 1.0, 0.0, 100.0, t),
+    lambda m, t, ax: m.gear_in_pos_on_track(None, None, 0.0, 100.0, t),
+    lambda m, t, ax: m.gear_in_pos_on_track_with_master_mover(ax, None, 0.0, t, 100.0, t),
+    lambda m, t, ax: m.gear_in_pos_on_track_with_master_mover(m, None, 0.0, None, 100.0, t),
+], ids=["join no track", "move to a number", "gear to no track", "a number as trail",
+        "no master axis", "an axis as master mover", "master on no track"])
+def test_a_wrong_track_argument_is_a_type_error_at_the_call(call):
+    rt = om.Runtime()
+    axis = rt.add_axis("master")
+    mover = MC_PlanarMover(rt)
+    track = MC_PlanarTrack(rt)
+    with pytest.raises(TypeError, match="must be"):
+        call(mover, track, axis)
+    rt.step()  # nothing was queued

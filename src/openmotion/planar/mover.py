@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, TypeVar
 
 import numpy as np
 
+from openmotion.axis.axis import Axis
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar.enums import (
     CoordinateMode,
@@ -36,7 +37,11 @@ from openmotion.planar.feedback import (
     PlanarObjectInfo,
 )
 from openmotion.planar.frames import Pose
-from openmotion.planar.gearing import gear_in_pos_on_track, gear_in_pos_on_track_with_master_mover
+from openmotion.planar.gearing import (
+    MC_PlanarTrackTrail,
+    gear_in_pos_on_track,
+    gear_in_pos_on_track_with_master_mover,
+)
 from openmotion.planar.group import MC_PlanarGroup, planar_group
 from openmotion.planar.motion import (
     PositionLimits,
@@ -97,14 +102,12 @@ from openmotion.planar.states import (
     check_accepts,
 )
 from openmotion.planar.system import PlanarSystem, StatefulObject
+from openmotion.planar.track import MC_PlanarTrack
 from openmotion.planar.traffic import Rider, traffic_of
 from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 
 if TYPE_CHECKING:
-    from openmotion.axis.axis import Axis
-    from openmotion.planar.gearing import MC_PlanarTrackTrail
-    from openmotion.planar.track import MC_PlanarTrack
     from openmotion.runtime.runtime import Runtime
 
 COORDINATES = ("x", "y", "z", "a", "b", "c")
@@ -224,7 +227,7 @@ class MC_PlanarMover(StatefulObject):
                    options: ST_JoinTrackOptions | None = None,
                    feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         """A free move onto the nearest point of ``track``, coupled to it at the end (§4.2)."""
-        return self._send(_C.JOIN_TRACK, feedback, track, _constraint(constraint),
+        return self._send(_C.JOIN_TRACK, feedback, _track(track), _constraint(constraint),
                           _options(options, ST_JoinTrackOptions))
 
     def leave_track(self, target: PositionXYC, constraint: IPlcDynamicConstraint | None = None,
@@ -241,7 +244,8 @@ class MC_PlanarMover(StatefulObject):
         """Travel along the network to ``target_position`` [mm of arc length] on
         ``target_track`` (None or 0: the current track), keeping ``options.gap`` to the
         mover ahead (§6.1.9, §6.2.2)."""
-        return self._send(_C.MOVE_ON_TRACK, feedback, target_track, target_position,
+        return self._send(_C.MOVE_ON_TRACK, feedback,
+                          _track(target_track, current=True), target_position,
                           _constraint(constraint), _options(options, ST_MoveOnTrackOptions))
 
     def gear_in_pos_on_track(self, master_axis: Axis, track_trail: MC_PlanarTrackTrail | None,
@@ -254,8 +258,11 @@ class MC_PlanarMover(StatefulObject):
         when the axis is at ``master_sync_position``, then follow it (§6.2.8). The master is
         the Axis object (the manual passes its object id). Stays Active until another
         command or an error; ``feedback.in_sync`` shows the sync."""
-        return self._send(_C.GEAR_IN_POS_ON_TRACK, feedback, master_axis, track_trail,
-                          master_sync_position, slave_sync_position, slave_sync_position_track,
+        if not isinstance(master_axis, Axis):
+            raise TypeError(f"the master must be an Axis, got {type(master_axis).__name__}")
+        return self._send(_C.GEAR_IN_POS_ON_TRACK, feedback, master_axis, _trail(track_trail),
+                          master_sync_position, slave_sync_position,
+                          _track(slave_sync_position_track),
                           _constraint(constraint), _options(options, ST_GearInPosOnTrackOptions))
 
     def gear_in_pos_on_track_with_master_mover(
@@ -266,9 +273,13 @@ class MC_PlanarMover(StatefulObject):
             options: ST_GearInPosOnTrackWithMasterMoverOptions | None = None,
             feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         """Couple 1:1 to another mover on a track (§6.2.9, §6.2.12)."""
+        if not isinstance(master_mover, MC_PlanarMover):
+            raise TypeError(f"the master must be an MC_PlanarMover, got "
+                            f"{type(master_mover).__name__}")
         return self._send(_C.GEAR_IN_POS_ON_TRACK_WITH_MASTER_MOVER, feedback, master_mover,
-                          track_trail, master_sync_position, master_sync_position_track,
-                          slave_sync_position, slave_sync_position_track,
+                          _trail(track_trail), master_sync_position,
+                          _track(master_sync_position_track), slave_sync_position,
+                          _track(slave_sync_position_track),
                           _constraint(constraint),
                           _options(options, ST_GearInPosOnTrackWithMasterMoverOptions))
 
@@ -455,6 +466,7 @@ class MC_PlanarMover(StatefulObject):
         if self._rider is not None:
             halt_on_track(self, command, command_dynamics(
                 constraint, p.default_dynamic_xy, p.maximum_dynamic_xy, command.warnings))
+            self._halt_own_coordinates()
             return
         limits = self._limits("default")
         limits["xy"] = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
@@ -472,6 +484,25 @@ class MC_PlanarMover(StatefulObject):
                                     "with the mover's maximum dynamics")
             self._begin(command, plan_halt(self._start_states(), self._limits("maximum")),
                         "the halt", admit=False)
+
+    def _halt_own_coordinates(self) -> None:
+        """A Halt on a track: the track brakes x and y; what runs on c (a MoveC), z, a or b
+        brakes too, with the default dynamics, and its command is aborted (§7.2.2.8.12)."""
+        running = {name for motion in self._motions for name in motion.coordinates} \
+            - {"x", "y"}
+        if not running:
+            return
+        previous = self._system.previous
+        names = sorted(running, key=COORDINATES.index)
+        profiles = plan_halt(dict(zip(names, self._system.table.states(
+            [self._rows[name] for name in names], previous), strict=True)),
+            self._limits("default"))
+        self._abort(running)
+        for name, profile in profiles.items():
+            self._install(name, profile, previous)
+        end = previous + max(profile.duration for profile in profiles.values())
+        self._motions.append(_Motion(None, running, end, previous, c_motion="c" in running))
+        self._reschedule()
 
     def _set_position(self, command: PlanarCommand) -> None:
         (target,) = command.args
@@ -956,6 +987,22 @@ def _reference_id(value: int) -> int:
         raise TypeError(f"a reference id must be an int (an object id), got "
                         f"{type(value).__name__}")
     return int(value)
+
+
+def _track(value: MC_PlanarTrack | None, current: bool = False) -> MC_PlanarTrack | None:
+    """A track argument; with ``current`` None or 0 name the mover's current track."""
+    if current and (value is None or (value == 0 and not isinstance(value, bool))):
+        return value
+    if not isinstance(value, MC_PlanarTrack):
+        raise TypeError(f"a track must be an MC_PlanarTrack, got {type(value).__name__}")
+    return value
+
+
+def _trail(value: MC_PlanarTrackTrail | None) -> MC_PlanarTrackTrail | None:
+    if value is not None and not isinstance(value, MC_PlanarTrackTrail):
+        raise TypeError(f"a track trail must be an MC_PlanarTrackTrail or None, got "
+                        f"{type(value).__name__}")
+    return value
 
 
 def _constraint(value: IPlcDynamicConstraint | None) -> IPlcDynamicConstraint | None:
