@@ -108,6 +108,7 @@ def gear_in_pos_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
                          slave_track, slave_sync, constraint, options.in_sync_tolerance_distance,
                          options.allowed_slave_sync_directions)
     coupling.axis = axis
+    _admit_path(mover, legs, _C.GEAR_IN_POS_ON_TRACK)
     _prime(coupling, traffic)
     traffic.gear(rider, legs, coupling, options.gap, command)
 
@@ -138,8 +139,22 @@ def gear_in_pos_on_track_with_master_mover(mover: MC_PlanarMover, command: Plana
                          constraint, options.in_sync_tolerance_distance,
                          options.allowed_slave_sync_directions)
     coupling.master, coupling.follow = master_rider, options.follow_mover
+    _admit_path(mover, legs, _C.GEAR_IN_POS_ON_TRACK_WITH_MASTER_MOVER)
     _prime(coupling, traffic)
     traffic.gear(rider, legs, coupling, options.gap, command)
+
+
+def _admit_path(mover: MC_PlanarMover, legs: list[Leg], kind: MoverCommand) -> None:
+    """The gear path is a way the slave may move on like a MoveOnTrack route: its tracks
+    must take the motion (§4.3), and in a group they hold their bands while it is geared,
+    so the group's collision avoidance keeps other movers off them (§6.5); the bands go back
+    when the gear ends (riding.release_bands). Refused with PLANAR_COLLISION naming the
+    member in the way."""
+    from openmotion.planar.riding import _reserve_bands, check_route_accepts
+
+    tracks = [leg.track for leg in legs]
+    check_route_accepts(tracks, kind)
+    _reserve_bands(mover, tracks, str(kind))
 
 
 def _slave(mover: MC_PlanarMover, kind: MoverCommand) -> tuple[Rider, Any]:

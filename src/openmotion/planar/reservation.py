@@ -522,9 +522,10 @@ class ReservationRegistry:
         """The first member (in member order) that blocks ``area`` for ``owner``, or None.
 
         ``owner``'s own reservation never blocks; nor do the members in ``ignore`` (e.g. the
-        movers on a track that reserves its band)."""
+        movers on a track that reserves its band; the environment too, when it is there)."""
         self._mover_rank(owner)
-        skip = np.array([self._order[m] for m in (owner, *ignore) if m in self._slots],
+        skip = np.array([self._order[m] for m in (owner, *ignore)
+                         if m in self._slots or (m == self._environment and m is not None)],
                         dtype=np.int64)
         return self._blocker(_as_swept(area), skip)
 
@@ -596,6 +597,7 @@ class ReservationRegistry:
         rank = self._first_meeting(swept, excluded)
         environment = self._environment
         if environment is not None and (rank is None or self._order[environment] < rank) \
+                and self._order[environment] not in excluded.tolist() \
                 and not self._on_surface(swept):
             return environment
         return None if rank is None else self._members[rank]

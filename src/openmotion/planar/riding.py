@@ -17,6 +17,7 @@ import numpy as np
 
 from openmotion.core.enums import ModuloDirection
 from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.planar.enums import PlanarObjectType
 from openmotion.planar.motion import plan_move_to_position
 from openmotion.planar.options import (
     ST_JoinTrackOptions,
@@ -33,6 +34,7 @@ from openmotion.trajectory.segments import Profile
 if TYPE_CHECKING:
     from openmotion.planar.feedback import PlanarCommand
     from openmotion.planar.mover import MC_PlanarMover
+    from openmotion.planar.reservation import MemberId, ReservationRegistry
     from openmotion.planar.track import MC_PlanarTrack
 
 _C = MoverCommand
@@ -136,16 +138,32 @@ def move_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
     traffic = traffic_of(mover._system)
     here, s, _, _ = traffic.position(rider)
     route, target = _route(here, s, track, position, options)
+    check_route_accepts([leg.track for leg in route], _C.MOVE_ON_TRACK)
     limits = _curve_limits(limits, [leg.track for leg in route])
     _reserve_bands(mover, [leg.track for leg in route])
     traffic.ride(rider, route, target, limits, options.gap, command, mover._system.previous)
 
 
-def _reserve_bands(mover: MC_PlanarMover, tracks: list[MC_PlanarTrack]) -> None:
+def check_route_accepts(tracks: list[MC_PlanarTrack], kind: MoverCommand) -> None:
+    """Every track a command routes the mover onto must take it now, not only the one it is
+    on: a track is Moving while movers are about to move onto it, so a mover joining it
+    (Configuring) bars the way there as it bars motion on it (§4.3)."""
+    for track in dict.fromkeys(tracks):
+        try:
+            check_track_accepts(track._states.current, track.operation_mode, kind)
+        except CommandRejected as bad:
+            raise CommandRejected(bad.error_id, f"{track.name}: {bad.message}") from None
+
+
+def _reserve_bands(mover: MC_PlanarMover, tracks: list[MC_PlanarTrack],
+                   what: str = "MoveOnTrack") -> None:
     """A mover in a group moves only on tracks of its group, and a track blocks its surface
     while a mover moves on it (§4.3, §6.5): the first motion over a track asks the group for
     the band the largest mover sweeps along it. The movers on those tracks do not block it;
-    any other member does, and the command is refused naming it."""
+    any other mover does, and the command is refused naming it. Other tracks and the
+    environment block it only when the track checks static objects (§6.2.1, default off:
+    connected tracks overlap at their joints, and a track near the stator edge is the
+    user's layout)."""
     from openmotion.planar.mover import Collision
     from openmotion.planar.track import traffic_of
 
@@ -155,20 +173,32 @@ def _reserve_bands(mover: MC_PlanarMover, tracks: list[MC_PlanarTrack]) -> None:
     for track in tracks:
         if track._group is not group:
             raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP,
-                                  f"MoveOnTrack: {track.name} is not in the mover's group "
+                                  f"{what}: {track.name} is not in the mover's group "
                                   f"16#{group.oid:08X}; collision avoidance needs it there "
                                   "(§4.3)")
     riders = [r.owner._member for r in traffic_of(mover._system).riders
               if any(r.track is t for t in tracks)]
+    static = [m for m in group.registry.members
+              if m.object_type in (PlanarObjectType.TRACK, PlanarObjectType.ENVIRONMENT)]
     needed = [t for t in dict.fromkeys(tracks) if not t.band]
     for track in needed:
-        blocker = group.registry.blocker(track.member, track.surface(), riders)
+        if track.check_collisions_against_static_objects:
+            blocker = group.registry.blocker(track.member, track.surface(), riders)
+        else:
+            blocker = _moving_blocker(group.registry, track, riders + static)
         if blocker is not None:
             raise Collision(blocker, f"the surface of {track.name}")
-    group._check_enabled("MoveOnTrack")
+    group._check_enabled(what)
     for track in needed:
         group.registry.settle(track.member, track.surface())
         track.band = True
+
+
+def _moving_blocker(registry: ReservationRegistry, track: MC_PlanarTrack,
+                    ignore: list[MemberId]) -> MemberId | None:
+    """The first member other than ``ignore`` (the track's riders, the other tracks and the
+    environment) whose area meets ``track``'s band."""
+    return registry.blocker(track.member, track.surface(), ignore)
 
 
 def release_bands(mover: MC_PlanarMover) -> None:
@@ -270,43 +300,67 @@ def _free_move(mover: MC_PlanarMover, goal: tuple[float, ...], limits: Limits,
 def _route(here: MC_PlanarTrack, s: float, track: MC_PlanarTrack, position: float,
            options: ST_MoveOnTrackOptions) -> tuple[list[Leg], float]:
     """The legs to ``position`` on ``track`` and the odometer target (the current track
-    starts at 0). Modulo directions apply on a closed loop only (§6.1.9)."""
-    loop = here.closed_loop
+    starts at 0). §6.1.9: Positive never moves backwards and Negative never forwards; on a
+    closed loop they pick the way round (with whole extra laps), ShortestWay the shorter
+    one; on an open track or to another track there is one way only, and a direction that
+    does not fit it refuses the command (D-144)."""
     direction = options.direction
-    if track is here and direction is not ModuloDirection.NON_MODULO:
-        if not loop:
-            raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
-                                  f"MoveOnTrack: modulo directions need a closed loop; "
-                                  f"{here.name} is open (§6.1.9)")
-        length = here.length
-        ahead = (position - s) % length
-        behind = (s - position) % length
-        if ahead <= options.modulo_tolerance or behind <= options.modulo_tolerance:
-            forward = ahead <= behind
-        elif direction is ModuloDirection.POSITIVE:
-            forward = True
-        elif direction is ModuloDirection.NEGATIVE:
-            forward = False
-        else:
-            forward = ahead <= behind
-        if not forward:  # backwards only within the track (never from its start to its end)
-            if position > s:
-                raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
-                                      "MoveOnTrack: backwards over the start of a track is no "
-                                      "transition (§6.2.2)")
-            return [Leg(here, 0.0)], position
-        laps = options.additional_turns
-        distance = ahead + laps * length
-        legs = [Leg(here, k * length) for k in range(int((s + distance) // length) + 1)]
-        return legs, s + distance
+    if track is here and direction is not ModuloDirection.NON_MODULO and here.closed_loop:
+        return _loop_route(here, s, position, options)
+    if options.additional_turns:
+        raise CommandRejected(ErrorId.INVALID_MODULO_OPTIONS,
+                              f"MoveOnTrack: additional turns ({options.additional_turns}) "
+                              f"need a closed loop; the way to {track.name} is open (§6.1.9)")
     if track is here:
+        legs, target = [Leg(here, 0.0)], position
+    else:
+        found = here.network.route(here, s, track, position)
+        if found is None:
+            raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                                  f"MoveOnTrack: {track.name} cannot be reached from "
+                                  f"{here.name} (movers change track only from an end to a "
+                                  "start, §6.2.2)")
+        legs, target = found, found[-1].base + position
+    way = target - s
+    tolerance = options.modulo_tolerance
+    if direction is ModuloDirection.POSITIVE and way < -tolerance or \
+            direction is ModuloDirection.NEGATIVE and way > tolerance:
+        raise CommandRejected(ErrorId.INVALID_DIRECTION,
+                              f"MoveOnTrack: the target lies {abs(way):g} mm "
+                              f"{'behind' if way < 0 else 'ahead'}; {direction.name.title()} "
+                              "never moves the other way, and this way has no loop round "
+                              "(§6.1.9)")
+    return legs, target
+
+
+def _loop_route(here: MC_PlanarTrack, s: float, position: float,
+                options: ST_MoveOnTrackOptions) -> tuple[list[Leg], float]:
+    """A modulo move on a closed loop: forwards over the seam takes the legs of the laps
+    ahead. Backwards the traffic leaves a track only at its end, so a way back over the
+    seam (its start) is refused rather than driven the wrong way round (D-144)."""
+    length = here.length
+    direction = options.direction
+    ahead = (position - s) % length
+    behind = (s - position) % length
+    if ahead <= options.modulo_tolerance or behind <= options.modulo_tolerance:
+        forward = ahead <= behind
+    elif direction is ModuloDirection.POSITIVE:
+        forward = True
+    elif direction is ModuloDirection.NEGATIVE:
+        forward = False
+    else:
+        forward = ahead <= behind
+    laps = options.additional_turns
+    if not forward:  # backwards only within the track (never from its start to its end)
+        if position > s or laps:
+            raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                                  f"MoveOnTrack: the way back to {position:g} on {here.name} "
+                                  f"crosses its start{' with laps' if laps else ''}; movers "
+                                  "do not cross a track's start backwards (§6.2.2, D-144)")
         return [Leg(here, 0.0)], position
-    legs = here.network.route(here, s, track, position)
-    if legs is None:
-        raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
-                              f"MoveOnTrack: {track.name} cannot be reached from {here.name} "
-                              "(movers change track only from an end to a start, §6.2.2)")
-    return legs, legs[-1].base + position
+    distance = ahead + laps * length
+    legs = [Leg(here, k * length) for k in range(int((s + distance) // length) + 1)]
+    return legs, s + distance
 
 
 def _curve_limits(limits: Limits, tracks: list[MC_PlanarTrack]) -> Limits:

@@ -8,7 +8,9 @@ AppendLine and Enable may come in the same cycle (§6.2.4).
 
 Operation mode (§4.3), derived from the movers on the track: Uninitialized until the track is
 Enabled with a geometry; Configuring while a mover joins or leaves it; Moving while a mover on
-it has a motion command; Standing otherwise.
+it, or one whose running command routes it onto it, has a motion command; Standing otherwise.
+A track with movers on it, joining it or routed onto it keeps its geometry: it cannot be
+disabled, and its geometry changes only without any (D-119).
 """
 
 from __future__ import annotations
@@ -40,6 +42,7 @@ from openmotion.planar.traffic import Traffic, network_of, traffic_of
 if TYPE_CHECKING:
     from openmotion.planar.group import MC_PlanarGroup
     from openmotion.planar.parts import Part
+    from openmotion.planar.traffic import Rider
     from openmotion.runtime.runtime import Runtime
 
 TRACK_COLLISION_RANGE = 250.0  #: [mm] default collision range at start and at end (§6.2.1)
@@ -48,13 +51,17 @@ MAX_MOVER_SIZE = 155.0  #: [mm] default maximal mover width and height (§6.2.1)
 
 class MC_PlanarTrack(StatefulObject):
     """A planar track. ``collision_ranges`` = None computes them when the track is enabled
-    (mode Automatic, §6.2.2); a pair (start, end) in mm is mode Manual."""
+    (mode Automatic, §6.2.2); a pair (start, end) in mm is mode Manual.
+    ``check_collisions_against_static_objects`` (default False, §6.2.1): in a group, the
+    band the track holds while movers move on it is checked against other tracks and the
+    environment too; without it only movers can block the band (§6.5)."""
 
     def __init__(self, runtime: Runtime, name: str | None = None, *,
                  max_mover_width: float = MAX_MOVER_SIZE,
                  max_mover_height: float = MAX_MOVER_SIZE,
                  collision_ranges: tuple[float, float] | None = None,
-                 part_oid: int = 0) -> None:
+                 part_oid: int = 0,
+                 check_collisions_against_static_objects: bool = False) -> None:
         system = PlanarSystem.of(runtime)
         super().__init__(system, system.next_oid("object"))
         self.name = name or f"track{len(network_of(system).tracks) + 1}"
@@ -68,6 +75,10 @@ class MC_PlanarTrack(StatefulObject):
             raise ConfigError(f"{self.name}: collision ranges must be numbers >= 0, got "
                               f"{collision_ranges!r}")
         self._manual_ranges = collision_ranges
+        if not isinstance(check_collisions_against_static_objects, bool):
+            raise ConfigError(f"{self.name}: check_collisions_against_static_objects must be a "
+                              f"bool, got {check_collisions_against_static_objects!r}")
+        self.check_collisions_against_static_objects = check_collisions_against_static_objects
         self.part_oid = part_oid  #: the part the track belongs to (0: the only one, or none)
         self.collision_ranges: tuple[float, float] = collision_ranges or (
             TRACK_COLLISION_RANGE, TRACK_COLLISION_RANGE)
@@ -187,14 +198,32 @@ class MC_PlanarTrack(StatefulObject):
             return TrackOperationMode.MOVING
         return TrackOperationMode.STANDING
 
+    def _referencing_riders(self) -> list[Rider]:
+        """Riders on this track, and moving riders with it on the legs still ahead of them:
+        the track is theirs until they are off it (§4.3: Moving while movers are on it or
+        about to move onto it). A halted rider's unused legs do not hold it."""
+        traffic = self._traffic
+        return [r for r in traffic.riders if r.track is self or (
+            traffic.moving(r) and any(leg.track is self for leg in r.route))]
+
+    def _check_unused(self, kind: str) -> None:
+        """A track keeps its geometry while movers are on it, join it or are routed onto it:
+        changing it under them would move them off their setpoints (D-119)."""
+        users = len(self._referencing_riders()) + len(self.configuring)
+        if users:
+            raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
+                                  f"{kind}: {users} mover(s) are on {self.name}, join it or are "
+                                  "routed onto it; LeaveTrack them first (§4.3)")
+
     @property
     def mover_count_on_track(self) -> int:
         return sum(1 for r in self._traffic.riders if r.track is self)
 
     @property
     def moving_mover_count(self) -> int:
+        """Movers with a motion planned over this track: on it, or routed onto it (§4.3)."""
         traffic = self._traffic
-        return sum(1 for r in traffic.riders if r.track is self and traffic.moving(r))
+        return sum(1 for r in self._referencing_riders() if traffic.moving(r))
 
     @property
     def previous_tracks(self) -> list[int]:
@@ -307,6 +336,8 @@ class MC_PlanarTrack(StatefulObject):
             if kind == "Enable" and self.path.empty:
                 raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
                                       f"{self.name} has no geometry to enable (§6.2.4)")
+            if kind == "Disable":
+                self._check_unused(kind)
             if kind == "Enable" and self._manual_ranges is None:
                 self.collision_ranges = self._automatic_ranges()
             self._states.request(command)
@@ -377,6 +408,7 @@ class MC_PlanarTrack(StatefulObject):
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                                   f"{kind}: {self.name} is {self._states.current.name.title()}; "
                                   "its geometry changes only while it is Disabled")
+        self._check_unused(kind)
         if self._blocked and not frozen_ok:
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                                   f"{kind}: {self.name} is frozen because {self._blocked}; "

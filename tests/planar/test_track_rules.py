@@ -1,0 +1,371 @@
+"""Track rules found in review: a used track keeps its geometry (D-119), directions of
+MoveOnTrack (§6.1.9), the static-object check of a track's band (§6.2.1), gear-in under
+the group's collision avoidance (§6.5) and the operation mode of tracks on a route (§4.3)."""
+
+from __future__ import annotations
+
+import pytest
+
+import openmotion as om
+from openmotion.core.enums import ModuloDirection
+from openmotion.core.errors import ConfigError, ErrorId
+from openmotion.planar import (
+    MC_PlanarEnvironment,
+    MC_PlanarFeedbackGearInPosOnTrack,
+    MC_PlanarGroup,
+    MC_PlanarMover,
+    MoverVector,
+    PlanarMoverParameters,
+    PlanarObjectInfo,
+    PlanarObjectType,
+    PlanarState,
+    PositionXYC,
+    TrackOperationMode,
+)
+from openmotion.planar.options import ST_MoveOnTrackOptions
+from openmotion.planar.track import MC_PlanarTrack
+
+
+def _movers(rt: om.Runtime, *positions: tuple[float, float]) -> list[MC_PlanarMover]:
+    movers = [MC_PlanarMover(rt, PlanarMoverParameters(initial_position=MoverVector(x, y)))
+              for x, y in positions]
+    for mover in movers:
+        mover.enable()
+    rt.run(0.005)
+    return movers
+
+
+def _line(rt: om.Runtime, start: tuple[float, float], end: tuple[float, float],
+          after: MC_PlanarTrack | None = None, **kwargs: object) -> MC_PlanarTrack:
+    track = MC_PlanarTrack(rt, **kwargs)
+    if after is not None:
+        track.start_from_track(after)
+    track.append_line(PositionXYC(*start), PositionXYC(*end))
+    track.enable()
+    assert rt.run_until(lambda: track.state is PlanarState.ENABLED, timeout=1.0)
+    return track
+
+
+def _loop(rt: om.Runtime) -> MC_PlanarTrack:
+    loop = MC_PlanarTrack(rt)
+    for a, b in (((0.0, 0.0), (720.0, 0.0)), ((960.0, 240.0), (960.0, 480.0)),
+                 ((720.0, 720.0), (0.0, 720.0)), ((-240.0, 480.0), (-240.0, 240.0))):
+        loop.append_line(PositionXYC(*a), PositionXYC(*b))
+    loop.close_loop()
+    loop.enable()
+    rt.run(0.003)
+    assert loop.closed_loop
+    return loop
+
+
+def _joined(rt: om.Runtime, track: MC_PlanarTrack, *movers: MC_PlanarMover) -> None:
+    joins = [m.join_track(track) for m in movers]
+    assert rt.run_until(lambda: all(j.done for j in joins), timeout=10.0)
+
+
+def _run_until(rt: om.Runtime, *commands: object, timeout: float = 20.0) -> None:
+    assert rt.run_until(lambda: all(c.done for c in commands), timeout=timeout), \
+        [(c.kind, c.busy, c.error, c.message) for c in commands]
+
+
+def _s(mover: MC_PlanarMover) -> float:
+    return mover.mc_to_plc.set_on_track.set_pos
+
+
+def _v(mover: MC_PlanarMover) -> float:
+    return mover.mc_to_plc.set_on_track.set_velo
+
+
+def _group(rt: om.Runtime, *members: object) -> MC_PlanarGroup:
+    group = MC_PlanarGroup(rt)
+    group.enable()
+    rt.run(0.005)
+    adds = [m.add_to_group(group) for m in members]  # type: ignore[attr-defined]
+    rt.run(0.005)
+    assert all(a.done for a in adds), [a.message for a in adds]
+    return group
+
+
+# -- A: a used track keeps its geometry (D-119) --------------------------------------------------
+
+
+def test_disable_is_refused_while_a_mover_moves_on_the_track_and_its_move_ends():
+    """Review t14/t15b: Disable then Clear under a moving mover. Both are refused (the track
+    stays Enabled with its 600 mm), no cycle raises, and the move ends at 500."""
+    rt = om.Runtime(0.001)
+    (mover,) = _movers(rt, (100.0, 0.0))
+    track = _line(rt, (0.0, 0.0), (600.0, 0.0))
+    _joined(rt, track, mover)
+    move = mover.move_on_track(None, 500.0)
+    rt.run(0.05)
+    disable = track.disable()
+    rt.step()
+    rt.step()
+    clear = track.clear()
+    rt.step()
+    rt.step()
+    assert disable.error and disable.error_id == ErrorId.PLANAR_WRONG_STATE
+    assert "1 mover" in disable.message
+    assert clear.error and clear.error_id == ErrorId.PLANAR_WRONG_STATE
+    assert track.state is PlanarState.ENABLED and track.get_length() == pytest.approx(600.0)
+    _run_until(rt, move)
+    assert (mover.position.x, mover.position.y) == pytest.approx((500.0, 0.0), abs=1e-9)
+
+
+def test_the_geometry_under_a_standing_mover_is_not_replaced():
+    """Review t15c: Disable, Clear, AppendLine at y = 300, Enable under a standing mover:
+    Disable is refused, so the edits are too; the next MoveOnTrack stays on y = 0."""
+    rt = om.Runtime(0.001)
+    (mover,) = _movers(rt, (100.0, 0.0))
+    track = _line(rt, (0.0, 0.0), (600.0, 0.0))
+    _joined(rt, track, mover)
+    disable = track.disable()
+    rt.step()
+    rt.step()
+    clear = track.clear()
+    append = track.append_line(PositionXYC(0.0, 300.0), PositionXYC(600.0, 300.0))
+    rt.run(0.01)
+    assert disable.error_id == ErrorId.PLANAR_WRONG_STATE
+    assert clear.error_id == append.error_id == ErrorId.PLANAR_WRONG_STATE
+    move = mover.move_on_track(None, 200.0)
+    _run_until(rt, move)
+    assert (mover.position.x, mover.position.y) == pytest.approx((200.0, 0.0), abs=1e-9)
+
+
+def test_disable_is_refused_while_a_mover_joins_or_is_routed_onto_the_track():
+    """A joining mover (Configuring) and a mover on track a routed onto track b hold the
+    track too; once the movers are off, Disable and Clear go through."""
+    rt = om.Runtime(0.001)
+    one, two = _movers(rt, (100.0, 0.0), (900.0, 400.0))
+    a = _line(rt, (0.0, 0.0), (600.0, 0.0))
+    b = _line(rt, (700.0, 0.0), (1500.0, 0.0), after=a)
+    join = two.join_track(b)
+    rt.step()
+    rt.step()
+    assert b.operation_mode is TrackOperationMode.CONFIGURING
+    refused = b.disable()
+    rt.step()
+    assert refused.error_id == ErrorId.PLANAR_WRONG_STATE
+    _run_until(rt, join)
+    leave = two.leave_track(PositionXYC(900.0, 400.0))
+    _run_until(rt, leave)
+    _joined(rt, a, one)
+    move = one.move_on_track(b, 300.0)
+    rt.run(0.05)
+    assert b.mover_count_on_track == 0  # mover one is still on a
+    refused = b.disable()
+    rt.step()
+    assert refused.error_id == ErrorId.PLANAR_WRONG_STATE
+    _run_until(rt, move)
+    leave = one.leave_track(PositionXYC(1000.0, 300.0))
+    _run_until(rt, leave)
+    disable = b.disable()
+    rt.run(0.005)
+    clear = b.clear()
+    rt.run(0.005)
+    assert disable.done and clear.done and b.get_length() == 0.0
+
+
+# -- B: directions of MoveOnTrack (§6.1.9) --------------------------------------------------------
+
+
+def test_positive_on_an_open_track_moves_forwards_to_a_target_ahead():
+    """Review t2: on an open 600 mm line, Positive from 100 to 300 runs (forwards)."""
+    rt = om.Runtime(0.001)
+    (mover,) = _movers(rt, (100.0, 0.0))
+    track = _line(rt, (0.0, 0.0), (600.0, 0.0))
+    _joined(rt, track, mover)
+    move = mover.move_on_track(None, 300.0, options=ST_MoveOnTrackOptions(
+        direction=ModuloDirection.POSITIVE))
+    rt.run(0.05)
+    assert move.busy and _v(mover) > 0.0
+    _run_until(rt, move)
+    assert _s(mover) == pytest.approx(300.0, abs=1e-9)
+
+
+def test_a_direction_against_the_only_way_on_an_open_track_is_refused():
+    """Positive to a target behind, Negative to one ahead or on the next track are refused
+    with INVALID_DIRECTION and the mover stays; Negative to a target behind runs backwards;
+    additional turns without a loop are INVALID_MODULO_OPTIONS."""
+    rt = om.Runtime(0.001)
+    (mover,) = _movers(rt, (300.0, 0.0))
+    a = _line(rt, (0.0, 0.0), (600.0, 0.0))
+    b = _line(rt, (700.0, 0.0), (1200.0, 0.0), after=a)
+    _joined(rt, a, mover)
+    pos, neg = ModuloDirection.POSITIVE, ModuloDirection.NEGATIVE
+    for track, target, direction, turns, error in (
+            (None, 100.0, pos, 0, ErrorId.INVALID_DIRECTION),
+            (None, 500.0, neg, 0, ErrorId.INVALID_DIRECTION),
+            (b, 100.0, neg, 0, ErrorId.INVALID_DIRECTION),
+            (None, 500.0, pos, 1, ErrorId.INVALID_MODULO_OPTIONS),
+            (b, 100.0, pos, 2, ErrorId.INVALID_MODULO_OPTIONS)):
+        move = mover.move_on_track(track, target, options=ST_MoveOnTrackOptions(
+            direction=direction, additional_turns=turns))
+        rt.step()
+        rt.step()
+        assert move.error and move.error_id == error, (target, direction, move.message)
+        assert _s(mover) == pytest.approx(300.0, abs=1e-9) and _v(mover) == 0.0
+    back = mover.move_on_track(None, 100.0, options=ST_MoveOnTrackOptions(direction=neg))
+    rt.run(0.05)
+    assert back.busy and _v(mover) < 0.0
+    _run_until(rt, back)
+    assert _s(mover) == pytest.approx(100.0, abs=1e-9)
+
+
+def test_negative_with_laps_on_a_loop_is_refused_not_run_without_them():
+    """Review t1: Negative with one additional turn from 100 to 50 on a loop went 50 mm
+    back and dropped the lap. The traffic cannot cross a track's start backwards yet, so
+    the command is refused (D-144) and the mover stays."""
+    rt = om.Runtime(0.001)
+    (mover,) = _movers(rt, (100.0, 0.0))
+    loop = _loop(rt)
+    _joined(rt, loop, mover)
+    move = mover.move_on_track(None, 50.0, options=ST_MoveOnTrackOptions(
+        direction=ModuloDirection.NEGATIVE, additional_turns=1))
+    rt.run(0.05)
+    assert move.error and move.error_id == ErrorId.PLANAR_INVALID_INPUT
+    assert "laps" in move.message
+    assert _s(mover) == pytest.approx(100.0, abs=1e-9)
+
+
+# -- C: the static-object check of a track's band (§6.2.1) ----------------------------------------
+
+
+@pytest.mark.parametrize("check", [False, True])
+def test_connected_tracks_in_a_group_block_each_other_only_when_checked(check: bool):
+    """Review t9: movers on tracks a -> b of one group. By default (§6.2.1 FALSE) both
+    MoveOnTracks run; with b checking static objects b's band meets a's and b's move is
+    refused naming track a."""
+    rt = om.Runtime(0.001)
+    one, two = _movers(rt, (100.0, 0.0), (900.0, 0.0))
+    a = _line(rt, (0.0, 0.0), (600.0, 0.0))
+    b = _line(rt, (700.0, 0.0), (1500.0, 0.0), after=a,
+              check_collisions_against_static_objects=check)
+    _group(rt, one, two, a, b)
+    _joined(rt, a, one)
+    _joined(rt, b, two)
+    first = one.move_on_track(None, 300.0)
+    rt.step()
+    second = two.move_on_track(None, 700.0)
+    rt.step()
+    rt.step()
+    assert first.busy
+    if check:
+        assert second.error and second.error_id == ErrorId.PLANAR_COLLISION
+        assert second.object_info == PlanarObjectInfo(PlanarObjectType.TRACK, a.oid)
+    else:
+        _run_until(rt, first, second)
+        assert _s(two) == pytest.approx(700.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("check", [False, True])
+def test_a_track_near_the_stator_edge_is_checked_against_the_environment_only_on_request(
+        check: bool):
+    """Review t10: a track 80 mm from the edge of a 4 x 2 stator surface (the mover, 77.5
+    mm half width, fits; the band of the largest mover's diagonal does not). By default the
+    move runs to x = 700; with the check it is refused naming the environment."""
+    rt = om.Runtime(0.001)
+    env = MC_PlanarEnvironment(rt)
+    for x in (0.0, 240.0, 480.0, 720.0):
+        env.add_stator(x, 0.0)
+        env.add_stator(x, 240.0)
+    env.create_boundary()
+    rt.run(0.01)
+    (mover,) = _movers(rt, (200.0, 80.0))
+    track = _line(rt, (100.0, 80.0), (860.0, 80.0),
+                  check_collisions_against_static_objects=check)
+    _group(rt, env, mover, track)
+    _joined(rt, track, mover)
+    move = mover.move_on_track(None, 600.0)
+    rt.step()
+    rt.step()
+    if check:
+        assert move.error and move.error_id == ErrorId.PLANAR_COLLISION
+        assert move.object_info.object_type is PlanarObjectType.ENVIRONMENT
+    else:
+        _run_until(rt, move)
+        assert mover.position.x == pytest.approx(700.0, abs=1e-9)
+
+
+def test_the_static_object_check_must_be_a_bool():
+    rt = om.Runtime(0.001)
+    with pytest.raises(ConfigError, match="check_collisions_against_static_objects"):
+        MC_PlanarTrack(rt, check_collisions_against_static_objects=1)  # type: ignore[arg-type]
+
+
+# -- D: gear-in under the group's collision avoidance (§6.5) -------------------------------------
+
+
+def test_gear_in_in_a_group_holds_the_track_band_and_is_refused_by_a_mover_on_it():
+    """Review t19: a free mover stands on the track line at x = 600. The slave's gear-in
+    is refused naming it (as a MoveOnTrack is), instead of driving through it; with the
+    free mover gone the gear-in holds the band until its Halt."""
+    rt = om.Runtime(0.001)
+    slave, free = _movers(rt, (100.0, 0.0), (600.0, 0.0))
+    track = _line(rt, (0.0, 0.0), (1200.0, 0.0))
+    _group(rt, slave, free, track)
+    _joined(rt, track, slave)
+    axis = rt.add_axis("master")
+    axis.power()
+    rt.run(0.01)
+    feedback = MC_PlanarFeedbackGearInPosOnTrack()
+    gear = slave.gear_in_pos_on_track(axis, None, 0.0, 100.0, track, feedback=feedback)
+    rt.step()
+    rt.step()
+    assert gear.error and gear.error_id == ErrorId.PLANAR_COLLISION
+    assert gear.object_info == PlanarObjectInfo(PlanarObjectType.MOVER, free.oid)
+    away = free.move_to_position(PositionXYC(600.0, 400.0))
+    _run_until(rt, away)
+    gear = slave.gear_in_pos_on_track(axis, None, 0.0, 100.0, track)
+    rt.step()
+    rt.step()
+    assert gear.busy and track.band
+    halt = slave.halt()
+    _run_until(rt, halt)
+    rt.step()
+    assert not track.band
+
+
+# -- E: tracks on a route are Moving (§4.3) -------------------------------------------------------
+
+
+def test_a_join_onto_the_target_track_of_a_route_is_refused():
+    """Review t8b: mover one on a moves to 300 on b; b is Moving from the start, so mover
+    two's JoinTrack onto b is refused and mover one ends at (900, 0) (b starts at a's end,
+    x = 600)."""
+    rt = om.Runtime(0.001)
+    one, two = _movers(rt, (100.0, 0.0), (900.0, 240.0))
+    a = _line(rt, (0.0, 0.0), (600.0, 0.0))
+    b = _line(rt, (700.0, 0.0), (1500.0, 0.0), after=a)
+    _joined(rt, a, one)
+    move = one.move_on_track(b, 300.0)
+    rt.run(0.01)
+    assert b.operation_mode is TrackOperationMode.MOVING
+    assert (b.mover_count_on_track, b.moving_mover_count) == (0, 1)
+    join = two.join_track(b)
+    rt.step()
+    rt.step()
+    assert join.error and join.error_id == ErrorId.PLANAR_WRONG_MODE
+    _run_until(rt, move)
+    assert (one.position.x, one.position.y) == pytest.approx((900.0, 0.0), abs=1e-9)
+    assert (two.position.x, two.position.y) == pytest.approx((900.0, 240.0), abs=1e-9)
+
+
+def test_a_move_onto_a_configuring_track_is_refused():
+    """Review t8c: mover two joins b; mover one's MoveOnTrack from a onto b is refused
+    (WRONG_MODE, naming b) and it stays at 100."""
+    rt = om.Runtime(0.001)
+    one, two = _movers(rt, (100.0, 0.0), (900.0, 400.0))
+    a = _line(rt, (0.0, 0.0), (600.0, 0.0))
+    b = _line(rt, (700.0, 0.0), (1500.0, 0.0), after=a)
+    _joined(rt, a, one)
+    join = two.join_track(b)
+    rt.run(0.01)
+    assert b.operation_mode is TrackOperationMode.CONFIGURING
+    move = one.move_on_track(b, 300.0)
+    rt.step()
+    rt.step()
+    assert move.error and move.error_id == ErrorId.PLANAR_WRONG_MODE
+    assert b.name in move.message
+    _run_until(rt, join)
+    assert _s(one) == pytest.approx(100.0, abs=1e-9)
