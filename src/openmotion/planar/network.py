@@ -31,6 +31,8 @@ class TrackNetwork:
         self._ends: dict[tuple[Endpoint, int], list[MC_PlanarTrack]] | None = None
         self._switches: dict[int, tuple[Endpoint | None, Endpoint | None]] = {}
         self._successors: dict[int, list[MC_PlanarTrack]] = {}
+        self._ways_on: dict[tuple[int, int], list[MC_PlanarTrack]] = {}
+        self.version = 0  #: counts ``touch``: what was derived from an older one is stale
 
     def add(self, track: MC_PlanarTrack) -> int:
         self.tracks.append(track)
@@ -40,9 +42,11 @@ class TrackNetwork:
     def touch(self) -> None:
         """Links, a geometry or a track state changed: forget what was derived from them
         (the cycle asks for switches and successors of every rider, so they are cached)."""
+        self.version += 1
         self._ends = None
         self._switches.clear()
         self._successors.clear()
+        self._ways_on.clear()
         self._parent = None
         self._positions = None
 
@@ -51,6 +55,11 @@ class TrackNetwork:
         where the parts meet (§6.2.3). Called once per cycle by the traffic."""
         if self._positions is not None and self._positions != self._part_positions():
             self.touch()
+
+    def placed(self) -> bool:
+        """Whether parts can place the tracks (there is a layout of parts): without, every
+        track lies where its geometry says."""
+        return self._layout() is not None
 
     def _part_positions(self) -> tuple[int, ...]:
         layout = self._layout()
@@ -115,6 +124,24 @@ class TrackNetwork:
             vertex = self._root((track.index, END))
             found = self._successors[track.index] = [
                 t for t in self._ends_at(vertex, START) if t.usable]
+        return found
+
+    def way_on(self, track: MC_PlanarTrack, limit: int) -> list[MC_PlanarTrack]:
+        """The tracks after ``track`` while the network leaves a single way on (a closed
+        track goes on into itself, switch or not), ``limit`` of them at most. The traffic
+        looks along it for the rider ahead of the front rider of a track."""
+        found = self._ways_on.get((track.index, limit))
+        if found is None:
+            found, last = [], track
+            for _ in range(limit):
+                following = self.successors(last)
+                if last in following:
+                    following = [last]
+                if len(following) != 1:
+                    break
+                last = following[0]
+                found.append(last)
+            self._ways_on[(track.index, limit)] = found
         return found
 
     def subsequent(self, track: MC_PlanarTrack) -> list[int]:

@@ -8,11 +8,12 @@ time-optimal, jerk-limited profile (§6.2.2, §6.2.5).
 
 Every cycle (phase 2, after the planar system evaluated its setpoint table) each rider
 proposes its next state: its profile's, a tracking step when it is held, or standing still.
-The gap filter of the CA group (``transport.gap_control.filter_steps``, through its public
-interface) then makes every rider brake whose proposal would let it come closer than its
-gap to the rider ahead of it on its path (§6.1.9, §6.2.2). Pairs are measured along the
-path, centre to centre: the rider ahead may be on a later track of the route, and its
-position is shifted into the follower's odometer by the difference of the two bases.
+The gap filter of the CA group (``transport.gap_control.filter_steps``, compiled for these
+pairs: ``traffic_kernels.gap_filter``) then makes every rider brake whose proposal would let
+it come closer than its gap to the rider ahead of it on its path (§6.1.9, §6.2.2). Pairs
+are measured along the path, centre to centre: the rider ahead may be on a later track of
+the route, and its position is shifted into the follower's odometer by the difference of the
+two bases.
 
 Switches (§6.2.2, Collision Ranges): near a vertex where more than two track ends meet,
 movers on different tracks may meet although neither is on the other's path. Each rider has
@@ -27,23 +28,53 @@ their footprints apart. docs/planar-tracks.md has the argument and the choices.
 
 Then the odometers are mapped to x, y and (when the orientation follows the track) c, with
 their velocities and accelerations, and written into the planar system's setpoint rows.
+
+Planning (profiles, commands, the rider objects) happens here, on events; what the cycle asks
+of every rider runs in compiled loops (``traffic_kernels``, ``track_atlas``, D-143) that do
+the arithmetic of the numpy formulation they replaced, so the motion is the same bit for bit.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from itertools import accumulate
 from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
 from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.planar.track_atlas import Atlas
+from openmotion.planar.traffic_kernels import (
+    conflicts,
+    ended,
+    extensions,
+    gap_filter,
+    group_by_track,
+    held_plans,
+    held_steps,
+    in_order,
+    neighbours,
+    out_of_bounds,
+    pair_gaps,
+    past_ends,
+    proposals,
+    resting,
+    rooms,
+    stretch_hits,
+    stretch_samples,
+    turning_gaps,
+    warm,
+    write_setpoints,
+    zone_entries,
+    zone_holders,
+    zone_lines,
+)
 from openmotion.trajectory.plan import Limits, plan_position, plan_stop
 from openmotion.trajectory.segments import KinematicState, Profile
 from openmotion.transport.braking import brake_envelope, brake_state
-from openmotion.transport.gap_control import TOLERANCE, Pairs, filter_steps
+from openmotion.transport.gap_control import TOLERANCE, Pairs
 from openmotion.transport.gear import SYNCING
-from openmotion.transport.kernels import candidates
 
 if TYPE_CHECKING:
     from openmotion.planar.feedback import PlanarCommand
@@ -61,9 +92,10 @@ _CLEAR_SAMPLES = 32  #: ... this many steps on each side of an envelope (the hor
 
 
 class Rail(Protocol):
-    """What the traffic needs of a track: its length and its curve."""
+    """What the traffic needs of a track: its length and its curve (the track atlas reads
+    the curve's flat table and the placement, ``track_atlas.Atlas``)."""
 
-    index: int
+    index: int  #: its place in the network's ``tracks``
     length: float
     path: Any  #: its TrackPath (``max_curvature`` [1/mm])
 
@@ -72,9 +104,17 @@ class Rail(Protocol):
         """x, y, heading [rad] and curvature [1/mm] at the arc lengths ``s``."""
         ...
 
+    def placement(self) -> Any:
+        """Where the track's part frame lies now (a planar Pose; the identity without
+        parts): ``frame_at`` is the curve placed so."""
+        ...
+
 
 class Network(Protocol):
     """The connections of the tracks."""
+
+    tracks: list[Any]  #: every track, at its ``index``
+    version: int  #: changes whenever links, a geometry or a track state change
 
     def successors(self, track: Rail) -> list[Rail]:
         """Tracks that start where ``track`` ends and may be entered now."""
@@ -94,6 +134,14 @@ class Network(Protocol):
 
     def closed_loop(self, track: Rail) -> bool:
         """Whether ``track`` ends where it starts."""
+        ...
+
+    def way_on(self, track: Rail, limit: int) -> list[Rail]:
+        """The tracks after ``track`` while there is a single way on, ``limit`` at most."""
+        ...
+
+    def placed(self) -> bool:
+        """Whether parts can place the tracks (else each lies where its geometry says)."""
         ...
 
 
@@ -154,16 +202,24 @@ class Traffic:
         self._now = 0.0
         self._values: list[np.ndarray] = []  #: the system's p, v, a, j rows of this cycle
         #: odometer bounds (low, high) of the riders kept out of a switch zone last cycle
-        self._stop_lines: dict[int, tuple[float, float]] = {}
+        self._stop_lines: tuple[np.ndarray, ...] = _no_lines()
         self._widening = False  #: a rider's zones may widen to its gap (``_widen_zones``)
         self._held: tuple = ()  #: who holds which switch this cycle (``_holding``)
-        self._clashes: dict[tuple, np.ndarray] = {}  #: ``_clash``'s answers
+        self._clashes: dict[tuple, Any] = {}  #: ``_clash``'s answers (and what derives)
         self._merges: dict[tuple, list[list[int]]] = {}  #: ``_merging``'s groups
         self._merged: tuple[tuple, Pairs] | None = None  #: and its last pair list
         self._path_next = np.empty(0, dtype=np.int64)  #: next track of each path (_geometry)
         #: per rider holding a switch with others: the question asked and _clear_stretch's
         #: answer (kept while the riders and their routes stay; see _geometry)
         self._stretches: dict[int, tuple[tuple, tuple]] = {}
+        self._atlas: Atlas | None = None  #: the curves of the network's tracks (``_atlas_of``)
+        self._atlas_version = -1  #: the network's version the atlas was checked at
+        self._cycle_tables: tuple | None = None  #: ``_tables`` of this cycle
+        self._place = np.empty(0, dtype=np.int64)  #: per rider, its track's in ``by_track``
+        #: the riders grouped by ``_place`` and where each group ends (``_geometry``)
+        self._grouped = (np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64))
+        self._near: tuple[Pairs, np.ndarray, np.ndarray] | None = None  #: ``_neighbours``
+        self._rooms: tuple[np.ndarray, np.ndarray] | None = None  #: this cycle's ``_room``
 
     def _arrays(self, n: int) -> None:
         self.p, self.v, self.a = np.zeros(n), np.zeros(n), np.zeros(n)
@@ -179,6 +235,13 @@ class Traffic:
         self.cdeg = np.zeros(n)  #: c [deg] of the oriented riders, unwrapped
         self.rested = np.zeros(n, dtype=bool)  #: at rest, its x, y, c rows held in the table
         self._geo: Any = None
+        self._table_rows: tuple[np.ndarray, ...] | None = None  #: (``_geometry``)
+        self._info: dict[int, tuple] = {}  #: ``_track_info`` of the network's version ...
+        self._info_version = -1  #: ... this
+        #: per rider, the index of its track and of the next track of its route (-1: none),
+        #: kept as they change (``_routed``); ``_geometry`` takes a copy
+        self._track_index = np.zeros(n, dtype=np.int64)
+        self._next_index = np.full(n, -1, dtype=np.int64)
 
     # -- riders ----------------------------------------------------------------------------------
 
@@ -216,7 +279,13 @@ class Traffic:
             self.shift[k] = shift
             self.base[k] = r.route[0].base if r.route else 0.0
             self._load(r)
+            self._routed(r)
         self._dirty()
+
+    def _routed(self, r: Rider) -> None:
+        """``r``'s track or route changed: its ``_track_index`` and ``_next_index``."""
+        self._track_index[r.slot] = r.track.index
+        self._next_index[r.slot] = r.route[1].track.index if len(r.route) > 1 else -1
 
     def _load(self, r: Rider) -> None:
         k = r.slot
@@ -249,52 +318,66 @@ class Traffic:
         rows (odometer, x, y, c), its track's length, the switch ids at the track's start and
         end (-1: none) and the collision ranges there."""
         if self._geo is None:
-            n = len(self.riders)
-            rows, xr, yr, cr = (np.empty(n, dtype=np.int64) for _ in range(4))
-            length, crs, cre = np.empty(n), np.empty(n), np.empty(n)
-            sws, swe = np.full(n, -1, dtype=np.int64), np.full(n, -1, dtype=np.int64)
+            riders, network = self.riders, self.network
+            if self._table_rows is None:  # fixed from the coupling on (``_rebuild``)
+                xyc = np.array([r.rows for r in riders], dtype=np.int64).reshape(-1, 3)
+                self._table_rows = (np.array([r.row for r in riders], dtype=np.int64),
+                                    *(np.ascontiguousarray(x) for x in xyc.T))
+            rows, xr, yr, cr = self._table_rows
+            # what belongs to a track, once per track (riders' tracks in the order first met)
+            track_of = self._track_index.copy()
+            mine, ranked, ends = group_by_track(track_of)  # mine: each rider's track's place
+            tails = ends.tolist()
+            heads = [0, *tails[:-1]] if tails else []
+            on = [riders[k].track for k in ranked[heads].tolist()]
+            count = len(on)
+            t_length, t_crs, t_cre = np.empty(count), np.empty(count), np.empty(count)
+            t_sws, t_swe = np.full(count, -1, dtype=np.int64), np.full(count, -1, dtype=np.int64)
+            t_closed = np.zeros(count, dtype=bool)
+            t_next = np.full(count, -1, dtype=np.int64)  #: the one way on (-1: none or many)
             ids: dict[Any, int] = {}
-            groups: dict[int, list[int]] = {}
-            for r in self.riders:
-                k, t = r.slot, r.track
-                rows[k] = r.row
-                xr[k], yr[k], cr[k] = r.rows
-                length[k] = t.length
-                a, b = self.network.switches(t)
+            for i, t in enumerate(on):
+                t_length[i] = t.length
+                a, b, t_closed[i], t_next[i] = self._track_info(t)
                 if a is not None:
-                    sws[k] = ids.setdefault(a, len(ids))
+                    t_sws[i] = ids.setdefault(a, len(ids))
                 if b is not None:
-                    swe[k] = ids.setdefault(b, len(ids))
-                crs[k], cre[k] = self.network.collision_ranges(t)
-                groups.setdefault(t.index, []).append(k)
-            by_track = [(self.riders[ks[0]].track, np.array(ks, dtype=np.int64))
-                        for ks in groups.values()]
+                    t_swe[i] = ids.setdefault(b, len(ids))
+                t_crs[i], t_cre[i] = network.collision_ranges(t)
+            by_track = [(t, ranked[head:tail]) for t, head, tail
+                        in zip(on, heads, tails, strict=True)]
+            self._place, self._grouped = mine, (ranked, ends)
+            length, crs, cre = t_length[mine], t_crs[mine], t_cre[mine]
+            sws, swe = t_sws[mine], t_swe[mine]
             # the next track of each rider's route (-1: none): a rider that passes a switch
             # onto another rider's track keeps its gap to it as a pair (a route that comes
             # round a loop to that track much later does not relate them there); seam: the
             # rider's track is closed, so its riders meet at its switch when one leaves it
-            track_of, next_of = np.empty(n, dtype=np.int64), np.full(n, -1, dtype=np.int64)
-            path_next = np.full(n, -1, dtype=np.int64)  #: the same, or the one way on
-            seam = np.zeros(n, dtype=bool)
-            closed: dict[int, bool] = {}
-            for r in self.riders:
-                track_of[r.slot] = r.track.index
-                if r.track.index not in closed:
-                    closed[r.track.index] = self.network.closed_loop(r.track)
-                seam[r.slot] = closed[r.track.index]
-                if len(r.route) > 1:
-                    next_of[r.slot] = path_next[r.slot] = r.route[1].track.index
-                else:
-                    following = self.network.successors(r.track)
-                    if r.track in following:
-                        following = [r.track]
-                    if len(following) == 1:
-                        path_next[r.slot] = following[0].index
+            next_of = self._next_index.copy()
+            seam = t_closed[mine]
+            path_next = np.where(next_of >= 0, next_of, t_next[mine])  #: or the one way on
             self._routes = (track_of, next_of, seam)
             self._path_next = path_next
             self._stretches, self._clashes, self._merges, self._merged = {}, {}, {}, None
             self._geo = (rows, xr, yr, cr, length, sws, swe, crs, cre, by_track)
         return self._geo
+
+    def _track_info(self, t: Rail) -> tuple[Any, Any, bool, int]:
+        """The switches at the start and at the end of track ``t`` (None: none), whether it
+        is closed, and the one way on after it (its index; -1: none or several): the
+        network's answers, kept until its version changes."""
+        network = self.network
+        if self._info_version != network.version:
+            self._info, self._info_version = {}, network.version
+        found = self._info.get(t.index)
+        if found is None:
+            a, b = network.switches(t)
+            following = network.successors(t)
+            if t in following:
+                following = [t]
+            found = self._info[t.index] = (a, b, network.closed_loop(t),
+                                           following[0].index if len(following) == 1 else -1)
+        return found
 
     def position(self, rider: Rider) -> tuple[Rail, float, float, float]:
         """Track, arc length, velocity and acceleration of ``rider`` now."""
@@ -342,6 +425,7 @@ class Traffic:
         self._abort(rider, f"aborted by {command.kind}")
         self._rebase(k, shift)
         rider.route, rider.limits, rider.gap, rider.target = route, limits, gap, target
+        self._routed(rider)
         rider.command, rider.halting = command, False
         self._load(rider)
         if profile is None:
@@ -401,6 +485,7 @@ class Traffic:
         self._abort(rider, f"aborted by {command.kind}")
         self._rebase(k, shift)
         rider.route, rider.gap, rider.limits = route, gap, coupling.sync.limits
+        self._routed(rider)
         rider.command, rider.halting, rider.gear = command, False, coupling
         rider.target = math.nan
         self._load(rider)
@@ -440,46 +525,40 @@ class Traffic:
         if n == 0 or not (self.mode != IDLE).any():
             return
         self._now, self._values = now, values
+        self._rooms = self._cycle_tables = None
         self.network.refresh()
-        rows = self._rows()
-        nxt = [self.p.copy(), np.zeros(n), np.zeros(n), np.zeros(n)]
-        known = (np.zeros(n, dtype=bool), np.empty(n), np.empty(n))
-        follow = self.mode == FOLLOW
-        for field_, column in zip(nxt, values, strict=True):
-            field_[follow] = column[rows[follow]]
-        idle = self.mode == IDLE
-        known[0][idle], known[1][idle], known[2][idle] = True, self.p[idle], self.p[idle]
-        going = self._going_back(self.v, self.a, self.bjerk)
+        *start, going, queued = proposals(self.mode, FOLLOW, IDLE, self._rows(), self.p,
+                                          self.v, self.a, self.bjerk, self.goal, self.target,
+                                          *values)
+        nxt, known = list(start[:4]), tuple(start[4:])
         self._holding()
         pairs = self._merging(self._pair_list(going), going)
-        queued = np.flatnonzero(follow & (self.goal != self._targets()))
         if queued.size:
             self._extend(queued, nxt, pairs)
         held = np.flatnonzero(self.mode == HELD)
         if held.size:
             self._track(held, nxt, known, pairs)
         geared = np.flatnonzero(self.mode == GEAR)
-        if geared.size:
+        geared_any = bool(geared.size)  # nothing turns geared within the cycle
+        if geared_any:
             self._gear_steps(geared, now, nxt)
-        turning = self._going_back(nxt[1], nxt[2], self.bjerk) & ~going
-        self._pair_gaps(pairs, going | turning)
-        cur = (self.p, self.v, self.a)
-        braking, lo, hi = filter_steps(cur, self._envelope(), nxt, self.dt, self.bdec,
-                                       self.bjerk, pairs, known)
+        turning, pairs.gap = turning_gaps(nxt[1], nxt[2], self.bjerk, going, pairs.succ,
+                                          pairs.pred, self.mode, IDLE, self.target, self.p,
+                                          self.gap)  # and the gaps with them (_pair_gaps)
+        braking, lo, hi = self._filter(nxt, pairs, known)
         kept = self._no_turning_back(pairs, turning & ~braking, nxt, lo, hi)
         braking[kept] = True
         kept = np.concatenate((kept, self._keep_out(nxt, lo, hi, braking)))
         if kept.size:  # their followers may have to brake now too
-            mask = np.ones(n, dtype=bool)
-            more, lo, hi = filter_steps(cur, self._envelope(), nxt, self.dt, self.bdec,
-                                        self.bjerk, pairs, (mask, lo, hi))
+            more, lo, hi = self._filter(nxt, pairs, (np.ones(n, dtype=bool), lo, hi))
             braking |= more
             braking[kept] = True
         self.p, self.v, self.a = nxt[0], nxt[1], nxt[2]
         self._env = (lo, hi)
         self.mode[braking & (self.mode == FOLLOW)] = HELD
         geared = self.mode == GEAR
-        for k in np.flatnonzero(geared & (braking | self._resync(geared))).tolist():
+        for k in (np.flatnonzero(geared & (braking | self._resync(geared))).tolist()
+                  if geared_any else ()):
             coupling = self.riders[k].gear
             master = self._master(coupling)
             coupling.sync.held(now, (float(self.p[k]), float(self.v[k]), float(self.a[k])),
@@ -488,6 +567,16 @@ class Traffic:
         self._transitions()
         self._write(values)
         self._events(now, values)
+
+    def _filter(self, nxt: list[np.ndarray], pairs: Pairs,
+                known: tuple[np.ndarray, np.ndarray, np.ndarray]
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The CA group's gap filter (``filter_steps``) on ``nxt``, compiled for the
+        traffic's pairs (``traffic_kernels.gap_filter``): the riders that brake instead and
+        the envelopes of ``nxt``."""
+        lo_cur, hi_cur = self._envelope()
+        return gap_filter(self.p, self.v, self.a, lo_cur, hi_cur, *nxt, self.dt, self.bdec,
+                          self.bjerk, pairs.succ, pairs.pred, pairs.offset, pairs.gap, *known)
 
     def _envelope(self) -> tuple[np.ndarray, np.ndarray]:
         if self._env is None:
@@ -500,26 +589,29 @@ class Traffic:
         along its route (then along the one way on, if the network leaves one) for the first
         rider of each track. Their gaps: ``_pair_gaps`` with ``going``."""
         if self._pairs is None:
-            *_, by_track = self._geometry()
-            s = self.p - self.base
-            order: dict[int, np.ndarray] = {}
-            succ, pred, offset = [], [], []
-            for track, slots in by_track:
-                ranked = slots[np.argsort(s[slots], kind="stable")]
-                order[track.index] = ranked
-                succ.append(ranked[:-1])
-                pred.append(ranked[1:])
-                offset.append(self.base[ranked[:-1]] - self.base[ranked[1:]])
-            for ranked in order.values():
-                m = int(ranked[-1])
-                ahead = self._ahead(self.riders[m], order)
+            self._geometry()
+            mine = self._place  # riders by track (in ``by_track`` order), then arc length
+            ranked = in_order(self.p - self.base, *self._grouped)
+            same = mine[ranked[:-1]] == mine[ranked[1:]]
+            succ, pred = ranked[:-1][same], ranked[1:][same]
+            offset = self.base[succ] - self.base[pred]
+            order = ranked.tolist()
+            heads = np.flatnonzero(np.concatenate(([ranked.size > 0], ~same))).tolist()
+            tails = [*heads[1:], len(order)] if heads else []
+            first: dict[int, list[int]] = {}  #: per track, its first two riders
+            for head, tail in zip(heads, tails, strict=True):
+                first[self.riders[order[head]].track.index] = order[head:min(head + 2, tail)]
+            fronts, leaders, shifts = [], [], []
+            for tail in tails:
+                m = order[tail - 1]
+                ahead = self._ahead(self.riders[m], first)
                 if ahead is not None:
-                    succ.append(np.array([m]))
-                    pred.append(np.array([ahead[0]]))
-                    offset.append(np.array([ahead[1]]))
-            sa = (np.concatenate(succ) if succ else np.empty(0)).astype(np.int64)
-            pa = (np.concatenate(pred) if pred else np.empty(0)).astype(np.int64)
-            self._pairs = Pairs(sa, pa, np.concatenate(offset) if offset else np.empty(0),
+                    fronts.append(m)
+                    leaders.append(ahead[0])
+                    shifts.append(ahead[1])
+            sa = np.concatenate((succ, np.array(fronts, dtype=np.int64)))
+            pa = np.concatenate((pred, np.array(leaders, dtype=np.int64)))
+            self._pairs = Pairs(sa, pa, np.concatenate((offset, np.array(shifts, dtype=float))),
                                 self.gap[sa], np.zeros(sa.size, dtype=bool), True)
         self._pair_gaps(self._pairs, going)
         return self._pairs
@@ -527,43 +619,27 @@ class Traffic:
     def _pair_gaps(self, pairs: Pairs, going: np.ndarray) -> None:
         """Each keeps its own gap to the mover in front of it in its direction of travel
         (§6.1.9): a leader that moves back onto its follower keeps the larger of the two
-        gaps. Back: a MoveOnTrack behind it, or ``going`` (``_going_back``, of its state
-        and, once they are known, of this cycle's proposals: a geared slave held at rest by
-        the gap goes back whenever its master still does)."""
-        k = pairs.pred
-        back = (self.mode[k] != IDLE) & ((self.target[k] < self.p[k]) | going[k])
-        pairs.gap = np.where(back, np.maximum(self.gap[pairs.succ], self.gap[k]),
-                             self.gap[pairs.succ])
+        gaps. Back: a MoveOnTrack behind it, or ``going`` (``traffic_kernels.going_back``,
+        of its state and, once they are known, of this cycle's proposals: a geared slave held
+        at rest by the gap goes back whenever its master still does)."""
+        pairs.gap = pair_gaps(pairs.succ, pairs.pred, self.mode, IDLE, self.target, self.p,
+                              going, self.gap)
 
-    @staticmethod
-    def _going_back(v: np.ndarray, a: np.ndarray, jerk: np.ndarray) -> np.ndarray:
-        """Riders moving back, or in a state that even their own brake (``jerk``) turns
-        round: a forward motion braked harder than it needs to stop."""
-        release = v + a * np.abs(a) / (2.0 * jerk)
-        return (v < 0.0) | (release < -TOLERANCE)
-
-    def _ahead(self, m: Rider, order: dict[int, np.ndarray]) -> tuple[int, float] | None:
+    def _ahead(self, m: Rider, first: dict[int, list[int]]) -> tuple[int, float] | None:
         """The first rider on the tracks after ``m``'s along its route (then the one way on,
-        if the network leaves one), and the shift of its odometer into ``m``'s."""
-        legs = m.route[1:]
-        last = m.route[-1].track
-        base = m.route[-1].base + last.length
-        for _ in range(_HORIZON_TRACKS):  # the way on after the route, where there is one
-            following = self.network.successors(last)
-            if last in following:  # a closed track goes on into itself, switch or not
-                following = [last]
-            if len(following) != 1:
-                break
-            last = following[0]
-            legs.append(Leg(last, base))
-            base += last.length
-        for leg in legs:
-            ranked = order.get(leg.track.index)
-            if ranked is None:
-                continue
-            for k in ranked[:2].tolist():
+        if the network leaves one), and the shift of its odometer into ``m``'s. ``first``:
+        the first two riders of each track with riders."""
+        for leg in m.route[1:]:
+            for k in first.get(leg.track.index, ()):
                 if k != m.slot:
                     return k, leg.base - float(self.base[k])
+        last = m.route[-1].track
+        base = m.route[-1].base + last.length
+        for track in self.network.way_on(last, _HORIZON_TRACKS):
+            for k in first.get(track.index, ()):
+                if k != m.slot:
+                    return k, base - float(self.base[k])
+            base += track.length
         return None
 
     def _track(self, held: np.ndarray, nxt: list[np.ndarray],
@@ -572,39 +648,17 @@ class Traffic:
         queue) is clear; else the most progressive constant-jerk step that keeps clear of the
         neighbours as they are now (transport.kernels.candidates), else a brake."""
         room_lo, room_hi = self._room(pairs)
-        lo, hi = self._envelope()
-        p, v, a, target = self.p[held], self.v[held], self.a[held], self.target[held]
-        vmax, acc, dec, jerk = self.lim[:, held]
-        sign = np.where(target >= p, 1.0, -1.0)
-        goal = np.where(sign > 0, np.minimum(target, room_hi[held]),
-                        np.maximum(target, room_lo[held]))
-        at_rest = (v == 0.0) & (a == 0.0)
-        waiting = at_rest & ((goal - p) * sign <= TOLERANCE)  # in a queue
-        # head on: a rider at rest that wants back into the room the rider behind it wants
-        # to go forwards into waits (the rider moving forwards takes it, as in the CA group)
-        waiting |= at_rest & (sign < 0) & self._head_on(held, pairs)
-        slots = held[waiting]
-        nxt[0][slots], nxt[1][slots], nxt[2][slots], nxt[3][slots] = self.p[slots], 0.0, 0.0, 0.0
-        known[0][slots], known[1][slots], known[2][slots] = True, self.p[slots], self.p[slots]
-        u, b = sign * v, sign * a
-        # the command's dynamics take this state over without turning round ...
-        gentle = ((b <= acc * (1 + 1e-12)) & (b >= -dec * (1 + 1e-12)) & (u >= 0.0)
-                  & (u + b * np.abs(b) / (2.0 * jerk) >= -1e-9 * vmax)
-                  & (np.abs(v) <= vmax * (1 + 1e-12)))
-        c_lo, c_hi = brake_envelope(p, v, a, dec, jerk)
-        # ... and stop before the goal: a fresh profile, to the target when the way is free,
-        # to the end of the queue when the rider ahead stands (behind a moving one the
-        # tracking step follows it: no profile per cycle)
-        settled = (goal == target) | self._ahead_rests(held, pairs)
-        fits = ~waiting & gentle & settled & np.where(sign > 0, c_hi <= goal + TOLERANCE,
-                                                      c_lo >= goal - TOLERANCE)
-        rest = ~waiting & ~fits
+        ahead, behind = self._neighbours(pairs)
+        sign, goal, fits, rest = held_plans(held, self.p, self.v, self.a, self.target,
+                                            self.lim, room_lo, room_hi, self.mode, IDLE, ahead,
+                                            behind, *nxt, *known)
         for i in np.flatnonzero(fits).tolist():
             k = int(held[i])
             rider = self.riders[k]
             assert rider.limits is not None
             try:
-                profile = plan_position(KinematicState(float(p[i]), float(v[i]), float(a[i])),
+                profile = plan_position(KinematicState(float(self.p[k]), float(self.v[k]),
+                                                       float(self.a[k])),
                                         float(goal[i]), rider.limits)
             except CommandRejected:
                 rest[i] = True
@@ -614,37 +668,10 @@ class Traffic:
             self.goal[k] = goal[i]
             for field_, value in zip(nxt, profile.at(self.dt), strict=True):
                 field_[k] = value
-        if not rest.any():
-            return
-        rows = np.flatnonzero(rest)
-        n = self.p.size
-        signs = np.ones(n)
-        signs[held] = sign
-        out, env = np.empty((4, n)), np.empty((2, n))
-        fitted = candidates(held[rows], self.dt, self.p, self.v, self.a, signs, self.target,
-                            self.lim[0], self.lim[1], self.lim[2], self.lim[3], self.bdec,
-                            self.bjerk, np.minimum(room_lo, lo), np.maximum(room_hi, hi), out,
-                            env)
-        chosen = held[rows[fitted]]
-        for field_, column in zip(nxt, out, strict=True):
-            field_[chosen] = column[chosen]
-        known[0][chosen], known[1][chosen], known[2][chosen] = True, env[0, chosen], env[1, chosen]
-        lost = rows[~fitted]
-        if lost.size:  # the command's brake, or the hardest one where gap control braked the
-            # rider beyond what the command's brake takes back without turning round
-            hard = _hard(u[lost], b[lost], dec[lost], jerk[lost])
-            k = held[lost]
-            step = brake_state(self.p[k], self.v[k], self.a[k],
-                               np.where(hard, self.bdec[k], dec[lost]),
-                               np.where(hard, self.bjerk[k], jerk[lost]), self.dt)
-            for field_, value in zip(nxt, step, strict=True):
-                field_[k] = value
-        # float residue of the steps (|v| ~ 1e-17) is rest: snap it, so standstill is exact
-        k = held[rows]
-        still = (np.abs(nxt[1][k]) <= 1e-9 * vmax[rows]) & (np.abs(nxt[2][k]) <= 1e-9 * acc[rows])
-        k = k[still]
-        nxt[1][k], nxt[2][k], nxt[3][k] = 0.0, 0.0, 0.0
-        known[0][k] = False  # snapped: the filter computes their envelope
+        if rest.any():
+            lo, hi = self._envelope()
+            held_steps(held, sign, rest, self.dt, self.p, self.v, self.a, self.target,
+                       self.lim, self.bdec, self.bjerk, room_lo, room_hi, lo, hi, *nxt, *known)
 
     def _master(self, coupling: Any, nxt: list[np.ndarray] | None = None
                 ) -> tuple[float, float, float, float]:
@@ -769,26 +796,17 @@ class Traffic:
         for track in way[way.index(last) + 1:]:
             rider.route.append(Leg(track, base))
             base += track.length
+        self._routed(rider)
         coupling.high = base
         self._pairs = None
-
-    def _targets(self) -> np.ndarray:
-        return self.target
 
     def _extend(self, queued: np.ndarray, nxt: list[np.ndarray], pairs: Pairs) -> None:
         """Riders following a profile to the end of a queue get a new one, further on, once
         the room ahead has grown by more than ``_EXTEND`` (no stop and go behind a mover that
         drives away)."""
-        room_lo, room_hi = self._room(pairs)
-        target, goal = self.target[queued], self.goal[queued]
-        forward = target >= goal
-        reach = np.where(forward, np.minimum(target, room_hi[queued]),
-                         np.maximum(target, room_lo[queued]))
-        further = (reach - goal) * np.where(forward, 1.0, -1.0)
-        free = (further > 0.0) & (reach == target)
-        grow = free | ((further > _EXTEND) & self._ahead_rests(queued, pairs))
-        moved = ~free & (further > _EXTEND) & ~grow  # the rider ahead drives on: track it
-        self.mode[queued[moved]] = HELD
+        reach, grow = extensions(queued, self.target, self.goal, *self._room(pairs),
+                                 self._neighbours(pairs)[0], self.v, self.a, self.mode, HELD,
+                                 _EXTEND)
         for i in np.flatnonzero(grow).tolist():
             k = int(queued[i])
             rider = self.riders[k]
@@ -804,49 +822,26 @@ class Traffic:
             for field_, value in zip(nxt, profile.at(self.dt), strict=True):
                 field_[k] = value
 
-    def _neighbour(self, slots: np.ndarray, pairs: Pairs, ahead: bool) -> np.ndarray:
-        """The rider ahead of (or behind) each of ``slots`` on its path; -1: none."""
-        found = np.full(self.p.size, -1, dtype=np.int64)
-        if ahead:
-            found[pairs.succ] = pairs.pred
-        else:
-            found[pairs.pred] = pairs.succ
-        return found[slots]
-
-    def _head_on(self, slots: np.ndarray, pairs: Pairs) -> np.ndarray:
-        """Whether the rider behind each of ``slots`` wants to move forwards."""
-        k = self._neighbour(slots, pairs, ahead=False)
-        wants = np.zeros(slots.size, dtype=bool)
-        has = k >= 0
-        k = k[has]
-        wants[has] = (self.mode[k] != IDLE) & (self.target[k] > self.p[k] + TOLERANCE)
-        return wants
-
-    def _ahead_rests(self, slots: np.ndarray, pairs: Pairs) -> np.ndarray:
-        """Whether the rider ahead of each of ``slots`` on its path stands still (none: True)."""
-        k = self._neighbour(slots, pairs, ahead=True)
-        rests = np.ones(slots.size, dtype=bool)
-        has = k >= 0
-        k = k[has]
-        rests[has] = (self.v[k] == 0.0) & (self.a[k] == 0.0)
-        return rests
+    def _neighbours(self, pairs: Pairs) -> tuple[np.ndarray, np.ndarray]:
+        """The rider ahead of and behind each rider on its path (-1: none); kept with the
+        pair list they come from."""
+        if self._near is None or self._near[0] is not pairs:
+            self._near = (pairs, *neighbours(self.p.size, pairs.succ, pairs.pred))
+        return self._near[1], self._near[2]
 
     def _room(self, pairs: Pairs) -> tuple[np.ndarray, np.ndarray]:
-        """Where each rider may stop given its neighbours' brake envelopes now."""
-        lo, hi = self._envelope()
-        n = self.p.size
-        room_hi, room_lo = np.full(n, np.inf), np.full(n, -np.inf)
-        if pairs.succ.size:
-            np.minimum.at(room_hi, pairs.succ, lo[pairs.pred] + pairs.offset - pairs.gap)
-            np.maximum.at(room_lo, pairs.pred, hi[pairs.succ] + pairs.gap - pairs.offset)
-        for k, (low, high) in self._stop_lines.items():
-            room_lo[k], room_hi[k] = max(room_lo[k], low), min(room_hi[k], high)
-        return room_lo, room_hi
+        """Where each rider may stop given its neighbours' brake envelopes now (once per
+        cycle: ``advance`` forgets it)."""
+        if self._rooms is None:
+            lo, hi = self._envelope()
+            self._rooms = rooms(self.p.size, pairs.succ, pairs.pred, pairs.offset, pairs.gap,
+                                lo, hi, *self._stop_lines)
+        return self._rooms
 
     def _no_turning_back(self, pairs: Pairs, turning: np.ndarray, nxt: list[np.ndarray],
                          lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """A leader closer to its follower than their gap does not start to go back: one
-        whose next step would (``turning``: ``_going_back`` now, not before) brakes instead,
+        whose next step would (``turning``: ``going_back`` now, not before) brakes instead,
         and its brake from a state that does not turn round never does (§6.1.9). The filter
         lets such a step through while it keeps the envelope where it was, but the motion
         inside the envelope would still take the leader back towards a follower it is too
@@ -869,13 +864,15 @@ class Traffic:
         tracks at once keep their footprints apart (``_apart``). Writes the brakes into
         ``nxt``, ``lo`` and ``hi``; returns the riders it braked."""
         lines, contested = self._zone_lines(lo, hi)
-        self._stop_lines = lines
-        out = [k for k, (low, high) in lines.items() if k not in contested and not braking[k]
-               and (hi[k] > high + TOLERANCE or lo[k] < low - TOLERANCE)]
-        slots = np.array(out, dtype=np.int64)
+        self._stop_lines = lines  # (riders, lows, highs): the rooms of the next cycle
+        skip = np.zeros(self.p.size, dtype=bool)
+        skip[list(contested)] = True
+        slots = out_of_bounds(*lines, skip, braking, lo, hi)
         self._brake(slots, nxt, lo, hi)
-        if contested:
-            slots = np.concatenate((slots, self._apart(contested, lines, nxt, lo, hi, braking)))
+        if contested:  # their stop lines narrow to where their footprints stay clear
+            bounds = _lines_dict(lines)
+            slots = np.concatenate((slots, self._apart(contested, bounds, nxt, lo, hi, braking)))
+            self._stop_lines = _lines_arrays(bounds)
         return slots
 
     def _brake(self, slots: np.ndarray, nxt: list[np.ndarray], lo: np.ndarray,
@@ -902,22 +899,20 @@ class Traffic:
         (no point of the track is safe then)."""
         _, _, _, _, length, sws, swe, crs, cre, _ = self._geometry()
         lo_now, hi_now = self._envelope()
-        has_end, has_start = swe >= 0, sws >= 0
-        self._widen_zones(length, crs, cre, has_start, has_end, lo_now, hi_now)
-        end_line = self.base + length - np.maximum(cre, self.zgap)
-        start_line = self.base + np.maximum(crs, self.zgap)
-        in_end = has_end & ((hi_now > end_line + TOLERANCE) | (end_line <= self.base + TOLERANCE))
-        in_start = has_start & ((lo_now < start_line - TOLERANCE)
-                                | (start_line >= self.base + length - TOLERANCE))
-        ends, starts = np.flatnonzero(in_end), np.flatnonzero(in_start)
-        k = np.concatenate((ends, starts))
-        end = np.arange(k.size) < ends.size
-        switch = np.where(end, swe[k], sws[k])
+        if self._widening:
+            self._widen_zones(length, crs, cre, sws >= 0, swe >= 0, lo_now, hi_now)
+        end_line, start_line, in_end, in_start, k, end, switch = zone_holders(
+            self.base, length, crs, cre, self.zgap, sws, swe, lo_now, hi_now)
         contested: dict[int, set[int]] = {}
         if k.size > 1:  # placed there, or a new route turned a pair into a conflict
-            clash = self._clash(k, end, switch, k, end, switch)
-            for i, j in zip(*np.nonzero(clash), strict=True):
-                contested.setdefault(int(k[i]), set()).add(int(k[j]))
+            key = ("contested", k.tobytes(), end.tobytes())
+            found = self._clashes.get(key)  # read only: kept while the holders stay
+            if found is None:
+                clash = self._clash(k, end, switch, k, end, switch)
+                for i, j in zip(*np.nonzero(clash), strict=True):
+                    contested.setdefault(int(k[i]), set()).add(int(k[j]))
+                self._clashes[key] = found = contested
+            contested = found
         self._held = (end_line, start_line, in_end, in_start, k, end, switch, contested)
 
     def _merging(self, pairs: Pairs, going: np.ndarray) -> Pairs:
@@ -966,40 +961,33 @@ class Traffic:
         return merged
 
     def _zone_lines(self, lo: np.ndarray, hi: np.ndarray
-                    ) -> tuple[dict[int, tuple[float, float]], dict[int, set[int]]]:
-        """Odometer bounds (low, high) of the riders kept out of a switch zone this cycle,
-        and the contested holders (``_holding``). Holders keep the switch; riders that enter
+                    ) -> tuple[tuple[np.ndarray, ...], dict[int, set[int]]]:
+        """Odometer bounds of the riders kept out of a switch zone this cycle (riders, lows,
+        highs), and the contested holders (``_holding``). Holders keep the switch; riders that enter
         a zone are decided in rider order: the first whom no holder from a track off its
         path blocks becomes a holder too."""
-        _, _, _, _, length, sws, swe, _, _, _ = self._geometry()
+        sws, swe = self._geometry()[5:7]
         end_line, start_line, in_end, in_start, hk, he, hs, contested = self._held
-        near_end = (swe >= 0) & ~in_end & (hi > end_line - _ZONE_LOOKAHEAD)
-        near_start = (sws >= 0) & ~in_start & (lo < start_line + _ZONE_LOOKAHEAD)
-        ends, starts = np.flatnonzero(near_end), np.flatnonzero(near_start)
-        if not (hk.size and (ends.size or starts.size)):
-            return {}, contested
-        k = np.concatenate((ends, starts))
-        end = np.arange(k.size) < ends.size
-        switch = np.where(end, swe[k], sws[k])
-        blocked = self._clash(k, end, switch, hk, he, hs).any(axis=1)
-        low = np.where(end, -math.inf, start_line[k])
-        high = np.where(end, end_line[k], math.inf)
-        wanting = (hi[k] > high + TOLERANCE) | (lo[k] < low - TOLERANCE)
-        lines: dict[int, tuple[float, float]] = {}
-        for i in np.flatnonzero(blocked).tolist():
-            _narrow(lines, int(k[i]), float(low[i]), float(high[i]))
-        entering = np.flatnonzero(wanting & ~blocked)
-        if entering.size > 1:  # decided in rider order: the first of a conflict enters
-            entering = entering[np.lexsort((k[entering], switch[entering]))]
-            granted: dict[int, list[int]] = {}
-            for i in entering.tolist():
-                mine = granted.setdefault(int(switch[i]), [])
-                if mine and self._conflicts(k[i:i + 1], end[i:i + 1], k[mine],
-                                            end[mine]).any():
-                    _narrow(lines, int(k[i]), float(low[i]), float(high[i]))
-                else:
-                    mine.append(i)
-        return lines, contested
+        if not hk.size:
+            return _no_lines(), contested
+        riders, lows, highs, entering = zone_lines(sws, swe, in_end, in_start, end_line,
+                                                   start_line, lo, hi, _ZONE_LOOKAHEAD, hk, he,
+                                                   hs, *self._routes)
+        if entering.size <= 1:
+            return (riders, lows, highs), contested
+        k, end, switch, low, high, _ = zone_entries(  # the entries, as zone_lines saw them
+            sws, swe, in_end, in_start, end_line, start_line, lo, hi, _ZONE_LOOKAHEAD)
+        lines = _lines_dict((riders, lows, highs))
+        # decided in rider order: the first of a conflict enters
+        entering = entering[np.lexsort((k[entering], switch[entering]))]
+        granted: dict[int, list[int]] = {}
+        for i in entering.tolist():
+            mine = granted.setdefault(int(switch[i]), [])
+            if mine and self._conflicts(k[i:i + 1], end[i:i + 1], k[mine], end[mine]).any():
+                _narrow(lines, int(k[i]), float(low[i]), float(high[i]))
+            else:
+                mine.append(i)
+        return _lines_arrays(lines), contested
 
     def _widen_zones(self, length: np.ndarray, crs: np.ndarray, cre: np.ndarray,
                      has_start: np.ndarray, has_end: np.ndarray, lo_now: np.ndarray,
@@ -1064,23 +1052,39 @@ class Traffic:
         rider = self.riders[k]
         start = float(self.base[k])
         end = rider.route[-1].base + rider.route[-1].track.length
-        own = _samples(low, high)
-        ahead = np.minimum(high + _CLEAR_STEP * np.arange(1, _CLEAR_SAMPLES + 1), end)
-        behind = np.maximum(low - _CLEAR_STEP * np.arange(1, _CLEAR_SAMPLES + 1), start)
-        q = np.concatenate((own, ahead, behind))
-        mine = self._footprints(k, q)
-        hit = np.zeros(q.size, dtype=bool)
-        for j, lo_j, hi_j in others:
-            hit |= _touch(mine, self._footprints(j, _samples(lo_j, hi_j)))
-        if hit[:own.size].any():
+        count, own = _CLEAR_SAMPLES, _sample_count(low, high)
+        _, lows, highs = zip(*others, strict=True) if others else ((), (), ())
+        q, at = stretch_samples(low, high, start, end, _CLEAR_STEP, count, own,
+                                np.array(lows, dtype=float), np.array(highs, dtype=float),
+                                np.array([_sample_count(*o[1:]) for o in others],
+                                         dtype=np.int64))
+        riders = [k, *(o[0] for o in others)]
+        legs = [self.riders[r].route for r in riders]
+        xyc, curvature = self._atlas_of().along_routes(
+            np.array([leg.track.index for route in legs for leg in route], dtype=np.int64),
+            np.array([leg.base for route in legs for leg in route], dtype=float),
+            np.array([0, *accumulate(len(route) for route in legs)], dtype=np.int64), q, at,
+            self._tables())
+        c = xyc[2]
+        hx, hy, radius = np.empty(len(riders)), np.empty(len(riders)), np.empty(len(riders))
+        for i, r in enumerate(riders):  # half sides grown by what a footprint can move
+            # between two samples: half a step, and the turn of a corner along a curve
+            bend = float(curvature[i])
+            if not self.oriented[r]:  # c stands where its own commands left it
+                c[at[i]:at[i + 1]] = math.radians(self._turn(r))
+                bend = 0.0
+            half_x, half_y = self.riders[r].half
+            margin = 0.5 * _CLEAR_STEP * (1.0 + math.hypot(half_x, half_y) * bend)
+            hx[i], hy[i] = half_x + margin, half_y + margin
+            radius[i] = math.hypot(half_x + margin, half_y + margin)
+        on_envelope, first_f, first_b = stretch_hits(xyc[0], xyc[1], np.cos(c), np.sin(c), at,
+                                                     hx, hy, radius, own, count)
+        if on_envelope:
             return (low, high), (low, high)
-        fwd, back = hit[own.size:own.size + ahead.size], hit[own.size + ahead.size:]
-        first_f = int(np.argmax(fwd)) if fwd.any() else ahead.size
-        first_b = int(np.argmax(back)) if back.any() else behind.size
-        top = float(ahead[first_f - 1]) if first_f else high
-        bottom = float(behind[first_b - 1]) if first_b else low
-        return (bottom, top), (bottom if back.any() else -math.inf,
-                               top if fwd.any() else math.inf)
+        top = float(q[own + first_f - 1]) if first_f else high
+        bottom = float(q[own + count + first_b - 1]) if first_b else low
+        return (bottom, top), (bottom if first_b < count else -math.inf,
+                               top if first_f < count else math.inf)
 
     def _turn(self, k: int) -> float:
         """C [deg] of a rider whose c does not follow the track (0 for one whose does)."""
@@ -1088,32 +1092,11 @@ class Traffic:
             return 0.0
         return float(self._values[0][self._geometry()[3][k]])
 
-    def _footprints(self, k: int, q: np.ndarray) -> tuple[np.ndarray, ...]:
-        """Rider ``k``'s footprints at the odometer positions ``q`` along its route: centre
-        x, y, turn c [rad], half sides grown by the margin of the sampling (the centre moves
-        up to half a step, a corner turns with the curvature where c follows the track)."""
-        rider = self.riders[k]
-        x, y, c = np.empty(q.size), np.empty(q.size), np.empty(q.size)
-        bases = np.array([leg.base for leg in rider.route])
-        leg_of = np.clip(np.searchsorted(bases, q, side="right") - 1, 0, bases.size - 1)
-        curvature = 0.0
-        for i in np.unique(leg_of).tolist():
-            track = rider.route[i].track
-            here = leg_of == i
-            s = np.clip(q[here] - bases[i], 0.0, track.length)
-            x[here], y[here], c[here], _ = track.frame_at(s)
-            curvature = max(curvature, track.path.max_curvature)
-        if not self.oriented[k]:  # c stands where its own commands left it
-            c[:] = math.radians(self._turn(k))
-            curvature = 0.0
-        hx, hy = rider.half
-        margin = 0.5 * _CLEAR_STEP * (1.0 + math.hypot(hx, hy) * curvature)
-        return x, y, c, hx + margin, hy + margin
-
     def _clash(self, k: np.ndarray, end: np.ndarray, switch: np.ndarray, hk: np.ndarray,
                he: np.ndarray, hs: np.ndarray) -> np.ndarray:
         """``_conflicts`` of riders ``k`` with holders ``hk`` at the same switch, remembered
-        while the routes stay (the same riders hold and wait at a switch for many cycles)."""
+        while the routes stay (the same riders hold and wait at a switch for many cycles);
+        the same dictionary keeps what ``_holding`` and ``_zone_lines`` derive from it."""
         key = (k.tobytes(), end.tobytes(), hk.tobytes(), he.tobytes())
         found = self._clashes.get(key)
         if found is None:
@@ -1132,77 +1115,35 @@ class Traffic:
         route, the other at its start (not at the end of a closed one). Riders of
         one closed track meet at the switch at its seam when one at its end leaves the track
         there (it turns off beside the one just past the seam)."""
-        if not holders.size or not slots.size:
-            return np.zeros((slots.size, holders.size), dtype=bool)
-        track_of, next_of, seam = self._routes
-        mine, theirs = track_of[slots][:, None], track_of[holders][None, :]
-        my_next, their_next = next_of[slots][:, None], next_of[holders][None, :]
-        at_end, their_end = ends[:, None], holder_ends[None, :]
-        onto = (at_end & (my_next == theirs) & ~their_end) | \
-            (their_end & (their_next == mine) & ~at_end)
-        other = (mine != theirs) & ~onto
-        leaving = (at_end & (my_next >= 0) & (my_next != mine)) | \
-            (their_end & (their_next >= 0) & (their_next != theirs))
-        same = (mine == theirs) & seam[slots][:, None] & leaving
-        return (other | same) & (slots[:, None] != holders[None, :])
+        return conflicts(slots, ends, holders, holder_ends, *self._routes)
 
     def _transitions(self) -> None:
         """Riders past the end of their track's leg go on to the next leg of their route."""
         length = self._geometry()[4]
-        for k in np.flatnonzero(self.p - self.base >= length - 1e-12).tolist():
+        for k in past_ends(self.p, self.base, length).tolist():
             r = self.riders[k]
             while len(r.route) > 1 and self.p[k] - self.base[k] >= r.track.length - 1e-12:
                 r.route.pop(0)
                 r.track = r.route[0].track
+                self._routed(r)
                 self.base[k] = r.route[0].base
                 self._pairs = None
                 self._geo = None
 
     def _write(self, values: list[np.ndarray]) -> None:
-        """x, y (and c) of every moving rider from its track's curve: one lookup per track,
-        then one vectorised pass (a rider at rest holds its rows in the table, ``_hold``)."""
-        _, xr, yr, cr, *_, by_track = self._geometry()
-        n = self.p.size
-        x, y, heading, curvature = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-        moving = self.mode != IDLE
-        for track, slots in by_track:
-            slots = slots[moving[slots]]
-            if slots.size:
-                s = np.clip(self.p[slots] - self.base[slots], 0.0, track.length)
-                x[slots], y[slots], heading[slots], curvature[slots] = track.frame_at(s)
-        k = np.flatnonzero(moving)
-        p_all, v_all, a_all, j_all = values
-        still = (self.v[k] == 0.0) & (self.a[k] == 0.0)
-        fresh = k[still & ~self.rested[k]]  # came to rest: write once, then hold in the table
-        self.rested[k[~still]] = False
-        k = k[~(still & self.rested[k])]
-        v, a, heading, curvature = self.v[k], self.a[k], heading[k], curvature[k]
-        cos, sin = np.cos(heading), np.sin(heading)
-        normal = curvature * v * v
-        rx, ry = xr[k], yr[k]
-        p_all[rx], p_all[ry] = x[k], y[k]
-        v_all[rx], v_all[ry] = cos * v, sin * v
-        a_all[rx] = cos * a - sin * normal
-        a_all[ry] = sin * a + cos * normal
-        j_all[rx] = j_all[ry] = 0.0
-        turn = self.oriented[k]
-        if turn.any():
-            kt, rc = k[turn], cr[k[turn]]
-            c = self.cdeg[kt]
-            c += (np.degrees(heading[turn]) - c + 180.0) % 360.0 - 180.0
-            self.cdeg[kt] = c
-            p_all[rc] = c
-            v_all[rc] = np.degrees(curvature[turn] * v[turn])
-            a_all[rc] = np.degrees(curvature[turn] * a[turn])
-            j_all[rc] = 0.0
+        """x, y (and c) of every moving rider from its track's curve, in one compiled pass
+        (``write_setpoints``; a rider at rest holds its rows in the table, ``_hold``)."""
+        _, xr, yr, cr, *_ = self._geometry()
+        fresh = write_setpoints(self.mode, IDLE, self.p, self.v, self.a, self.base, self.rested,
+                                self._routes[0], xr, yr, cr, self.oriented, self.cdeg, *values,
+                                self._tables())
         for slot in fresh.tolist():
             self._hold(self.riders[slot], values)
             self.rested[slot] = True
 
     def _events(self, now: float, values: list[np.ndarray]) -> None:
         """Commands that reached their targets end (Done); riders at rest become idle."""
-        ended = np.flatnonzero((self.mode == FOLLOW) & (self.table.end[self._rows()] <= now))
-        for k in ended.tolist():
+        for k in ended(self.mode, FOLLOW, self.table.end, self._rows(), now).tolist():
             rider = self.riders[k]
             if rider.halting or abs(self.goal[k] - self.target[k]) <= TOLERANCE:
                 self.mode[k] = IDLE
@@ -1214,15 +1155,15 @@ class Traffic:
                 rider.gear = None
                 if len(rider.route) > 1:  # its pairs and switch relations came from the route
                     rider.route = rider.route[:1]
+                    self._routed(rider)
                     self._pairs = self._geo = None
                 self._hold(rider, values)
                 rider.owner._on_track_finished(command)
             else:
                 self.mode[k] = HELD  # queued behind a rider: wait for room
-        held = np.flatnonzero(self.mode == HELD)
-        for k in held.tolist():
+        for k in resting(self.mode, HELD, self.v, self.a).tolist():
             rider = self.riders[k]
-            if rider.halting and self.v[k] == 0.0 and self.a[k] == 0.0:
+            if rider.halting:
                 self.mode[k] = IDLE
                 command, rider.command = rider.command, None
                 rider.halting = False
@@ -1241,6 +1182,41 @@ class Traffic:
     def _rows(self) -> np.ndarray:
         return self._geometry()[0]
 
+    def _atlas_of(self) -> Atlas:
+        """The atlas of the network's tracks (atlas id: the track's index), built again when
+        a track or a table changed (a geometry changes only with the network's version)."""
+        network = self.network
+        if self._atlas is None or self._atlas_version != network.version:
+            if self._atlas is None or not self._atlas.matches(network.tracks):
+                self._atlas = Atlas(network.tracks)
+            self._atlas_version = network.version
+        return self._atlas
+
+    def _tables(self) -> tuple:
+        """The atlas's kernel arguments with the tracks' placements of this cycle (parts
+        change position only between cycles; ``advance`` forgets them)."""
+        if self._cycle_tables is None:
+            self._cycle_tables = self._atlas_of().tables(self.network.placed())
+        return self._cycle_tables
+
+
+def _no_lines() -> tuple[np.ndarray, ...]:
+    """No stop lines: (riders, lows, highs)."""
+    return np.empty(0, dtype=np.int64), np.empty(0), np.empty(0)
+
+
+def _lines_dict(lines: tuple[np.ndarray, ...]) -> dict[int, tuple[float, float]]:
+    """Stop lines as (riders, lows, highs) arrays to a dict rider: (low, high)."""
+    riders, lows, highs = (x.tolist() for x in lines)
+    return dict(zip(riders, zip(lows, highs, strict=True), strict=True))
+
+
+def _lines_arrays(lines: dict[int, tuple[float, float]]) -> tuple[np.ndarray, ...]:
+    """``_lines_dict`` back: (riders, lows, highs) in the dict's order."""
+    return (np.fromiter(lines, np.int64, len(lines)),
+            np.fromiter((b[0] for b in lines.values()), float, len(lines)),
+            np.fromiter((b[1] for b in lines.values()), float, len(lines)))
+
 
 def _narrow(lines: dict[int, tuple[float, float]], k: int, low: float, high: float) -> None:
     """Rider ``k`` stays within [low, high] too."""
@@ -1248,31 +1224,10 @@ def _narrow(lines: dict[int, tuple[float, float]], k: int, low: float, high: flo
     lines[k] = (max(old[0], low), min(old[1], high))
 
 
-def _samples(low: float, high: float) -> np.ndarray:
-    """Odometer positions from ``low`` to ``high`` no more than ``_CLEAR_STEP`` apart."""
-    return np.linspace(low, high, max(1, math.ceil((high - low) / _CLEAR_STEP) + 1))
-
-
-def _touch(a: tuple[np.ndarray, ...], b: tuple[np.ndarray, ...]) -> np.ndarray:
-    """For each footprint of ``a`` (x, y, c, half sides): whether it overlaps any of ``b``
-    (separating axes; touching is apart)."""
-    ax, ay, ac, ahx, ahy = a
-    bx, by, bc, bhx, bhy = b
-    dx, dy = bx[None, :] - ax[:, None], by[None, :] - ay[:, None]
-    near = np.hypot(dx, dy) < math.hypot(ahx, ahy) + math.hypot(bhx, bhy)
-    if not near.any():
-        return np.zeros(ax.size, dtype=bool)
-    i, j = np.nonzero(near)
-    dx, dy = dx[i, j], dy[i, j]
-    ca, sa, cb, sb = np.cos(ac[i]), np.sin(ac[i]), np.cos(bc[j]), np.sin(bc[j])
-    overlap = np.ones(i.size, dtype=bool)
-    for nx, ny in ((ca, sa), (-sa, ca), (cb, sb), (-sb, cb)):
-        reach = (ahx * np.abs(ca * nx + sa * ny) + ahy * np.abs(-sa * nx + ca * ny)
-                 + bhx * np.abs(cb * nx + sb * ny) + bhy * np.abs(-sb * nx + cb * ny))
-        overlap &= np.abs(dx * nx + dy * ny) < reach
-    out = np.zeros(ax.size, dtype=bool)
-    out[i[overlap]] = True
-    return out
+def _sample_count(low: float, high: float) -> int:
+    """How many odometer positions from ``low`` to ``high`` are no more than ``_CLEAR_STEP``
+    apart (``traffic_kernels.stretch_samples`` spaces them evenly)."""
+    return max(1, math.ceil((high - low) / _CLEAR_STEP) + 1)
 
 
 def _hard(u: np.ndarray, b: np.ndarray, dec: np.ndarray, jerk: np.ndarray) -> np.ndarray:
@@ -1280,6 +1235,9 @@ def _hard(u: np.ndarray, b: np.ndarray, dec: np.ndarray, jerk: np.ndarray) -> np
     the deceleration ``dec`` and ``jerk`` of its command take back without turning it round:
     then only its own brake (gap control's, the hardest) stops it without going back."""
     return (b < -dec) | (u + b * np.abs(b) / (2.0 * jerk) < 0.0)
+
+
+_warm = False  #: the compiled loops were loaded (``traffic_kernels.warm``)
 
 
 def network_of(system: Any) -> Any:
@@ -1292,8 +1250,12 @@ def network_of(system: Any) -> Any:
 
 
 def traffic_of(system: Any) -> Traffic:
-    """The movers on the tracks of a planar system."""
+    """The movers on the tracks of a planar system (its loops loaded with the first)."""
     if system.traffic is None:
+        global _warm
+        if not _warm:
+            warm()
+            _warm = True
         system.traffic = Traffic(network_of(system), system.cycle_time)
         system.traffic.table = system.table
     return system.traffic
