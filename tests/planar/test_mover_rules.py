@@ -18,6 +18,7 @@ from openmotion.planar import (
     MC_PlanarGroup,
     MC_PlanarMover,
     MC_PlanarTrack,
+    MC_PlanarTrackTrail,
     MoverCommandMode,
     MoverVector,
     PlanarMoverParameters,
@@ -25,6 +26,7 @@ from openmotion.planar import (
     PlanarState,
     PositionXYC,
     ST_ExternalSetpointGenerationOptions,
+    ST_GearInPosOnTrackWithMasterMoverOptions,
     ST_JoinTrackOptions,
     ST_MoveCOptions,
     ST_MoveToPositionOptions,
@@ -333,3 +335,33 @@ def test_a_wrong_track_argument_is_a_type_error_at_the_call(call):
     with pytest.raises(TypeError, match="must be"):
         call(mover, track, axis)
     rt.step()  # nothing was queued
+
+
+def test_a_follower_synced_on_a_track_off_its_way_is_an_error_id():
+    """followMover without a trail (§6.2.12): the slave's sync track must lie on its way along
+    the master; one that does not is PLANAR_INVALID_INPUT, and the cycle runs on."""
+    rt = om.Runtime()
+    first, second = (MC_PlanarMover(rt, PlanarMoverParameters(
+        initial_position=MoverVector(x, 0.0))) for x in (100.0, 400.0))
+    first.enable()
+    second.enable()
+    a, elsewhere = MC_PlanarTrack(rt), MC_PlanarTrack(rt)
+    a.append_line(PositionXYC(0.0, 0.0), PositionXYC(600.0, 0.0))
+    elsewhere.append_line(PositionXYC(0.0, 400.0), PositionXYC(600.0, 400.0))
+    a.enable()
+    elsewhere.enable()
+    rt.run(0.01)
+    joins = [first.join_track(a), second.join_track(a)]
+    rt.run_until(lambda: all(j.done for j in joins), timeout=5.0)
+    gear = first.gear_in_pos_on_track_with_master_mover(
+        second, None, 0.0, a, 100.0, elsewhere,
+        options=ST_GearInPosOnTrackWithMasterMoverOptions(follow_mover=True))
+    rt.step()
+    rt.step()
+    assert gear.error and gear.error_id == ErrorId.PLANAR_INVALID_INPUT
+    assert "not on the slave's way" in gear.message
+
+
+def test_a_trail_takes_only_tracks():
+    with pytest.raises(TypeError, match="MC_PlanarTrack"):
+        MC_PlanarTrackTrail().add_track(None)

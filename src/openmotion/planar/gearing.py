@@ -33,6 +33,7 @@ from openmotion.planar.options import (
 )
 from openmotion.planar.positions import finite
 from openmotion.planar.states import MoverCommand, check_track_accepts
+from openmotion.planar.track import MC_PlanarTrack
 from openmotion.planar.traffic import Leg, Rider
 from openmotion.transport.enums import SyncStrategy
 from openmotion.transport.gear import GearSync
@@ -41,7 +42,6 @@ if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
     from openmotion.planar.feedback import PlanarCommand
     from openmotion.planar.mover import MC_PlanarMover
-    from openmotion.planar.track import MC_PlanarTrack
 
 _C = MoverCommand
 
@@ -64,6 +64,8 @@ class MC_PlanarTrackTrail:
     def add_track(self, track: MC_PlanarTrack) -> bool:
         """Append ``track``; False (and ``error``) when it is in the trail already or does
         not start at the end vertex of the last one."""
+        if not isinstance(track, MC_PlanarTrack):
+            raise TypeError(f"a trail holds MC_PlanarTrack objects, got {type(track).__name__}")
         why = ""
         if any(t is track for t in self.tracks):
             why = f"{track.name} is in the trail already (§6.8)"
@@ -222,7 +224,11 @@ def _coupling(mover: MC_PlanarMover, command: PlanarCommand, legs: list[Leg],
         raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
                               f"slaveSyncPosition {slave_sync:g} is off {slave_track.name} "
                               f"(0 to {slave_track.length:g} mm)")
-    base = next(leg.base for leg in legs if leg.track is slave_track)
+    base = next((leg.base for leg in legs if leg.track is slave_track), None)
+    if base is None:  # a follower's way does not pass it (no trail, §6.2.12)
+        raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                              f"slaveSyncPositionTrack {slave_track.name} is not on the "
+                              "slave's way along its master (§6.2.9)")
     p = mover.parameters
     limits = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
                               command.warnings)
