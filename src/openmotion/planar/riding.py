@@ -97,7 +97,7 @@ def leave_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
     goal = (pose.x, pose.y, pose.c) if options.use_orientation else (pose.x, pose.y)
     motion = _free_move(mover, goal, limits, options.use_orientation)
     traffic = traffic_of(mover._system)
-    traffic.uncouple(rider)
+    traffic.uncouple(rider, mover._system.previous)
     mover._rider = None
 
     def left(done: bool) -> None:

@@ -253,11 +253,21 @@ class Traffic:
         rider.route = [Leg(rider.track, 0.0)]
         self._rebuild(old + [(rider, rider.s, 0.0, 0.0, IDLE, rider.s, 0.0)])
 
-    def uncouple(self, rider: Rider) -> None:
+    def uncouple(self, rider: Rider, now: float | None = None) -> None:
+        """``rider`` is off its track from now on (LeaveTrack). Its own track command ends
+        (Aborted), and every rider geared to it loses its master: it brakes to a stop and
+        its gear-in ends in error (``_master_gone``, D-145). ``now``: the time of the last
+        cycle (the traffic's last one when not given)."""
+        now = self._now if now is None else now
+        self._abort(rider, "aborted by LeaveTrack")
+        for r in self.riders:
+            if r is not rider and r.gear is not None and r.gear.master is rider:
+                self._master_gone(r, now)
         self._keep_c()
         old = [(r, *self._state(r)) for r in self.riders if r is not rider]
         self.riders.remove(rider)
         self._rebuild(old)
+        rider.slot = -1
 
     def _keep_c(self) -> None:
         """Before the arrays are rebuilt: each rider keeps its c and target."""
@@ -271,7 +281,13 @@ class Traffic:
                 float(self.goal[k]), float(self.shift[k]))
 
     def _rebuild(self, states: list[tuple]) -> None:
-        """New arrays in rider order (a coupling or uncoupling: rare)."""
+        """New arrays in rider order (a coupling or uncoupling: rare). What is kept per slot
+        across cycles (the stop lines) moves with its rider; a leaving rider's goes."""
+        moved = {r.slot: k for k, (r, *_) in enumerate(states) if r.slot >= 0}
+        riders, lows, highs = self._stop_lines
+        keep = [i for i, k in enumerate(riders.tolist()) if k in moved]
+        self._stop_lines = (np.array([moved[k] for k in riders[keep].tolist()], dtype=np.int64),
+                            lows[keep].copy(), highs[keep].copy())
         self._arrays(len(states))
         for k, (r, p, v, a, mode, goal, shift) in enumerate(states):
             r.slot = k
@@ -461,14 +477,7 @@ class Traffic:
     def halt(self, rider: Rider, limits: Limits, command: PlanarCommand | None,
              now: float) -> None:
         """Stop on the track with ``limits`` (§6.1.9 Halt); Done at rest."""
-        k = rider.slot
-        start = KinematicState(float(self.p[k]), float(self.v[k]), float(self.a[k]))
-        dec, jerk = limits.deceleration, limits.jerk
-        u = abs(start.velocity)
-        b = math.copysign(1.0, start.velocity) * start.acceleration
-        if u > 0.0 and _hard(np.array(u), np.array(b), np.array(dec), np.array(jerk)):
-            dec, jerk = rider.brake  # gap control brakes harder: its brake, not a turn round
-        profile = plan_stop(start, dec, jerk)
+        profile = self._stop_profile(rider, limits)
         self._abort(rider, "aborted by Halt")
         rider.limits, rider.command, rider.halting = limits, command, True
         rider.target = profile.end.position
@@ -476,6 +485,38 @@ class Traffic:
         self._follow(rider, profile, rider.target, now)
         if command is not None:
             command.started()
+
+    def _stop_profile(self, rider: Rider, limits: Limits) -> Profile:
+        """A stop from the rider's state with ``limits``' deceleration and jerk (or its gap
+        control brake, where that brakes harder: no turning round)."""
+        k = rider.slot
+        start = KinematicState(float(self.p[k]), float(self.v[k]), float(self.a[k]))
+        dec, jerk = limits.deceleration, limits.jerk
+        u = abs(start.velocity)
+        b = math.copysign(1.0, start.velocity) * start.acceleration
+        if u > 0.0 and _hard(np.array(u), np.array(b), np.array(dec), np.array(jerk)):
+            dec, jerk = rider.brake  # gap control brakes harder: its brake, not a turn round
+        return plan_stop(start, dec, jerk)
+
+    def _master_gone(self, rider: Rider, now: float) -> None:
+        """``rider``'s master mover leaves the traffic (LeaveTrack): the coupling ends. The
+        rider brakes to a stop with its command's dynamics (a Halt's), no longer geared,
+        and its command then ends in error (D-145); nothing keeps the master's rider."""
+        coupling = rider.gear
+        name = getattr(coupling.master.owner, "name", "the master")
+        coupling.master, coupling.follow = None, False
+        coupling.stopping = True
+        coupling.failed = (ErrorId.PLANAR_WRONG_MODE,
+                           f"the master mover {name} left its track: the coupling ended "
+                           "and the mover stopped (§6.2.9)")
+        assert rider.limits is not None
+        profile = self._stop_profile(rider, rider.limits)
+        rider.halting, rider.target = True, profile.end.position
+        self.target[rider.slot] = rider.target
+        self._follow(rider, profile, rider.target, now)
+        if rider.command is not None:
+            rider.command.in_sync = False
+            rider.owner._awake = True
 
     def gear(self, rider: Rider, route: list[Leg], coupling: Any, gap: float,
              command: PlanarCommand) -> None:
@@ -1167,6 +1208,9 @@ class Traffic:
                 self.mode[k] = IDLE
                 command, rider.command = rider.command, None
                 rider.halting = False
+                if rider.gear is not None and rider.gear.failed is not None and command:
+                    command.rejected(*rider.gear.failed)  # held by the gap filter meanwhile
+                rider.gear = None
                 self._hold(rider, values)
                 rider.owner._on_track_finished(command)
 
