@@ -3,10 +3,12 @@
 
 from __future__ import annotations
 
+from unittest import mock
+
 import pytest
 
 import openmotion as om
-from openmotion.core.errors import ErrorId
+from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar import (
     MC_PlanarFeedbackGearInPosOnTrack,
     MC_PlanarFeedbackGearInPosOnTrackWithMasterMover,
@@ -19,6 +21,7 @@ from openmotion.planar import (
     PositionXYC,
     ST_GearInPosOnTrackWithMasterMoverOptions,
 )
+from openmotion.transport.gear import GearSync
 
 
 def _mover(rt: om.Runtime, x: float = 0.0, y: float = 0.0) -> MC_PlanarMover:
@@ -193,3 +196,27 @@ def test_a_gear_in_to_a_moving_master_starts_where_the_slave_stands():
         now = mover.mc_to_plc.set_on_track.set_pos
         assert now >= last - 1e-9, now - last
         last = now
+
+
+def test_a_sync_that_finds_no_plan_stops_the_mover_and_ends_in_error():
+    """When the sync cannot be planned (ruckig finds no profile, an option it cannot keep),
+    the geared mover brakes to rest with its command's dynamics and the command then ends in
+    that error; it is not left busy."""
+    rt = om.Runtime(0.001)
+    track = _track(rt, (0.0, 0.0), (2000.0, 0.0))
+    mover = _mover(rt, 100.0, 0.0)
+    _join(rt, mover, track)
+    axis = _axis(rt)
+    axis.move_velocity(200.0)
+    rt.step()
+    gear = mover.gear_in_pos_on_track(axis, None, 0.0, 500.0, track)  # ahead: it starts
+    rt.run(0.3)
+    assert gear.active and mover.mc_to_plc.set_on_track.set_velo > 50.0
+    with mock.patch.object(GearSync, "step",
+                           side_effect=CommandRejected(ErrorId.NO_PROFILE, "no sync plan")):
+        rt.run(1.0)
+    assert gear.error and gear.error_id == ErrorId.NO_PROFILE and not gear.busy
+    assert mover.mc_to_plc.set_on_track.set_velo == 0.0
+    position = mover.mc_to_plc.set_on_track.set_pos
+    rt.run(0.5)
+    assert mover.mc_to_plc.set_on_track.set_pos == position

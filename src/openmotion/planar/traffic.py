@@ -744,9 +744,12 @@ class Traffic:
                 coupling.planned_v = master[1]
             try:
                 proposal = coupling.sync.step(now, state, master, self.dt)
-            except CommandRejected as rejected:
-                proposal, coupling.failed = None, (rejected.error_id, rejected.message)
-            if proposal is None:  # waiting or failed: brake with the command's dynamics
+            except CommandRejected as rejected:  # no sync plan: stop, then end in error
+                coupling.failed = (rejected.error_id, rejected.message)
+                assert rider.limits is not None
+                self._stop_following(rider, self._stop_profile(rider, rider.limits), nxt)
+                continue
+            if proposal is None:  # waiting: brake with the command's dynamics
                 lim = rider.limits
                 proposal = tuple(float(x[0]) for x in brake_state(
                     self.p[k:k + 1], self.v[k:k + 1], self.a[k:k + 1],
@@ -814,6 +817,12 @@ class Traffic:
                              f"the master would take the mover past the {end} of its path "
                              "(its track, or the last track of its trail): it stopped there "
                              "(§6.2.8)")
+        self._stop_following(rider, profile, nxt)
+
+    def _stop_following(self, rider: Rider, profile: Profile, nxt: list[np.ndarray]) -> None:
+        """A geared rider follows ``profile`` (from the last cycle) to rest, halting; its
+        command ends with ``gear.failed`` once it stands."""
+        k = rider.slot
         rider.gear.stopping = True
         rider.halting, rider.target = True, profile.end.position
         self.target[k] = rider.target
