@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import math
 from unittest import mock
 
 import pytest
@@ -220,3 +221,33 @@ def test_a_sync_that_finds_no_plan_stops_the_mover_and_ends_in_error():
     position = mover.mc_to_plc.set_on_track.set_pos
     rt.run(0.5)
     assert mover.mc_to_plc.set_on_track.set_pos == position
+
+
+def test_a_moving_slave_never_turns_against_its_allowed_sync_direction():
+    """§6.1.9: allowedSlaveSyncDirections (Positive by default) holds in the whole sync phase,
+    also for a slave that is moving when it gears in: one that cannot stop at its sync point
+    comes to rest beyond it, never turning back, and syncs once the master comes."""
+    rt = om.Runtime(0.001)
+    track = _track(rt, (0.0, 0.0), (3000.0, 0.0))
+    mover = _mover(rt, 100.0, 0.0)
+    _join(rt, mover, track)
+    axis = _axis(rt)
+    mover.move_on_track(None, 2500.0)
+    rt.run(0.6)
+    start = mover.mc_to_plc.set_on_track
+    assert start.set_velo == pytest.approx(2000.0)
+    feedback = MC_PlanarFeedbackGearInPosOnTrack()
+    mover.gear_in_pos_on_track(axis, None, 0.0, start.set_pos + 50.0, track, feedback=feedback)
+    lowest = math.inf
+    for _ in range(1500):
+        rt.step()
+        lowest = min(lowest, mover.mc_to_plc.set_on_track.set_velo)
+    rest = mover.mc_to_plc.set_on_track
+    assert lowest >= -1e-9 and rest.set_velo == 0.0 and not feedback.in_sync  # was -260
+    assert rest.set_pos > start.set_pos + 50.0  # beyond the sync point: it waits there
+    axis.move_velocity(100.0)
+    for _ in range(6000):
+        rt.step()
+        lowest = min(lowest, mover.mc_to_plc.set_on_track.set_velo)
+    assert lowest >= -1e-9 and feedback.in_sync
+    assert mover.mc_to_plc.set_on_track.set_velo == pytest.approx(100.0)

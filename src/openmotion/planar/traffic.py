@@ -70,7 +70,7 @@ from openmotion.planar.traffic_kernels import (
     zone_holders,
     zone_lines,
 )
-from openmotion.trajectory.plan import Limits, plan_position, plan_stop
+from openmotion.trajectory.plan import Limits, plan_position, plan_stop, plan_velocity
 from openmotion.trajectory.segments import KinematicState, Profile
 from openmotion.transport.braking import brake_envelope, brake_state
 from openmotion.transport.gap_control import TOLERANCE, Pairs
@@ -749,6 +749,10 @@ class Traffic:
                 assert rider.limits is not None
                 self._stop_following(rider, self._stop_profile(rider, rider.limits), nxt)
                 continue
+            if proposal is not None and state[1] != 0.0 and \
+                    _turns_against(coupling, proposal, rider.limits.jerk):
+                # before the first sync it comes to rest rather than turn (§6.1.9)
+                proposal = plan_velocity(KinematicState(*state), 0.0, rider.limits).at(self.dt)
             if proposal is None:  # waiting: brake with the command's dynamics
                 lim = rider.limits
                 proposal = tuple(float(x[0]) for x in brake_state(
@@ -794,12 +798,7 @@ class Traffic:
         with the master further on."""
         if coupling.sync.synced_once or state[1] != 0.0 or state[2] != 0.0:
             return False
-        velocity = proposal[1]
-        from openmotion.planar.enums import SyncDirections
-
-        wrong = (velocity < 0.0 and coupling.directions is SyncDirections.POSITIVE) or \
-            (velocity > 0.0 and coupling.directions is SyncDirections.NEGATIVE)
-        return wrong or behind
+        return _against(coupling, proposal[1]) or behind
 
     def _stop_at(self, rider: Rider, bound: float, nxt: list[np.ndarray]) -> None:
         """A geared rider stops exactly at ``bound``, the end of its path, with its hardest
@@ -1312,3 +1311,23 @@ def traffic_of(system: Any) -> Traffic:
         system.traffic = Traffic(network_of(system), system.cycle_time)
         system.traffic.table = system.table
     return system.traffic
+
+
+def _against(coupling: Any, velocity: float) -> bool:
+    """Whether a slave that has not been in sync yet would move at ``velocity`` against its
+    ``allowedSlaveSyncDirections`` (§6.1.9: no back oscillation while it synchronises)."""
+    if coupling.sync.synced_once:
+        return False
+    from openmotion.planar.enums import SyncDirections
+
+    return (velocity < 0.0 and coupling.directions is SyncDirections.POSITIVE) or \
+        (velocity > 0.0 and coupling.directions is SyncDirections.NEGATIVE)
+
+
+def _turns_against(coupling: Any, proposal: tuple[float, ...], jerk: float) -> bool:
+    """Whether a moving slave that has not been in sync yet would, from ``proposal`` (p, v,
+    a), end up moving against its allowed sync direction: already, or because its
+    acceleration can no longer be taken away (at ``jerk``) before the velocity crosses 0."""
+    _, velocity, acceleration = proposal[:3]
+    release = velocity + acceleration * abs(acceleration) / (2.0 * jerk)
+    return _against(coupling, velocity) or _against(coupling, release)
