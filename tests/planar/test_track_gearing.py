@@ -11,6 +11,7 @@ import pytest
 import openmotion as om
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar import (
+    DynamicConstraint_PathXY,
     MC_PlanarFeedbackGearInPosOnTrack,
     MC_PlanarFeedbackGearInPosOnTrackWithMasterMover,
     MC_PlanarMover,
@@ -251,3 +252,31 @@ def test_a_moving_slave_never_turns_against_its_allowed_sync_direction():
         lowest = min(lowest, mover.mc_to_plc.set_on_track.set_velo)
     assert lowest >= -1e-9 and feedback.in_sync
     assert mover.mc_to_plc.set_on_track.set_velo == pytest.approx(100.0)
+
+
+def test_a_master_faster_than_the_command_is_followed_at_the_command_velocity():
+    """§6.2.8: with a velocity limit below the master's the mover still tries to synchronise:
+    it runs at its limit, never above, and syncs once the master is slow enough."""
+    rt = om.Runtime(0.001)
+    track = _track(rt, (0.0, 0.0), (8000.0, 0.0))
+    mover = _mover(rt, 100.0, 0.0)
+    _join(rt, mover, track)
+    axis = _axis(rt)
+    axis.move_velocity(500.0)
+    rt.run(0.5)
+    feedback = MC_PlanarFeedbackGearInPosOnTrack()
+    mover.gear_in_pos_on_track(axis, None, axis.set_position, 200.0, track,
+                               DynamicConstraint_PathXY(velocity=100.0), feedback=feedback)
+    fastest = 0.0
+    for _ in range(3000):
+        rt.step()
+        fastest = max(fastest, mover.mc_to_plc.set_on_track.set_velo)
+    assert fastest <= 100.0 * (1 + 1e-9) and not feedback.in_sync and not feedback.error
+    assert mover.mc_to_plc.set_on_track.set_velo == pytest.approx(100.0)
+    axis.move_velocity(20.0)  # the master slows: the mover catches up and syncs
+    rt.run_until(lambda: feedback.in_sync, timeout=60.0)
+    for _ in range(1000):
+        rt.step()
+        fastest = max(fastest, mover.mc_to_plc.set_on_track.set_velo)
+    assert fastest <= 100.0 * (1 + 1e-9)
+    assert mover.mc_to_plc.set_on_track.set_velo == pytest.approx(20.0)

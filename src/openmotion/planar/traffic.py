@@ -753,6 +753,13 @@ class Traffic:
                     _turns_against(coupling, proposal, rider.limits.jerk):
                 # before the first sync it comes to rest rather than turn (§6.1.9)
                 proposal = plan_velocity(KinematicState(*state), 0.0, rider.limits).at(self.dt)
+            limit = rider.limits.velocity
+            chasing = proposal is not None and not coupling.sync.in_sync \
+                and abs(_released(proposal, rider.limits.jerk)) > limit * (1.0 + 1e-9)
+            if chasing:  # a master faster than the command's velocity: follow at that (§6.2.8)
+                proposal = plan_velocity(KinematicState(*state),
+                                         math.copysign(limit, proposal[1]),
+                                         rider.limits).at(self.dt)
             if proposal is None:  # waiting: brake with the command's dynamics
                 lim = rider.limits
                 proposal = tuple(float(x[0]) for x in brake_state(
@@ -772,6 +779,13 @@ class Traffic:
                 continue
             for field_, value in zip(nxt, proposal, strict=True):
                 field_[k] = value
+            if chasing:  # the sync is planned again from where the mover now is
+                try:
+                    coupling.sync.held(now, tuple(proposal[:3]), master)
+                except CommandRejected as rejected:
+                    coupling.failed = (rejected.error_id, rejected.message)
+                    self._stop_following(rider, self._stop_profile(rider, rider.limits), nxt)
+                    continue
             if rider.command is not None:
                 cp = coupling.sync.coupled(*master)[0]
                 in_sync = coupling.sync.in_sync or (
@@ -1328,6 +1342,11 @@ def _turns_against(coupling: Any, proposal: tuple[float, ...], jerk: float) -> b
     """Whether a moving slave that has not been in sync yet would, from ``proposal`` (p, v,
     a), end up moving against its allowed sync direction: already, or because its
     acceleration can no longer be taken away (at ``jerk``) before the velocity crosses 0."""
-    _, velocity, acceleration = proposal[:3]
-    release = velocity + acceleration * abs(acceleration) / (2.0 * jerk)
-    return _against(coupling, velocity) or _against(coupling, release)
+    return _against(coupling, proposal[1]) or _against(coupling, _released(proposal, jerk))
+
+
+def _released(proposal: tuple[float, ...], jerk: float) -> float:
+    """The velocity at which a state (p, v, a, ...) comes out when its acceleration is taken
+    away as fast as ``jerk`` allows."""
+    velocity, acceleration = proposal[1], proposal[2]
+    return velocity + acceleration * abs(acceleration) / (2.0 * jerk)
