@@ -1551,3 +1551,39 @@ FOUND = {
 def test_a_scenario_the_random_networks_found(name: str):
     """Properties 1-3 (module docstring) on a scenario of ``FOUND``."""
     Run(FOUND[name]).play()
+
+
+#: A switch deadlock the random networks found and no fix covers yet (issue 8): mover 2 waits
+#: at its last safe stop before a switch for mover 6, which queues behind mover 2 in turn.
+KNOWN_DEADLOCKS = {
+    "switch_and_queue": Scenario(
+        layout=((('line', 0.0, 0.0, 736.372167, -0.0),),
+                (('from', 0), ('line', 936.372167, 200.0, 936.372167, 663.41552),
+                 ('line', 736.372167, 863.41552, 0.0, 863.41552),
+                 ('line', -200.0, 663.41552, -200.0, 200.0), ('end', 0)),
+                (('line', -727.663499, 0.0, -150.0, 0.0), ('end', 0))),
+        movers=((1, 1800.0, 240.0), (1, 1080.0, 260.0), (2, 0.0, 240.0), (1, 0.0, 240.0),
+                (1, 720.0, 360.0), (1, 2520.0, 360.0), (1, 2880.0, 240.0), (1, 2160.0, 360.0),
+                (1, 360.0, 300.0), (0, 360.0, 240.0), (1, 1440.0, 300.0)),
+        rounds=((464, (('move', 12, 2, 0.7510515584815229),)),
+                (222, (('move', 26, 7, 1.1754943508222875e-38),
+                       ('gear axis', 18, 1779.787308596115, 509.3607323611755,
+                        878.3030493529723, 0.16711839778470042),
+                       ('move', 21, 3, 1.0), ('move', 16, 2, 0.7693318141478167),
+                       ('move', 6, 3, 0.697111010849815), ('move', 8, 8, 1.0), ('halt', 24),
+                       ('gear axis', 16, 5.036042926440941e-178, 299.1059812750516,
+                        778.6488322279656, 0.6006446735562198))),
+                (1042, (('move', 0, 8, 0.15245205015848498), ('move', 2, 6, 0.75),
+                        ('move', 11, 6, 9.397703404031574e-86))),
+                (319, (('halt', 26), ('halt', 0),
+                       ('gear axis', 16, 1398.6757270808935, 333.60771368410724,
+                        349.24007495430146, 0.5527283407219074))))),
+}
+
+
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="known switch deadlock, issue 8: fix the traffic, then move it to FOUND")
+@pytest.mark.parametrize("name", sorted(KNOWN_DEADLOCKS))
+def test_a_known_deadlock_the_random_networks_found(name: str):
+    """Properties 1-3 on a scenario that still deadlocks (it must fail until fixed)."""
+    Run(KNOWN_DEADLOCKS[name]).play()
