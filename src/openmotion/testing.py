@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from hypothesis import strategies as st
@@ -47,6 +47,9 @@ from openmotion.runtime.runtime import Runtime
 from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 
+if TYPE_CHECKING:
+    from openmotion.planar import MC_PlanarMover, MC_PlanarTrack
+
 __all__ = [
     "RUCKIG_PRECISION",
     "MoveCase",
@@ -56,7 +59,10 @@ __all__ = [
     "assert_traces_equal",
     "assert_within_limits",
     "ceil_to_cycle",
+    "enabled_line",
+    "enabled_movers",
     "high_limits",
+    "join_all",
     "kinematic_states",
     "limits",
     "moves",
@@ -563,3 +569,38 @@ def assert_continuous(trace: SetpointTrace, acceleration: float, jerk: float,
                 f"step {step[k]!r} > {bound!r}; p={p[k]!r}->{p[k + 1]!r}, "
                 f"v={v[k]!r}->{v[k + 1]!r}, a={a[k]!r}->{a[k + 1]!r}"
             )
+
+
+# -- planar set-ups -----------------------------------------------------------------------------
+
+def enabled_movers(runtime: Runtime, *positions: tuple[float, float]) -> list[MC_PlanarMover]:
+    """Planar movers standing at ``positions`` (x, y [mm]), enabled (five cycles run)."""
+    from openmotion.planar import MC_PlanarMover, MoverVector, PlanarMoverParameters
+
+    movers = [MC_PlanarMover(runtime, PlanarMoverParameters(initial_position=MoverVector(x, y)))
+              for x, y in positions]
+    for mover in movers:
+        mover.enable()
+    runtime.run(0.005)
+    return movers
+
+
+def enabled_line(runtime: Runtime, start: tuple[float, float], end: tuple[float, float],
+                 after: MC_PlanarTrack | None = None, **parameters: object) -> MC_PlanarTrack:
+    """A straight planar track from ``start`` to ``end`` [mm] (starting from the end of
+    ``after`` when given), enabled; ``parameters`` go to ``MC_PlanarTrack``."""
+    from openmotion.planar import MC_PlanarTrack, PlanarState, PositionXYC
+
+    track = MC_PlanarTrack(runtime, **parameters)
+    if after is not None:
+        track.start_from_track(after)
+    track.append_line(PositionXYC(*start), PositionXYC(*end))
+    track.enable()
+    assert runtime.run_until(lambda: track.state is PlanarState.ENABLED, timeout=1.0)
+    return track
+
+
+def join_all(runtime: Runtime, track: MC_PlanarTrack, *movers: MC_PlanarMover) -> None:
+    """Every mover joins ``track`` (in call order); runs until all joins are done."""
+    joins = [mover.join_track(track) for mover in movers]
+    assert runtime.run_until(lambda: all(join.done for join in joins), timeout=10.0)

@@ -12,29 +12,10 @@ from openmotion.core.errors import ErrorId
 from openmotion.planar import (
     MC_PlanarFeedbackGearInPosOnTrackWithMasterMover,
     MC_PlanarMover,
-    MC_PlanarTrack,
-    MoverVector,
-    PlanarMoverParameters,
-    PlanarState,
     PositionXYC,
 )
-
-
-def _movers(rt: om.Runtime, *positions: tuple[float, float]) -> list[MC_PlanarMover]:
-    movers = [MC_PlanarMover(rt, PlanarMoverParameters(initial_position=MoverVector(x, y)))
-              for x, y in positions]
-    for mover in movers:
-        mover.enable()
-    rt.run(0.005)
-    return movers
-
-
-def _line(rt: om.Runtime, a: tuple[float, float], b: tuple[float, float]) -> MC_PlanarTrack:
-    track = MC_PlanarTrack(rt)
-    track.append_line(PositionXYC(*a), PositionXYC(*b))
-    track.enable()
-    rt.run_until(lambda: track.state is PlanarState.ENABLED, timeout=1.0)
-    return track
+from openmotion.testing import enabled_line as _line
+from openmotion.testing import enabled_movers as _movers
 
 
 def _setup(order: str, slave_sync: float = 0.0):

@@ -19,11 +19,9 @@ from openmotion.planar import (
     MC_PlanarGroup,
     MC_PlanarMover,
     MoverCommandMode,
-    MoverVector,
     Part,
     PartLayout,
     PartPosition,
-    PlanarMoverParameters,
     PlanarObjectInfo,
     PlanarObjectType,
     PlanarState,
@@ -35,31 +33,11 @@ from openmotion.planar import (
 )
 from openmotion.planar.options import ST_JoinTrackOptions, ST_MoveOnTrackOptions
 from openmotion.planar.track import MC_PlanarTrack
+from openmotion.testing import enabled_line as _line
+from openmotion.testing import enabled_movers as _movers
+from openmotion.testing import join_all as _joined
 
 ON_TRACK = MoverCommandMode.ON_TRACK
-
-
-def _movers(rt: om.Runtime, *positions: tuple[float, float]) -> list[MC_PlanarMover]:
-    movers = [MC_PlanarMover(rt, PlanarMoverParameters(initial_position=MoverVector(x, y)))
-              for x, y in positions]
-    for mover in movers:
-        mover.enable()
-    rt.run(0.005)
-    return movers
-
-
-def _line(rt: om.Runtime, start: tuple[float, float], end: tuple[float, float],
-          **kwargs: object) -> MC_PlanarTrack:
-    track = MC_PlanarTrack(rt, **kwargs)
-    track.append_line(PositionXYC(*start), PositionXYC(*end))
-    track.enable()
-    rt.run_until(lambda: track.state is PlanarState.ENABLED, timeout=1.0)
-    return track
-
-
-def _joined(rt: om.Runtime, track: MC_PlanarTrack, *movers: MC_PlanarMover) -> None:
-    joins = [m.join_track(track) for m in movers]
-    assert rt.run_until(lambda: all(j.done for j in joins), timeout=10.0)
 
 
 def _run_until(rt: om.Runtime, *commands: object, timeout: float = 20.0) -> None:
