@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from openmotion.trajectory.double_s import optimal_duration, rest_to_rest, synchronised
@@ -132,3 +132,18 @@ def test_synchronised_moves_end_together(path_limits, c_limits, distance, turn, 
     assert math.isclose(path[0, -1], rotation[0, -1], rel_tol=REL)
     _check_move(path, 0.0, distance, path_limits)
     _check_move(rotation, 10.0, 10.0 + sign * turn, c_limits)
+
+
+@given(limits=_limits(), distance=distances, sign=signs, speed=st.floats(-1.0, 1.0))
+def test_plan_position_in_closed_form_only_from_rest(limits, distance, sign, speed):
+    """``plan_position(closed_form=True)``: the double S from rest with equal acceleration and
+    deceleration, and ruckig's plan bit for bit from any other state."""
+    target = sign * distance
+    rest = KinematicState(0.0)
+    closed = plan_position(rest, target, limits, closed_form=True)
+    assert np.array_equal(closed.data, rest_to_rest(0.0, target, limits.velocity,
+                                                    limits.acceleration, limits.jerk, 0.0))
+    assume(speed != 0.0)
+    moving = KinematicState(0.0, speed * limits.velocity)
+    assert np.array_equal(plan_position(moving, target, limits, closed_form=True).data,
+                          plan_position(moving, target, limits).data)

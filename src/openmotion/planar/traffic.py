@@ -436,7 +436,7 @@ class Traffic:
         u = sign * start.velocity
         hard = u > 0.0 and bool(_hard(np.array(u), np.array(sign * start.acceleration),
                                       np.array(limits.deceleration), np.array(limits.jerk)))
-        profile = None if hard else plan_position(start, target, limits)
+        profile = None if hard else plan_position(start, target, limits, closed_form=True)
         self._check_stops_on_way(k, start, profile, route)
         self._abort(rider, f"aborted by {command.kind}")
         self._rebase(k, shift)
@@ -700,7 +700,7 @@ class Traffic:
             try:
                 profile = plan_position(KinematicState(float(self.p[k]), float(self.v[k]),
                                                        float(self.a[k])),
-                                        float(goal[i]), rider.limits)
+                                        float(goal[i]), rider.limits, closed_form=True)
             except CommandRejected:
                 rest[i] = True
                 continue
@@ -877,7 +877,7 @@ class Traffic:
             try:
                 profile = plan_position(KinematicState(float(self.p[k]), float(self.v[k]),
                                                        float(self.a[k])), float(reach[i]),
-                                        rider.limits)
+                                        rider.limits, closed_form=True)
             except CommandRejected:
                 continue
             self.table.install(rider.row, profile, self._now - self.dt)
