@@ -280,16 +280,7 @@ def test_a_standing_mover_rides_along_and_keeps_its_area_in_the_group():
                                          PartPosition(CS_1, Pose(240.0, 240.0))])
     layout = PartLayout([CS_1], [Part(PART_1, [(0.0, 0.0), (0.0, 240.0)],
                                       [PartPosition(CS_1, Pose())]), shuttle])
-    environment, mover = on(rt, layout, 120.0, 120.0, PART_3)  # (360, 120) in CS 1
-    group = MC_PlanarGroup(rt)
-    environment.create_boundary()
-    group.enable()
-    rt.run(0.01)
-    mover.add_to_group(group)
-    environment.add_to_group(group)
-    part = MC_PlanarPart()
-    part.initialize(PART_3, environment)
-    rt.run(0.01)
+    environment, mover, group, part = grouped(rt, layout, PART_3)  # (360, 120) in CS 1
     activate = part.activate_position(2)
     rt.step()
     assert activate.done and mover.pose == (360.0, 360.0, 0.0)
@@ -305,7 +296,16 @@ def grouped_elevator(index: int) -> tuple[om.Runtime, MC_PlanarEnvironment, MC_P
     """§6.6.1 with the environment and the mover in a group, the boundary created while part 3
     is at ``index``."""
     rt = om.Runtime()
-    environment, mover = on(rt, elevator(index), 120.0, 120.0, PART_1)
+    environment, mover, group, part = grouped(rt, elevator(index), PART_1)
+    assert part.is_initialized and len(group.members) == 2
+    return rt, environment, mover, part
+
+
+def grouped(rt: om.Runtime, layout: PartLayout, start_part: int
+            ) -> tuple[MC_PlanarEnvironment, MC_PlanarMover, MC_PlanarGroup, MC_PlanarPart]:
+    """A mover at (120, 120) on ``start_part`` and the environment (its boundary made) in an
+    enabled group, and part 3's handle initialized."""
+    environment, mover = on(rt, layout, 120.0, 120.0, start_part)
     group = MC_PlanarGroup(rt)
     environment.create_boundary()
     group.enable()
@@ -315,8 +315,7 @@ def grouped_elevator(index: int) -> tuple[om.Runtime, MC_PlanarEnvironment, MC_P
     part = MC_PlanarPart()
     part.initialize(PART_3, environment)
     rt.run(0.01)
-    assert part.is_initialized and len(group.members) == 2
-    return rt, environment, mover, part
+    return environment, mover, group, part
 
 
 def test_the_mover_drives_onto_the_elevator_that_arrived_after_create_boundary():
