@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 import openmotion as om
 from openmotion.core.enums import ModuloDirection
-from openmotion.core.errors import ErrorId
+from openmotion.core.errors import ConfigError, ErrorId
 from openmotion.planar import (
     CoordinateMode,
     MC_PlanarEnvironment,
@@ -199,6 +199,29 @@ def test_a_track_without_geometry_cannot_be_enabled():
     rt.step()
     assert enable.error and enable.error_id == ErrorId.PLANAR_INVALID_INPUT
     assert track.operation_mode is TrackOperationMode.UNINITIALIZED
+    assert track.get_length() == 0.0  # connected, no geometry yet (D-150)
+
+
+@pytest.mark.parametrize("ranges", [(1.0,), (1.0, 2.0, 3.0), (-1.0, 0.0), (math.nan, 1.0),
+                                    ("250", 250.0), (True, 250.0), 250.0])
+def test_manual_collision_ranges_are_two_numbers_at_least_zero(ranges):
+    rt = om.Runtime(0.001)
+    with pytest.raises(ConfigError, match="collision ranges must be two numbers >= 0"):
+        MC_PlanarTrack(rt, "t", collision_ranges=ranges)
+    track = MC_PlanarTrack(rt, "u", collision_ranges=[100, 0])
+    assert track.collision_ranges == (100.0, 0.0)
+
+
+@pytest.mark.parametrize("reference", [1.0, "16#01010000", None, True])
+def test_a_track_point_with_a_reference_id_that_is_no_int_is_a_type_error(reference):
+    rt = om.Runtime(0.001)
+    track = MC_PlanarTrack(rt)
+    with pytest.raises(TypeError, match="reference id must be an int"):
+        track.append_position(PositionXYC(0.0, 0.0, 0.0, reference))
+    with pytest.raises(TypeError, match="reference id must be an int"):
+        track.append_line(PositionXYC(0.0, 0.0), PositionXYC(100.0, 0.0, 0.0, reference))
+    rt.step()
+    assert track.get_length() == 0.0  # nothing was queued
 
 
 def test_an_enabled_track_keeps_its_geometry():

@@ -74,7 +74,7 @@ from openmotion.planar.options import (
     ST_MoveToPositionOptions,
     command_dynamics,
 )
-from openmotion.planar.positions import PositionXYC, finite
+from openmotion.planar.positions import PositionXYC, finite, reference_id
 from openmotion.planar.reservation import (
     MemberId,
     SweptArea,
@@ -321,14 +321,14 @@ class MC_PlanarMover(StatefulObject):
         self._send(_C.SET_EXTERNAL_SETPOINT, None, set_position, set_velocity, set_acceleration,
                    None, None)
 
-    def set_external_setpoint_reference_id(self, feedback: MC_PlanarFeedbackBase | None,
+    def set_external_setpointreference_id(self, feedback: MC_PlanarFeedbackBase | None,
                                            set_position: MoverVector, set_velocity: MoverVector,
                                            set_acceleration: MoverVector,
                                            reference_system_oid: int) -> None:
         """One setpoint in the frame ``reference_system_oid``; pass the same feedback every
         call: its errors show after the next call (§6.1.7)."""
         self._send(_C.SET_EXTERNAL_SETPOINT, None, set_position, set_velocity, set_acceleration,
-                   _reference_id(reference_system_oid), feedback)
+                   reference_id(reference_system_oid), feedback)
 
     def stop_external_setpoint_generation(
             self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
@@ -977,16 +977,7 @@ def _copy(position: PositionXYC) -> PositionXYC:
     """The PLC passes targets IN_OUT but the command keeps the values of the call."""
     if not isinstance(position, PositionXYC):
         raise TypeError(f"a target must be a PositionXYC, got {type(position).__name__}")
-    return PositionXYC(position.x, position.y, position.c, _reference_id(position.reference_id))
-
-
-def _reference_id(value: int) -> int:
-    """An object id is a UDINT: a wrong type is a Python error at the call (a value that
-    names nothing is an error id when the command runs)."""
-    if isinstance(value, bool) or not isinstance(value, int | np.integer):
-        raise TypeError(f"a reference id must be an int (an object id), got "
-                        f"{type(value).__name__}")
-    return int(value)
+    return PositionXYC(position.x, position.y, position.c, reference_id(position.reference_id))
 
 
 def _track(value: MC_PlanarTrack | None, current: bool = False) -> MC_PlanarTrack | None:

@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar.frames import Pose
 
@@ -47,3 +49,12 @@ def finite(value: object, name: str) -> float:
         raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
                               f"{name}: must be a finite number, got {value!r}")
     return float(value)
+
+
+def reference_id(value: object) -> int:
+    """An object id is a UDINT: a wrong type is a Python error at the call (a value that
+    names nothing is an error id when the command runs)."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        raise TypeError(f"a reference id must be an int (an object id), got "
+                        f"{type(value).__name__}")
+    return int(value)

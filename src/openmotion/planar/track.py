@@ -33,7 +33,7 @@ from openmotion.planar.options import (
     ST_EndAtTrackAdvancedOptions,
     ST_StartFromTrackAdvancedOptions,
 )
-from openmotion.planar.positions import PositionXYC, finite
+from openmotion.planar.positions import PositionXYC, finite, reference_id
 from openmotion.planar.reservation import MemberId
 from openmotion.planar.states import PlanarStateMachine
 from openmotion.planar.system import PlanarSystem, StatefulObject
@@ -70,17 +70,20 @@ class MC_PlanarTrack(StatefulObject):
             if not (math.isfinite(value) and value > 0.0):
                 raise ConfigError(f"{self.name}: {label} must be a positive number, got {value!r}")
         self.max_mover_width, self.max_mover_height = max_mover_width, max_mover_height
-        if collision_ranges is not None and not all(
-                math.isfinite(v) and v >= 0.0 for v in collision_ranges):
-            raise ConfigError(f"{self.name}: collision ranges must be numbers >= 0, got "
-                              f"{collision_ranges!r}")
-        self._manual_ranges = collision_ranges
+        if collision_ranges is not None and not (
+                isinstance(collision_ranges, tuple | list) and len(collision_ranges) == 2
+                and all(isinstance(v, int | float) and not isinstance(v, bool)
+                        and math.isfinite(v) and v >= 0.0 for v in collision_ranges)):
+            raise ConfigError(f"{self.name}: collision ranges must be two numbers >= 0 (at "
+                              f"the start, at the end) [mm], got {collision_ranges!r}")
+        self._manual_ranges = None if collision_ranges is None else (
+            float(collision_ranges[0]), float(collision_ranges[1]))
         if not isinstance(check_collisions_against_static_objects, bool):
             raise ConfigError(f"{self.name}: check_collisions_against_static_objects must be a "
                               f"bool, got {check_collisions_against_static_objects!r}")
         self.check_collisions_against_static_objects = check_collisions_against_static_objects
         self.part_oid = part_oid  #: the part the track belongs to (0: the only one, or none)
-        self.collision_ranges: tuple[float, float] = collision_ranges or (
+        self.collision_ranges: tuple[float, float] = self._manual_ranges or (
             TRACK_COLLISION_RANGE, TRACK_COLLISION_RANGE)
         self.network = network_of(system)
         self.index = self.network.add(self)
@@ -491,7 +494,7 @@ def _point(position: PositionXYC) -> PositionXYC:
     if not isinstance(position, PositionXYC):
         raise TypeError(f"a track point must be a PositionXYC, got {type(position).__name__}")
     return PositionXYC(finite(position.x, "x"), finite(position.y, "y"), 0.0,
-                       position.reference_id)
+                       reference_id(position.reference_id))
 
 
 _ORIGIN = Pose()
