@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -18,6 +19,7 @@ from openmotion.planar import (
     MC_PlanarFeedback,
     MC_PlanarGroup,
     MC_PlanarMover,
+    MC_PlanarPart,
     MoverCommandMode,
     Part,
     PartLayout,
@@ -645,11 +647,11 @@ CS = 0x01010010
 PART_1, PART_2 = 0x01010020, 0x01010030
 
 
-def test_6_2_11_links_across_parts_hold_only_where_the_parts_meet():
+def _parts_6_2_11() -> tuple[om.Runtime, MC_PlanarEnvironment, PartLayout,
+                              tuple[MC_PlanarTrack, MC_PlanarTrack, MC_PlanarTrack]]:
     """§6.2.11: part 1 (8 stators) and part 2 (2 stators) beside it, lower or upper. Track
     three makes a U-turn on part 2; tracks two and one on part 1 start from and end at it
-    with the Advanced links. Part 2 lower: two -> three -> one; upper: one -> three -> two.
-    Tracks two and three have the same length."""
+    with the Advanced links."""
     layout = PartLayout([CS], [
         Part(PART_1, [(x, y) for x in (0.0, 240.0) for y in (0.0, 240.0, 480.0, 720.0)],
              [PartPosition(CS, Pose())]),
@@ -657,7 +659,7 @@ def test_6_2_11_links_across_parts_hold_only_where_the_parts_meet():
              [PartPosition(CS, Pose(480.0, 0.0)), PartPosition(CS, Pose(480.0, 480.0))]),
     ])
     rt = om.Runtime(0.001)
-    MC_PlanarEnvironment(rt, layout)
+    environment = MC_PlanarEnvironment(rt, layout)
     one = MC_PlanarTrack(rt, "one", part_oid=PART_1)
     two = MC_PlanarTrack(rt, "two", part_oid=PART_1)
     three = MC_PlanarTrack(rt, "three", part_oid=PART_2)
@@ -680,6 +682,13 @@ def test_6_2_11_links_across_parts_hold_only_where_the_parts_meet():
     commands += [t.enable() for t in (one, two, three)]
     rt.run(0.005)
     assert all(c.done for c in commands), [c.message for c in commands]
+    return rt, environment, layout, (one, two, three)
+
+
+def test_6_2_11_links_across_parts_hold_only_where_the_parts_meet():
+    """Part 2 lower: two -> three -> one; upper: one -> three -> two. Tracks two and three
+    have the same length."""
+    _, _, layout, (one, two, three) = _parts_6_2_11()
     assert two.get_length() == pytest.approx(three.get_length(), abs=1e-9)
     # part 2 lower: track two ends where track three starts, three ends where one starts
     assert two.subsequent_tracks == [three.oid] and three.subsequent_tracks == [one.oid]
@@ -691,6 +700,84 @@ def test_6_2_11_links_across_parts_hold_only_where_the_parts_meet():
     assert two.subsequent_tracks == [] and three.previous_tracks == [one.oid]
     start = three.get_position_at(0.0)  # the track moved with its part
     assert (start.x, start.y) == pytest.approx((480.0, 840.0), abs=1e-9)
+
+
+def test_a_mover_on_a_track_of_a_part_rides_along_when_the_part_moves_and_drives_on():
+    """§6.2.3, §6.2.11, §6.6.1: a mover joins track three on part 2 (placed away from the
+    origin: it joins where it stands), stands while part 2 goes from lower to upper, moves
+    with it, and then drives on over the link that holds there, three -> two."""
+    rt, environment, _, (_, two, three) = _parts_6_2_11()
+    here = three.get_position_at(100.0)
+    mover, = _movers(rt, (here.x, here.y))
+    _joined(rt, three, mover)
+    assert mover.pose[:2] == pytest.approx((here.x, here.y), abs=1e-9)  # no move to join
+    part = MC_PlanarPart()
+    part.initialize(PART_2, environment)
+    rt.step()
+    lift = part.activate_position(2)
+    rt.run(0.005)
+    assert lift.done and mover.coordinate_system == CS
+    assert mover.pose[:2] == pytest.approx((here.x, here.y + 480.0), abs=1e-9)
+    lifted = three.get_position_at(100.0)
+    assert (lifted.x, lifted.y) == pytest.approx((here.x, here.y + 480.0), abs=1e-9)
+    move = mover.move_on_track(two, 200.0)
+    path = [mover.pose[:2]]
+    while move.busy or not path[1:]:
+        rt.step()
+        path.append(mover.pose[:2])
+    assert move.done, move.message
+    end = two.get_position_at(200.0)
+    assert mover.pose[:2] == pytest.approx((end.x, end.y), abs=1e-6)
+    steps = np.hypot(*np.diff(np.array(path), axis=0).T)
+    assert steps.max() < 2000.0 * 0.001 + 1e-9  # at most the default velocity: no jump
+
+
+def test_automatic_collision_ranges_across_parts_are_those_of_one_frame_and_follow_the_parts():
+    """§6.2.2, §6.2.3: tracks p (part 1) and s (part 2) both start where r ends, at the
+    edge between the parts: a switch. Their automatic ranges are those of the same tracks
+    drawn without parts; when part 2 moves away the switch is gone and so are they."""
+
+    def build(parts: bool) -> tuple[PartLayout | None, list[MC_PlanarTrack]]:
+        rt = om.Runtime(0.001)
+        layout = None
+        if parts:
+            layout = PartLayout([CS], [
+                Part(PART_1, [(x, y) for x in (0.0, 240.0) for y in (0.0, 240.0)],
+                     [PartPosition(CS, Pose())]),
+                Part(PART_2, [(0.0, 0.0), (0.0, 240.0)],
+                     [PartPosition(CS, Pose(480.0, 0.0)), PartPosition(CS, Pose(480.0, 480.0))])])
+            MC_PlanarEnvironment(rt, layout)
+
+        def track(name: str, part: int) -> MC_PlanarTrack:
+            return MC_PlanarTrack(rt, name, part_oid=part) if parts else MC_PlanarTrack(rt, name)
+
+        def at(part: int, x: float, y: float) -> PositionXYC:
+            if not parts:
+                return PositionXYC(x, y)
+            return PositionXYC(x - (480.0 if part == PART_2 else 0.0), y, 0.0, part)
+
+        r, p, s = track("r", PART_1), track("p", PART_1), track("s", PART_2)
+        r.append_line(at(PART_1, 480.0, 0.0), at(PART_1, 480.0, 100.0))
+        rt.step()
+        p.start_from_track(r)
+        p.append_line(at(PART_1, 380.0, 300.0), at(PART_1, 100.0, 300.0))
+        s.start_from_track(r)
+        s.append_line(at(PART_2, 580.0, 300.0), at(PART_2, 700.0, 300.0))
+        enables = [t.enable() for t in (r, p, s)]
+        rt.run(0.005)
+        assert all(e.done for e in enables), [e.message for e in enables]
+        return layout, [r, p, s]
+
+    _, flat = build(False)
+    layout, placed = build(True)
+    assert placed[0].subsequent_tracks == [placed[1].oid, placed[2].oid]
+    expected = [t.collision_ranges for t in flat]
+    assert expected[1][0] > 300.0 and expected[2][0] > 300.0  # the branches share their start
+    for track, ranges in zip(placed, expected, strict=True):
+        assert track.collision_ranges == pytest.approx(ranges, abs=1e-6)
+    layout.activate_position(PART_2, 2)
+    assert placed[0].subsequent_tracks == [placed[1].oid]
+    assert [t.collision_ranges for t in placed] == [(0.0, 0.0)] * 3
 
 
 def test_a_track_point_in_a_coordinate_system_is_taken_into_the_part_frame():

@@ -352,11 +352,13 @@ class TrackPath:
         return closest(array, t.starts, t.kinds, t.rows, t.origins, t.coefficients, t.first,
                        t.second, t.tables, t.boxes, t.closed)
 
-    def hose_reach(self, other: TrackPath, distance: float, from_end: bool = False) -> float:
+    def hose_reach(self, other: TrackPath, distance: float, from_end: bool = False,
+                   placement: tuple[float, float, float] | None = None) -> float:
         """Arc length [mm], counted from this track's start (end if ``from_end``), at which
         its centre line first leaves the hose of radius ``distance`` [mm] around ``other``'s:
         the §6.2.2 hose rule for automatic collision ranges; the whole length if it never
-        does.
+        does. ``placement`` (x, y [mm], c [deg]) places this track's frame in ``other``'s
+        (tracks on two parts); None: one frame.
 
         The distance to ``other`` changes by at most 1 mm per mm of arc length, so walking in
         steps of ``distance``/32 misses only excursions that leave the hose by less than
@@ -368,9 +370,19 @@ class TrackPath:
         count = max(2, math.ceil(_HOSE_SAMPLES * length / distance) + 1)
         walked = np.linspace(0.0, length, count)
 
+        if placement is None:
+            turn, shift = np.eye(2), np.zeros(2)
+        else:
+            angle = math.radians(placement[2])
+            turn = np.array([[math.cos(angle), math.sin(angle)],
+                             [-math.sin(angle), math.cos(angle)]])  # row vectors: p @ turn
+            shift = np.array(placement[:2], dtype=float)
+
         def outside(along: NDArray[np.float64]) -> NDArray[np.float64]:
             s = length - along if from_end else along
-            return other._closest(self.positions_at(s))[:, 1] > distance
+            points = self.positions_at(s) if placement is None else \
+                self.positions_at(s) @ turn + shift
+            return other._closest(points)[:, 1] > distance
 
         beyond = np.flatnonzero(outside(walked))
         if beyond.size == 0:

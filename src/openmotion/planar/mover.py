@@ -321,7 +321,7 @@ class MC_PlanarMover(StatefulObject):
         self._send(_C.SET_EXTERNAL_SETPOINT, None, set_position, set_velocity, set_acceleration,
                    None, None)
 
-    def set_external_setpointreference_id(self, feedback: MC_PlanarFeedbackBase | None,
+    def set_external_setpoint_reference_id(self, feedback: MC_PlanarFeedbackBase | None,
                                            set_position: MoverVector, set_velocity: MoverVector,
                                            set_acceleration: MoverVector,
                                            reference_system_oid: int) -> None:

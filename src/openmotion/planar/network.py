@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import heapq
 import itertools
+import math
 from typing import TYPE_CHECKING
 
 from openmotion.planar.traffic import Leg
@@ -33,6 +34,8 @@ class TrackNetwork:
         self._successors: dict[int, list[MC_PlanarTrack]] = {}
         self._ways_on: dict[tuple[int, int], list[MC_PlanarTrack]] = {}
         self.version = 0  #: counts ``touch``: what was derived from an older one is stale
+        self._ranges: dict[int, tuple[float, float]] = {}  #: automatic collision ranges
+        self._hoses: dict[tuple, float] = {}  #: ``_hose_reach``'s answers (kept)
 
     def add(self, track: MC_PlanarTrack) -> int:
         self.tracks.append(track)
@@ -47,6 +50,7 @@ class TrackNetwork:
         self._switches.clear()
         self._successors.clear()
         self._ways_on.clear()
+        self._ranges.clear()
         self._parent = None
         self._positions = None
 
@@ -173,7 +177,47 @@ class TrackNetwork:
         return found
 
     def collision_ranges(self, track: MC_PlanarTrack) -> tuple[float, float]:
-        return track.collision_ranges
+        """The track's collision ranges (start, end) [mm]: the manual ones as given, else the
+        automatic ones from the tracks that meet it now (§6.2.2, the 2R hose). Which tracks
+        meet at a vertex depends on where the parts stand (§6.2.3), so automatic ranges are
+        kept only until the network changes."""
+        manual = track._manual_ranges
+        if manual is not None:
+            return manual
+        found = self._ranges.get(track.index)
+        if found is None:
+            found = self._ranges[track.index] = self._automatic_ranges(track)
+        return found
+
+    def _automatic_ranges(self, track: MC_PlanarTrack) -> tuple[float, float]:
+        """At each end where other tracks meet this one from the same side (they start at
+        its start, or end at its end), the arc length within which its centre line stays
+        closer than twice the largest mover radius to one of them; 0 where none does."""
+        radius = math.hypot(track.max_mover_width, track.max_mover_height) / 2.0
+        out = []
+        for side in (START, END):
+            vertex = self._root((track.index, side))
+            out.append(max((self._hose_reach(track, other, side, 2.0 * radius)
+                            for other in self._ends_at(vertex, side) if other is not track),
+                           default=0.0))
+        return out[0], out[1]
+
+    def _hose_reach(self, track: MC_PlanarTrack, other: MC_PlanarTrack, side: int,
+                    distance: float) -> float:
+        """``TrackPath.hose_reach`` of ``track`` around ``other`` with the two part frames
+        where the parts stand now; kept per placement (parts move between a few positions,
+        and the ranges are asked again after every change of the network)."""
+        mine, theirs = track.placement(), other.placement()
+        placement = None if mine == theirs else theirs.inverse().compose(mine)
+        key = (track.index, other.index, side, distance, track.length, other.length,
+               None if placement is None else tuple(round(v, 9) for v in placement))
+        found = self._hoses.get(key)
+        if found is None:
+            found = self._hoses[key] = track.path.hose_reach(
+                other.path, distance, from_end=side == END,
+                placement=None if placement is None else (placement.x, placement.y,
+                                                          placement.c))
+        return found
 
     # -- routes ----------------------------------------------------------------------------------
 

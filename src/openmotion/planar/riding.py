@@ -54,7 +54,7 @@ def join_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
     limits = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
                               command.warnings)
     pose = mover._set_pose()
-    s = float(track.path.arc_length_closest_to((pose.x, pose.y)))
+    s = track.arc_length_closest_to_pose(pose, mover.coordinate_system)
     x, y, heading, _ = track.frame_at(np.array([s]))
     c = pose.c
     if options.use_orientation:  # the track's heading, the nearest way round

@@ -50,7 +50,7 @@ MAX_MOVER_SIZE = 155.0  #: [mm] default maximal mover width and height (§6.2.1)
 
 
 class MC_PlanarTrack(StatefulObject):
-    """A planar track. ``collision_ranges`` = None computes them when the track is enabled
+    """A planar track. ``collision_ranges`` = None computes them from the network as it is
     (mode Automatic, §6.2.2); a pair (start, end) in mm is mode Manual.
     ``check_collisions_against_static_objects`` (default False, §6.2.1): in a group, the
     band the track holds while movers move on it is checked against other tracks and the
@@ -83,8 +83,6 @@ class MC_PlanarTrack(StatefulObject):
                               f"bool, got {check_collisions_against_static_objects!r}")
         self.check_collisions_against_static_objects = check_collisions_against_static_objects
         self.part_oid = part_oid  #: the part the track belongs to (0: the only one, or none)
-        self.collision_ranges: tuple[float, float] = self._manual_ranges or (
-            TRACK_COLLISION_RANGE, TRACK_COLLISION_RANGE)
         self.network = network_of(system)
         self.index = self.network.add(self)
         self.path = TrackPath()
@@ -150,6 +148,18 @@ class MC_PlanarTrack(StatefulObject):
     def remove_from_group(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         return self._send("RemoveFromGroup", feedback)
 
+    @property
+    def collision_ranges(self) -> tuple[float, float]:
+        """(start, end) [mm]: the manual ones, or the automatic ones of the network as it is
+        now (where the parts stand decides which tracks meet, §6.2.3); the default 250 mm
+        while the track has no geometry."""
+        if self._manual_ranges is not None:
+            return self._manual_ranges
+        if self.path.empty:
+            return (TRACK_COLLISION_RANGE, TRACK_COLLISION_RANGE)
+        self.network.refresh()
+        return self.network.collision_ranges(self)
+
     def get_length(self) -> float:
         """The track length [mm] (0 while it has no geometry)."""
         return self.length
@@ -172,6 +182,19 @@ class MC_PlanarTrack(StatefulObject):
         except CommandRejected as bad:
             raise ConfigError(f"{self.name}: {bad.message}") from None
         return float(self.path.arc_length_closest_to(local))
+
+    def arc_length_closest_to_pose(self, pose: Pose, coordinate_system: int) -> float:
+        """The arc length nearest a mover's centre (``pose`` in ``coordinate_system``, 0:
+        without parts): the track's curve lies in its part's frame, which stands where the
+        part's active position puts it (§6.2.3). A track in another coordinate system
+        cannot be joined (PLANAR_INVALID_INPUT)."""
+        system = self._system_oid()
+        if coordinate_system != system:
+            raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                                  f"{self.name} lies in coordinate system 16#{system:08X}, the "
+                                  f"mover in 16#{coordinate_system:08X} (§6.2.3)")
+        local = self.placement().inverse().compose(Pose(pose.x, pose.y))
+        return float(self.path.arc_length_closest_to((local.x, local.y)))
 
     def get_planar_object_info(self) -> PlanarObjectInfo:
         return PlanarObjectInfo(PlanarObjectType.TRACK, self.oid)
@@ -341,8 +364,6 @@ class MC_PlanarTrack(StatefulObject):
                                       f"{self.name} has no geometry to enable (§6.2.4)")
             if kind == "Disable":
                 self._check_unused(kind)
-            if kind == "Enable" and self._manual_ranges is None:
-                self.collision_ranges = self._automatic_ranges()
             self._states.request(command)
             return
         if kind == "AddToGroup":
@@ -447,24 +468,6 @@ class MC_PlanarTrack(StatefulObject):
     def _link(self, a: tuple[int, int], b: tuple[int, int], link: Link | None = None) -> None:
         self._links.append((a, b, link))
         self.network.touch()
-
-    def _automatic_ranges(self) -> tuple[float, float]:
-        """Collision ranges from the geometry (§6.2.2, the 2R hose): at each end where
-        another track meets this one from the same side, the arc length within which this
-        track's centre line stays closer than twice the largest mover radius to that track;
-        0 where no other track starts (ends) at the same vertex."""
-        radius = math.hypot(self.max_mover_width, self.max_mover_height) / 2.0
-        out = []
-        for side in (START, END):
-            vertex = self.network.vertex((self.index, side))
-            others = [t for t in self.network.tracks if t is not self and t.length > 0.0
-                      and self.network.vertex((t.index, side)) == vertex]
-            reach = 0.0
-            for other in others:
-                reach = max(reach, self.path.hose_reach(other.path, 2.0 * radius,
-                                                        from_end=side == END))
-            out.append(reach)
-        return out[0], out[1]
 
     def _add_to_group(self, group: MC_PlanarGroup) -> None:
         if self._group is not None:

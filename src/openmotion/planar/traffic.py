@@ -214,6 +214,7 @@ class Traffic:
         self._stretches: dict[int, tuple[tuple, tuple]] = {}
         self._atlas: Atlas | None = None  #: the curves of the network's tracks (``_atlas_of``)
         self._atlas_version = -1  #: the network's version the atlas was checked at
+        self._network_version = -1  #: the network's version ``_geometry`` was built for
         self._cycle_tables: tuple | None = None  #: ``_tables`` of this cycle
         self._place = np.empty(0, dtype=np.int64)  #: per rider, its track's in ``by_track``
         #: the riders grouped by ``_place`` and where each group ends (``_geometry``)
@@ -568,6 +569,9 @@ class Traffic:
         self._now, self._values = now, values
         self._rooms = self._cycle_tables = None
         self.network.refresh()
+        if self._network_version != self.network.version:  # a part moved, a track changed:
+            self._network_version = self.network.version  # switches, ranges, ways on
+            self._dirty()
         *start, going, queued = proposals(self.mode, FOLLOW, IDLE, self._rows(), self.p,
                                           self.v, self.a, self.bjerk, self.goal, self.target,
                                           *values)
