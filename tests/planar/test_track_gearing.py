@@ -1,5 +1,6 @@
 """Gear-in on tracks: GearInPosOnTrack, GearInPosOnTrackWithMasterMover, the track trail
-(TF5430 §6.2.8, §6.2.9, §6.2.12, §6.8.1)."""
+(TF5430 §6.2.8, §6.2.9, §6.2.12, §6.8.1), closed loops and modulo sync positions (D-148),
+a follower's later tracks in a group (D-149)."""
 
 from __future__ import annotations
 
@@ -9,20 +10,26 @@ from unittest import mock
 import pytest
 
 import openmotion as om
+from openmotion.core.enums import ModuloDirection
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar import (
     DynamicConstraint_PathXY,
     MC_PlanarFeedbackGearInPosOnTrack,
     MC_PlanarFeedbackGearInPosOnTrackWithMasterMover,
+    MC_PlanarGroup,
     MC_PlanarMover,
     MC_PlanarTrack,
     MC_PlanarTrackTrail,
     MoverVector,
     PlanarMoverParameters,
+    PlanarObjectInfo,
+    PlanarObjectType,
     PlanarState,
     PositionXYC,
+    ST_GearInPosOnTrackOptions,
     ST_GearInPosOnTrackWithMasterMoverOptions,
 )
+from openmotion.testing import enabled_line, enabled_movers, join_all
 from openmotion.transport.gear import GearSync
 
 
@@ -280,3 +287,287 @@ def test_a_master_faster_than_the_command_is_followed_at_the_command_velocity():
         fastest = max(fastest, mover.mc_to_plc.set_on_track.set_velo)
     assert fastest <= 100.0 * (1 + 1e-9)
     assert mover.mc_to_plc.set_on_track.set_velo == pytest.approx(20.0)
+
+
+# -- closed loops and modulo sync positions (D-148) -------------------------------------------
+
+
+def _loop(rt: om.Runtime) -> MC_PlanarTrack:
+    """A closed rounded rectangle starting at (0, 0) along +x, 3475.8 mm round."""
+    loop = MC_PlanarTrack(rt, "loop")
+    for a, b in (((0.0, 0.0), (720.0, 0.0)), ((960.0, 240.0), (960.0, 480.0)),
+                 ((720.0, 720.0), (0.0, 720.0)), ((-240.0, 480.0), (-240.0, 240.0))):
+        loop.append_line(PositionXYC(*a), PositionXYC(*b))
+    loop.close_loop()
+    loop.enable()
+    rt.run(0.003)
+    assert loop.closed_loop
+    return loop
+
+
+def _slave_on_loop(rt: om.Runtime, x: float = 300.0) -> tuple[MC_PlanarTrack, MC_PlanarMover,
+                                                                om.Axis]:
+    loop = _loop(rt)
+    (mover,) = enabled_movers(rt, (x, 0.0))
+    join_all(rt, loop, mover)
+    return loop, mover, _axis(rt)
+
+
+def _within(position: float, expected: float, length: float) -> float:
+    """The distance of two arc lengths on a loop of ``length``."""
+    d = (position - expected) % length
+    return min(d, length - d)
+
+
+def test_a_slave_on_a_closed_loop_goes_round_with_its_axis_master():
+    """§6.2.8 on a closed loop: the axis moves 3.5 loop lengths; the slave, geared 0/300 on
+    the loop without a trail, goes round with it in sync (its arc length is 300 + axis modulo
+    the length) and never stops at the seam. It stopped there with PLANAR_PATH_END before."""
+    rt = om.Runtime(0.001)
+    loop, mover, axis = _slave_on_loop(rt)
+    length = loop.get_length()
+    axis.move_absolute(3.5 * length, 1000.0, acceleration=2000.0, deceleration=2000.0,
+                       jerk=20000.0)
+    rt.step()
+    feedback = MC_PlanarFeedbackGearInPosOnTrack()
+    gear = mover.gear_in_pos_on_track(axis, None, 0.0, 300.0, loop, feedback=feedback)
+    laps, last = 0, mover.mc_to_plc.set_on_track.set_pos
+    for _ in range(14000):
+        rt.step()
+        s = mover.mc_to_plc.set_on_track
+        assert s.track_oid == loop.oid and 0.0 <= s.set_pos < length
+        laps += s.set_pos < last - length / 2
+        last = s.set_pos
+        if feedback.in_sync:
+            assert _within(s.set_pos, 300.0 + axis.set_position, length) < 1e-6
+    assert laps == 3 and axis.set_position == pytest.approx(3.5 * length)
+    s = mover.mc_to_plc.set_on_track
+    assert s.set_pos == pytest.approx((300.0 + 3.5 * length) % length, abs=1e-6)
+    assert s.set_velo == 0.0 and feedback.in_sync and gear.active and not gear.error
+
+
+@pytest.mark.parametrize(("direction", "sync", "tolerance", "there", "synced"), [
+    (ModuloDirection.POSITIVE, 100.0, 0.0, 100.0, True),  # a lap ahead: it drives round
+    (ModuloDirection.NEGATIVE, 100.0, 0.0, 300.0, False),  # behind: it waits for the master
+    (ModuloDirection.NON_MODULO, 100.0, 0.0, 300.0, False),  # as given: behind as well
+    (ModuloDirection.NON_MODULO, 3400.0, 0.0, 3400.0, True),  # as given: ahead
+    (ModuloDirection.SHORTEST_WAY, 3400.0, 0.0, 300.0, False),  # nearer behind the seam
+    (ModuloDirection.POSITIVE, 280.0, 0.0, 280.0, True),  # a lap less 20 mm ahead
+    (ModuloDirection.POSITIVE, 280.0, 50.0, 300.0, False),  # within the window: here
+])
+def test_a_modulo_slave_sync_position_on_a_loop_is_the_occurrence_its_direction_picks(
+        direction: ModuloDirection, sync: float, tolerance: float, there: float,
+        synced: bool):
+    """D-148: the slave stands at 300 on the loop; the axis moves from 0 to 1000 with master
+    sync 500. When the axis passes 500 the slave is at its sync position if that occurrence
+    lies ahead (Early: in sync by then at the latest), or still waits at 300 for its coupled
+    position to come up from behind. At the end every variant stands at sync + 500 on the
+    loop, in sync."""
+    rt = om.Runtime(0.001)
+    loop, mover, axis = _slave_on_loop(rt)
+    length = loop.get_length()
+    axis.move_absolute(1000.0, 250.0, acceleration=1000.0, deceleration=1000.0, jerk=10000.0)
+    rt.step()
+    options = ST_GearInPosOnTrackOptions(direction_slave_sync_position=direction,
+                                         modulo_tolerance_slave_sync_position=tolerance)
+    feedback = MC_PlanarFeedbackGearInPosOnTrack()
+    mover.gear_in_pos_on_track(axis, None, 500.0, sync, loop, options=options,
+                               feedback=feedback)
+    assert rt.run_until(lambda: axis.set_position >= 500.0, timeout=10.0)
+    assert mover.mc_to_plc.set_on_track.set_pos == pytest.approx(there, abs=1e-6)
+    assert feedback.in_sync is synced
+    rt.run(4.0)
+    s = mover.mc_to_plc.set_on_track
+    assert _within(s.set_pos, sync + 500.0, length) < 1e-6 and s.set_velo == 0.0
+    assert feedback.in_sync and not feedback.error
+
+
+def test_modulo_sync_positions_need_a_closed_loop():
+    """D-148: the manual offers the modulo options only on a closed loop. A lead-in track
+    ends where the loop starts. A modulo direction for a sync position on the open lead-in
+    is refused (INVALID_MODULO_OPTIONS), for the master's as for the slave's; on the loop
+    ahead of the slave Positive is its first occurrence there, and Negative finds none
+    behind the slave on its way (INVALID_DIRECTION)."""
+    rt = om.Runtime(0.001)
+    loop = _loop(rt)
+    lead = MC_PlanarTrack(rt, "lead")
+    lead.append_line(PositionXYC(-400.0, -300.0), PositionXYC(-100.0, -300.0))
+    lead.end_at_track(loop)
+    lead.enable()
+    rt.run(0.003)
+    assert lead.subsequent_tracks == [loop.oid]
+    mover, master = enabled_movers(rt, (-400.0, -300.0), (300.0, 0.0))
+    join_all(rt, lead, mover)
+    join_all(rt, loop, master)
+    axis = _axis(rt)
+    trail = MC_PlanarTrackTrail()
+    assert trail.add_track(lead) and trail.add_track(loop)
+
+    def gear(direction: ModuloDirection, track: MC_PlanarTrack) -> tuple[bool, ErrorId, str]:
+        options = ST_GearInPosOnTrackOptions(direction_slave_sync_position=direction)
+        command = mover.gear_in_pos_on_track(axis, trail, 0.0, 100.0, track, options=options)
+        rt.step()
+        return command.busy, command.error_id, command.message
+
+    busy, error, message = gear(ModuloDirection.SHORTEST_WAY, lead)
+    assert not busy and error == ErrorId.INVALID_MODULO_OPTIONS
+    assert "closed-loop" in message and "lead" in message
+    assert gear(ModuloDirection.POSITIVE, loop)[:2] == (True, ErrorId.NO_ERROR)
+    assert gear(ModuloDirection.NEGATIVE, loop)[:2] == (False, ErrorId.INVALID_DIRECTION)
+    options = ST_GearInPosOnTrackWithMasterMoverOptions(
+        direction_master_sync_position=ModuloDirection.POSITIVE)
+    command = master.gear_in_pos_on_track_with_master_mover(mover, None, 100.0, lead, 100.0,
+                                                            loop, options=options)
+    rt.step()
+    assert command.error and command.error_id == ErrorId.INVALID_MODULO_OPTIONS
+
+
+@pytest.mark.parametrize(("direction", "end"), [
+    (ModuloDirection.POSITIVE, 900.0),  # 800 lies 200 ahead of the master: 500 + 1200 - 800
+    (ModuloDirection.NON_MODULO, 900.0),
+    (ModuloDirection.NEGATIVE, 900.0 + 3475.7966208946273),  # 800 a lap back: L less ahead
+])
+def test_a_modulo_master_sync_position_on_a_loop_is_taken_along_the_master_s_way(
+        direction: ModuloDirection, end: float):
+    """D-148: the master stands at 600 on the loop and moves to 1200; the slave on a
+    straight track is geared with slave sync 500 to master sync 800. Positive takes the 800
+    ahead of the master, Negative the one a lap behind it: the slave then syncs at once and
+    ends a loop length further on."""
+    rt = om.Runtime(0.001)
+    loop = _loop(rt)
+    line = enabled_line(rt, (0.0, -1000.0), (5000.0, -1000.0))
+    master, slave = enabled_movers(rt, (600.0, 0.0), (0.0, -1000.0))
+    join_all(rt, loop, master)
+    join_all(rt, line, slave)
+    move = master.move_on_track(None, 1200.0, DynamicConstraint_PathXY(velocity=200.0))
+    rt.step()
+    options = ST_GearInPosOnTrackWithMasterMoverOptions(direction_master_sync_position=direction)
+    feedback = MC_PlanarFeedbackGearInPosOnTrackWithMasterMover()
+    slave.gear_in_pos_on_track_with_master_mover(master, None, 800.0, loop, 500.0, line,
+                                                 options=options, feedback=feedback)
+    assert rt.run_until(lambda: move.done, timeout=10.0)
+    rt.run(0.5)
+    s = slave.mc_to_plc.set_on_track
+    assert s.set_pos == pytest.approx(end, abs=1e-6) and s.set_velo == 0.0
+    assert feedback.in_sync and not feedback.error
+
+
+def test_a_follower_goes_round_a_loop_behind_a_master_geared_on_it():
+    """D-148 with followMover: the master, geared to an axis on the loop, goes round one and
+    a half laps; the slave follows it 300 mm behind on the same loop, round as well. The
+    follower's way is the master's, lap for lap."""
+    rt = om.Runtime(0.001)
+    loop = _loop(rt)
+    master, slave = enabled_movers(rt, (600.0, 0.0), (300.0, 0.0))
+    join_all(rt, loop, master, slave)
+    length = loop.get_length()
+    axis = _axis(rt)
+    axis.move_absolute(1.5 * length, 1000.0, acceleration=2000.0, deceleration=2000.0,
+                       jerk=20000.0)
+    rt.step()
+    master_gear = master.gear_in_pos_on_track(axis, None, 0.0, 600.0, loop)
+    rt.step()
+    options = ST_GearInPosOnTrackWithMasterMoverOptions(follow_mover=True)
+    feedback = MC_PlanarFeedbackGearInPosOnTrackWithMasterMover()
+    slave.gear_in_pos_on_track_with_master_mover(master, None, 600.0, loop, 300.0, loop,
+                                                 options=options, feedback=feedback)
+    rt.run(7.0)
+    m, s = master.mc_to_plc.set_on_track, slave.mc_to_plc.set_on_track
+    assert m.set_pos == pytest.approx((600.0 + 1.5 * length) % length, abs=1e-6)
+    assert _within(s.set_pos, m.set_pos - 300.0, length) < 1e-6 and s.set_velo == 0.0
+    assert feedback.in_sync and not feedback.error and not master_gear.error
+
+
+def test_a_geared_slave_does_not_go_back_over_the_start_of_a_later_track():
+    """A master that drives the slave back past the start of the trail's second track: the
+    slave stops at that start with PLANAR_PATH_END (§6.2.8), naming the track. It ran off the
+    track's start before (the traffic leaves a track backwards only within it)."""
+    rt = om.Runtime(0.001)
+    one = enabled_line(rt, (100.0, 100.0), (400.0, 100.0))
+    two = enabled_line(rt, (500.0, 100.0), (860.0, 100.0), after=one)
+    (mover,) = enabled_movers(rt, (100.0, 100.0))
+    join_all(rt, one, mover)
+    axis = _axis(rt)
+    axis.move_absolute(700.0, 300.0, acceleration=1000.0, deceleration=1000.0, jerk=10000.0)
+    rt.step()
+    trail = MC_PlanarTrackTrail()
+    assert trail.add_track(one) and trail.add_track(two)
+    gear = mover.gear_in_pos_on_track(axis, trail, 100.0, 100.0, one)
+    rt.run(4.0)
+    assert mover.mc_to_plc.set_on_track.track_oid == two.oid
+    axis.move_absolute(100.0, 300.0, acceleration=1000.0, deceleration=1000.0, jerk=10000.0)
+    rt.run(3.0)
+    s = mover.mc_to_plc.set_on_track
+    assert (s.track_oid, s.set_pos, s.set_velo) == (two.oid, 0.0, 0.0)
+    assert gear.error and gear.error_id == ErrorId.PLANAR_PATH_END and two.name in gear.message
+
+
+# -- followMover in a group (D-149) -----------------------------------------------------------
+
+
+def _switch_in_group(rt: om.Runtime, blocker_at: tuple[float, float]
+                     ) -> tuple[MC_PlanarTrack, MC_PlanarTrack, list[MC_PlanarMover]]:
+    """§6.2.12's switch (track_in, out1, out2) in a group with the slave and a third mover
+    standing at ``blocker_at``; the master (290 on track_in) is in no group, so its own
+    moves hold no band. The slave stands at 130 on track_in, its footprint on out1's band
+    near the switch (it does not block its own way)."""
+    track_in = enabled_line(rt, (100.0, 360.0), (400.0, 360.0))
+    out1 = enabled_line(rt, (450.0, 410.0), (860.0, 620.0), after=track_in)
+    out2 = enabled_line(rt, (450.0, 310.0), (860.0, 100.0), after=track_in)
+    movers = enabled_movers(rt, (390.0, 360.0), (230.0, 360.0), blocker_at)
+    group = MC_PlanarGroup(rt)
+    group.enable()
+    rt.run(0.005)
+    adds = [m.add_to_group(group) for m in (*movers[1:], track_in, out1, out2)]
+    rt.run(0.005)
+    assert all(a.done for a in adds), [a.message for a in adds]
+    join_all(rt, track_in, *movers[:2])
+    return track_in, out1, movers
+
+
+def test_a_follower_s_later_track_holds_its_band_while_followed():
+    """D-149: the master turns onto out1 after the slave geared in with followMover; out1
+    joins the slave's way then, and holds its band in the slave's group from then on until
+    the slave's gear ends (its Halt). Before, only the tracks of the way at the start did."""
+    rt = om.Runtime(0.001)
+    track_in, out1, (master, slave, _) = _switch_in_group(rt, (800.0, 1200.0))
+    options = ST_GearInPosOnTrackWithMasterMoverOptions(gap=100.0, follow_mover=True)
+    gear = slave.gear_in_pos_on_track_with_master_mover(master, None, 290.0, track_in, 130.0,
+                                                        track_in, options=options)
+    rt.run(0.1)
+    assert gear.active and track_in.band and not out1.band
+    move = master.move_on_track(out1, 300.0)
+    rt.run(0.05)
+    assert out1.band
+    assert rt.run_until(lambda: move.done, timeout=10.0)
+    rt.run(1.0)
+    s = slave.mc_to_plc.set_on_track
+    assert (s.track_oid, s.set_pos) == (out1.oid, pytest.approx(140.0, abs=1e-6))
+    assert gear.active and not gear.error and out1.band
+    halt = slave.halt()
+    rt.run(0.1)
+    assert halt.done and not out1.band and not track_in.band
+
+
+def test_a_follower_stops_before_a_track_its_group_does_not_grant():
+    """D-149: a third mover of the group stands on out1's surface. The follower may not
+    drive onto out1: it goes on to the end of track_in and stops there, and its gear-in
+    ends in PLANAR_COLLISION naming out1 and (object_info) the mover in the way. The master,
+    in no group, goes on."""
+    rt = om.Runtime(0.001)
+    track_in, out1, (master, slave, blocker) = _switch_in_group(rt, (800.0, 590.0))
+    options = ST_GearInPosOnTrackWithMasterMoverOptions(gap=100.0, follow_mover=True)
+    feedback = MC_PlanarFeedbackGearInPosOnTrackWithMasterMover()
+    gear = slave.gear_in_pos_on_track_with_master_mover(master, None, 290.0, track_in, 130.0,
+                                                        track_in, options=options,
+                                                        feedback=feedback)
+    rt.run(0.1)
+    move = master.move_on_track(out1, 300.0)
+    assert rt.run_until(lambda: not gear.busy, timeout=10.0)
+    rt.run(0.1)
+    s = slave.mc_to_plc.set_on_track
+    assert (s.track_oid, s.set_pos, s.set_velo) == (track_in.oid, 300.0, 0.0)
+    assert gear.error and gear.error_id == ErrorId.PLANAR_COLLISION
+    assert out1.name in gear.message and not out1.band
+    assert feedback.object_info == PlanarObjectInfo(PlanarObjectType.MOVER, blocker.oid)
+    assert move.done and not move.error

@@ -15,16 +15,23 @@ traffic keeps as odometer minus the shifts of its new routes.
 
 Where the slave may go: the tracks of the trail (or its own track without one), or with
 ``follow_mover`` the shortest way to the master's sync track and then the master's way
-(§6.2.12). A slave that would leave that path stops exactly at its end (or its start), loses
-sync and the command ends in error (§6.2.8).
+(§6.2.12). A path that ends in a closed loop goes on round it lap by lap; a follower's way
+grows as its master's does, each new track admitted first (in a group: its band) through
+the mover (D-148, D-149). A slave that would leave that path stops exactly at its end (or
+the start of its track), loses sync and the command ends in error (§6.2.8).
+
+Sync positions: on a closed loop the modulo options place them as MoveC places its target,
+with the loop's length as modulus, from where the mover stands (D-148).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from openmotion.core.enums import ModuloDirection
 from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.core.modulo import mc3_modulo_target
 from openmotion.planar.enums import SyncDirections
 from openmotion.planar.options import (
     ST_GearInPosOnTrackOptions,
@@ -90,8 +97,14 @@ class Coupling:
     low: float = 0.0  #: odometer bounds of the path the slave may use
     high: float = 0.0
     stopping: bool = False  #: braking to a path end, the command then fails
-    failed: tuple[ErrorId, str] | None = None
-    followed: list[Any] = field(default_factory=list)  #: master legs appended so far
+    #: error id, message (and the collision partner) the command ends with once at rest
+    failed: tuple[ErrorId, str] | tuple[ErrorId, str, Any] | None = None
+    #: followMover: a master leg lies at its path coordinate + offset on the slave's odometer,
+    #: from ``joined`` on (where the slave's way reaches the master's sync track)
+    offset: float = 0.0
+    joined: float = 0.0
+    seen: tuple[Any, ...] = ()  #: the master's way as last looked at (``_extend_follow``)
+    blocked: CommandRejected | None = None  #: why the way does not go on (D-149)
     directions: SyncDirections = SyncDirections.POSITIVE  #: allowed while synchronising
     planned_v: float | None = None  #: master velocity the sync was planned for [mm/s]
     resync: bool = False  #: plan the sync again after this cycle
@@ -106,11 +119,14 @@ def gear_in_pos_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
                               "be an axis of this runtime")
     rider, traffic = _slave(mover, _C.GEAR_IN_POS_ON_TRACK)
     legs = _trail_legs(rider, trail, slave_track, traffic)
+    slave_at = _slave_sync_at(traffic, rider, legs, slave_track, slave_sync,
+                              options.direction_slave_sync_position,
+                              options.modulo_tolerance_slave_sync_position)
     coupling = _coupling(mover, command, legs, finite(master_sync, "masterSyncPosition"),
-                         slave_track, slave_sync, constraint, options.in_sync_tolerance_distance,
+                         slave_at, constraint, options.in_sync_tolerance_distance,
                          options.allowed_slave_sync_directions)
     coupling.axis = axis
-    _admit_path(mover, legs, _C.GEAR_IN_POS_ON_TRACK)
+    admit_way(mover, [leg.track for leg in legs], _C.GEAR_IN_POS_ON_TRACK)
     _prime(coupling, traffic)
     traffic.gear(rider, legs, coupling, options.gap, command)
 
@@ -127,36 +143,103 @@ def gear_in_pos_on_track_with_master_mover(mover: MC_PlanarMover, command: Plana
         raise CommandRejected(ErrorId.PLANAR_WRONG_MODE,
                               "GearInPosOnTrackWithMasterMover: the master must be another "
                               "mover on a track (§6.2.9)")
-    master_at = traffic.path_coordinate(master_rider, master_track,
-                                        finite(master_sync, "masterSyncPosition"))
-    if master_at is None:
-        raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
-                              f"GearInPosOnTrackWithMasterMover: {master_track.name} is neither "
-                              "the master's track nor on its commanded way (§6.1.9)")
+    master_at = _master_sync_at(traffic, master_rider, master_track,
+                                finite(master_sync, "masterSyncPosition"),
+                                options.direction_master_sync_position,
+                                options.modulo_tolerance_master_sync_position)
     if options.follow_mover:
         legs = _follow_legs(rider, trail, master_rider, master_track, traffic)
     else:
         legs = _trail_legs(rider, trail, slave_track, traffic)
-    coupling = _coupling(mover, command, legs, master_at, slave_track, slave_sync,
-                         constraint, options.in_sync_tolerance_distance,
+    slave_at = _slave_sync_at(traffic, rider, legs, slave_track, slave_sync,
+                              options.direction_slave_sync_position,
+                              options.modulo_tolerance_slave_sync_position)
+    coupling = _coupling(mover, command, legs, master_at, slave_at, constraint,
+                         options.in_sync_tolerance_distance,
                          options.allowed_slave_sync_directions)
     coupling.master, coupling.follow = master_rider, options.follow_mover
-    _admit_path(mover, legs, _C.GEAR_IN_POS_ON_TRACK_WITH_MASTER_MOVER)
+    if options.follow_mover:  # where the master's legs lie on the slave's odometer
+        coupling.joined = next(leg.base for leg in legs if leg.track is master_track)
+        start = traffic.path_coordinate(master_rider, master_track, 0.0)
+        coupling.offset = coupling.joined - start
+    admit_way(mover, [leg.track for leg in legs], _C.GEAR_IN_POS_ON_TRACK_WITH_MASTER_MOVER)
     _prime(coupling, traffic)
     traffic.gear(rider, legs, coupling, options.gap, command)
 
 
-def _admit_path(mover: MC_PlanarMover, legs: list[Leg], kind: MoverCommand) -> None:
+def admit_way(mover: MC_PlanarMover, tracks: list[MC_PlanarTrack], kind: MoverCommand
+              ) -> None:
     """The gear path is a way the slave may move on like a MoveOnTrack route: its tracks
     must take the motion (§4.3), and in a group they hold their bands while it is geared,
     so the group's collision avoidance keeps other movers off them (§6.5); the bands go back
     when the gear ends (riding.release_bands). Refused with PLANAR_COLLISION naming the
-    member in the way."""
+    member in the way. Asked at the start for the whole path, and by the traffic for each
+    track a follower's way goes on to later (``MC_PlanarMover._admit_way``, D-149)."""
     from openmotion.planar.riding import _reserve_bands, check_route_accepts
 
-    tracks = [leg.track for leg in legs]
     check_route_accepts(tracks, kind)
     _reserve_bands(mover, tracks, str(kind))
+
+
+def _slave_sync_at(traffic: Any, rider: Rider, legs: list[Leg], track: MC_PlanarTrack,
+                   position: float, direction: ModuloDirection, tolerance: float) -> float:
+    """The slave sync position on the slave's odometer. NonModulo: ``position`` on the
+    first leg of ``track`` in ``legs``. A modulo direction needs ``track`` to be a closed
+    loop (§6.2.8: the modulus is its length) and reads as MoveC's from where the slave
+    stands on it: Positive the next occurrence ahead, Negative the last one behind,
+    ShortestWay the nearer one, a distance within ``tolerance`` the nearer one whatever the
+    direction. A loop the slave is not on yet lies ahead of it: its first occurrence there,
+    and Negative finds none (D-148)."""
+    position = finite(position, "slaveSyncPosition")
+    if not 0.0 <= position <= track.length:
+        raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
+                              f"slaveSyncPosition {position:g} is off {track.name} "
+                              f"(0 to {track.length:g} mm)")
+    base = next((leg.base for leg in legs if leg.track is track), None)
+    if base is None:  # a follower's way does not pass it (no trail, §6.2.12)
+        raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                              f"slaveSyncPositionTrack {track.name} is not on the "
+                              "slave's way along its master (§6.2.9)")
+    here, s, _, _ = traffic.position(rider)
+    return base + _modulo(track, here, s, position, direction, tolerance, "slave")
+
+
+def _master_sync_at(traffic: Any, master: Rider, track: MC_PlanarTrack, position: float,
+                    direction: ModuloDirection, tolerance: float) -> float:
+    """The master sync position as a path coordinate of the master (§6.1.9): NonModulo on
+    the first leg of ``track`` on its way; a modulo direction as for the slave
+    (``_slave_sync_at``), along the master's way from where it stands (D-148)."""
+    at = traffic.path_coordinate(master, track, position)
+    if at is None:
+        raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                              f"GearInPosOnTrackWithMasterMover: {track.name} is neither "
+                              "the master's track nor on its commanded way (§6.1.9)")
+    here, s, _, _ = traffic.position(master)
+    return at - position + _modulo(track, here, s, position, direction, tolerance, "master")
+
+
+def _modulo(track: MC_PlanarTrack, here: MC_PlanarTrack, s: float, position: float,
+            direction: ModuloDirection, tolerance: float, whose: str) -> float:
+    """Arc length on ``track``'s first leg of the mover's way (it may be negative: a lap
+    behind) where the sync position ``position`` lies with the modulo ``direction``; the
+    mover stands at ``s`` on ``here``."""
+    direction = ModuloDirection(direction)
+    if direction is ModuloDirection.NON_MODULO:
+        return position
+    name = "".join(word.title() for word in direction.name.split("_"))
+    option = f"direction{whose.title()}SyncPosition {name}"
+    if not track.closed_loop:
+        raise CommandRejected(ErrorId.INVALID_MODULO_OPTIONS,
+                              f"{option}: modulo sync positions need a closed-loop track; "
+                              f"{track.name} is open (§7.2.1.2.7)")
+    if here is not track:  # the loop lies ahead on the way
+        if direction is ModuloDirection.NEGATIVE:
+            raise CommandRejected(ErrorId.INVALID_DIRECTION,
+                                  f"{option}: the {whose} is not on {track.name} yet, so no "
+                                  "occurrence of the sync position lies behind it on its way "
+                                  "(D-148)")
+        return position
+    return mc3_modulo_target(s, position, int(direction), 0, track.length, tolerance)
 
 
 def _slave(mover: MC_PlanarMover, kind: MoverCommand) -> tuple[Rider, Any]:
@@ -189,13 +272,15 @@ def _trail_legs(rider: Rider, trail: MC_PlanarTrackTrail | None, slave_track: MC
 
 def _follow_legs(rider: Rider, trail: MC_PlanarTrackTrail | None, master: Rider,
                  master_track: MC_PlanarTrack, traffic: Any) -> list[Leg]:
-    """followMover: the trail (if any), the shortest way on to the master's sync track,
-    then the master's way from there (§6.2.12)."""
+    """followMover: the trail (if any; it leads only to the master's sync track), the
+    shortest way on to that track, then the master's way from there (§6.2.12)."""
     here, s, _, _ = traffic.position(rider)
     tracks = [here]
     if trail and here in trail.tracks:
         tracks = trail.tracks[trail.tracks.index(here):]
-    if master_track not in tracks:
+    if master_track in tracks:
+        tracks = tracks[:tracks.index(master_track) + 1]
+    else:
         route = here.network.route(tracks[-1], 0.0 if len(tracks) > 1 else s, master_track, 0.0)
         if route is None:
             raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
@@ -217,23 +302,13 @@ def _legs(tracks: list[MC_PlanarTrack]) -> list[Leg]:
 
 
 def _coupling(mover: MC_PlanarMover, command: PlanarCommand, legs: list[Leg],
-              master_at: float, slave_track: MC_PlanarTrack, slave_sync: float,
-              constraint: Any, tolerance: float, directions: SyncDirections) -> Coupling:
-    slave_sync = finite(slave_sync, "slaveSyncPosition")
-    if not 0.0 <= slave_sync <= slave_track.length:
-        raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
-                              f"slaveSyncPosition {slave_sync:g} is off {slave_track.name} "
-                              f"(0 to {slave_track.length:g} mm)")
-    base = next((leg.base for leg in legs if leg.track is slave_track), None)
-    if base is None:  # a follower's way does not pass it (no trail, §6.2.12)
-        raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
-                              f"slaveSyncPositionTrack {slave_track.name} is not on the "
-                              "slave's way along its master (§6.2.9)")
+              master_at: float, slave_at: float, constraint: Any, tolerance: float,
+              directions: SyncDirections) -> Coupling:
     p = mover.parameters
     limits = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
                               command.warnings)
     sync = GearSync(master_row=-1, ratio=1.0, master_sync_position=master_at,
-                    slave_sync_position=base + slave_sync, strategy=SyncStrategy.EARLY,
+                    slave_sync_position=slave_at, strategy=SyncStrategy.EARLY,
                     start_distance=None, limits=limits, after_sync=limits)
     end = legs[-1].base + legs[-1].track.length
     return Coupling(sync, tolerance=tolerance, low=0.0, high=end, directions=directions)

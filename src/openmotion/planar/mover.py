@@ -39,6 +39,7 @@ from openmotion.planar.feedback import (
 from openmotion.planar.frames import Pose
 from openmotion.planar.gearing import (
     MC_PlanarTrackTrail,
+    admit_way,
     gear_in_pos_on_track,
     gear_in_pos_on_track_with_master_mover,
 )
@@ -866,6 +867,13 @@ class MC_PlanarMover(StatefulObject):
         release_bands(self)
         if command is not None:
             command.finished()
+
+    def _admit_way(self, tracks: list[MC_PlanarTrack]) -> None:
+        """The traffic: the mover's geared way goes on over ``tracks`` it did not hold at the
+        start (followMover, the master's later tracks): admitted as the gear path's tracks
+        are at the start (their state, their bands in a group; D-149). Raises
+        ``CommandRejected`` (a ``Collision`` naming the member in the way)."""
+        admit_way(self, tracks, MoverCommand.GEAR_IN_POS_ON_TRACK_WITH_MASTER_MOVER)
 
     def _reschedule(self) -> None:
         """When ``_after_motion`` must run next: an end, a release, or every cycle."""

@@ -144,7 +144,8 @@ class ST_MoveOnTrackOptions(_Options):
 @dataclass(frozen=True)
 class ST_GearInPosOnTrackOptions(_Options):
     """Options of GearInPosOnTrack (§7.2.1.2.7). The sync-position modulo options read as
-    MoveC's, with the track length as modulus (§6.1.9)."""
+    MoveC's, with the track length as modulus (§6.1.9); a closed-loop sync track only
+    (gearing.py, D-148)."""
 
     gap: float = 200.0  #: [mm]
     in_sync_tolerance_distance: float = 0.0  #: |slave - master| that still counts as inSync [mm]

@@ -89,6 +89,7 @@ _ZONE_LOOKAHEAD = 1000.0
 _PAST = 1e-6  #: [mm] a motion that stops this far past the end of its way is refused
 _CLEAR_STEP = 2.0  #: [mm] footprints of riders holding one switch together are sampled so
 _CLEAR_SAMPLES = 32  #: ... this many steps on each side of an envelope (the horizon)
+_SAME = 1e-6  #: [mm] legs of a master and its follower that start this close are one place
 
 
 class Rail(Protocol):
@@ -146,11 +147,16 @@ class Network(Protocol):
 
 
 class Owner(Protocol):
-    """The mover a rider belongs to: told when its command ends."""
+    """The mover a rider belongs to: told when its command ends, asked before its geared
+    way goes on over tracks it did not hold at the start (followMover, D-149)."""
 
     _awake: bool  #: publish its status at the end of this cycle
 
     def _on_track_finished(self, command: PlanarCommand | None) -> None: ...
+
+    def _admit_way(self, tracks: list[Any]) -> None:
+        """Raises ``CommandRejected`` when the mover may not move onto ``tracks``."""
+        ...
 
 
 @dataclass
@@ -772,13 +778,16 @@ class Traffic:
             lo, hi = brake_envelope(np.array([proposal[0]]), np.array([proposal[1]]),
                                     np.array([proposal[2]]), self.bdec[k:k + 1],
                                     self.bjerk[k:k + 1])
-            behind = lo[0] < coupling.low - TOLERANCE
+            self._extend_loop(rider, coupling, float(hi[0]))
+            # never back over the start of the track it is on: the legs behind are gone
+            low = max(coupling.low, rider.route[0].base)
+            behind = lo[0] < low - TOLERANCE
             if self._waits(coupling, state, proposal, behind):
                 nxt[0][k], nxt[1][k], nxt[2][k], nxt[3][k] = state[0], 0.0, 0.0, 0.0
                 coupling.sync.held(now, state, master)
                 continue
             if hi[0] > coupling.high + TOLERANCE or behind:
-                bound = coupling.high if hi[0] > coupling.high + TOLERANCE else coupling.low
+                bound = coupling.high if hi[0] > coupling.high + TOLERANCE else low
                 self._stop_at(rider, bound, nxt)
                 continue
             for field_, value in zip(nxt, proposal, strict=True):
@@ -830,10 +839,23 @@ class Traffic:
         except CommandRejected:
             profile = plan_stop(start, hard.deceleration, hard.jerk)
         end = "end" if bound >= self.p[k] else "start"
-        rider.gear.failed = (ErrorId.PLANAR_PATH_END,
-                             f"the master would take the mover past the {end} of its path "
-                             "(its track, or the last track of its trail): it stopped there "
-                             "(§6.2.8)")
+        refused = rider.gear.blocked
+        if end == "end" and refused is not None:  # the way goes on, but not granted (D-149)
+            rider.gear.failed = (refused.error_id,
+                                 f"followMover: {refused.message}; the mover stopped before "
+                                 "that track (§4.3, §6.5)",
+                                 getattr(refused, "object_info", None))
+        elif end == "end":
+            rider.gear.failed = (ErrorId.PLANAR_PATH_END,
+                                 "the master would take the mover past the end of its path "
+                                 "(its track, or the last track of its trail): it stopped "
+                                 "there (§6.2.8)")
+        else:
+            rider.gear.failed = (ErrorId.PLANAR_PATH_END,
+                                 f"the master would take the mover back past the start of "
+                                 f"{getattr(rider.track, 'name', 'its track')}, which a "
+                                 "geared mover does not cross backwards: it stopped there "
+                                 "(§6.2.8)")
         self._stop_following(rider, profile, nxt)
 
     def _stop_following(self, rider: Rider, profile: Profile, nxt: list[np.ndarray]) -> None:
@@ -852,20 +874,85 @@ class Traffic:
             rider.command.in_sync = False
 
     def _extend_follow(self, rider: Rider, coupling: Any) -> None:
-        """followMover: the master's way beyond the slave's route is the slave's too."""
-        if not coupling.follow or coupling.master is None:
+        """followMover: the master's way is the slave's too. A leg of the master lies on the
+        slave's odometer at its path coordinate plus ``coupling.offset``, so laps of a loop
+        match as well as tracks: the master's legs beyond the slave's route are appended, and
+        a leg ahead of the slave that the master's way has replaced since (a new command of
+        the master, or a lap the slave added alone) is replaced. A track the slave did not
+        hold yet is admitted first (``_admit``); where it is refused the slave's way ends
+        before it (D-149)."""
+        master = coupling.master
+        if not coupling.follow or master is None:
             return
-        last = rider.route[-1].track
-        way = [leg.track for leg in coupling.master.route]
-        if last not in way or way[-1] is last:
+        way, moved = master.route, float(self.shift[master.slot])
+        seen = coupling.seen  # (the list, its length, its last leg, the master's shift)
+        if seen and seen[0] is way and seen[1] == len(way) and seen[2] is way[-1] and \
+                seen[3] == moved and coupling.blocked is None:
+            return  # nothing new since the last cycle
+        coupling.seen, coupling.blocked = (way, len(way), way[-1], moved), None
+        route, shift = rider.route, coupling.offset - moved
+        after, changed = route[1] if len(route) > 1 else None, False
+        start = max(coupling.joined, route[0].base) - _SAME
+        for leg in way:
+            at = leg.base + shift
+            if at < start:
+                continue  # the master's way before the stretch the two share, or behind
+            j = next((i for i, mine in enumerate(route) if abs(mine.base - at) <= _SAME), None)
+            if j is not None and route[j].track is leg.track:
+                continue
+            if j == 0 or (j is None and abs(at - coupling.high) > _SAME):
+                break  # the slave is on another track there already, or the legs do not meet
+            if j is not None:  # the master's way leaves the one the slave had ahead
+                del route[j:]
+                coupling.high, changed = at, True
+            if not self._admit(rider, coupling, leg.track):
+                break
+            route.append(Leg(leg.track, at))
+            coupling.high, changed = at + leg.track.length, True
+        if changed:
+            self._routed(rider)
+            self._pairs = None
+            if (route[1] if len(route) > 1 else None) is not after:
+                self._geo = None  # its next track is part of the geometry
+
+    def _extend_loop(self, rider: Rider, coupling: Any, reach: float) -> None:
+        """A geared path that ends in a closed loop has no end forwards: the loop's legs go
+        on lap by lap, one lap beyond ``reach`` (where the slave could stop at the latest),
+        so the slave goes round as long as its master drives it (D-148). A follower does so
+        only while its master's way ends in that loop as well (else the master's way is its
+        way)."""
+        last = rider.route[-1]
+        loop = last.track
+        end = last.base + loop.length
+        if end >= reach + loop.length or not self._track_info(loop)[2]:
             return
-        base = rider.route[-1].base + last.length
-        for track in way[way.index(last) + 1:]:
-            rider.route.append(Leg(track, base))
-            base += track.length
+        if coupling.follow and (coupling.master is None
+                                or coupling.master.route[-1].track is not loop):
+            return
+        single = len(rider.route) == 1
+        while end < reach + loop.length:
+            rider.route.append(Leg(loop, end))
+            end += loop.length
+        coupling.high = end
         self._routed(rider)
-        coupling.high = base
         self._pairs = None
+        if single:
+            self._geo = None
+
+    def _admit(self, rider: Rider, coupling: Any, track: Rail) -> bool:
+        """Whether the slave may go on onto ``track``: one of its route is held already;
+        another is asked of its owner (in a group: the band, D-149) with the route before
+        it, as a MoveOnTrack asks for its route (the movers on it do not block the band,
+        the slave itself among them). A refusal is kept in ``coupling.blocked`` until the
+        way is admitted."""
+        if any(leg.track is track for leg in rider.route):
+            return True
+        try:
+            rider.owner._admit_way([*(leg.track for leg in rider.route), track])
+        except CommandRejected as refused:
+            coupling.blocked = refused
+            return False
+        return True
 
     def _extend(self, queued: np.ndarray, nxt: list[np.ndarray], pairs: Pairs) -> None:
         """Riders following a profile to the end of a queue get a new one, further on, once
