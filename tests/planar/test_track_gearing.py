@@ -261,6 +261,53 @@ def test_a_moving_slave_never_turns_against_its_allowed_sync_direction():
     assert mover.mc_to_plc.set_on_track.set_velo == pytest.approx(100.0)
 
 
+def test_a_slave_held_at_a_switch_waits_at_its_last_safe_stop_and_syncs_once_free():
+    """§6.2.2, §6.2.8: a slave in sync runs up to a switch another mover holds; it brakes
+    to its last safe stop and waits there (it did move back at up to 95 mm/s and to and
+    fro around the line), out of sync; once the switch is free it synchronises, follows the
+    master through the switch and stops one gap behind the mover ahead without jitter."""
+    rt = om.Runtime(0.001)
+    t3 = _track(rt, (720.0, 240.0), (1680.0, 240.0))
+    t1 = MC_PlanarTrack(rt, "t1", collision_ranges=(300.0, 300.0))
+    t2 = MC_PlanarTrack(rt, "t2", collision_ranges=(300.0, 300.0))
+    for track, y in ((t1, 240.0), (t2, 720.0)):
+        track.append_line(PositionXYC(0.0, y), PositionXYC(480.0, y))
+        track.end_at_track(t3)
+        track.enable()
+    rt.run(0.005)
+    here = t1.get_position_at(t1.get_length() - 50.0)
+    there = t2.get_position_at(t2.get_length() - 700.0)
+    holder, slave = _mover(rt, here.x, here.y), _mover(rt, there.x, there.y)
+    _join(rt, holder, t1)
+    _join(rt, slave, t2)
+    axis = _axis(rt)
+    trail = MC_PlanarTrackTrail()
+    assert trail.add_track(t2) and trail.add_track(t3)
+    feedback = MC_PlanarFeedbackGearInPosOnTrack()
+    slave.gear_in_pos_on_track(axis, trail, 1000.0, 300.0, t3, feedback=feedback)
+    axis.move_absolute(2000.0, 200.0)
+    line = t2.get_length() - 300.0  # the start of its collision range
+    velocities = []
+    for _ in range(3000):
+        rt.step()
+        velocities.append(slave.mc_to_plc.set_on_track.set_velo)
+    s = slave.mc_to_plc.set_on_track
+    assert s.track_oid == t2.oid and s.set_pos == pytest.approx(line, abs=0.011)
+    assert s.set_pos <= line and min(velocities) >= 0.0 and not feedback.in_sync
+    assert velocities[-800:] == [0.0] * 800  # it stands: no creeping to and fro
+    holder.move_on_track(t3, 900.0)
+    seen_in_sync, velocities = False, []
+    for _ in range(5000):
+        rt.step()
+        seen_in_sync |= feedback.in_sync
+        velocities.append(slave.mc_to_plc.set_on_track.set_velo)
+    s = slave.mc_to_plc.set_on_track
+    assert seen_in_sync and feedback.busy and not feedback.error
+    assert s.track_oid == t3.oid and s.set_pos == pytest.approx(700.0, abs=0.011)
+    assert min(velocities) >= 0.0 and velocities[-500:] == [0.0] * 500
+    assert not feedback.in_sync  # the master went on: the slave waits behind the holder
+
+
 def test_a_master_faster_than_the_command_is_followed_at_the_command_velocity():
     """§6.2.8: with a velocity limit below the master's the mover still tries to synchronise:
     it runs at its limit, never above, and syncs once the master is slow enough."""

@@ -108,6 +108,8 @@ class Coupling:
     directions: SyncDirections = SyncDirections.POSITIVE  #: allowed while synchronising
     planned_v: float | None = None  #: master velocity the sync was planned for [mm/s]
     resync: bool = False  #: plan the sync again after this cycle
+    #: the gap filter or a switch zone braked it last cycle (with gap control's brake)
+    braked: bool = False
 
 
 def gear_in_pos_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:

@@ -87,6 +87,7 @@ _HORIZON_TRACKS = 8  #: a path ahead is searched this many tracks beyond the rou
 #: further away they cannot reach the zone within a cycle
 _ZONE_LOOKAHEAD = 1000.0
 _PAST = 1e-6  #: [mm] a motion that stops this far past the end of its way is refused
+_CREEP = 0.01  #: [mm] a geared rider at rest with less room than this waits (``_no_room``)
 _CLEAR_STEP = 2.0  #: [mm] footprints of riders holding one switch together are sampled so
 _CLEAR_SAMPLES = 32  #: ... this many steps on each side of an envelope (the horizon)
 _SAME = 1e-6  #: [mm] legs of a master and its follower that start this close are one place
@@ -592,7 +593,7 @@ class Traffic:
         geared = np.flatnonzero(self.mode == GEAR)
         geared_any = bool(geared.size)  # nothing turns geared within the cycle
         if geared_any:
-            self._gear_steps(geared, now, nxt)
+            self._gear_steps(geared, now, nxt, pairs)
         turning, pairs.gap = turning_gaps(nxt[1], nxt[2], self.bjerk, going, pairs.succ,
                                           pairs.pred, self.mode, IDLE, self.target, self.p,
                                           self.gap)  # and the gaps with them (_pair_gaps)
@@ -615,6 +616,7 @@ class Traffic:
             coupling.sync.held(now, (float(self.p[k]), float(self.v[k]), float(self.a[k])),
                                master)
             coupling.planned_v, coupling.resync = master[1], False
+            coupling.braked = bool(braking[k])
         self._transitions()
         self._write(values)
         self._events(now, values)
@@ -736,7 +738,8 @@ class Traffic:
 
         return master_state(coupling, self)
 
-    def _gear_steps(self, geared: np.ndarray, now: float, nxt: list[np.ndarray]) -> None:
+    def _gear_steps(self, geared: np.ndarray, now: float, nxt: list[np.ndarray],
+                    pairs: Pairs) -> None:
         """Proposals of geared riders: the sync's, kept on the path the slave may use. One
         whose next step could take it past an end of that path (braking with its hardest
         dynamics) stops there instead, and its command fails (§6.2.8)."""
@@ -752,6 +755,20 @@ class Traffic:
                 coupling.resync = True  # planned again after this cycle's step
             if coupling.planned_v is None:
                 coupling.planned_v = master[1]
+            if coupling.braked and self._brakes_on(k, rider.limits):
+                # held by gap control or a switch zone harder than the command's dynamics
+                # release without turning round: the brake goes on to rest (the sync is
+                # planned again from each braked state, and from rest it starts clean)
+                proposal = tuple(float(x[0]) for x in brake_state(
+                    self.p[k:k + 1], self.v[k:k + 1], self.a[k:k + 1], self.bdec[k:k + 1],
+                    self.bjerk[k:k + 1], self.dt))
+                coupling.sync.held(now, tuple(proposal[:3]), master)
+                for field_, value in zip(nxt, proposal, strict=True):
+                    field_[k] = value  # inside last cycle's envelope, which was clear
+                if rider.command is not None:
+                    rider.command.in_sync = False
+                continue
+            coupling.braked = False
             try:
                 proposal = coupling.sync.step(now, state, master, self.dt)
             except CommandRejected as rejected:  # no sync plan: stop, then end in error
@@ -770,6 +787,11 @@ class Traffic:
                 proposal = plan_velocity(KinematicState(*state),
                                          math.copysign(limit, proposal[1]),
                                          rider.limits).at(self.dt)
+            if proposal is not None and state[1] == 0.0 and state[2] == 0.0 and \
+                    self._no_room(k, proposal[1], pairs):
+                # at its stop line or gap already: it waits there, synchronising again
+                proposal = (state[0], 0.0, 0.0, 0.0)
+                coupling.sync.held(now, state, master)
             if proposal is None:  # waiting: brake with the command's dynamics
                 lim = rider.limits
                 proposal = tuple(float(x[0]) for x in brake_state(
@@ -806,6 +828,25 @@ class Traffic:
                 if in_sync != rider.command.in_sync:
                     rider.command.in_sync = in_sync
                     rider.owner._awake = True  # the feedback shows it next cycle
+
+    def _no_room(self, k: int, velocity: float, pairs: Pairs) -> bool:
+        """Whether a rider at rest has less than ``_CREEP`` room the way ``velocity`` goes
+        (a neighbour's envelope or a stop line): a step would only be braked again, and the
+        two would alternate while it creeps up to the bound."""
+        room_lo, room_hi = self._room(pairs)
+        p = float(self.p[k])
+        return (velocity > 0.0 and float(room_hi[k]) - p < _CREEP) or \
+            (velocity < 0.0 and p - float(room_lo[k]) < _CREEP)
+
+    def _brakes_on(self, k: int, limits: Limits) -> bool:
+        """Whether rider ``k`` moves and brakes harder than ``limits`` take back without
+        turning it round (``_hard``)."""
+        v = float(self.v[k])
+        if v == 0.0:
+            return False
+        sign = 1.0 if v > 0.0 else -1.0
+        return bool(_hard(np.array(sign * v), np.array(sign * float(self.a[k])),
+                          np.array(limits.deceleration), np.array(limits.jerk)))
 
     def _resync(self, geared: np.ndarray) -> np.ndarray:
         """Geared riders whose master changed its velocity a lot since their sync was
