@@ -194,16 +194,23 @@ def test_part_entries_build_the_method_arguments() -> None:
     assert parse_scenario(PARTS).checks[0].expected == float(0x010100A0)
 
 
-#: the track commands of a mover (test_planar_tracks.py tests them in depth)
+#: the track commands of a mover (test_planar_tracks.py and test_planar_gearing.py test them
+#: in depth)
 TRACKS = """\
 name: tracks
+axes: [{name: belt}]
 planar:
-  movers: [{name: a}]
+  movers: [{name: a}, {name: b, x: 300, y: 0}]
   tracks: [{name: t, geometry: [{line: [[0, 0], [400, 0]]}]}]
 timeline:
   - {at: 0, mover: a, command: join_track, track: t}
   - {at: 1, mover: a, command: move_on_track, position: 100}
   - {at: 2, mover: a, command: leave_track, x: 0, y: 240}
+  - {at: 3, mover: a, command: gear_in_pos_on_track, master: belt, master_sync_position: 0,
+     slave_sync_position: 50, slave_sync_track: t}
+  - {at: 4, mover: a, command: gear_in_pos_on_track_with_master_mover, master_mover: b,
+     master_sync_position: 300, master_sync_track: t, slave_sync_position: 50,
+     slave_sync_track: t}
 """
 
 

@@ -13,8 +13,8 @@ inputs after the feedback (the run passes none: PLC 0). Signals of a mover (``<m
 ``Scenario`` and the entries into ``TIMELINE_COMMANDS``; they share its value types,
 conditions and name checks. Parts and coordinate systems (the environment's ``parts``, the
 ``activate_part_position`` entry) are in planar_parts.py, the external setpoint entries in
-planar_setpoints.py, tracks in planar_tracks.py and the track commands of movers in
-planar_riding.py.
+planar_setpoints.py, tracks in planar_tracks.py, the track commands of movers in
+planar_riding.py and the gear-ins on tracks in planar_gearing.py.
 """
 
 from __future__ import annotations
@@ -725,6 +725,10 @@ class PlanarGroupReset(PlanarGroupEntry):
 
 
 # Parts (§6.6) and external setpoints (§6.1.6): the latter build on PlanarEntry above.
+from openmotion.scenario.planar_gearing import (  # noqa: E402
+    GearInPosOnTrack,
+    GearInPosOnTrackWithMasterMover,
+)
 from openmotion.scenario.planar_parts import ActivatePartPosition  # noqa: E402
 from openmotion.scenario.planar_riding import JoinTrack, LeaveTrack, MoveOnTrack  # noqa: E402
 from openmotion.scenario.planar_setpoints import (  # noqa: E402
@@ -736,7 +740,8 @@ PLANAR_ENTRIES: tuple[type, ...] = (
     MoveToPosition, MoveC, MoveZ, MoveA, MoveB, MoverHalt, MoverEnable, MoverDisable,
     MoverReset, SetPosition, AddToGroup, RemoveFromGroup, StartExternalSetpointGeneration,
     StopExternalSetpointGeneration, PlanarGroupEnable, PlanarGroupDisable, PlanarGroupReset,
-    ActivatePartPosition, JoinTrack, LeaveTrack, MoveOnTrack)
+    ActivatePartPosition, JoinTrack, LeaveTrack, MoveOnTrack, GearInPosOnTrack,
+    GearInPosOnTrackWithMasterMover)
 #: the planar entries by their ``command`` (schema.TIMELINE_COMMANDS holds them all)
 PLANAR_COMMANDS: dict[str, type] = {
     get_args(model.model_fields["command"].annotation)[0]: model for model in PLANAR_ENTRIES}

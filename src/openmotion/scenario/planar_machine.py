@@ -21,6 +21,10 @@ start_external_setpoint_generation entry is a ``SetpointFeed``: ``feed`` sends i
 the program phase of every cycle (run.py calls it before the entries fire), its row follows the
 generation and the mover's errors. A move_on_track row whose mover stands queued on its
 track is ``waiting``: it stays BUSY but does not keep an open-ended run going.
+
+Entries name their tracks, axes, movers and trails; ``_resolve`` passes the objects (a trail is
+an MC_PlanarTrackTrail built for the call). A gear-in gets its specialised feedback, which
+``in_sync`` reads for ``<id>.in_sync``; the row's detail says when it was first in sync.
 """
 
 from __future__ import annotations
@@ -30,6 +34,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.core.errors import CommandRejected
 from openmotion.planar import (
@@ -39,12 +44,14 @@ from openmotion.planar import (
     MC_PlanarGroup,
     MC_PlanarMover,
     MC_PlanarPart,
+    MC_PlanarTrackTrail,
     MoverVector,
     PlanarCommand,
     PlanarObjectType,
     PlanarState,
     Pose,
 )
+from openmotion.planar.feedback import MC_PlanarFeedbackInSync
 from openmotion.planar.track import MC_PlanarTrack
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.planar import (
@@ -54,10 +61,11 @@ from openmotion.scenario.planar import (
     PlanarGroupEntry,
     PlanarSpec,
 )
+from openmotion.scenario.planar_gearing import AxisRef, MoverRef, TrailRef, _GearIn
 from openmotion.scenario.planar_parts import ActivatePartPosition, oid_text
 from openmotion.scenario.planar_riding import MoveOnTrack
 from openmotion.scenario.planar_setpoints import COORDINATES, StartExternalSetpointGeneration
-from openmotion.scenario.planar_tracks import PlanarTrackRow, build_order, track_arguments
+from openmotion.scenario.planar_tracks import PlanarTrackRow, TrackRef, build_order
 from openmotion.scenario.programs import _motion_cycle, cycle_of
 from openmotion.trace.signals import read_planar_signal
 
@@ -99,7 +107,10 @@ class PlanarMachine:
         self.tracks: dict[str, MC_PlanarTrack] = {}
         self._group_names: dict[int, str] = {}  #: OID -> name, for the rows
         self._open: list[tuple[PlanarCommand, Command]] = []  #: issued, not yet ended
-        self._riding: dict[Command, MC_PlanarMover] = {}  #: move_on_track rows: their mover
+        #: move_on_track and gear-in rows: their mover
+        self._riding: dict[Command, MC_PlanarMover] = {}
+        self._sync: dict[Command, MC_PlanarFeedbackInSync] = {}  #: gear-in rows: their feedback
+        self._masters: dict[Command, Axis | MC_PlanarMover] = {}  #: gear-in rows: their master
         self._feeds: list[SetpointFeed] = []  #: external setpoints being fed
         if spec is None:
             return
@@ -228,14 +239,46 @@ class PlanarMachine:
         target: Any = self.groups[entry.group] if isinstance(entry, PlanarGroupEntry) \
             else self.parts[entry.part] if isinstance(entry, ActivatePartPosition) \
             else self.movers[entry.mover]
-        arguments = tuple(self.groups[name] for name in entry.arguments()) \
-            if isinstance(entry, AddToGroup) else track_arguments(entry.arguments(), self.tracks)
-        planar = getattr(target, entry.method)(*arguments)
         command = Command(entry.command, self.rt.now)
+        try:
+            arguments = tuple(self.groups[name] for name in entry.arguments()) \
+                if isinstance(entry, AddToGroup) else tuple(map(self._resolve, entry.arguments()))
+        except CommandRejected as exc:  # a trail whose links do not hold (parts moved)
+            command._end(CommandStatus.ERROR, self.rt.now, exc.error_id,
+                         f"rejected ({int(exc.error_id)}): {exc.message}")
+            return command
+        extra: dict[str, Any] = {}
+        if isinstance(entry, _GearIn):  # its feedback shows in_sync
+            extra["feedback"] = self._sync[command] = entry.feedback()
+        planar = getattr(target, entry.method)(*arguments, **extra)
         self._open.append((planar, command))
-        if isinstance(entry, MoveOnTrack):
+        if isinstance(entry, MoveOnTrack | _GearIn):
             self._riding[command] = target
+        if isinstance(entry, _GearIn):
+            self._masters[command] = arguments[0]
         return command
+
+    def _resolve(self, argument: Any) -> Any:
+        """An entry's argument with a reference by name replaced by its object; a trail is
+        built anew (AddTrack), CommandRejected when a track of it does not follow (§6.8)."""
+        if isinstance(argument, TrackRef):
+            return self.tracks[argument.name]
+        if isinstance(argument, AxisRef):
+            return self.rt.axes[argument.name]
+        if isinstance(argument, MoverRef):
+            return self.movers[argument.name]
+        if isinstance(argument, TrailRef):
+            trail = MC_PlanarTrackTrail()
+            for name in argument.tracks:
+                if not trail.add_track(self.tracks[name]):
+                    raise CommandRejected(trail.error_id, f"trail: {trail.message}")
+            return trail
+        return argument
+
+    def in_sync(self, command: Command) -> bool:
+        """A gear-in row's feedback shows InSync (as of the last cycle); False for others."""
+        feedback = self._sync.get(command)
+        return feedback is not None and feedback.in_sync
 
     def feed(self) -> None:
         """Send this cycle's external setpoints (program phase, before the entries fire)."""
@@ -248,6 +291,8 @@ class PlanarMachine:
         still = []
         for planar, command in self._open:
             command.warnings = list(planar.warnings)
+            if command.value is None and self.in_sync(command):  # the row says when
+                command.value = f"in sync at {self.rt.now:.3f} s"
             if planar.busy:
                 if planar.phase is CommandPhase.ACTIVE:
                     command.status = CommandStatus.ACTIVE
@@ -282,9 +327,15 @@ class PlanarMachine:
     def waiting(self, command: Command) -> bool:
         """A busy move_on_track whose mover stands on its track: queued behind another mover
         or at a switch, it may stay Busy for ever (Done only at its target, §6.2.2); it does
-        not keep an open-ended run going, as a queued CA mover does not."""
+        not keep an open-ended run going, as a queued CA mover does not. Nor does a gear-in
+        whose slave and master both stand; a slave waiting for a moving master (its product
+        still to come, or room ahead) does, as one that moves does through ``busy``: a run
+        with a gear-in left coupled needs a ``duration``."""
         mover = self._riding.get(command)
-        return mover is not None and command.busy and _queued(mover)
+        if mover is None or not command.busy or not _queued(mover):
+            return False
+        master = self._masters.get(command)
+        return master is None or _stands(master)
 
     # -- signals -----------------------------------------------------------------------------
 
@@ -437,6 +488,16 @@ class SetpointFeed:
         elif start.active:
             row.status = CommandStatus.ACTIVE
         return not row.finished
+
+
+def _stands(master: Axis | MC_PlanarMover) -> bool:
+    """A gear-in's master is at rest: an axis without motion, a mover without set velocity
+    or acceleration."""
+    if isinstance(master, MC_PlanarMover):
+        status = master.mc_to_plc.set
+        return not any(getattr(vector, name) for vector in (status.set_velo, status.set_acc)
+                       for name in COORDINATES)
+    return not master.moving
 
 
 def _queued(mover: MC_PlanarMover) -> bool:

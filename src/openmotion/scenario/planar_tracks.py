@@ -67,6 +67,35 @@ class TrackRef(NamedTuple):
     name: str
 
 
+def starts_where_ends(first: str, second: str) -> bool:
+    """Whether track ``second`` starts where track ``first`` ends, by the links of
+    planar.tracks as the file gives them (starts_from, ends_at, closed_loop); True while no
+    names are being validated. The network joins linked ends into one vertex (network.py);
+    this is the same union over names, so a trail can be checked before the run. A link
+    across parts may still break at run time, where the trail is built again."""
+    names = _NAMES.get()
+    if names is None:
+        return True
+    parent: dict[tuple[str, str], tuple[str, str]] = {}
+
+    def root(end: tuple[str, str]) -> tuple[str, str]:
+        while parent.get(end, end) != end:
+            end = parent[end]
+        return end
+
+    def join(a: tuple[str, str], b: tuple[str, str]) -> None:
+        parent[root(a)] = root(b)
+
+    for name, (starts_from, ends_at, closed_loop) in names.track_links.items():
+        if isinstance(starts_from, str):
+            join((starts_from, "end"), (name, "start"))
+        if isinstance(ends_at, str):
+            join((name, "end"), (ends_at, "start"))
+        if closed_loop is True:
+            join((name, "end"), (name, "start"))
+    return root((first, "end")) == root((second, "start"))
+
+
 def track_number(name: str) -> float | None:
     """The ``track`` signal's value for the track ``name`` (its 1-based place in
     planar.tracks), ``none`` -> 0; None when ``name`` names no track."""
@@ -281,7 +310,3 @@ def riders_table(rows: Sequence[Any], number: Callable[[float], str]) -> Table:
         table.add_row(row.mover, row.track or "-", "-" if row.s is None else number(row.s))
     return table
 
-
-def track_arguments(arguments: Sequence[Any], tracks: dict[str, MC_PlanarTrack]) -> tuple:
-    """An entry's arguments with each TrackRef replaced by its track."""
-    return tuple(tracks[a.name] if isinstance(a, TrackRef) else a for a in arguments)

@@ -405,6 +405,8 @@ class _Run:
             command = self.by_id.get(condition.subject)
             if condition.attribute == "in_gear" and command in self.ca.commands:
                 return self.ca.commands[command].sync_state(command)[1]  # InSync
+            if condition.attribute == "in_sync":  # a gear-in on a track: its InSync
+                return command is not None and self.planar.in_sync(command)
             attribute = "active" if condition.attribute == "in_gear" else condition.attribute
             return command is not None and bool(getattr(command, attribute))
         value = self.planar.signal(condition.subject, condition.attribute)

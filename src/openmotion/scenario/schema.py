@@ -96,6 +96,9 @@ class _Names:
     group_axes: dict[str, list[str]] = dataclasses.field(default_factory=dict)  #: axis ->
     #: the axes groups that list it (once per listing)
     planar_tracks: Counter[str] = dataclasses.field(default_factory=Counter)  #: in file order
+    #: track -> its raw (starts_from, ends_at, closed_loop): the links a trail must follow
+    track_links: dict[str, tuple[object, object, object]] = dataclasses.field(
+        default_factory=dict)
 
     @classmethod
     def of(cls, data: object) -> _Names:
@@ -127,7 +130,10 @@ class _Names:
         return cls(names("axes", "name"), names("timeline", "id"), commands,
                    names("ca_groups", "name"), members, names("movers", "name", planar),
                    names("groups", "name", planar), part_oids(planar),
-                   names("axes_groups", "name"), group_axes, names("tracks", "name", planar))
+                   names("axes_groups", "name"), group_axes, names("tracks", "name", planar),
+                   {item["name"]: (item.get("starts_from"), item.get("ends_at"),
+                                   item.get("closed_loop")) for item in items("tracks", planar)
+                    if isinstance(item.get("name"), str)})
 
 
 _NAMES: ContextVar[_Names | None] = ContextVar("openmotion_scenario_names", default=None)
@@ -276,7 +282,9 @@ ErrorIdName = Annotated[ErrorId, PlainValidator(_error_id),
 # -- conditions ----------------------------------------------------------------------------
 
 COMMAND_FLAGS = ("done", "error", "aborted", "busy", "active", "in_velocity", "finished",
-                 "in_gear")
+                 "in_gear", "in_sync")
+#: the entries whose rows have ``in_sync``: the gear-ins on planar tracks (planar_gearing.py)
+_IN_SYNC_COMMANDS = ("gear_in_pos_on_track", "gear_in_pos_on_track_with_master_mover")
 OPERATORS = ("<=", ">=", "==", "<", ">")
 _CONDITION = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\.([a-z_]+)\s*"
                         r"(?:(<=|>=|==|<|>)\s*(\S+))?\s*$")
@@ -317,6 +325,10 @@ def parse_condition(text: object) -> Condition:
         if attribute == "in_gear" and names is not None \
                 and names.commands.get(subject) not in ("gear_in", "gear_in_pos_ca"):
             raise ValueError(f"{text!r}: in_gear is a flag of gear_in and gear_in_pos_ca "
+                             "entries only")
+        if attribute == "in_sync" and names is not None \
+                and names.commands.get(subject) not in _IN_SYNC_COMMANDS:
+            raise ValueError(f"{text!r}: in_sync is a flag of {' and '.join(_IN_SYNC_COMMANDS)} "
                              "entries only")
         return Condition(text.strip(), subject, attribute)
     names = _NAMES.get()
