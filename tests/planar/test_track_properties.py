@@ -36,8 +36,10 @@ interval is within its range at a switch coordinate with every other such mover 
 their footprints apart, D-136).
 
 Commands: MoveOnTrack to a random point of a track the mover can reach (its own or one
-downstream), Halt, GearInPosOnTrackWithMasterMover with followMover to another mover, and
-GearInPosOnTrack to an axis that then moves. Each mover uses one gap for all its commands.
+downstream; on its own closed track also with a modulo direction and additional turns, so
+that movers go round either way over the seam, D-147), Halt, GearInPosOnTrackWithMasterMover
+with followMover to another mover, and GearInPosOnTrack to an axis that then moves. Each
+mover uses one gap for all its commands.
 
 Checked at every cycle:
 
@@ -57,16 +59,17 @@ Checked when the commands have ended and nothing has moved for ``AT_REST_CYCLES`
 3. Every command ended Done, Aborted (only by a later command of its mover), Error with an
    error id and a message, or waits as documented: a gear-in stays Active (§6.2.8); a
    MoveOnTrack waits behind a mover standing within the gap on its way (§6.2.4), head on
-   for a mover behind it that waits to go forwards (D-120), at its last safe stop before
-   a switch another mover holds (§6.2.2), or inside its zone at a switch where a mover on
-   a conflicting track is inside its own (they keep their footprints apart, and at a merge
-   both go through, their gap as if on one way already; D-136). Waits form a
-   graph; a cycle in it with a wait at a last safe stop is a deadlock and fails, unless the
-   mover waited for there is stuck anyway: in the program's own deadlock, or behind a mover
-   that stands for good (idle, or geared to a master that stands). A ring of movers
-   queued behind each other, two movers head on, or two movers inside the zones of one
-   switch that each want to go where the other stands, is the program's own deadlock
-   (movers never pass each other) and passes, as do the movers waiting for it.
+   for a mover behind it that waits to go forwards (D-120) or that reverses over the seam
+   of a loop towards it (D-147), at its last safe stop before a switch another mover
+   holds (§6.2.2), or inside its zone at a switch where a mover on a conflicting track is
+   inside its own (they keep their footprints apart, and at a merge both go through, their
+   gap as if on one way already; D-136). Waits form a graph; a cycle in it with a wait at a
+   last safe stop is a deadlock and fails, unless the mover waited for there is stuck
+   anyway: in the program's own deadlock, or behind a mover that stands for good (idle, or
+   geared to a master that stands). A ring of movers queued behind each other, two movers
+   head on, or two movers inside the zones of one switch that each want to go where the
+   other stands, is the program's own deadlock (movers never pass each other) and passes,
+   as do the movers waiting for it.
 
 And on the networks themselves:
 
@@ -91,6 +94,7 @@ from hypothesis import HealthCheck, Phase, assume, given, settings
 from hypothesis import strategies as st
 
 import openmotion as om
+from openmotion.core.enums import ModuloDirection
 from openmotion.core.errors import ConfigError, ErrorId
 from openmotion.geometry.track import TrackPath
 from openmotion.planar import (
@@ -106,7 +110,7 @@ from openmotion.planar import (
 )
 from openmotion.planar.feedback import CommandPhase, PlanarCommand
 from openmotion.planar.track import traffic_of
-from openmotion.planar.traffic import Rider
+from openmotion.planar.traffic import Rider, ahead_legs, backwards
 
 SIDE = 155.0  #: [mm] mover width and height (the defaults)
 HALF = SIDE / 2
@@ -123,6 +127,10 @@ GAP_TOLERANCE = 1e-6  #: [mm]
 #: jerk-limited brake step that ends at rest)
 MOTION_NOISE = 1e-5
 OVERLAP_TOLERANCE = 1e-6  #: [mm] footprints may touch; a deeper overlap counts
+#: [mm] a distance along a path that changes this much more than the two movers moved is a
+#: new pair: the one ahead came round a closed track onto the other's path (a forward pass of
+#: the seam of a loop that a feeder ends at: a lap nearer at once)
+LAP_JUMP = 1.0
 AT_REST_CYCLES = 200  #: the scenario has settled when nothing moved for this many cycles
 SETTLE_TIMEOUT = 30.0  #: [s] of virtual time after the last round
 CYCLE = 0.001  #: [s]
@@ -498,7 +506,8 @@ def networks(draw: st.DrawFn) -> tuple[Network, float]:
 # -- scenarios ---------------------------------------------------------------------------------
 #
 # Commands, with mover and choice indices taken modulo what exists when they are sent:
-# ("move", mover, target pick, fraction of the target track), ("halt", mover),
+# ("move", mover, target pick, fraction of the target track[, direction, laps]: a modulo
+# move where the target is the mover's own closed track), ("halt", mover),
 # ("gear mover", mover, master pick, master sync fraction, slave sync fraction),
 # ("gear axis", mover, axis target [mm], axis velocity [mm/s], master sync [mm],
 #  slave sync fraction).
@@ -561,13 +570,18 @@ def _frames(net: Network, tracks: np.ndarray, arcs: np.ndarray) -> tuple[np.ndar
     return x, y, h
 
 
+MODULO = (ModuloDirection.POSITIVE, ModuloDirection.SHORTEST_WAY, ModuloDirection.NEGATIVE,
+          ModuloDirection.NEGATIVE)  #: the directions a modulo move draws from
+
+
 def _commands(max_movers: int) -> st.SearchStrategy[tuple]:
     mover = st.integers(0, max_movers - 1)
     fraction = st.floats(0.0, 1.0)
     return st.one_of(
         st.tuples(st.just("move"), mover, st.integers(0, 9), fraction),
         st.tuples(st.just("move"), mover, st.integers(0, 9), fraction),
-        st.tuples(st.just("move"), mover, st.integers(0, 9), fraction),
+        st.tuples(st.just("move"), mover, st.integers(0, 9), fraction,
+                  st.integers(0, len(MODULO) - 1), st.integers(0, 1)),
         st.tuples(st.just("halt"), mover),
         st.tuples(st.just("gear mover"), mover, st.integers(0, max_movers - 1), fraction,
                   fraction),
@@ -710,8 +724,13 @@ class Run:
             reach = self.net.reachable(here)
             track = reach[raw[2] % len(reach)]
             target = (track, round(float(raw[3] * self.net.lengths[track]), 3))
-            command = mover.move_on_track(self.tracks[track], target[1],
-                                          options=ST_MoveOnTrackOptions(gap=gap))
+            options = ST_MoveOnTrackOptions(gap=gap)
+            if len(raw) > 4 and track == here and self.net.paths[here].closed:
+                direction = MODULO[raw[4] % len(MODULO)]
+                laps = raw[5] if direction is not ModuloDirection.SHORTEST_WAY else 0
+                options = ST_MoveOnTrackOptions(gap=gap, direction=direction,
+                                                additional_turns=laps)
+            command = mover.move_on_track(self.tracks[track], target[1], options=options)
         elif kind == "halt":
             command = mover.halt()
         elif kind == "gear mover":
@@ -809,7 +828,7 @@ class Run:
         if cached is not None and cached[0] == key:
             return cached[1]
         base = rider.route[0].base
-        legs = [(self.index[id(leg.track)], leg.base - base) for leg in rider.route]
+        legs = [(self.index[id(leg.track)], leg.base - base) for leg in ahead_legs(rider.route)]
         last, offset = legs[-1]
         end = route_end = offset + self.net.lengths[last]
         while end - route_end < NEAR_PATH + 400.0:
@@ -826,6 +845,24 @@ class Run:
         self._paths[id(rider)] = (key, out)
         return out
 
+    def behind(self, i: int, where: list[tuple[int, float, float]]
+               ) -> dict[int, float]:
+        """Movers behind mover ``i`` on its way back over the seam of its closed track (its
+        route's legs, which descend, D-147): the arc length to each. Empty unless its route
+        goes back."""
+        rider = self.movers[i]._rider
+        if not backwards(rider.route):
+            return {}
+        on = _on_tracks(where)
+        base, s_i = rider.route[0].base, where[i][1]
+        found: dict[int, float] = {}
+        for leg in rider.route:
+            for j in on.get(self.index[id(leg.track)], ()):
+                d = s_i - (leg.base - base + where[j][1])
+                if j != i and j not in found and d > 0.0:
+                    found[j] = d
+        return found
+
     def _check_gaps(self, where: list[tuple[int, float, float]], moved: np.ndarray) -> None:
         """Property 1 for each pair m, o ahead of it: the movers that moved towards each other
         this cycle (m forwards, o backwards) keep the larger of their gaps; one that was
@@ -839,8 +876,9 @@ class Run:
                 if still[i] and still[j]:
                     continue  # as it was
                 old = self.pairs.get((i, j))
-                if old is None or not _same_path(old[1], path):
-                    continue
+                if old is None or not _same_path(old[1], path) or \
+                        abs(d - old[0] - moved[j] + moved[i]) > LAP_JUMP:
+                    continue  # new to the path, or it came round a loop onto it (a lap)
                 steps = ((i, moved[i]), (j, -moved[j]))
                 closing = {x: step for x, step in steps if step > MOTION_NOISE}
                 noise = sum(step for _, step in steps if 0.0 < step <= MOTION_NOISE)
@@ -880,7 +918,9 @@ class Run:
     def blockers(self, sent: Sent) -> list[tuple[int, str]]:
         """The movers a standing MoveOnTrack waits for: one standing within its gap on its
         way ("queue", §6.2.4; going backwards also one behind it that waits to go forwards:
-        head on, the forward one goes first, D-120), one that holds the switch ahead of it
+        head on, the forward one goes first, D-120; behind it on a way back over a loop's
+        seam too, and going forwards one that comes back so towards it, D-147), one that
+        holds the switch ahead of it
         from a track off its way ("switch": it stands at its last safe stop, §6.2.2), or,
         standing inside its zone at a switch (ahead or behind), one inside its own zone
         there on a track off its way and close enough to be in the way ("footprints": the
@@ -891,16 +931,23 @@ class Run:
         k, s, _ = where[i]
         rider = self.movers[i]._rider
         assert rider.gap == self.gaps[i], (rider.gap, self.gaps[i], sent.command.kind)
-        forward = not (sent.target[0] == k and sent.target[1] < s)
+        forward = self._forwards(i)
         out: list[tuple[int, str]] = []
+
+        def near(j: int, d: float) -> bool:
+            return d <= max(self.gaps[i], self.movers[j]._rider.gap) + 1e-3
+
         if forward:  # the larger gap: the other may have come closer while reversing
-            out += [(j, "queue") for j, (d, _) in self.ahead(i, where).items()
-                    if d <= max(self.gaps[i], self.movers[j]._rider.gap) + 1e-3]
+            out += [(j, "queue") for j, (d, _) in self.ahead(i, where).items() if near(j, d)]
+            # or one reversing over a loop's seam towards it: head on (D-147)
+            out += [(j, "queue") for j in range(len(self.movers)) if j != i
+                    and (d := self.behind(j, where).get(i)) is not None and near(j, d)]
         else:  # within a gap of the mover behind, or head on with it (D-120)
             out += [(j, "queue") for j in range(len(self.movers)) if j != i
                     and (d := self.ahead(j, where).get(i)) is not None
-                    and (d[0] <= max(self.gaps[i], self.movers[j]._rider.gap) + 1e-3
-                         or self._wants_forwards(j))]
+                    and (near(j, d[0]) or self._wants_forwards(j))]
+            out += [(j, "queue") for j, d in self.behind(i, where).items()
+                    if near(j, d) or self._wants_forwards(j)]
         ahead_side = END if forward else START
         centres = (self.system._values[0][self.rows] + self.offsets)[:, :2]
         for side in (START, END):
@@ -931,13 +978,14 @@ class Run:
     def _related(self, a: tuple[int, int, Rider], b: tuple[int, int, Rider]) -> bool:
         """Whether two movers at one switch (track, side of it, rider) keep their gap as a
         pair there: one passes it from the end of its track onto the other's, at whose start
-        the other is; on one track always, except round the seam of a closed one, where one
-        at its end leaves it."""
+        the other is, unless that one goes back over the seam there (D-147); on one track
+        always, except round the seam of a closed one, where one at its end leaves it."""
         (ka, side_a, ra), (kb, side_b, rb) = a, b
         na, nb = self._next_track(ra), self._next_track(rb)
         if ka != kb:
-            return (side_a == END and na == kb and side_b == START) or \
-                (side_b == END and nb == ka and side_a == START)
+            return (side_a == END and na == kb and side_b == START
+                    and not backwards(rb.route)) or \
+                (side_b == END and nb == ka and side_a == START and not backwards(ra.route))
         leaves = (side_a == END and na not in (None, ka)) or \
             (side_b == END and nb not in (None, kb))
         return not (self.net.paths[ka].closed and leaves)
@@ -968,16 +1016,24 @@ class Run:
         return following[0] if len(following) == 1 else None
 
     def _next_track(self, rider: Rider) -> int | None:
-        """The next track on the rider's route."""
-        return self.index[id(rider.route[1].track)] if len(rider.route) > 1 else None
+        """The next track on the rider's route (from the end of its track: none on a way
+        back over a loop's seam)."""
+        legs = ahead_legs(rider.route)
+        return self.index[id(legs[1].track)] if len(legs) > 1 else None
 
     def _wants_forwards(self, j: int) -> bool:
         """Mover ``j`` waits with a MoveOnTrack to a point ahead of it."""
         latest = self._latest(j)
         if latest is None or latest.target is None or not latest.command.busy:
             return False
-        k, s, _ = self.where(j)
-        return not (latest.target[0] == k and latest.target[1] < s)
+        return self._forwards(j)
+
+    def _forwards(self, j: int) -> bool:
+        """Whether the running command of mover ``j`` goes forwards: its target on its
+        odometer (the traffic's) is not behind it (a modulo move to a point of its own
+        closed track may go either way)."""
+        slot = self.movers[j]._rider.slot
+        return not self.traffic.target[slot] < self.traffic.p[slot]
 
     def _switch(self, k: int, side: int) -> object:
         track = self.tracks[k]
@@ -1436,6 +1492,69 @@ def test_a_mover_leaving_a_closed_track_at_its_seam_keeps_clear_of_one_just_past
         assert not _overlap(a, b), (a.position, b.position)
 
 
+def test_a_mover_leaving_at_the_seam_keeps_its_gap_to_one_reversing_over_it():
+    """The stadium with a branch from its seam: mover h at length - 700 drives onto the
+    branch, mover r at 100 reverses over the seam (Negative to length - 1000, gap 500). The
+    two meet head on across the seam; r, going back, is h's leader with the larger gap
+    (§6.1.9), although h's own way turns off at the seam: the gap holds along the loop at
+    every cycle and both wait (D-147). Paired only once r had crossed, h stood 446 mm
+    from it then, inside r's gap."""
+    rt = om.Runtime(CYCLE)
+    loop, branch = _stadium_with_branch(rt)
+    length = loop.get_length()
+    h, r = _joined(rt, (loop, length - 700.0), (loop, 100.0))
+    turn_off = h.move_on_track(branch, 300.0)
+    back = r.move_on_track(None, length - 1000.0, options=ST_MoveOnTrackOptions(
+        gap=500.0, direction=ModuloDirection.NEGATIVE))
+    closest = math.inf
+    for _ in range(5000):
+        rt.step()
+        assert not _overlap(h, r), (h.position, r.position)
+        closest = min(closest, (r.mc_to_plc.set_on_track.set_pos
+                                - h.mc_to_plc.set_on_track.set_pos) % length)
+    assert closest >= 500.0 - GAP_TOLERANCE
+    assert turn_off.busy and back.busy  # head on
+    assert r.mc_to_plc.set_on_track.set_pos > length - 700.0  # r crossed the seam
+
+
+def _stadium_with_feeder(rt: om.Runtime) -> tuple[MC_PlanarTrack, MC_PlanarTrack]:
+    """The closed stadium and a feeder that ends at its seam (a switch)."""
+    p = PositionXYC
+    loop, feeder = MC_PlanarTrack(rt, "loop"), MC_PlanarTrack(rt, "feeder")
+    loop.append_line(p(0.0, 0.0), p(1000.0, 0.0))
+    loop.append_circle(p(1000.0, 0.0), p(1000.0, 800.0), p(1000.0, 400.0), False)
+    loop.append_line(p(1000.0, 800.0), p(0.0, 800.0))
+    loop.append_circle(p(0.0, 800.0), p(0.0, 0.0), p(0.0, 400.0), False)
+    loop.close_loop()
+    feeder.append_line(p(-900.0, -400.0), p(-500.0, -400.0))
+    feeder.end_at_track(loop)
+    _enabled(rt, loop, feeder)
+    return loop, feeder
+
+
+def test_a_feeder_does_not_follow_a_mover_that_reverses_over_the_seam():
+    """The stadium with a feeder that ends at its seam: mover g, 500 mm before the end of
+    the feeder, drives onto the loop; mover r at 100, just past the seam, reverses over it
+    (Negative to length - 600). r does not go where g would follow it: it comes back over
+    the switch onto the loop's end, beside the feeder, so the two meet there (D-147). g
+    waits at its last safe stop until r has gone on back, and both arrive. As g's leader
+    (the way onto the loop) r let g into the switch zone behind it; crossing, r met g
+    there and the two stood locked ~193 mm apart."""
+    rt = om.Runtime(CYCLE)
+    loop, feeder = _stadium_with_feeder(rt)
+    length = loop.get_length()
+    g, r = _joined(rt, (feeder, feeder.get_length() - 500.0), (loop, 100.0))
+    onto = g.move_on_track(loop, 400.0)
+    back = r.move_on_track(None, length - 600.0, options=ST_MoveOnTrackOptions(
+        direction=ModuloDirection.NEGATIVE))
+    for _ in range(6000):
+        rt.step()
+        assert not _overlap(g, r), (g.position, r.position)
+    assert onto.done and back.done
+    assert r.mc_to_plc.set_on_track.set_pos == pytest.approx(length - 600.0, abs=1e-9)
+    assert g.mc_to_plc.set_on_track.set_pos == pytest.approx(400.0, abs=1e-9)
+
+
 def test_a_holder_whose_route_loops_back_still_keeps_the_switch():
     """A loop with a bypass: T splits into O (an S-bend aside) and S (straight on), both end
     at U, and R leads from U back to T. Mover a stands at 310 on O, inside O's collision
@@ -1585,6 +1704,27 @@ FOUND = {
                 (319, (('halt', 26), ('halt', 0),
                        ('gear axis', 16, 1398.6757270808935, 333.60771368410724,
                         349.24007495430146, 0.5527283407219074))))),
+    #: Mover 0 goes round the closed track forwards (Positive, a lap) and passes its seam,
+    #: where the feeder of mover 2 ends: ahead of mover 2 round the whole loop one cycle, a
+    #: lap nearer the next. The oracle took that for closing in; the distance now has to
+    #: follow the movers' steps to count as the same pair (``LAP_JUMP``).
+    "lap_nearer_at_the_seam": Scenario(
+        layout=((('line', -346.616524, -212.771072, -1569.015219, -963.142339),
+                 ('line', -1702.860671, -1522.529935, -572.703571, -3363.62197),
+                 ('line', -13.315975, -3497.467422, 1209.08272, -2747.096154),
+                 ('line', 1342.928172, -2187.708559, 212.771072, -346.616524), ('close',)),
+                (('circle', 580.06187, 2288.117049, -346.616524, -212.771072, -1476.619238,
+                  1628.069461, True), ('end', 0))),
+        movers=((0, 2560.0, 320.0), (0, 1280.0, 220.0), (1, 960.0, 260.0)),
+        rounds=((1031, (('move', 0, 2, 1.1403755935090097e-273, 2, 1),
+                        ('gear mover', 0, 3, 1.1125369292536007e-308, 0.23651903104837918),
+                        ('move', 1, 2, 0.9195496550596096), ('halt', 0),
+                        ('gear axis', 3, 520.5567915475485, 198.9440795554766, 4.0,
+                         1.752955247319909e-234))),
+                (174, (('move', 1, 9, 0.28860453137558656, 1, 1),
+                       ('move', 0, 4, 0.10529322982648795),
+                       ('move', 0, 6, 0.7142865147940188, 0, 1),
+                       ('move', 2, 9, 0.5, 2, 0))))),
 }
 
 

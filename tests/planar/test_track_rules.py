@@ -1,9 +1,11 @@
 """Track rules found in review: a used track keeps its geometry (D-119), directions of
-MoveOnTrack (§6.1.9), the static-object check of a track's band (§6.2.1), gear-in under
-the group's collision avoidance (§6.5) and the operation mode of tracks on a route (§4.3)."""
+MoveOnTrack (§6.1.9) and moves back over a loop's seam (D-147), the static-object check of
+a track's band (§6.2.1), gear-in under the group's collision avoidance (§6.5) and the
+operation mode of tracks on a route (§4.3)."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import openmotion as om
@@ -21,7 +23,7 @@ from openmotion.planar import (
     TrackOperationMode,
 )
 from openmotion.planar.options import ST_MoveOnTrackOptions
-from openmotion.planar.track import MC_PlanarTrack
+from openmotion.planar.track import MC_PlanarTrack, traffic_of
 from openmotion.testing import enabled_line as _line
 from openmotion.testing import enabled_movers as _movers
 from openmotion.testing import join_all as _joined
@@ -190,20 +192,181 @@ def test_a_direction_against_the_only_way_on_an_open_track_is_refused():
     assert _s(mover) == pytest.approx(100.0, abs=1e-9)
 
 
-def test_negative_with_laps_on_a_loop_is_refused_not_run_without_them():
-    """Review t1: Negative with one additional turn from 100 to 50 on a loop went 50 mm
-    back and dropped the lap. The traffic cannot cross a track's start backwards yet, so
-    the command is refused (D-144) and the mover stays."""
+# -- B2: moves back over a loop's seam (§6.1.9, §6.2.2, D-147) ----------------------------------
+
+
+def _at(loop: MC_PlanarTrack, s: float) -> tuple[float, float]:
+    point = loop.get_position_at(s)
+    return point.x, point.y
+
+
+def _ride(rt: om.Runtime, *watched: MC_PlanarMover, until: object = None,
+          timeout: float = 20.0) -> list[list[tuple[float, float, float, float]]]:
+    """Cycles until ``until`` (a command) is no longer busy (or ``timeout``): per cycle and
+    mover, its path coordinate, velocity and acceleration (``path_state``: the arc length
+    summed over its way, §6.1.9) and its arc length on the track."""
+    traffic = traffic_of(watched[0]._system)
+    log = []
+    for _ in range(round(timeout / 0.001)):
+        rt.step()
+        log.append([(*traffic.path_state(m._rider)[:3], _s(m)) for m in watched])
+        if until is not None and not until.busy:  # type: ignore[attr-defined]
+            break
+    return log
+
+
+def _seam_crossings(arcs: list[float], length: float) -> tuple[int, int]:
+    """How often the arc lengths jumped back over the seam (from near 0 to near the length)
+    and forwards over it."""
+    steps = list(zip(arcs[:-1], arcs[1:], strict=True))
+    back = sum(1 for a, b in steps if a < length / 4 and b > 3 * length / 4)
+    ahead = sum(1 for a, b in steps if a > 3 * length / 4 and b < length / 4)
+    return back, ahead
+
+
+def _check_limits(rt: om.Runtime, mover: MC_PlanarMover,
+                  log: list[tuple[float, float, float, float]]) -> None:
+    """Velocity and acceleration along the path stay within the command's limits, and the
+    path coordinate runs on without a jump."""
+    limits = traffic_of(mover._system).lim[:, mover._rider.slot]
+    q, v, a = (np.array(column) for column in list(zip(*log, strict=True))[:3])
+    assert np.abs(v).max() <= limits[0] * (1 + 1e-9)
+    assert np.abs(a).max() <= max(limits[1], limits[2]) * (1 + 1e-9)
+    assert np.abs(np.diff(q)).max() <= limits[0] * rt.cycle_time * (1 + 1e-6)
+
+
+def test_negative_moves_back_over_a_loops_seam_to_its_target():
+    """Review t1, now built: on a closed loop Negative from 100 to length - 200 runs back
+    over the seam (s = 0): 300 mm along the path, never forwards, Done at the target. It
+    was refused (D-144); the traffic now goes on to the loop's previous lap below its
+    start (D-147)."""
     rt = om.Runtime(0.001)
     (mover,) = _movers(rt, (100.0, 0.0))
     loop = _loop(rt)
+    length = loop.get_length()
     _joined(rt, loop, mover)
+    start = traffic_of(mover._system).path_state(mover._rider)[0]
+    move = mover.move_on_track(None, length - 200.0, options=ST_MoveOnTrackOptions(
+        direction=ModuloDirection.NEGATIVE))
+    log = [row[0] for row in _ride(rt, mover, until=move)]
+    assert move.done, move.message
+    assert _s(mover) == pytest.approx(length - 200.0, abs=1e-9)
+    assert (mover.position.x, mover.position.y) == pytest.approx(_at(loop, length - 200.0),
+                                                                 abs=1e-6)
+    assert log[-1][0] - start == pytest.approx(-300.0, abs=1e-9)
+    assert max(v for _, v, _, _ in log) <= 0.0
+    assert _seam_crossings([s for *_, s in log], length) == (1, 0)
+    _check_limits(rt, mover, log)
+    assert len(mover._rider.route) == 1  # cut to the lap it ends on
+
+
+@pytest.mark.parametrize("turns", [1, 2])
+def test_negative_with_additional_turns_travels_the_extra_laps_back(turns: int):
+    """Review t1: Negative with additional turns from 100 to 50 went 50 mm back and dropped
+    the laps (then it was refused, D-144). It travels 50 mm plus the laps back, over the
+    seam once per lap, and ends at 50 (D-147)."""
+    rt = om.Runtime(0.001)
+    (mover,) = _movers(rt, (100.0, 0.0))
+    loop = _loop(rt)
+    length = loop.get_length()
+    _joined(rt, loop, mover)
+    start = traffic_of(mover._system).path_state(mover._rider)[0]
     move = mover.move_on_track(None, 50.0, options=ST_MoveOnTrackOptions(
-        direction=ModuloDirection.NEGATIVE, additional_turns=1))
-    rt.run(0.05)
-    assert move.error and move.error_id == ErrorId.PLANAR_INVALID_INPUT
-    assert "laps" in move.message
-    assert _s(mover) == pytest.approx(100.0, abs=1e-9)
+        direction=ModuloDirection.NEGATIVE, additional_turns=turns))
+    log = [row[0] for row in _ride(rt, mover, until=move, timeout=30.0)]
+    assert move.done, move.message
+    assert _s(mover) == pytest.approx(50.0, abs=1e-9)
+    assert log[-1][0] - start == pytest.approx(-(50.0 + turns * length), abs=1e-9)
+    assert max(v for _, v, _, _ in log) <= 0.0
+    assert _seam_crossings([s for *_, s in log], length) == (turns, 0)
+    _check_limits(rt, mover, log)
+
+
+@pytest.mark.parametrize(("target", "way"), [(-100.0, -200.0), (250.0, 150.0)])
+def test_shortest_way_takes_the_shorter_way_round_the_seam_or_not(target: float, way: float):
+    """ShortestWay from 100: to length - 100 the way back over the seam (200 mm) is the
+    shorter one and taken; to 250 the way ahead (150 mm)."""
+    rt = om.Runtime(0.001)
+    (mover,) = _movers(rt, (100.0, 0.0))
+    loop = _loop(rt)
+    length = loop.get_length()
+    _joined(rt, loop, mover)
+    start = traffic_of(mover._system).path_state(mover._rider)[0]
+    position = target % length
+    move = mover.move_on_track(None, position, options=ST_MoveOnTrackOptions(
+        direction=ModuloDirection.SHORTEST_WAY))
+    log = [row[0] for row in _ride(rt, mover, until=move)]
+    assert move.done, move.message
+    assert _s(mover) == pytest.approx(position, abs=1e-9)
+    assert log[-1][0] - start == pytest.approx(way, abs=1e-9)
+    _check_limits(rt, mover, log)
+
+
+@pytest.mark.parametrize(("turns", "way"), [(0, -8.0), (1, None)])
+def test_positive_within_the_modulo_tolerance_takes_the_near_way_back_over_the_seam(
+        turns: int, way: float | None):
+    """§6.1.9: a target within the modulo tolerance is taken the short way whatever the
+    direction. Positive from 5 to length - 3 (tolerance 10) goes 8 mm back over the seam;
+    with one additional turn it goes the lap forwards from there (length - 8)."""
+    rt = om.Runtime(0.001)
+    (mover,) = _movers(rt, (5.0, 0.0))
+    loop = _loop(rt)
+    length = loop.get_length()
+    _joined(rt, loop, mover)
+    assert _s(mover) == pytest.approx(5.0)
+    start = traffic_of(mover._system).path_state(mover._rider)[0]
+    move = mover.move_on_track(None, length - 3.0, options=ST_MoveOnTrackOptions(
+        direction=ModuloDirection.POSITIVE, additional_turns=turns, modulo_tolerance=10.0))
+    log = [row[0] for row in _ride(rt, mover, until=move)]
+    assert move.done, move.message
+    assert _s(mover) == pytest.approx(length - 3.0, abs=1e-9)
+    travelled = log[-1][0] - start
+    assert travelled == pytest.approx(length - 8.0 if way is None else way, abs=1e-9)
+
+
+def test_a_mover_reversing_over_the_seam_stops_one_gap_from_a_standing_mover():
+    """Mover b stands at length - 300 on the loop; mover a moves Negative from 100 to
+    length - 500 with gap 250: back over the seam, then b is in its way. It stops 250 mm
+    from b (along the path, never closer) and waits; when b has moved on back (to length -
+    900), a goes on to its target."""
+    rt = om.Runtime(0.001)
+    loop = _loop(rt)
+    length = loop.get_length()
+    a, b = _movers(rt, (100.0, 0.0), _at(loop, length - 300.0))
+    _joined(rt, loop, a, b)
+    move = a.move_on_track(None, length - 500.0, options=ST_MoveOnTrackOptions(
+        gap=250.0, direction=ModuloDirection.NEGATIVE))
+    log = _ride(rt, a, b, timeout=3.0)
+    apart = [(sa - sb) % length for (*_, sa), (*_, sb) in log]
+    assert min(apart) >= 250.0 - 1e-6
+    assert move.busy and _v(a) == 0.0
+    assert _s(a) == pytest.approx(length - 50.0, abs=1e-6)
+    away = b.move_on_track(None, length - 900.0)
+    log = _ride(rt, a, b, until=move)
+    _run_until(rt, away)
+    assert move.done, move.message
+    assert _s(a) == pytest.approx(length - 500.0, abs=1e-9)
+    assert min((sa - sb) % length for (*_, sa), (*_, sb) in log) >= 250.0 - 1e-6
+
+
+def test_a_mover_coming_to_the_seam_keeps_the_larger_gap_to_one_reversing_over_it():
+    """Mover b drives forwards from length - 600 towards the seam (target length - 10, gap
+    200) while mover a reverses over it from 100 (Negative to length - 300, gap 250): they
+    meet head on. b is the follower of a, which goes back: the larger gap (250) holds
+    between them along the path at every cycle, and they stop there."""
+    rt = om.Runtime(0.001)
+    loop = _loop(rt)
+    length = loop.get_length()
+    a, b = _movers(rt, (100.0, 0.0), _at(loop, length - 600.0))
+    _joined(rt, loop, a, b)
+    back = a.move_on_track(None, length - 300.0, options=ST_MoveOnTrackOptions(
+        gap=250.0, direction=ModuloDirection.NEGATIVE))
+    ahead = b.move_on_track(None, length - 10.0)
+    log = _ride(rt, a, b, timeout=4.0)
+    apart = [(sa - sb) % length for (*_, sa), (*_, sb) in log]
+    assert min(apart) >= 250.0 - 1e-6
+    assert apart[-1] == pytest.approx(250.0, abs=1e-6)
+    assert back.busy and ahead.busy and _v(a) == _v(b) == 0.0  # head on: both wait
 
 
 # -- C: the static-object check of a track's band (§6.2.1) ----------------------------------------

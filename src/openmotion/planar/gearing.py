@@ -41,7 +41,7 @@ from openmotion.planar.options import (
 from openmotion.planar.positions import finite
 from openmotion.planar.states import MoverCommand, check_track_accepts
 from openmotion.planar.track import MC_PlanarTrack
-from openmotion.planar.traffic import Leg, Rider
+from openmotion.planar.traffic import Leg, Rider, ahead_legs
 from openmotion.transport.enums import SyncStrategy
 from openmotion.transport.gear import GearSync
 
@@ -289,7 +289,7 @@ def _follow_legs(rider: Rider, trail: MC_PlanarTrackTrail | None, master: Rider,
                                   f"the master's sync track {master_track.name} cannot be "
                                   "reached from the slave's track (§6.2.12)")
         tracks += [leg.track for leg in route[1:]]
-    master_way = [leg.track for leg in master.route]
+    master_way = [leg.track for leg in ahead_legs(master.route)]
     if master_track in master_way:
         tracks += master_way[master_way.index(master_track) + 1:]
     return _legs(tracks)

@@ -301,9 +301,9 @@ def _route(here: MC_PlanarTrack, s: float, track: MC_PlanarTrack, position: floa
            options: ST_MoveOnTrackOptions) -> tuple[list[Leg], float]:
     """The legs to ``position`` on ``track`` and the odometer target (the current track
     starts at 0). §6.1.9: Positive never moves backwards and Negative never forwards; on a
-    closed loop they pick the way round (with whole extra laps), ShortestWay the shorter
-    one; on an open track or to another track there is one way only, and a direction that
-    does not fit it refuses the command (D-144)."""
+    closed loop they pick the way round (with whole extra laps, either way over the seam,
+    D-147), ShortestWay the shorter one; on an open track or to another track there is one
+    way only, and a direction that does not fit it refuses the command (D-144)."""
     direction = options.direction
     if track is here and direction is not ModuloDirection.NON_MODULO and here.closed_loop:
         return _loop_route(here, s, position, options)
@@ -335,32 +335,29 @@ def _route(here: MC_PlanarTrack, s: float, track: MC_PlanarTrack, position: floa
 
 def _loop_route(here: MC_PlanarTrack, s: float, position: float,
                 options: ST_MoveOnTrackOptions) -> tuple[list[Leg], float]:
-    """A modulo move on a closed loop: forwards over the seam takes the legs of the laps
-    ahead. Backwards the traffic leaves a track only at its end, so a way back over the
-    seam (its start) is refused rather than driven the wrong way round (D-144)."""
+    """A modulo move on a closed loop (§6.1.9): the signed way to ``position`` (the near
+    way within the modulo tolerance or for ShortestWay, else the way the direction asks
+    for) plus whole laps in the commanded direction, as MC3 modulo moves count them. Its
+    route is the loop once per lap it enters, forwards at bases L, 2L, ... and backwards
+    over the seam at bases -L, -2L, ... (D-147); the odometer target lies on the last leg."""
     length = here.length
     direction = options.direction
     ahead = (position - s) % length
     behind = (s - position) % length
-    if ahead <= options.modulo_tolerance or behind <= options.modulo_tolerance:
-        forward = ahead <= behind
+    if min(ahead, behind) <= options.modulo_tolerance or \
+            direction is ModuloDirection.SHORTEST_WAY:
+        way = ahead if ahead <= behind else -behind
     elif direction is ModuloDirection.POSITIVE:
-        forward = True
-    elif direction is ModuloDirection.NEGATIVE:
-        forward = False
+        way = ahead
     else:
-        forward = ahead <= behind
-    laps = options.additional_turns
-    if not forward:  # backwards only within the track (never from its start to its end)
-        if position > s or laps:
-            raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
-                                  f"MoveOnTrack: the way back to {position:g} on {here.name} "
-                                  f"crosses its start{' with laps' if laps else ''}; movers "
-                                  "do not cross a track's start backwards (§6.2.2, D-144)")
-        return [Leg(here, 0.0)], position
-    distance = ahead + laps * length
-    legs = [Leg(here, k * length) for k in range(int((s + distance) // length) + 1)]
-    return legs, s + distance
+        way = -behind
+    laps = options.additional_turns * length
+    way += laps if direction is ModuloDirection.POSITIVE else \
+        -laps if direction is ModuloDirection.NEGATIVE else 0.0
+    target = s + way
+    count = max(0, math.floor(target / length) * (1 if way >= 0.0 else -1)) + 1
+    step = length if way >= 0.0 else -length
+    return [Leg(here, k * step) for k in range(count)], target
 
 
 def _curve_limits(limits: Limits, tracks: list[MC_PlanarTrack]) -> Limits:

@@ -15,6 +15,15 @@ are measured along the path, centre to centre: the rider ahead may be on a later
 the route, and its position is shifted into the follower's odometer by the difference of the
 two bases.
 
+A route back over the seam of a closed track (MoveOnTrack Negative or ShortestWay round a
+loop, D-147) has legs of decreasing base: the loop at 0, -L, -2L, ... A rider on such a
+route goes on to its next leg when it passes below the start of its current one. Pairs are
+kept in the odometer's direction as always (each rider with the one ahead of it); the rider
+going back is the leader of the rider that comes first behind it along its legs, so that
+rider keeps the larger gap to it (a leader going back) before it crosses the seam. It
+passes the seam's switch backwards onto the end of its own track, so riders that would pass
+onto its track at its start meet it there rather than follow it.
+
 Switches (§6.2.2, Collision Ranges): near a vertex where more than two track ends meet,
 movers on different tracks may meet although neither is on the other's path. Each rider has
 a *zone* at each switch of its track: the stretch within max(collision range, gap) of the
@@ -250,6 +259,8 @@ class Traffic:
         #: kept as they change (``_routed``); ``_geometry`` takes a copy
         self._track_index = np.zeros(n, dtype=np.int64)
         self._next_index = np.full(n, -1, dtype=np.int64)
+        #: per rider, whether its route goes back over the seam of its closed track (D-147)
+        self._back = np.zeros(n, dtype=bool)
 
     # -- riders ----------------------------------------------------------------------------------
 
@@ -307,9 +318,13 @@ class Traffic:
         self._dirty()
 
     def _routed(self, r: Rider) -> None:
-        """``r``'s track or route changed: its ``_track_index`` and ``_next_index``."""
+        """``r``'s track or route changed: its ``_track_index``, ``_next_index`` (the track it
+        goes on to from the end of its own; none on a route back) and ``_back``."""
+        back = backwards(r.route)
         self._track_index[r.slot] = r.track.index
-        self._next_index[r.slot] = r.route[1].track.index if len(r.route) > 1 else -1
+        self._next_index[r.slot] = r.route[1].track.index if len(r.route) > 1 and not back \
+            else -1
+        self._back[r.slot] = back
 
     def _load(self, r: Rider) -> None:
         k = r.slot
@@ -376,11 +391,14 @@ class Traffic:
             # the next track of each rider's route (-1: none): a rider that passes a switch
             # onto another rider's track keeps its gap to it as a pair (a route that comes
             # round a loop to that track much later does not relate them there); seam: the
-            # rider's track is closed, so its riders meet at its switch when one leaves it
+            # rider's track is closed, so its riders meet at its switch when one leaves it;
+            # back: its route goes back over that seam (it leaves at its start, D-147)
             next_of = self._next_index.copy()
             seam = t_closed[mine]
+            back = self._back.copy()
             path_next = np.where(next_of >= 0, next_of, t_next[mine])  #: or the one way on
-            self._routes = (track_of, next_of, seam)
+            path_next[back] = -1  # it goes back: no way on from the end of its track
+            self._routes = (track_of, next_of, seam, back)
             self._path_next = path_next
             self._stretches, self._clashes, self._merges, self._merged = {}, {}, {}, None
             self._geo = (rows, xr, yr, cr, length, sws, swe, crs, cre, by_track)
@@ -463,8 +481,8 @@ class Traffic:
                             route: list[Leg]) -> None:
         """A MoveOnTrack whose motion (its profile, or gap control's brake from a hard
         brake) would run past an end of its way is refused: from the end of a track a mover
-        goes on only onto the next one of its route, and never back over a track's start
-        (§6.2.2). The command before it goes on."""
+        goes on only onto the next one of its route, and back over a track's start only on
+        a route back over a loop's seam (§6.2.2, D-147). The command before it goes on."""
         if profile is not None:
             lo, hi = profile.position_extrema()
         else:
@@ -472,7 +490,8 @@ class Traffic:
                 start.position, start.velocity, start.acceleration, self.bdec[k],
                 self.bjerk[k])))
             lo, hi = float(lo_a[0]), float(hi_a[0])
-        first, last = route[0], route[-1]
+        legs = ascending(route)
+        first, last = legs[0], legs[-1]
         end = last.base + last.track.length
         if hi > end + _PAST or lo < first.base - _PAST:
             track, where = (last.track, "end") if hi > end + _PAST else (first.track, "start")
@@ -662,6 +681,8 @@ class Traffic:
                     fronts.append(m)
                     leaders.append(ahead[0])
                     shifts.append(ahead[1])
+            if self._back.any():
+                self._pairs_back(order, heads, tails, fronts, leaders, shifts)
             sa = np.concatenate((succ, np.array(fronts, dtype=np.int64)))
             pa = np.concatenate((pred, np.array(leaders, dtype=np.int64)))
             self._pairs = Pairs(sa, pa, np.concatenate((offset, np.array(shifts, dtype=float))),
@@ -681,18 +702,51 @@ class Traffic:
     def _ahead(self, m: Rider, first: dict[int, list[int]]) -> tuple[int, float] | None:
         """The first rider on the tracks after ``m``'s along its route (then the one way on,
         if the network leaves one), and the shift of its odometer into ``m``'s. ``first``:
-        the first two riders of each track with riders."""
-        for leg in m.route[1:]:
+        the first two riders of each track with riders. A route back has no legs ahead."""
+        legs = ahead_legs(m.route)
+        for leg in legs[1:]:
             for k in first.get(leg.track.index, ()):
                 if k != m.slot:
                     return k, leg.base - float(self.base[k])
-        last = m.route[-1].track
-        base = m.route[-1].base + last.length
+        last = legs[-1].track
+        base = legs[-1].base + last.length
         for track in self.network.way_on(last, _HORIZON_TRACKS):
             for k in first.get(track.index, ()):
                 if k != m.slot:
                     return k, base - float(self.base[k])
             base += track.length
+        return None
+
+    def _pairs_back(self, order: list[int], heads: list[int], tails: list[int],
+                    fronts: list[int], leaders: list[int], shifts: list[float]) -> None:
+        """The pairs of the riders on a route back over a loop's seam (D-147), added to
+        ``fronts``, ``leaders`` and ``shifts``: the first rider of a track (by arc length)
+        whose route goes back leads the first rider behind it along its legs. That one may be
+        paired with it already (its own way runs on round the loop), or not (it leaves the
+        loop at the seam): then it keeps the gap only through this pair, before the rider
+        going back crosses the seam towards it."""
+        last: dict[int, list[int]] = {}  #: per track, its last two riders, the last first
+        for head, tail in zip(heads, tails, strict=True):
+            last[self.riders[order[head]].track.index] = order[max(head, tail - 2):tail][::-1]
+        known = set(zip(fronts, leaders, strict=True))
+        for head in heads:
+            k = order[head]
+            if not self._back[k]:
+                continue
+            behind = self._behind(self.riders[k], last)
+            if behind is not None and (behind[0], k) not in known:
+                fronts.append(behind[0])
+                leaders.append(k)
+                shifts.append(behind[1])
+
+    def _behind(self, m: Rider, last: dict[int, list[int]]) -> tuple[int, float] | None:
+        """The first rider behind ``m`` along its route back (on its legs after the first;
+        the route ends at its target, so it looks no further), and the shift of ``m``'s
+        odometer into that rider's. ``last``: the last two riders of each track."""
+        for leg in m.route[1:]:
+            for k in last.get(leg.track.index, ()):
+                if k != m.slot:
+                    return k, float(self.base[k]) - leg.base
         return None
 
     def _track(self, held: np.ndarray, nxt: list[np.ndarray],
@@ -925,7 +979,7 @@ class Traffic:
         master = coupling.master
         if not coupling.follow or master is None:
             return
-        way, moved = master.route, float(self.shift[master.slot])
+        way, moved = ahead_legs(master.route), float(self.shift[master.slot])
         seen = coupling.seen  # (the list, its length, its last leg, the master's shift)
         if seen and seen[0] is way and seen[1] == len(way) and seen[2] is way[-1] and \
                 seen[3] == moved and coupling.blocked is None:
@@ -1244,9 +1298,8 @@ class Traffic:
         footprints grown by what they can move between two samples. Returns the stretch
         searched and the stretch for planning (infinite on a side found clear to the
         horizon); both are the envelope itself where it is not clear already."""
-        rider = self.riders[k]
-        start = float(self.base[k])
-        end = rider.route[-1].base + rider.route[-1].track.length
+        route = ascending(self.riders[k].route)
+        start, end = route[0].base, route[-1].base + route[-1].track.length
         count, own = _CLEAR_SAMPLES, _sample_count(low, high)
         _, lows, highs = zip(*others, strict=True) if others else ((), (), ())
         q, at = stretch_samples(low, high, start, end, _CLEAR_STEP, count, own,
@@ -1254,7 +1307,7 @@ class Traffic:
                                 np.array([_sample_count(*o[1:]) for o in others],
                                          dtype=np.int64))
         riders = [k, *(o[0] for o in others)]
-        legs = [self.riders[r].route for r in riders]
+        legs = [ascending(self.riders[r].route) for r in riders]
         xyc, curvature = self._atlas_of().along_routes(
             np.array([leg.track.index for route in legs for leg in route], dtype=np.int64),
             np.array([leg.base for route in legs for leg in route], dtype=float),
@@ -1307,23 +1360,34 @@ class Traffic:
         ``ends``: at the end of its track (else at its start). Riders of two tracks meet
         unless one passes the switch onto the other's track where the other is (it keeps its
         gap to it as a pair): at the end of its track, the other's being the next on its
-        route, the other at its start (not at the end of a closed one). Riders of
-        one closed track meet at the switch at its seam when one at its end leaves the track
-        there (it turns off beside the one just past the seam)."""
+        route, the other at its start (not at the end of a closed one) and not on a route
+        back over the seam there (it comes back to the switch and past it onto the loop's
+        end, beside the one that would follow it; D-147). Riders of one closed track meet at
+        the switch at its seam when one at its end leaves the track there (it turns off
+        beside the one just past the seam)."""
         return conflicts(slots, ends, holders, holder_ends, *self._routes)
 
     def _transitions(self) -> None:
-        """Riders past the end of their track's leg go on to the next leg of their route."""
+        """Riders past the end of their track's leg go on to the next leg of their route;
+        on a route back over a loop's seam, riders below the start of theirs (D-147)."""
         length = self._geometry()[4]
         for k in past_ends(self.p, self.base, length).tolist():
             r = self.riders[k]
-            while len(r.route) > 1 and self.p[k] - self.base[k] >= r.track.length - 1e-12:
+            while len(r.route) > 1 and self._passed(k, r.route):
                 r.route.pop(0)
                 r.track = r.route[0].track
                 self._routed(r)
                 self.base[k] = r.route[0].base
                 self._pairs = None
                 self._geo = None
+
+    def _passed(self, k: int, route: list[Leg]) -> bool:
+        """Whether rider ``k`` has left the first leg of ``route`` for the second: past its
+        end (to 1e-12 mm, as ``past_ends``), or below its start on a route back."""
+        s = float(self.p[k] - self.base[k])
+        if route[1].base > route[0].base:
+            return s >= route[0].track.length - 1e-12
+        return s < 0.0
 
     def _write(self, values: list[np.ndarray]) -> None:
         """x, y (and c) of every moving rider from its track's curve, in one compiled pass
@@ -1396,6 +1460,22 @@ class Traffic:
         if self._cycle_tables is None:
             self._cycle_tables = self._atlas_of().tables(self.network.placed())
         return self._cycle_tables
+
+
+def backwards(route: list[Leg]) -> bool:
+    """Whether ``route`` goes back over the seam of its closed track: its legs descend."""
+    return len(route) > 1 and route[1].base < route[0].base
+
+
+def ahead_legs(route: list[Leg]) -> list[Leg]:
+    """The legs of ``route`` ahead on the odometer: all of a route forwards, the current one
+    of a route back (its other legs lie behind)."""
+    return route[:1] if backwards(route) else route
+
+
+def ascending(route: list[Leg]) -> list[Leg]:
+    """The legs of ``route`` by their base, lowest first (a route back, reversed)."""
+    return route[::-1] if backwards(route) else route
 
 
 def _no_lines() -> tuple[np.ndarray, ...]:

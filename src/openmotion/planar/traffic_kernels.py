@@ -635,11 +635,13 @@ def turning_gaps(nxt_v: Floats, nxt_a: Floats, jerk: Floats, going: Bools, succ:
 
 @njit(cache=True)
 def past_ends(p: Floats, base: Floats, length: Floats) -> Ints:
-    """Riders whose arc length reached the end of their track (to 1e-12 mm)."""
+    """Riders whose arc length reached the end of their track (to 1e-12 mm) or fell below
+    its start (a route back over a loop's seam goes on there, D-147)."""
     out = np.empty(p.size, dtype=np.int64)
     count = 0
     for k in range(p.size):
-        if p[k] - base[k] >= length[k] - 1e-12:
+        s = p[k] - base[k]
+        if s >= length[k] - 1e-12 or s < 0.0:
             out[count] = k
             count += 1
     return out[:count]
@@ -671,13 +673,14 @@ def ended(mode: Ints, follow: int, end: Floats, rows: Ints, now: float) -> Ints:
 
 @njit(cache=True)
 def _conflict(r: int, at_end: bool, h: int, their_end: bool, track_of: Ints, next_of: Ints,
-              seam: Bools) -> bool:
+              seam: Bools, back: Bools) -> bool:
     """``Traffic._conflicts`` of rider ``r`` (at the end of its track, else its start) and
-    holder ``h`` at their switch."""
+    holder ``h`` at their switch. ``back``: the rider's route goes back over its loop's
+    seam (nobody passes onto its track behind it there)."""
     mine, theirs = track_of[r], track_of[h]
     my_next, their_next = next_of[r], next_of[h]
-    onto = (at_end and my_next == theirs and not their_end) or \
-        (their_end and their_next == mine and not at_end)
+    onto = (at_end and my_next == theirs and not their_end and not back[h]) or \
+        (their_end and their_next == mine and not at_end and not back[r])
     other = mine != theirs and not onto
     leaving = (at_end and my_next >= 0 and my_next != mine) or \
         (their_end and their_next >= 0 and their_next != theirs)
@@ -687,21 +690,21 @@ def _conflict(r: int, at_end: bool, h: int, their_end: bool, track_of: Ints, nex
 
 @njit(cache=True)
 def conflicts(slots: Ints, ends: Bools, holders: Ints, holder_ends: Bools, track_of: Ints,
-              next_of: Ints, seam: Bools) -> NDArray[np.bool_]:
+              next_of: Ints, seam: Bools, back: Bools) -> NDArray[np.bool_]:
     """``Traffic._conflicts``: whether each of ``slots`` may meet each of ``holders`` at
     their switch, a matrix (``_conflict``)."""
     out = np.zeros((slots.size, holders.size), dtype=np.bool_)
     for i in range(slots.size):
         for j in range(holders.size):
             out[i, j] = _conflict(slots[i], ends[i], holders[j], holder_ends[j], track_of,
-                                  next_of, seam)
+                                  next_of, seam, back)
     return out
 
 
 @njit(cache=True)
 def zone_lines(sws: Ints, swe: Ints, in_end: Bools, in_start: Bools, end_line: Floats,
                start_line: Floats, lo: Floats, hi: Floats, lookahead: float, hk: Ints,
-               he: Bools, hs: Ints, track_of: Ints, next_of: Ints, seam: Bools
+               he: Bools, hs: Ints, track_of: Ints, next_of: Ints, seam: Bools, back: Bools
                ) -> tuple[Ints, Floats, Floats, Ints]:
     """``Traffic._zone_lines`` in one pass: ``zone_entries``, each entry blocked where a
     holder (hk at the end of its track he, of switch hs) at its switch conflicts with it,
@@ -712,7 +715,7 @@ def zone_lines(sws: Ints, swe: Ints, in_end: Bools, in_start: Bools, end_line: F
     for i in range(k.size):
         for j in range(hk.size):
             if switch[i] == hs[j] and _conflict(k[i], end[i], hk[j], he[j], track_of,
-                                                next_of, seam):
+                                                next_of, seam, back):
                 blocked[i] = True
                 break
     return zone_stops(sws.size, k, low, high, wanting, blocked)
@@ -759,8 +762,8 @@ def warm() -> None:
     past_ends(f, f, f)
     resting(i, 2, f, f)
     ended(i, 1, f, i, 0.0)
-    conflicts(i, b, i, b, i, i, b)
-    zone_lines(i, i, b, b, f, f, f, f, 1.0, i, b, i, i, i, b)
+    conflicts(i, b, i, b, i, i, b, b)
+    zone_lines(i, i, b, b, f, f, f, f, 1.0, i, b, i, i, i, b, b)
     in_order(f, grouped, tails)
     proposals(i, 1, 0, i, f, f, f, f + 1.0, f, f, f, f, f, f)
     envelopes(f, f, f, f + 1.0, f + 1.0)
