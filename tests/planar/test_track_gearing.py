@@ -393,6 +393,34 @@ def test_a_slave_on_a_closed_loop_goes_round_with_its_axis_master():
     assert s.set_velo == 0.0 and feedback.in_sync and gear.active and not gear.error
 
 
+def test_a_slave_driven_back_over_a_loop_s_start_stops_there_with_an_error():
+    """§6.2.8, D-154: after a lap forwards the master turns back; the slave follows it back
+    in sync until it must brake for the start of the loop (of the lap it is on), stops
+    exactly there and the gear-in ends in PLANAR_PATH_END."""
+    rt = om.Runtime(0.001)
+    loop, mover, axis = _slave_on_loop(rt)
+    length = loop.get_length()
+    feedback = MC_PlanarFeedbackGearInPosOnTrack()
+    mover.gear_in_pos_on_track(axis, None, 0.0, 300.0, loop, feedback=feedback)
+    rt.step()
+    forwards = axis.move_absolute(length, 1000.0, acceleration=2000.0, deceleration=2000.0,
+                                  jerk=20000.0)
+    assert rt.run_until(lambda: forwards.done, timeout=10.0)
+    assert mover.mc_to_plc.set_on_track.set_pos == pytest.approx(300.0, abs=1e-6)
+    assert feedback.in_sync
+    axis.move_absolute(0.0, 200.0)
+    lowest = math.inf
+    assert rt.run_until(lambda: not feedback.busy, timeout=10.0)
+    for _ in range(50):
+        rt.step()
+        lowest = min(lowest, mover.mc_to_plc.set_on_track.set_pos)
+    s = mover.mc_to_plc.set_on_track
+    assert feedback.error and feedback.error_id == ErrorId.PLANAR_PATH_END
+    assert "start of loop" in feedback.message
+    assert s.track_oid == loop.oid and s.set_velo == 0.0
+    assert s.set_pos == pytest.approx(0.0, abs=1e-6) and lowest >= -1e-9
+
+
 @pytest.mark.parametrize(("direction", "sync", "tolerance", "there", "synced"), [
     (ModuloDirection.POSITIVE, 100.0, 0.0, 100.0, True),  # a lap ahead: it drives round
     (ModuloDirection.NEGATIVE, 100.0, 0.0, 300.0, False),  # behind: it waits for the master
