@@ -600,6 +600,23 @@ def enabled_line(runtime: Runtime, start: tuple[float, float], end: tuple[float,
     return track
 
 
+def enabled_loop(runtime: Runtime, **parameters: object) -> MC_PlanarTrack:
+    """A closed planar track, enabled: a rectangle 960 x 720 mm with its corners rounded by
+    the blends, starting at (0, 0) along +x, 3475.8 mm round; ``parameters`` go to
+    ``MC_PlanarTrack``."""
+    from openmotion.planar import MC_PlanarTrack, PlanarState, PositionXYC
+
+    loop = MC_PlanarTrack(runtime, **parameters)
+    for a, b in (((0.0, 0.0), (720.0, 0.0)), ((960.0, 240.0), (960.0, 480.0)),
+                 ((720.0, 720.0), (0.0, 720.0)), ((-240.0, 480.0), (-240.0, 240.0))):
+        loop.append_line(PositionXYC(*a), PositionXYC(*b))
+    loop.close_loop()
+    loop.enable()
+    assert runtime.run_until(lambda: loop.state is PlanarState.ENABLED, timeout=1.0)
+    assert loop.closed_loop
+    return loop
+
+
 def join_all(runtime: Runtime, track: MC_PlanarTrack, *movers: MC_PlanarMover) -> None:
     """Every mover joins ``track`` (in call order); runs until all joins are done."""
     joins = [mover.join_track(track) for mover in movers]

@@ -29,7 +29,7 @@ from openmotion.planar import (
     ST_GearInPosOnTrackOptions,
     ST_GearInPosOnTrackWithMasterMoverOptions,
 )
-from openmotion.testing import enabled_line, enabled_movers, join_all
+from openmotion.testing import enabled_line, enabled_loop, enabled_movers, join_all
 from openmotion.transport.gear import GearSync
 
 
@@ -339,22 +339,9 @@ def test_a_master_faster_than_the_command_is_followed_at_the_command_velocity():
 # -- closed loops and modulo sync positions (D-148) -------------------------------------------
 
 
-def _loop(rt: om.Runtime) -> MC_PlanarTrack:
-    """A closed rounded rectangle starting at (0, 0) along +x, 3475.8 mm round."""
-    loop = MC_PlanarTrack(rt, "loop")
-    for a, b in (((0.0, 0.0), (720.0, 0.0)), ((960.0, 240.0), (960.0, 480.0)),
-                 ((720.0, 720.0), (0.0, 720.0)), ((-240.0, 480.0), (-240.0, 240.0))):
-        loop.append_line(PositionXYC(*a), PositionXYC(*b))
-    loop.close_loop()
-    loop.enable()
-    rt.run(0.003)
-    assert loop.closed_loop
-    return loop
-
-
 def _slave_on_loop(rt: om.Runtime, x: float = 300.0) -> tuple[MC_PlanarTrack, MC_PlanarMover,
                                                                 om.Axis]:
-    loop = _loop(rt)
+    loop = enabled_loop(rt, name="loop")
     (mover,) = enabled_movers(rt, (x, 0.0))
     join_all(rt, loop, mover)
     return loop, mover, _axis(rt)
@@ -464,7 +451,7 @@ def test_modulo_sync_positions_need_a_closed_loop():
     ahead of the slave Positive is its first occurrence there, and Negative finds none
     behind the slave on its way (INVALID_DIRECTION)."""
     rt = om.Runtime(0.001)
-    loop = _loop(rt)
+    loop = enabled_loop(rt, name="loop")
     lead = MC_PlanarTrack(rt, "lead")
     lead.append_line(PositionXYC(-400.0, -300.0), PositionXYC(-100.0, -300.0))
     lead.end_at_track(loop)
@@ -509,7 +496,7 @@ def test_a_modulo_master_sync_position_on_a_loop_is_taken_along_the_master_s_way
     ahead of the master, Negative the one a lap behind it: the slave then syncs at once and
     ends a loop length further on."""
     rt = om.Runtime(0.001)
-    loop = _loop(rt)
+    loop = enabled_loop(rt, name="loop")
     line = enabled_line(rt, (0.0, -1000.0), (5000.0, -1000.0))
     master, slave = enabled_movers(rt, (600.0, 0.0), (0.0, -1000.0))
     join_all(rt, loop, master)
@@ -532,7 +519,7 @@ def test_a_follower_goes_round_a_loop_behind_a_master_geared_on_it():
     a half laps; the slave follows it 300 mm behind on the same loop, round as well. The
     follower's way is the master's, lap for lap."""
     rt = om.Runtime(0.001)
-    loop = _loop(rt)
+    loop = enabled_loop(rt, name="loop")
     master, slave = enabled_movers(rt, (600.0, 0.0), (300.0, 0.0))
     join_all(rt, loop, master, slave)
     length = loop.get_length()

@@ -25,22 +25,9 @@ from openmotion.planar import (
 from openmotion.planar.options import ST_MoveOnTrackOptions
 from openmotion.planar.track import MC_PlanarTrack, traffic_of
 from openmotion.testing import enabled_line as _line
+from openmotion.testing import enabled_loop
 from openmotion.testing import enabled_movers as _movers
 from openmotion.testing import join_all as _joined
-
-
-def _loop(rt: om.Runtime) -> MC_PlanarTrack:
-    loop = MC_PlanarTrack(rt)
-    for a, b in (((0.0, 0.0), (720.0, 0.0)), ((960.0, 240.0), (960.0, 480.0)),
-                 ((720.0, 720.0), (0.0, 720.0)), ((-240.0, 480.0), (-240.0, 240.0))):
-        loop.append_line(PositionXYC(*a), PositionXYC(*b))
-    loop.close_loop()
-    loop.enable()
-    rt.run(0.003)
-    assert loop.closed_loop
-    return loop
-
-
 
 
 def _run_until(rt: om.Runtime, *commands: object, timeout: float = 20.0) -> None:
@@ -242,7 +229,7 @@ def test_negative_moves_back_over_a_loops_seam_to_its_target():
     start (D-147)."""
     rt = om.Runtime(0.001)
     (mover,) = _movers(rt, (100.0, 0.0))
-    loop = _loop(rt)
+    loop = enabled_loop(rt)
     length = loop.get_length()
     _joined(rt, loop, mover)
     start = traffic_of(mover._system).path_state(mover._rider)[0]
@@ -267,7 +254,7 @@ def test_negative_with_additional_turns_travels_the_extra_laps_back(turns: int):
     seam once per lap, and ends at 50 (D-147)."""
     rt = om.Runtime(0.001)
     (mover,) = _movers(rt, (100.0, 0.0))
-    loop = _loop(rt)
+    loop = enabled_loop(rt)
     length = loop.get_length()
     _joined(rt, loop, mover)
     start = traffic_of(mover._system).path_state(mover._rider)[0]
@@ -288,7 +275,7 @@ def test_shortest_way_takes_the_shorter_way_round_the_seam_or_not(target: float,
     shorter one and taken; to 250 the way ahead (150 mm)."""
     rt = om.Runtime(0.001)
     (mover,) = _movers(rt, (100.0, 0.0))
-    loop = _loop(rt)
+    loop = enabled_loop(rt)
     length = loop.get_length()
     _joined(rt, loop, mover)
     start = traffic_of(mover._system).path_state(mover._rider)[0]
@@ -310,7 +297,7 @@ def test_positive_within_the_modulo_tolerance_takes_the_near_way_back_over_the_s
     with one additional turn it goes the lap forwards from there (length - 8)."""
     rt = om.Runtime(0.001)
     (mover,) = _movers(rt, (5.0, 0.0))
-    loop = _loop(rt)
+    loop = enabled_loop(rt)
     length = loop.get_length()
     _joined(rt, loop, mover)
     assert _s(mover) == pytest.approx(5.0)
@@ -330,7 +317,7 @@ def test_a_mover_reversing_over_the_seam_stops_one_gap_from_a_standing_mover():
     from b (along the path, never closer) and waits; when b has moved on back (to length -
     900), a goes on to its target."""
     rt = om.Runtime(0.001)
-    loop = _loop(rt)
+    loop = enabled_loop(rt)
     length = loop.get_length()
     a, b = _movers(rt, (100.0, 0.0), _at(loop, length - 300.0))
     _joined(rt, loop, a, b)
@@ -355,7 +342,7 @@ def test_a_mover_coming_to_the_seam_keeps_the_larger_gap_to_one_reversing_over_i
     meet head on. b is the follower of a, which goes back: the larger gap (250) holds
     between them along the path at every cycle, and they stop there."""
     rt = om.Runtime(0.001)
-    loop = _loop(rt)
+    loop = enabled_loop(rt)
     length = loop.get_length()
     a, b = _movers(rt, (100.0, 0.0), _at(loop, length - 600.0))
     _joined(rt, loop, a, b)
