@@ -252,8 +252,10 @@ class TrackPath:
 
     @property
     def max_curvature(self) -> float:
-        """[1/mm] the largest |curvature| anywhere on the track."""
-        return max(piece.max_curvature for piece in self.pieces)
+        """[1/mm] the largest |curvature| anywhere on the track (asked by every route
+        planned over it: taken from the assembled pieces once)."""
+        pieces, _ = self._assembled()
+        return max(piece.max_curvature for piece in pieces)
 
     @property
     def start_pose(self) -> TrackPose:

@@ -42,7 +42,6 @@ from openmotion.planar.traffic import Traffic, network_of, traffic_of
 if TYPE_CHECKING:
     from openmotion.planar.group import MC_PlanarGroup
     from openmotion.planar.parts import Part
-    from openmotion.planar.traffic import Rider
     from openmotion.runtime.runtime import Runtime
 
 TRACK_COLLISION_RANGE = 250.0  #: [mm] default collision range at start and at end (§6.2.1)
@@ -224,18 +223,10 @@ class MC_PlanarTrack(StatefulObject):
             return TrackOperationMode.MOVING
         return TrackOperationMode.STANDING
 
-    def _referencing_riders(self) -> list[Rider]:
-        """Riders on this track, and moving riders with it on the legs still ahead of them:
-        the track is theirs until they are off it (§4.3: Moving while movers are on it or
-        about to move onto it). A halted rider's unused legs do not hold it."""
-        traffic = self._traffic
-        return [r for r in traffic.riders if r.track is self or (
-            traffic.moving(r) and any(leg.track is self for leg in r.route))]
-
     def _check_unused(self, kind: str) -> None:
         """A track keeps its geometry while movers are on it, join it or are routed onto it:
         changing it under them would move them off their setpoints (D-119)."""
-        users = len(self._referencing_riders()) + len(self.configuring)
+        users = self._traffic.riders_on(self, moving=False) + len(self.configuring)
         if users:
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                                   f"{kind}: {users} mover(s) are on {self.name}, join it or are "
@@ -243,13 +234,12 @@ class MC_PlanarTrack(StatefulObject):
 
     @property
     def mover_count_on_track(self) -> int:
-        return sum(1 for r in self._traffic.riders if r.track is self)
+        return self._traffic.riders_at(self)
 
     @property
     def moving_mover_count(self) -> int:
         """Movers with a motion planned over this track: on it, or routed onto it (§4.3)."""
-        traffic = self._traffic
-        return sum(1 for r in self._referencing_riders() if traffic.moving(r))
+        return self._traffic.riders_on(self, moving=True)
 
     @property
     def previous_tracks(self) -> list[int]:

@@ -258,6 +258,10 @@ class Traffic:
         #: per rider, the index of its track and of the next track of its route (-1: none),
         #: kept as they change (``_routed``); ``_geometry`` takes a copy
         self._track_index = np.zeros(n, dtype=np.int64)
+        #: per rider and track index: the track is its own or on its route (``_routed``),
+        #: so a track's operation mode is one count (``riders_on``)
+        self._use = np.zeros((n, max(1, len(getattr(self.network, "tracks", ())))), dtype=bool)
+        self._uses: dict[int, set[int]] = {}  #: per rider, the track indices set in ``_use``
         self._next_index = np.full(n, -1, dtype=np.int64)
         #: per rider, whether its route goes back over the seam of its closed track (D-147)
         self._back = np.zeros(n, dtype=bool)
@@ -321,10 +325,42 @@ class Traffic:
         """``r``'s track or route changed: its ``_track_index``, ``_next_index`` (the track it
         goes on to from the end of its own; none on a route back) and ``_back``."""
         back = backwards(r.route)
-        self._track_index[r.slot] = r.track.index
+        k = r.slot
+        self._track_index[k] = r.track.index
+        used = self._uses.get(k)
+        if used is not None:
+            for index in used:
+                self._use[k, index] = False
+        used = {r.track.index, *(leg.track.index for leg in r.route)}
+        self._uses[k] = used
+        for index in used:
+            if index >= self._use.shape[1]:
+                self._widen_use(index + 1)
+            self._use[k, index] = True
         self._next_index[r.slot] = r.route[1].track.index if len(r.route) > 1 and not back \
             else -1
         self._back[r.slot] = back
+
+    def _widen_use(self, count: int) -> None:
+        """Room in ``_use`` for ``count`` tracks (a track added after the riders came)."""
+        wider = np.zeros((self._use.shape[0], count), dtype=bool)
+        wider[:, :self._use.shape[1]] = self._use
+        self._use = wider
+
+    def riders_on(self, track: Rail, moving: bool) -> int:
+        """How many riders use ``track``: with ``moving`` those that move on it or have it on
+        the route ahead (§4.3: the track is Moving), else also those standing on it (a
+        halted rider's unused legs do not count)."""
+        index = track.index
+        routed = self._use[:, index] & (self.mode != IDLE) if index < self._use.shape[1] \
+            else np.zeros(self.mode.size, dtype=bool)
+        if moving:
+            return int(np.count_nonzero(routed))
+        return int(np.count_nonzero(routed | (self._track_index == index)))
+
+    def riders_at(self, track: Rail) -> int:
+        """How many riders are on ``track``."""
+        return int(np.count_nonzero(self._track_index == track.index))
 
     def _load(self, r: Rider) -> None:
         k = r.slot
