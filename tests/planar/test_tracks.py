@@ -15,6 +15,7 @@ from openmotion.core.enums import ModuloDirection
 from openmotion.core.errors import ConfigError, ErrorId
 from openmotion.planar import (
     CoordinateMode,
+    DynamicConstraint_PathXY,
     MC_PlanarEnvironment,
     MC_PlanarFeedback,
     MC_PlanarGroup,
@@ -36,6 +37,7 @@ from openmotion.planar import (
 from openmotion.planar.options import ST_JoinTrackOptions, ST_MoveOnTrackOptions
 from openmotion.planar.track import MC_PlanarTrack
 from openmotion.testing import enabled_line as _line
+from openmotion.testing import enabled_loop
 from openmotion.testing import enabled_movers as _movers
 from openmotion.testing import join_all as _joined
 
@@ -267,6 +269,56 @@ def test_halt_on_a_track_stops_short_of_the_target():
     assert move.aborted
     s = mover.mc_to_plc.set_on_track
     assert 0.0 < s.set_pos < 2000.0 and s.set_velo == 0.0
+
+
+def test_a_halt_too_weak_to_stop_before_the_track_end_stops_exactly_there():
+    """§6.1.9, §6.2.2, D-155: at 2000 mm/s 400 mm before the end of an open track, a Halt
+    with 1000 mm/s² would need 2 m; the mover brakes harder and stops exactly at the end
+    (its arc length went on to 3200 mm on a 1500 mm track, x stuck at the end)."""
+    rt = om.Runtime(0.001)
+    (mover,) = _movers(rt, (100.0, 0.0))
+    track = _line(rt, (0.0, 0.0), (1500.0, 0.0))
+    _joined(rt, track, mover)
+    mover.move_on_track(None, 1400.0)
+    while mover.mc_to_plc.set_on_track.set_pos < 1100.0:
+        rt.step()
+    assert mover.mc_to_plc.set_on_track.set_velo == pytest.approx(2000.0)
+    halt = mover.halt(DynamicConstraint_PathXY(2000.0, 1000.0, 1000.0, 10000.0))
+    furthest, x = 0.0, [mover.pose.x]
+    while not halt.done:
+        rt.step()
+        furthest = max(furthest, mover.mc_to_plc.set_on_track.set_pos)
+        x.append(mover.pose.x)
+    s = mover.mc_to_plc.set_on_track
+    assert s.set_pos == pytest.approx(1500.0, abs=1e-6) and furthest <= 1500.0 + 1e-6
+    assert s.set_velo == 0.0 and mover.pose.x == pytest.approx(1500.0, abs=1e-6)
+    steps = np.diff(np.array(x))
+    assert steps.max() <= 2.0 + 1e-9 and np.all(np.abs(np.diff(steps)) < 0.1)  # no jump
+
+
+def test_a_weak_halt_on_a_closed_loop_goes_on_round_the_loop():
+    """A Halt that needs more than the rest of the route on a closed loop goes on round the
+    loop, lap by lap, and stops where its dynamics take it (§6.1.9)."""
+    rt = om.Runtime(0.001)
+    loop = enabled_loop(rt)
+    length = loop.get_length()
+    (mover,) = _movers(rt, (100.0, 0.0))
+    _joined(rt, loop, mover)
+    mover.move_on_track(None, length - 100.0)
+    rt.run(0.8)
+    moved = mover.mc_to_plc.set_on_track
+    start, v = moved.set_pos, moved.set_velo
+    assert v > 1000.0 and moved.set_acc == 0.0  # cruising (as fast as the corners allow)
+    halt = mover.halt(DynamicConstraint_PathXY(2000.0, 200.0, 200.0, 2000.0))
+    travelled, last = 0.0, start
+    while not halt.done:
+        rt.step()
+        now = mover.mc_to_plc.set_on_track.set_pos
+        assert 0.0 <= now < length  # on the loop: the arc length goes round, not on
+        travelled += (now - last) % length
+        last = now
+    assert travelled > length  # round the seam at least once, with no stop at it
+    assert travelled == pytest.approx(v * v / (2 * 200.0) + v * 200.0 / (2 * 2000.0), rel=0.02)
 
 
 # -- networks (§6.2.2, §6.2.10) -------------------------------------------------------------------

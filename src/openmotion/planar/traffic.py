@@ -559,7 +559,53 @@ class Traffic:
         b = math.copysign(1.0, start.velocity) * start.acceleration
         if u > 0.0 and _hard(np.array(u), np.array(b), np.array(dec), np.array(jerk)):
             dec, jerk = rider.brake  # gap control brakes harder: its brake, not a turn round
-        return plan_stop(start, dec, jerk)
+        return self._within_way(rider, start, plan_stop(start, dec, jerk))
+
+    def _within_way(self, rider: Rider, start: KinematicState, stop: Profile) -> Profile:
+        """A stop that would run past an end of the rider's way (a Halt weaker than the
+        motion it stops) brakes harder and stops exactly at that end, with gap control's
+        brake at most: a mover leaves a track only onto the next one of its route (§6.2.2,
+        D-155). On a closed loop the way goes on instead, lap by lap."""
+        lo, hi = stop.position_extrema()
+        route = rider.route
+        legs = ascending(route)
+        first, last = legs[0], legs[-1]
+        end = last.base + last.track.length
+        if lo >= first.base - _PAST and hi <= end + _PAST:
+            return stop
+        loop = last.track if hi > end + _PAST else first.track
+        if self._track_info(loop)[2]:
+            length = loop.length
+            if hi > end + _PAST and not backwards(route):
+                while end < hi + _PAST:
+                    route.append(Leg(loop, end))
+                    end += length
+            elif lo < first.base - _PAST and (backwards(route) or len(route) == 1):
+                low = first.base
+                while low > lo - _PAST:
+                    low -= length
+                    route.append(Leg(loop, low))
+            else:
+                return self._stop_at_bound(rider, start, stop, first.base, end, lo, hi)
+            self._routed(rider)
+            self._pairs = None
+            self._geo = None
+            return stop
+        return self._stop_at_bound(rider, start, stop, first.base, end, lo, hi)
+
+    def _stop_at_bound(self, rider: Rider, start: KinematicState, stop: Profile, low: float,
+                       high: float, lo: float, hi: float) -> Profile:
+        """``_within_way``'s stop exactly at the way's end (``high``) or start (``low``)."""
+        k = rider.slot
+        bound = high if hi > high + _PAST else low
+        hard = Limits(max(abs(start.velocity), float(self.lim[0, k]), 1e-9),
+                      float(self.bdec[k]), float(self.bdec[k]), float(self.bjerk[k]))
+        try:
+            clamped = plan_position(start, bound, hard)
+        except CommandRejected:
+            return stop
+        c_lo, c_hi = clamped.position_extrema()
+        return clamped if c_lo >= low - _PAST and c_hi <= high + _PAST else stop
 
     def _master_gone(self, rider: Rider, now: float) -> None:
         """``rider``'s master mover leaves the traffic (LeaveTrack): the coupling ends. The
