@@ -633,3 +633,112 @@ def test_a_follower_stops_before_a_track_its_group_does_not_grant():
     assert out1.name in gear.message and not out1.band
     assert feedback.object_info == PlanarObjectInfo(PlanarObjectType.MOVER, blocker.oid)
     assert move.done and not move.error
+
+
+# -- review findings (session 8) ------------------------------------------------------------------
+
+
+def test_in_sync_drops_in_the_cycle_the_slave_brakes_for_its_path_end():
+    """§6.2.8: the slave leaves sync when it must brake for the end of its path; the feedback
+    showed inSync for the 89 braking cycles (35 mm behind the coupled position)."""
+    rt = om.Runtime(0.001)
+    track = enabled_line(rt, (100.0, 100.0), (860.0, 100.0))
+    mover = _mover(rt, 100.0, 100.0)
+    _join(rt, mover, track)
+    axis = _axis(rt)
+    feedback = MC_PlanarFeedbackGearInPosOnTrack()
+    mover.gear_in_pos_on_track(axis, None, 0.0, 0.0, track, feedback=feedback)
+    rt.step()
+    axis.move_velocity(800.0, acceleration=1000.0, deceleration=1000.0, jerk=20000.0)
+    seen_in_sync, braking_in_sync = False, 0
+    while not feedback.error:
+        rt.step()
+        s = mover.mc_to_plc.set_on_track
+        seen_in_sync |= feedback.in_sync
+        braking_in_sync += s.set_acc < 0.0 and feedback.in_sync
+    assert seen_in_sync and feedback.error_id == ErrorId.PLANAR_PATH_END
+    assert braking_in_sync <= 1  # the cycle it starts to brake; the feedback shows the next
+
+
+@pytest.mark.parametrize(("slave_sync", "in_sync"), [(495.0, True), (450.0, False)])
+def test_a_waiting_slave_within_the_in_sync_tolerance_is_in_sync(slave_sync, in_sync):
+    """§7.2.1.2.7: a slave at rest 5 mm ahead of its coupled position, which it may not go
+    back to (Positive), is within inSyncToleranceDistance 10: inSync (it was False); 50 mm
+    is not."""
+    rt = om.Runtime(0.001)
+    track = enabled_line(rt, (0.0, 0.0), (3000.0, 0.0))
+    mover = _mover(rt, 500.0, 0.0)
+    _join(rt, mover, track)
+    axis = _axis(rt)
+    feedback = MC_PlanarFeedbackGearInPosOnTrack()
+    mover.gear_in_pos_on_track(axis, None, 0.0, slave_sync, track, options=(
+        ST_GearInPosOnTrackOptions(in_sync_tolerance_distance=10.0)), feedback=feedback)
+    rt.run(0.3)
+    assert mover.mc_to_plc.set_on_track.set_pos == pytest.approx(500.0)
+    assert feedback.in_sync is in_sync and feedback.busy
+
+
+def test_a_slave_of_a_geared_master_mover_follows_its_master_s_step_of_the_same_cycle():
+    """§6.2.9: B geared to mover A, A geared to an axis: in sync B is exactly 400 mm behind A
+    every cycle (it was one cycle of travel, 1 mm at 1000 mm/s, behind), whichever joined
+    first."""
+    for a_first in (True, False):
+        rt = om.Runtime(0.001)
+        track = enabled_line(rt, (0.0, 0.0), (6000.0, 0.0))
+        if a_first:  # the order of the rows and the riders
+            a, b = _mover(rt, 500.0, 0.0), _mover(rt, 100.0, 0.0)
+        else:
+            b, a = _mover(rt, 100.0, 0.0), _mover(rt, 500.0, 0.0)
+        for mover in ((a, b) if a_first else (b, a)):
+            _join(rt, mover, track)
+        axis = _axis(rt)
+        feedback = MC_PlanarFeedbackGearInPosOnTrackWithMasterMover()
+        a.gear_in_pos_on_track(axis, None, 0.0, 500.0, track)
+        b.gear_in_pos_on_track_with_master_mover(a, None, 500.0, track, 100.0, track,
+                                                 feedback=feedback)
+        rt.step()
+        axis.move_absolute(3000.0, 1000.0)
+        worst, synced = 0.0, 0
+        for _ in range(3500):
+            rt.step()
+            if feedback.in_sync:
+                synced += 1
+                apart = a.mc_to_plc.set_on_track.set_pos - b.mc_to_plc.set_on_track.set_pos
+                worst = max(worst, abs(apart - 400.0))
+        assert synced > 2000 and worst < 1e-9, (a_first, synced, worst)
+
+
+def test_a_follow_mover_trail_must_hold_the_slave_s_track():
+    """§6.8, §6.2.12: with followMover a trail that does not hold the slave's track is
+    refused as without it (it was ignored, and the slave took the shortest way)."""
+    rt = om.Runtime(0.001)
+    one = enabled_line(rt, (0.0, 0.0), (1000.0, 0.0))
+    two = enabled_line(rt, (1200.0, 200.0), (2000.0, 200.0), after=one)
+    master, slave = _mover(rt, 500.0, 0.0), _mover(rt, 100.0, 0.0)
+    _join(rt, master, one)
+    _join(rt, slave, one)
+    trail = MC_PlanarTrackTrail()
+    assert trail.add_track(two)
+    feedback = MC_PlanarFeedbackGearInPosOnTrackWithMasterMover()
+    slave.gear_in_pos_on_track_with_master_mover(
+        master, trail, 600.0, one, 200.0, one,
+        options=ST_GearInPosOnTrackWithMasterMoverOptions(follow_mover=True),
+        feedback=feedback)
+    rt.run(0.003)
+    assert feedback.error and feedback.error_id == ErrorId.PLANAR_INVALID_INPUT
+    assert "does not hold the slave's track" in feedback.message
+
+
+@pytest.mark.parametrize("value", ["yes", 2, None])
+def test_follow_mover_must_be_a_bool(value):
+    rt = om.Runtime(0.001)
+    track = enabled_line(rt, (0.0, 0.0), (1000.0, 0.0))
+    master, slave = _mover(rt, 500.0, 0.0), _mover(rt, 100.0, 0.0)
+    _join(rt, master, track)
+    _join(rt, slave, track)
+    command = slave.gear_in_pos_on_track_with_master_mover(
+        master, None, 600.0, track, 200.0, track,
+        options=ST_GearInPosOnTrackWithMasterMoverOptions(follow_mover=value))
+    rt.step()
+    assert command.error and command.error_id == ErrorId.PLANAR_INVALID_INPUT
+    assert "follow_mover: must be a BOOL" in command.message

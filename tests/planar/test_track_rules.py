@@ -497,3 +497,64 @@ def test_a_move_onto_a_configuring_track_is_refused():
     assert b.name in move.message
     _run_until(rt, join)
     assert _s(one) == pytest.approx(100.0, abs=1e-9)
+
+
+# -- review findings (session 8) ------------------------------------------------------------------
+
+
+def _travel(rt: om.Runtime, mover: MC_PlanarMover, length: float, command) -> float:
+    """The signed arc length a mover on a loop travels until ``command`` ends."""
+    travelled, last = 0.0, _s(mover)
+    while command.busy:
+        rt.step()
+        now = _s(mover)
+        assert 0.0 <= now < length  # SETONTRACK stays on the loop
+        step = (now - last) % length
+        travelled += step if step < length / 2 else step - length
+        last = now
+    return travelled
+
+
+@pytest.mark.parametrize(("direction", "turns", "target", "way"), [
+    (0, 0, 200.0, 100.0), (1, 0, 200.0, 100.0), (2, 0, 200.0, 100.0),
+    (1, 2, 200.0, 100.0 + 2 * 3475.7966208946273), (3, 1, 50.0, -50.0 - 3475.7966208946273),
+])
+def test_a_direction_given_as_its_number_is_that_direction(direction, turns, target, way):
+    """§7.2.1.1.2: MC_DIRECTION is a UINT; 1 = Positive with two turns goes 100 mm and two
+    laps (an int was compared by identity and driven 3375.8 mm backwards)."""
+    rt = om.Runtime(0.001)
+    loop = enabled_loop(rt)
+    (mover,) = _movers(rt, (100.0, 0.0))
+    _joined(rt, loop, mover)
+    move = mover.move_on_track(None, target, options=ST_MoveOnTrackOptions(
+        direction=direction, additional_turns=turns))
+    assert _travel(rt, mover, loop.get_length(), move) == pytest.approx(way, abs=1e-6)
+    assert move.done and _s(mover) == pytest.approx(target, abs=1e-6)
+
+
+@pytest.mark.parametrize(("laps", "way"), [(1.0, 1.0), (1.5, 1.5), (-0.5, -0.5), (2.25, 2.25)])
+def test_non_modulo_on_a_closed_loop_passes_the_seam_as_often_as_the_target_says(laps, way):
+    """§7.2.1.1.2: NonModulo on a looped track goes to the absolute target, passing the
+    seam as often as it takes: from 0, a target of 1.5 L ends at L / 2 after 1.5 L; L ends
+    at 0, not at L (both were refused or off the track's range)."""
+    rt = om.Runtime(0.001)
+    loop = enabled_loop(rt)
+    length = loop.get_length()
+    (mover,) = _movers(rt, (0.0, 0.0))
+    _joined(rt, loop, mover)
+    move = mover.move_on_track(None, laps * length)
+    assert _travel(rt, mover, length, move) == pytest.approx(way * length, abs=1e-6)
+    assert move.done and _s(mover) == pytest.approx((laps * length) % length, abs=1e-6)
+
+
+def test_a_target_off_an_open_track_or_modulo_off_a_loop_is_still_refused():
+    rt = om.Runtime(0.001)
+    loop = enabled_loop(rt)
+    line = _line(rt, (0.0, 1200.0), (800.0, 1200.0))
+    a, b = _movers(rt, (0.0, 0.0), (100.0, 1200.0))
+    _joined(rt, loop, a)
+    _joined(rt, line, b)
+    refused = [a.move_on_track(None, 1.5 * loop.get_length(), options=ST_MoveOnTrackOptions(
+        direction=ModuloDirection.POSITIVE)), b.move_on_track(None, 900.0)]
+    rt.step()
+    assert [c.error_id for c in refused] == [ErrorId.PLANAR_POSITION_LIMIT] * 2

@@ -278,7 +278,11 @@ def _follow_legs(rider: Rider, trail: MC_PlanarTrackTrail | None, master: Rider,
     shortest way on to that track, then the master's way from there (§6.2.12)."""
     here, s, _, _ = traffic.position(rider)
     tracks = [here]
-    if trail and here in trail.tracks:
+    if trail:
+        if here not in trail.tracks:  # as without followMover: the trail starts here
+            raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
+                                  f"the trail {[t.name for t in trail.tracks]} does not hold "
+                                  f"the slave's track {here.name} (§6.8, §6.2.12)")
         tracks = trail.tracks[trail.tracks.index(here):]
     if master_track in tracks:
         tracks = tracks[:tracks.index(master_track) + 1]

@@ -18,10 +18,12 @@
 
 from __future__ import annotations
 
+import enum
 import math
+import typing
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, fields
-from functools import cached_property
+from functools import cache, cached_property
 
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE, InputValue
@@ -60,7 +62,7 @@ def _check_modulo(prefix: str, direction: ModuloDirection, additional_turns: int
                   tolerance: float = 0.0) -> None:
     """The modulo rules of §6.1.9: turns only with Positive/Negative, no tolerance with
     NonModulo."""
-    if direction not in set(ModuloDirection):
+    if isinstance(direction, bool) or direction not in set(ModuloDirection):
         raise CommandRejected(_INVALID, f"{prefix}direction: not an MC_DIRECTION: {direction!r}")
     direction = ModuloDirection(direction)
     _check_udint(f"{prefix}additional_turns", additional_turns)
@@ -79,8 +81,26 @@ def _check_modulo(prefix: str, direction: ModuloDirection, additional_turns: int
 
 @dataclass(frozen=True)
 class _Options:
+    def __post_init__(self) -> None:
+        """An enumeration field given as its number (a PLC passes MC_DIRECTION and the like
+        as UINT) holds the member, so that the engine's comparisons see it; a number that
+        names no member stays as given and ``check`` refuses it."""
+        for name, kind in _enum_fields(type(self)):
+            value = getattr(self, name)
+            if isinstance(value, int) and not isinstance(value, bool | kind) and \
+                    value in set(kind):
+                object.__setattr__(self, name, kind(value))
+
     def check(self) -> None:
         """Raise ``CommandRejected`` for a value the manual forbids (nothing to check here)."""
+
+
+@cache
+def _enum_fields(cls: type) -> tuple[tuple[str, type[enum.Enum]], ...]:
+    """The fields of an options class whose declared type is an enumeration."""
+    hints = typing.get_type_hints(cls)
+    return tuple((f.name, hints[f.name]) for f in fields(cls)
+                 if isinstance(hints.get(f.name), type) and issubclass(hints[f.name], enum.Enum))
 
 
 @dataclass(frozen=True)
@@ -158,7 +178,8 @@ class ST_GearInPosOnTrackOptions(_Options):
         _check_non_negative("in_sync_tolerance_distance", self.in_sync_tolerance_distance)
         _check_modulo("slave sync position ", self.direction_slave_sync_position,
                       tolerance=self.modulo_tolerance_slave_sync_position)
-        if self.allowed_slave_sync_directions not in set(SyncDirections):
+        if isinstance(self.allowed_slave_sync_directions, bool) or \
+                self.allowed_slave_sync_directions not in set(SyncDirections):
             raise CommandRejected(_INVALID, "allowed_slave_sync_directions: not an "
                                   f"MC_SYNC_DIRECTIONS: {self.allowed_slave_sync_directions!r}")
 
@@ -185,6 +206,9 @@ class ST_GearInPosOnTrackWithMasterMoverOptions(_Options):
         ).check()
         _check_modulo("master sync position ", self.direction_master_sync_position,
                       tolerance=self.modulo_tolerance_master_sync_position)
+        if not isinstance(self.follow_mover, bool):
+            raise CommandRejected(_INVALID, f"follow_mover: must be a BOOL, got "
+                                  f"{self.follow_mover!r}")
 
 
 @dataclass(frozen=True)

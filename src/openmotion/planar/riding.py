@@ -127,7 +127,11 @@ def move_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
         raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                               f"MoveOnTrack: {track.name} is not Enabled (§4.3)")
     position = finite(position, "targetPositionOnTrack")
-    if not 0.0 <= position <= track.length:
+    traffic = traffic_of(mover._system)
+    here, s, _, _ = traffic.position(rider)
+    passes = track is here and here.closed_loop and \
+        options.direction is ModuloDirection.NON_MODULO  # laps allowed (§7.2.1.1.2)
+    if not passes and not 0.0 <= position <= track.length:
         raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
                               f"MoveOnTrack: {position:g} is off {track.name} "
                               f"(0 to {track.length:g} mm); movers never leave a track's ends "
@@ -135,8 +139,6 @@ def move_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
     p = mover.parameters
     limits = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
                               command.warnings)
-    traffic = traffic_of(mover._system)
-    here, s, _, _ = traffic.position(rider)
     route, target = _route(here, s, track, position, options)
     check_route_accepts([leg.track for leg in route], _C.MOVE_ON_TRACK)
     limits = _curve_limits(limits, [leg.track for leg in route])
@@ -305,7 +307,9 @@ def _route(here: MC_PlanarTrack, s: float, track: MC_PlanarTrack, position: floa
     D-147), ShortestWay the shorter one; on an open track or to another track there is one
     way only, and a direction that does not fit it refuses the command (D-144)."""
     direction = options.direction
-    if track is here and direction is not ModuloDirection.NON_MODULO and here.closed_loop:
+    if track is here and here.closed_loop:
+        if direction is ModuloDirection.NON_MODULO:  # absolute: passes over the seam either
+            return _laps(here, s, position - s)  # way as far as the target lies (§7.2.1.1.2)
         return _loop_route(here, s, position, options)
     if options.additional_turns:
         raise CommandRejected(ErrorId.INVALID_MODULO_OPTIONS,
@@ -354,10 +358,18 @@ def _loop_route(here: MC_PlanarTrack, s: float, position: float,
     laps = options.additional_turns * length
     way += laps if direction is ModuloDirection.POSITIVE else \
         -laps if direction is ModuloDirection.NEGATIVE else 0.0
+    return _laps(here, s, way)
+
+
+def _laps(loop: MC_PlanarTrack, s: float, way: float) -> tuple[list[Leg], float]:
+    """The legs of a closed loop from arc length ``s`` over the signed distance ``way``:
+    the loop once per lap entered, forwards at bases L, 2L, ... and backwards over the seam
+    at bases -L, -2L, ... (D-147); and the odometer target, on the last leg."""
+    length = loop.length
     target = s + way
     count = max(0, math.floor(target / length) * (1 if way >= 0.0 else -1)) + 1
     step = length if way >= 0.0 else -length
-    return [Leg(here, k * step) for k in range(count)], target
+    return [Leg(loop, k * step) for k in range(count)], target
 
 
 def _curve_limits(limits: Limits, tracks: list[MC_PlanarTrack]) -> Limits:

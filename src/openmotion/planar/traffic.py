@@ -878,8 +878,9 @@ class Traffic:
                     pairs: Pairs) -> None:
         """Proposals of geared riders: the sync's, kept on the path the slave may use. One
         whose next step could take it past an end of that path (braking with its hardest
-        dynamics) stops there instead, and its command fails (§6.2.8)."""
-        for k in geared.tolist():
+        dynamics) stops there instead, and its command fails (§6.2.8). A slave whose master
+        is geared too comes after it, so it reads its master's step of this cycle."""
+        for k in self._masters_first(geared):
             rider = self.riders[k]
             coupling = rider.gear
             self._extend_follow(rider, coupling)
@@ -914,8 +915,10 @@ class Traffic:
                 continue
             if proposal is not None and state[1] != 0.0 and \
                     _turns_against(coupling, proposal, rider.limits.jerk):
-                # before the first sync it comes to rest rather than turn (§6.1.9)
+                # before the first sync it comes to rest rather than turn (§6.1.9), and
+                # synchronises again from each step of that (its sync's own plan went on)
                 proposal = plan_velocity(KinematicState(*state), 0.0, rider.limits).at(self.dt)
+                coupling.sync.held(now, tuple(proposal[:3]), master)
             limit = rider.limits.velocity
             chasing = proposal is not None and not coupling.sync.in_sync \
                 and abs(_released(proposal, rider.limits.jerk)) > limit * (1.0 + 1e-9)
@@ -943,6 +946,7 @@ class Traffic:
             if self._waits(coupling, state, proposal, behind):
                 nxt[0][k], nxt[1][k], nxt[2][k], nxt[3][k] = state[0], 0.0, 0.0, 0.0
                 coupling.sync.held(now, state, master)
+                self._show_in_sync(rider, coupling, state, master)
                 continue
             if hi[0] > coupling.high + TOLERANCE or behind:
                 bound = coupling.high if hi[0] > coupling.high + TOLERANCE else low
@@ -957,13 +961,39 @@ class Traffic:
                     coupling.failed = (rejected.error_id, rejected.message)
                     self._stop_following(rider, self._stop_profile(rider, rider.limits), nxt)
                     continue
-            if rider.command is not None:
-                cp = coupling.sync.coupled(*master)[0]
-                in_sync = coupling.sync.in_sync or (
-                    coupling.tolerance > 0.0 and abs(state[0] - cp) <= coupling.tolerance)
-                if in_sync != rider.command.in_sync:
-                    rider.command.in_sync = in_sync
-                    rider.owner._awake = True  # the feedback shows it next cycle
+            self._show_in_sync(rider, coupling, state, master)
+
+    def _masters_first(self, geared: np.ndarray) -> list[int]:
+        """The geared riders, each after its master when that is geared too."""
+        order = geared.tolist()
+        if len(order) < 2:
+            return order
+        among = set(order)
+
+        def depth(k: int) -> int:
+            count, rider = 0, self.riders[k]
+            while count < len(order):
+                master = rider.gear.master if rider.gear is not None else None
+                if master is None or master.slot not in among:
+                    break
+                count, rider = count + 1, master
+            return count
+
+        return sorted(order, key=depth)
+
+    @staticmethod
+    def _show_in_sync(rider: Rider, coupling: Any, state: tuple[float, float, float],
+                      master: tuple[float, ...]) -> None:
+        """The command's inSync: the sync's, or within ``in_sync_tolerance_distance`` of
+        the coupled position (§7.2.1.2.7); the feedback shows a change next cycle."""
+        if rider.command is None:
+            return
+        cp = coupling.sync.coupled(*master)[0]
+        in_sync = coupling.sync.in_sync or (
+            coupling.tolerance > 0.0 and abs(state[0] - cp) <= coupling.tolerance)
+        if in_sync != rider.command.in_sync:
+            rider.command.in_sync = in_sync
+            rider.owner._awake = True
 
     def _no_room(self, k: int, velocity: float, pairs: Pairs) -> bool:
         """Whether a rider at rest has less than ``_CREEP`` room the way ``velocity`` goes
@@ -1047,8 +1077,9 @@ class Traffic:
         self.goal[k] = rider.target
         for field_, value in zip(nxt, profile.at(self.dt), strict=True):
             field_[k] = value
-        if rider.command is not None:
+        if rider.command is not None and rider.command.in_sync:
             rider.command.in_sync = False
+            rider.owner._awake = True  # the feedback shows it next cycle
 
     def _extend_follow(self, rider: Rider, coupling: Any) -> None:
         """followMover: the master's way is the slave's too. A leg of the master lies on the
