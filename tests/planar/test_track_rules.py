@@ -558,3 +558,39 @@ def test_a_target_off_an_open_track_or_modulo_off_a_loop_is_still_refused():
         direction=ModuloDirection.POSITIVE)), b.move_on_track(None, 900.0)]
     rt.step()
     assert [c.error_id for c in refused] == [ErrorId.PLANAR_POSITION_LIMIT] * 2
+
+
+@pytest.mark.parametrize(("direction", "forwards"), [
+    (ModuloDirection.POSITIVE, True), (ModuloDirection.SHORTEST_WAY, False),
+    (ModuloDirection.NEGATIVE, False), (ModuloDirection.NON_MODULO, False),
+])
+def test_positive_to_a_point_behind_goes_round_a_loop_of_two_tracks(direction, forwards):
+    """§6.1.9, §6.2.10: tracks one and two make a loop (one -> two -> one). From 600 on one,
+    Positive to 100 on one goes forwards round through two (1184.1 mm; it was refused as
+    if the way had no loop); ShortestWay takes the 500 mm back, as do Negative and
+    NonModulo."""
+    rt = om.Runtime(0.001)
+    one, two = MC_PlanarTrack(rt), MC_PlanarTrack(rt)
+    one.append_line(PositionXYC(250.0, 120.0), PositionXYC(650.0, 120.0))
+    one.append_line(PositionXYC(700.0, 170.0), PositionXYC(700.0, 450.0))
+    one.append_line(PositionXYC(650.0, 500.0), PositionXYC(250.0, 500.0))
+    two.start_from_track(one)
+    two.append_line(PositionXYC(200.0, 450.0), PositionXYC(200.0, 170.0))
+    two.end_at_track(one)
+    one.enable()
+    two.enable()
+    rt.run(0.005)
+    assert not one.closed_loop and one.subsequent_tracks == [two.oid]
+    (mover,) = _movers(rt, _at(one, 600.0))
+    _joined(rt, one, mover)
+    move = mover.move_on_track(None, 100.0, options=ST_MoveOnTrackOptions(direction=direction))
+    velocities, tracks = [], set()
+    while move.busy:
+        rt.step()
+        velocities.append(_v(mover))
+        tracks.add(mover.mc_to_plc.set_on_track.track_oid)
+    assert move.done and _s(mover) == pytest.approx(100.0, abs=1e-6)
+    if forwards:
+        assert min(velocities) >= 0.0 and two.oid in tracks
+    else:
+        assert max(velocities) <= 0.0 and tracks == {one.oid}

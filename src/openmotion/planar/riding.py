@@ -317,6 +317,15 @@ def _route(here: MC_PlanarTrack, s: float, track: MC_PlanarTrack, position: floa
                               f"need a closed loop; the way to {track.name} is open (§6.1.9)")
     if track is here:
         legs, target = [Leg(here, 0.0)], position
+        back = s - position
+        if back > 0.0 and (direction is ModuloDirection.SHORTEST_WAY or (
+                direction is ModuloDirection.POSITIVE and back > options.modulo_tolerance)):
+            # forwards to a point behind: round a loop of several tracks, if the network
+            # has one (§6.1.9, §6.2.10); ShortestWay takes it when it is the shorter way
+            found = here.network.route(here, s, here, position)
+            if found is not None and (direction is ModuloDirection.POSITIVE
+                                      or found[-1].base + position - s < back):
+                legs, target = found, found[-1].base + position
     else:
         found = here.network.route(here, s, track, position)
         if found is None:
