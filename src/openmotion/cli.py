@@ -18,12 +18,17 @@ import typer
 from openmotion.core.errors import ConfigError
 
 app = typer.Typer(name="openmotion", no_args_is_help=True, add_completion=False,
-                  pretty_exceptions_enable=False,
+                  pretty_exceptions_enable=False, rich_markup_mode=None,
                   help="Deterministic PLCopen motion-control simulator.")
 
 JsonFlag = Annotated[bool, typer.Option("--json", help="Print one JSON object: no colour, "
                                                         "no progress bar.")]
 WALL_DELAY = 1.0  #: seconds of wall time before a progress bar appears
+LOOPBACK_HOSTS = ("127.0.0.1", "::1", "localhost")
+ScenarioArgument = Annotated[str | None, typer.Argument(
+    metavar="[SCENARIO]", show_default=False,
+    help="A scenario file, or the name of a shipped example (see 'openmotion examples'). "
+         "Default: the shipped single_move example.")]
 
 
 def _fail(message: str, code: int = 2) -> typer.Exit:
@@ -68,9 +73,7 @@ class _ProgressBar:
 
 @app.command()
 def run(
-    scenario: Annotated[Path | None, typer.Argument(
-        help="Scenario file. Default: the shipped examples/single_move.yaml.",
-        show_default=False)] = None,
+    scenario: ScenarioArgument = None,
     trace: Annotated[Path, typer.Option(help="Where to write the trace: CSV, or NPZ (with the "
                                              "command events and the layout) for a .npz "
                                              "name.")] = Path("trace.csv"),
@@ -86,10 +89,10 @@ def run(
     = False,
 ) -> None:
     """Run a scenario in virtual time: summary table on stdout, trace to a CSV or NPZ file."""
-    from openmotion.scenario import default_scenario, run_scenario
+    from openmotion.scenario import run_scenario
     from openmotion.trace import image_format, save_plot, write_trace
 
-    path = scenario or default_scenario()
+    path = _scenario_path(scenario)
     bar = _ProgressBar(enabled=not (json_output or quiet))
     try:
         if plot is not None:
@@ -133,19 +136,40 @@ def _print_summary(result: Any) -> None:
 
 @app.command()
 def check(
-    scenario: Annotated[Path, typer.Argument(help="Scenario file to validate.")],
+    scenario: Annotated[str, typer.Argument(
+        metavar="SCENARIO", help="A scenario file, or the name of a shipped example.")],
 ) -> None:
     """Validate a scenario file without running it; list every problem."""
     from openmotion.scenario import ScenarioError, load_scenario
 
+    path = _scenario_path(scenario)
     try:
-        model = load_scenario(scenario)
+        model = load_scenario(path)
     except ScenarioError as exc:
         for problem in exc.problems:
             typer.echo(f"ConfigError: {problem}", err=True)
         raise typer.Exit(2) from None
-    typer.echo(f"{scenario}: ok ({len(model.axes)} axes, {len(model.timeline)} timeline "
+    typer.echo(f"{path}: ok ({len(model.axes)} axes, {len(model.timeline)} timeline "
                f"entries, {len(model.checks)} checks)")
+
+
+@app.command()
+def examples(json_output: JsonFlag = False) -> None:
+    """List the shipped example scenarios: 'openmotion run NAME' runs one."""
+    from openmotion.examples import list_examples
+
+    found = list_examples()
+    if json_output:
+        typer.echo(json.dumps([{"name": e.name, "path": str(e.path), "summary": e.summary}
+                               for e in found], indent=2))
+        return
+    if not found:
+        raise _fail("error: no shipped examples found (is the installation complete?)")
+    width = max(len(e.name) for e in found)
+    for example in found:
+        typer.echo(f"{example.name.ljust(width)}  {example.summary}".rstrip())
+    typer.echo(f"{len(found)} examples in {found[0].path.parent}; run one with "
+               "'openmotion run NAME'", err=True)
 
 
 @app.command()
@@ -178,29 +202,32 @@ def plot(
     typer.echo(f"plot: written to {target}", err=True)
 
 
+def _bench_help() -> str:
+    from openmotion.bench import BENCHMARK_NAMES
+
+    return f"Benchmark to run: {', '.join(BENCHMARK_NAMES)}."
+
+
 @app.command()
 def bench(
-    name: Annotated[str, typer.Argument(help="Benchmark to run: axes, otg, fbcall, ca, "
-                                             "planar, trace.")],
+    name: Annotated[str, typer.Argument(metavar="NAME", help=_bench_help())],
     json_output: JsonFlag = False,
     quick: Annotated[bool, typer.Option("--quick", help="Small sizes: a smoke run, not a "
                                                         "measurement.")] = False,
 ) -> None:
-    """Run one benchmark and print its table (performance.md)."""
+    """Run one benchmark and print its figures and goals (docs/benchmarks.md)."""
+    from openmotion.bench import BENCHMARK_NAMES
+
+    if name not in BENCHMARK_NAMES:
+        raise _fail(f"error: unknown benchmark {name!r}; choose one of: "
+                    f"{', '.join(BENCHMARK_NAMES)}")
     try:
         from openmotion.bench import runner
     except ImportError as exc:
         raise _fail(f"error: the benchmarks are not available ({exc})") from None
-    names = getattr(runner, "BENCHMARKS", None)
-    if names is not None and name not in names:
-        raise _fail(f"error: unknown benchmark {name!r}; choose one of: {', '.join(names)}")
     bar = _ProgressBar(enabled=not json_output)
     try:
         result = runner.run_benchmark(name, quick=quick, progress=bar.message)
-    except (KeyError, ValueError) as exc:
-        if names is None:  # the runner alone knows its names
-            raise _fail(f"error: {exc}") from None
-        raise
     finally:
         bar.close()
     typer.echo(json.dumps(result, indent=2, default=str) if json_output
@@ -209,20 +236,22 @@ def bench(
 
 @app.command()
 def view(
-    scenario: Annotated[Path | None, typer.Argument(
-        help="Scenario file. Default: the shipped examples/single_move.yaml.",
-        show_default=False)] = None,
+    scenario: ScenarioArgument = None,
     speed: Annotated[float, typer.Option(help="Virtual seconds per wall second.")] = 1.0,
-    port: Annotated[int, typer.Option(help="TCP port of the page (0: a free one).")] = 8765,
-    host: Annotated[str, typer.Option(help="Interface to listen on.")] = "127.0.0.1",
+    port: Annotated[int, typer.Option(min=0, max=65535,
+                                      help="TCP port of the page (0: a free one).")] = 8765,
+    host: Annotated[str, typer.Option(help="Interface to listen on: an IP address or a host "
+                                           "name. Anything but loopback lets other machines "
+                                           "control the simulation.")] = "127.0.0.1",
     no_open: Annotated[bool, typer.Option("--no-open", help="Do not open a browser.")] = False,
 ) -> None:
     """Watch a scenario live in the browser: paced runtime, machine, scope, controls."""
-    from openmotion.scenario import default_scenario
     from openmotion.viewer import Session, serve
 
+    _check_host(host)
+    path = _scenario_path(scenario)
     try:
-        session = Session.for_scenario(scenario or default_scenario(), speed=speed)
+        session = Session.for_scenario(path, speed=speed)
     except ConfigError as exc:
         raise _fail(f"ConfigError: {exc}") from None
     except ValueError as exc:
@@ -235,5 +264,42 @@ def view(
         raise _fail(f"error: cannot listen on {host}:{port}: {exc.strerror or exc}") from None
 
 
+def _scenario_path(argument: str | None) -> Path:
+    """The file a scenario argument names (a path, or a shipped example's name); exit 2 with
+    a hint when it names neither."""
+    from openmotion.examples import resolve_scenario
+
+    path = resolve_scenario(argument)
+    if not path.exists():
+        raise _fail(f"error: {argument}: no such file, and no shipped example of that name "
+                    "('openmotion examples' lists them)")
+    return path
+
+
+def _check_host(host: str) -> None:
+    """Exit 2 unless ``host`` is an IP address or a well-formed host name; warn off loopback."""
+    import ipaddress
+    import re
+
+    try:
+        address = ipaddress.ip_address(host)
+    except ValueError:
+        label = r"(?!-)[A-Za-z0-9-]{1,63}(?<!-)"
+        if len(host) > 253 or not re.fullmatch(rf"{label}(\.{label})*\.?", host):
+            raise _fail(f"error: --host {host!r} is neither an IP address nor a host "
+                        "name") from None
+        loopback = host.lower().rstrip(".") == "localhost"
+    else:
+        loopback = address.is_loopback
+    if not loopback:
+        typer.echo(f"warning: listening on {host}: anyone who reaches this address can "
+                   "watch and control the simulation", err=True)
+
+
+def main() -> None:
+    """The ``openmotion`` command (also ``python -m openmotion``)."""
+    app(prog_name="openmotion")
+
+
 if __name__ == "__main__":
-    app()
+    main()

@@ -44,7 +44,6 @@ LENGTH_DECADES = (-2.0, 0.0)
 MAX_DURATION = 5.0  #: [s] longer samples are redrawn
 MAX_PRE_CYCLES = 3000
 ORACLE_RETRY_FACTORS = (1.0, 1.0 - 1e-12, 1.0 - 1e-10, 1.0 - 1e-8)
-THREE_DOF = "not yet (planar issue)"
 
 
 @dataclass(frozen=True)
@@ -322,7 +321,6 @@ def run_otg(samples: int = 1000, seed: int = 0, keep: int = 10,
         "our_plan_us_median": _median(r["our_plan_us"] for r in runs),
         "our_plan_us_warm_median": _median(r["our_plan_us_warm"] for r in runs),
         "failures": failures[:keep],
-        "three_dof": THREE_DOF,
     }
 
 

@@ -1,4 +1,4 @@
-"""Run a benchmark by name, judge it against the goals of performance.md, render a table.
+"""Run a benchmark by name, judge it against its goals (docs/benchmarks.md), render a table.
 
 The CLI (``openmotion bench NAME [--json]``) calls ``run_benchmark`` and ``render`` and holds
 no logic of its own. Every result is one JSON-serialisable dict: the figures, the machine,
@@ -24,12 +24,13 @@ from openmotion.bench.fbcall import run_fbcall
 from openmotion.bench.otg import run_otg
 from openmotion.bench.path import run_path
 from openmotion.bench.planar import run_planar
+from openmotion.bench.startup import run_startup
 from openmotion.bench.trace import run_trace
 from openmotion.bench.tracks import run_tracks
 
 Progress = Callable[[str], None] | None
 
-#: performance.md goals
+#: the goals of docs/benchmarks.md
 AXES_GOAL_N = 1000
 AXES_GOAL_US = 0.5
 FBCALL_GOAL_US = 2.0
@@ -43,6 +44,9 @@ PATH_GOAL_P99_US = 200.0  #: issue #7: planner work per cycle on a 10 000-segmen
 TRACKS_GOAL_N = 100
 TRACKS_GOAL_P99_US = 500.0  #: issue #8: 100 movers on a network with 4 switches
 TRACE_GOAL_US = 1000.0  #: 100 axes, 100 signals recorded every 1 ms cycle: faster than real time
+STARTUP_CHECK_GOAL_S = 1.0  #: issue #18: warm `openmotion check` of the default example
+STARTUP_RUN_GOAL_S = 1.5  #: warm `openmotion run` of the default example
+STARTUP_COLD_GOAL_S = 10.0  #: first run of any shipped example with an empty kernel cache
 
 
 def _axes(quick: bool, progress: Progress) -> dict[str, Any]:
@@ -90,6 +94,12 @@ def _trace(quick: bool, progress: Progress) -> dict[str, Any]:
     return run_trace(progress=progress)
 
 
+def _startup(quick: bool, progress: Progress) -> dict[str, Any]:
+    if quick:
+        return run_startup(repeats=1, cold_repeats=1, every_example=False, progress=progress)
+    return run_startup(progress=progress)
+
+
 BENCHMARKS: dict[str, Callable[[bool, Progress], dict[str, Any]]] = {
     "axes": _axes,
     "otg": _otg,
@@ -99,6 +109,7 @@ BENCHMARKS: dict[str, Callable[[bool, Progress], dict[str, Any]]] = {
     "path": _path,
     "tracks": _tracks,
     "trace": _trace,
+    "startup": _startup,
 }
 
 
@@ -250,6 +261,21 @@ def goals_trace(results: dict[str, Any]) -> dict[str, Any]:
                                "time)", cycle, cycle < TRACE_GOAL_US)}
 
 
+def goals_startup(results: dict[str, Any]) -> dict[str, Any]:
+    warm, cold = results["warm"], results["cold"]
+    check, run = warm["check"]["median_s"], warm["run"]["median_s"]
+    firsts = {"default": cold["run"]["max_s"], **cold["examples"]}
+    slowest = max(firsts, key=firsts.__getitem__)
+    return {
+        "check": _goal(f"warm `openmotion check`: <= {STARTUP_CHECK_GOAL_S:g} s (median)", check,
+                       check <= STARTUP_CHECK_GOAL_S),
+        "run": _goal(f"warm `openmotion run`: <= {STARTUP_RUN_GOAL_S:g} s (median)", run,
+                     run <= STARTUP_RUN_GOAL_S),
+        "cold": _goal(f"first run, empty kernel cache: <= {STARTUP_COLD_GOAL_S:g} s (slowest: "
+                      f"{slowest})", firsts[slowest], firsts[slowest] <= STARTUP_COLD_GOAL_S),
+    }
+
+
 GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "axes": goals_axes,
     "otg": goals_otg,
@@ -259,6 +285,7 @@ GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "path": goals_path,
     "tracks": goals_tracks,
     "trace": goals_trace,
+    "startup": goals_startup,
 }
 
 
@@ -367,7 +394,6 @@ def _render_otg(results: dict[str, Any]) -> list[str]:
                                                         f"{_fmt(r['ruckig_plan_us_warm_median'])}"],
         ["plan us: our move_absolute (first call)", r["our_plan_us_median"]],
         ["plan us: our move_absolute (warm)", r["our_plan_us_warm_median"]],
-        ["3-DoF", r["three_dof"]],
     ]
     lines = _table(["figure", "value"], rows)
     for f in r["failures"]:
@@ -479,9 +505,30 @@ def _render_path(results: dict[str, Any]) -> list[str]:
           r["limit_violations"]]])
 
 
+def _render_startup(results: dict[str, Any]) -> list[str]:
+    def row(label: str, stats: dict[str, Any], ratio: float | None = None) -> list[Any]:
+        return [label, stats["min_s"], stats["median_s"], stats["max_s"], stats["runs"], ratio]
+
+    rows = [row("python -c pass (floor)", results["floors"]["python"]),
+            row("import numpy, numba (floor)", results["floors"]["numpy_numba"])]
+    rows += [row(f"warm: {label}", results["warm"][name], results["over_python"][name])
+             for name, label in (("import", "import openmotion"),
+                                 ("import_runtime", "from openmotion import Runtime"),
+                                 ("check", "openmotion check"), ("run", "openmotion run"))]
+    rows.append(row("cold: openmotion run", results["cold"]["run"]))
+    lines = [f"whole processes, wall seconds; warm = bytecode and kernels cached, cold = empty "
+             f"kernel cache; scenario: {results['scenario']}; x python = median over the floor",
+             *_table(["figure", "min", "median", "max", "runs", "x python"], rows)]
+    examples = results["cold"]["examples"]
+    if examples:
+        lines += ["", "first run of every shipped example, empty kernel cache, s",
+                  *_table(["example", "seconds"], [[n, s] for n, s in examples.items()])]
+    return lines
+
+
 _RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
            "ca": _render_ca, "planar": _render_planar, "path": _render_path,
-           "tracks": _render_tracks, "trace": _render_trace}
+           "tracks": _render_tracks, "trace": _render_trace, "startup": _render_startup}
 
 
 def render(result: dict[str, Any]) -> str:
@@ -495,7 +542,7 @@ def render(result: dict[str, Any]) -> str:
         "",
         *_RENDER[name](result["results"]),
         "",
-        "goals (performance.md):",
+        "goals (docs/benchmarks.md):",
     ]
     for g in result["goals"].values():
         verdict = {True: "ok  ", False: "FAIL", None: "n/a "}[g["passed"]]

@@ -1,15 +1,43 @@
-"""Scenario files: a YAML description of axes, a command timeline, recording and checks."""
+"""Scenario files: a YAML description of axes, a command timeline, recording and checks.
 
-from openmotion.scenario.load import (
-    Problem,
-    ScenarioError,
+The loader (and with it the schema) is imported at once: the schema and its part modules
+import each other, and must be entered through the schema. The runner loads on first use
+(PEP 562), so that ``openmotion check`` does not pay for the runtime it never starts.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+from openmotion.examples import (
+    Example,
     default_scenario,
     examples_dir,
-    load_scenario,
-    parse_scenario,
+    find_example,
+    list_examples,
+    resolve_scenario,
 )
-from openmotion.scenario.run import CheckRow, CommandRow, ScenarioResult, run_scenario
+from openmotion.scenario.load import Problem, ScenarioError, load_scenario, parse_scenario
 from openmotion.scenario.schema import Scenario
 
-__all__ = ["CheckRow", "CommandRow", "Problem", "Scenario", "ScenarioError", "ScenarioResult",
-           "default_scenario", "examples_dir", "load_scenario", "parse_scenario", "run_scenario"]
+_LAZY = {"CheckRow", "CommandRow", "ScenarioResult", "run_scenario"}  #: in scenario/run.py
+__all__ = ["CheckRow", "CommandRow", "Example", "Problem", "Scenario", "ScenarioError",
+           "ScenarioResult", "default_scenario", "examples_dir", "find_example", "list_examples",
+           "load_scenario", "parse_scenario", "resolve_scenario", "run_scenario"]
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _LAZY:
+        raise AttributeError(f"module 'openmotion.scenario' has no attribute {name!r}")
+    value = getattr(importlib.import_module("openmotion.scenario.run"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
+
+if TYPE_CHECKING:
+    from openmotion.scenario.run import CheckRow, CommandRow, ScenarioResult, run_scenario

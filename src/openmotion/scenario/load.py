@@ -63,19 +63,6 @@ class ScenarioError(ConfigError):
         super().__init__(f"{problems[0]}{more}")
 
 
-def examples_dir() -> Path:
-    """The shipped ``examples/`` folder: in the source checkout, else ``./examples``."""
-    import openmotion
-
-    checkout = Path(openmotion.__file__).resolve().parents[2] / "examples"
-    return checkout if checkout.is_dir() else Path("examples")
-
-
-def default_scenario() -> Path:
-    """The scenario ``openmotion run`` runs without an argument."""
-    return examples_dir() / "single_move.yaml"
-
-
 def load_scenario(path: str | Path) -> Scenario:
     """Read and validate a scenario file; raises ``ScenarioError`` listing every problem."""
     try:

@@ -387,7 +387,7 @@ ConditionText = Annotated[Condition, PlainValidator(parse_condition),
 class _Model(BaseModel):
     """Unknown keys are errors; attribute docstrings become the field descriptions."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, use_attribute_docstrings=True,
+    model_config = ConfigDict(extra="forbid", frozen=True,
                               arbitrary_types_allowed=True)
 
 
