@@ -26,7 +26,7 @@ JsonFlag = Annotated[bool, typer.Option("--json", help="Print one JSON object: n
 WALL_DELAY = 1.0  #: seconds of wall time before a progress bar appears
 LOOPBACK_HOSTS = ("127.0.0.1", "::1", "localhost")
 ScenarioArgument = Annotated[str | None, typer.Argument(
-    metavar="[SCENARIO]", show_default=False,
+    metavar="SCENARIO", show_default=False,
     help="A scenario file, or the name of a shipped example (see 'openmotion examples'). "
          "Default: the shipped single_move example.")]
 

@@ -385,7 +385,8 @@ ConditionText = Annotated[Condition, PlainValidator(parse_condition),
 
 
 class _Model(BaseModel):
-    """Unknown keys are errors; attribute docstrings become the field descriptions."""
+    """Unknown keys are errors. Attribute docstrings document the fields for readers of
+    this file; they are not extracted at import (D-173)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True,
                               arbitrary_types_allowed=True)
