@@ -388,7 +388,7 @@ class _Model(BaseModel):
     """Unknown keys are errors. Attribute docstrings document the fields for readers of
     this file; they are not extracted at import (D-173)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True,
+    model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True,
                               arbitrary_types_allowed=True)
 
 
