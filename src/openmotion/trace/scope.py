@@ -15,7 +15,7 @@ from openmotion.coordinated.states import AxesGroupState
 from openmotion.core.enums import AxisState
 from openmotion.core.errors import ConfigError
 from openmotion.planar import PlanarState
-from openmotion.trace.plot import RESULT_COLORS, event_text, new_figure
+from openmotion.trace.plot import RESULT_COLORS, distinct_colors, event_text, new_figure
 from openmotion.trace.record import Trace
 
 if TYPE_CHECKING:
@@ -93,7 +93,7 @@ def scope_figure(trace: Trace, signals: Sequence[str] | None = None,
         return figure
     grid = figure.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     objects = list(dict.fromkeys(_split(name)[0] for name in columns))
-    colors = {name: f"C{i % 10}" for i, name in enumerate(objects)}
+    colors = dict(zip(objects, distinct_colors(len(objects)), strict=True))
     for panel, (name, members) in zip(grid, panels, strict=True):
         for column in members:
             subject, prop = _split(column)
