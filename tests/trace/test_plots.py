@@ -234,3 +234,27 @@ def test_refusals_at_one_point_get_their_labels_one_under_the_other() -> None:
     offsets = {text.get_text(): text.xyann for text in panel.texts}
     assert offsets["first"] == offsets["third"] != offsets["second"]
     assert offsets["second"][1] < offsets["first"][1]
+
+
+@pytest.mark.parametrize("name", [path.stem for path in EXAMPLES])
+def test_no_label_of_a_default_figure_overlaps_another(runs, name: str) -> None:
+    figure = plot_trace(runs[name][0].trace)
+    figure.canvas.draw()
+    renderer = figure.canvas.get_renderer()
+    for panel in figure.axes:
+        texts = [text for text in panel.texts if text.get_text()]
+        extents = [text.get_window_extent(renderer) for text in texts]
+        for number, extent in enumerate(extents):
+            clash = [other.get_text() for other, box in zip(texts[number + 1:],
+                                                            extents[number + 1:], strict=True)
+                     if extent.overlaps(box)]
+            assert not clash, (texts[number].get_text(), clash)
+
+
+def test_commands_issued_together_share_one_scope_label(runs) -> None:
+    trace = runs["abort_and_blend"][0].trace
+    top = scope_figure(trace).axes[0]
+    labels = [text.get_text() for text in top.texts]
+    assert {"enable, first", "abort, queued", "brake, refused"} <= set(labels)
+    issued = [event.label for event in trace.events if event.result == "ISSUED"]
+    assert [name for label in labels for name in label.split(", ")] == issued
