@@ -74,9 +74,10 @@ class _ProgressBar:
 @app.command()
 def run(
     scenario: ScenarioArgument = None,
-    trace: Annotated[Path, typer.Option(help="Where to write the trace: CSV, or NPZ (with the "
-                                             "command events and the layout) for a .npz "
-                                             "name.")] = Path("trace.csv"),
+    trace: Annotated[Path, typer.Option(help="Where to write the trace: .csv (the command "
+                                             "events and the layout go to a .events.json "
+                                             "beside it) or .npz (all in one file).")]
+    = Path("trace.csv"),
     plot: Annotated[Path | None, typer.Option(help="Also draw the scenario's figure into this "
                                                     "image file (.png, .svg, .pdf): the planar "
                                                     "plot with planar movers, the path plot "
@@ -90,13 +91,14 @@ def run(
 ) -> None:
     """Run a scenario in virtual time: summary table on stdout, trace to a CSV or NPZ file."""
     from openmotion.scenario import run_scenario
-    from openmotion.trace import image_format, save_plot, write_trace
+    from openmotion.trace import image_format, save_plot, trace_format, write_trace
 
     path = _scenario_path(scenario)
     bar = _ProgressBar(enabled=not (json_output or quiet))
     try:
+        trace_format(trace)  # before the run, not after it
         if plot is not None:
-            image_format(plot)  # before the run, not after it
+            image_format(plot)
         result = run_scenario(path, progress=bar, figure=plot is not None)
     except ConfigError as exc:
         raise _fail(f"ConfigError: {exc}") from None
@@ -174,8 +176,8 @@ def examples(json_output: JsonFlag = False) -> None:
 
 @app.command()
 def plot(
-    trace: Annotated[Path, typer.Argument(help="Trace written by 'openmotion run': CSV, or NPZ "
-                                               "(with the command events and the layout).")],
+    trace: Annotated[Path, typer.Argument(help="Trace written by 'openmotion run': .csv (with "
+                                               "its .events.json beside it) or .npz.")],
     signals: Annotated[list[str] | None, typer.Option(
         "--signals", "-s", help="Draw the scope of these signals (x.set_position) or objects "
         "(x: all its signals), comma-separated or repeated. Default: the trace's own figure.",
@@ -187,14 +189,21 @@ def plot(
     """Draw a trace: the planar plot with planar movers, the path plot with axes groups, the
     rail plot with CA groups, else the scope (stacked panels over time, command events
     marked)."""
+    import warnings
+
     from openmotion.trace import image_format, read_trace, save_plot
 
     target = output or trace.with_suffix(".png")
     names = [name.strip() for value in signals or () for name in value.split(",")]
     try:
         image_format(target)
-        data = read_trace(trace)
-        save_plot(data, target, title=trace.stem, signals=[name for name in names if name] or None)
+        with warnings.catch_warnings(record=True) as notes:
+            warnings.simplefilter("always")
+            data = read_trace(trace)
+        for note in notes:  # a CSV without its sidecar: the scope, and why
+            typer.echo(f"note: {note.message}", err=True)
+        save_plot(data, target, title=data.title or trace.stem,
+                  signals=[name for name in names if name] or None)
     except ConfigError as exc:
         raise _fail(f"ConfigError: {exc}") from None
     except OSError as exc:

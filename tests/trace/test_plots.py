@@ -1,5 +1,6 @@
 """Figures: every shipped example gets its default figure as a valid image, the lines drawn
-are the trace's numbers, events are marked, and the CLI's plot and run --plot work."""
+are the trace's numbers, events are marked, colours tell every object and command apart,
+labels stay readable, and the CLI's plot and run --plot work."""
 
 from __future__ import annotations
 
@@ -7,13 +8,25 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from matplotlib import colormaps
+from matplotlib.colors import to_hex
 from matplotlib.image import imread
+from matplotlib.transforms import Bbox
 from typer.testing import CliRunner
 
 from openmotion.cli import app
 from openmotion.scenario import ScenarioResult, examples_dir, run_scenario
-from openmotion.trace import default_figure, figure_signals, plot_trace, read_trace, save_plot
+from openmotion.trace import (
+    Trace,
+    default_figure,
+    distinct_colors,
+    figure_signals,
+    plot_trace,
+    read_trace,
+    save_plot,
+)
 from openmotion.trace.planar import planar_figure
+from openmotion.trace.plot import mark_refusals
 from openmotion.trace.scope import scope_figure
 
 EXAMPLES = sorted(examples_dir().glob("*.yaml"))
@@ -158,3 +171,90 @@ def test_save_plot_takes_the_format_from_the_suffix(runs, tmp_path: Path) -> Non
     trace = runs["touch_probe"][0].trace
     for kind in FORMATS:
         assert is_image(save_plot(trace, tmp_path / f"t.{kind.upper()}", dpi=DPI), kind)
+
+
+# -- colours and labels ------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("count", [0, 1, 10, 12, 20, 21, 60, 300])
+def test_distinct_colors_are_all_different(count: int) -> None:
+    colors = distinct_colors(count)
+    assert len(colors) == count == len(set(colors))
+    assert colors[:10] == [to_hex(color) for color in colormaps["tab10"].colors][:count]
+
+
+def test_twelve_commands_on_the_path_get_twelve_colours(runs) -> None:
+    trace = runs["scara_pick_place"][0].trace
+    plane = plot_trace(trace).axes[0]
+    spans = {line.get_gid().split(":", 1)[1]: line.get_color() for line in plane.get_lines()
+             if str(line.get_gid()).startswith("scara:") and line.get_linestyle() == "-"
+             and line.get_gid() != "scara:tcp"}
+    assert len(spans) == 12 and len(set(spans.values())) == 12, spans
+    legend = [text.get_text() for text in plane.get_legend().get_texts()]
+    assert legend[:12] == list(spans)  # each named in the legend, in order
+
+
+def test_many_objects_on_the_scope_get_colours_of_their_own() -> None:
+    objects = [f"a{number}" for number in range(14)]
+    trace = Trace(("time", *(f"{name}.set_position" for name in objects)), np.zeros((3, 15)))
+    lines = scope_figure(trace).axes[0].get_lines()
+    assert len({line.get_color() for line in lines}) == 14
+
+
+def test_mover_names_are_drawn_above_the_refusal_crosses_and_clear_of_them(runs) -> None:
+    trace = runs["planar_choreography"][0].trace
+    figure = planar_figure(trace)
+    panel = figure.axes[0]
+    figure.canvas.draw()
+    renderer = figure.canvas.get_renderer()
+    names = [text for text in panel.texts if str(text.get_gid()).startswith("name:")]
+    labels = [text for text in panel.texts if str(text.get_gid()).startswith("refused-label:")]
+    crosses = [line for line in panel.get_lines() if str(line.get_gid()).startswith("refused:")]
+    assert len(names) == 8 and len(labels) == len(crosses) >= 5
+    assert min(text.get_zorder() for text in names) > max(
+        mark.get_zorder() for mark in [*crosses, *labels])
+    half = 9 / 2 * figure.dpi / 72  # a cross's half size [px]
+    boxes = [Bbox.from_bounds(*(panel.transData.transform(line.get_xydata()[0]) - half),
+                              2 * half, 2 * half) for line in crosses]
+    boxes += [text.get_window_extent(renderer) for text in labels]
+    for number, name in enumerate(names):
+        extent = name.get_window_extent(renderer)
+        others = boxes + [other.get_window_extent(renderer) for other in names[number + 1:]]
+        assert not any(extent.overlaps(box) for box in others), name.get_text()
+
+
+def test_refusals_at_one_point_get_their_labels_one_under_the_other() -> None:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    figure = Figure()
+    FigureCanvasAgg(figure)
+    panel = figure.add_subplot()
+    mark_refusals(panel, [(1.0, 2.0, "first"), (1.0, 2.0, "second"), (3.0, 2.0, "third")])
+    offsets = {text.get_text(): text.xyann for text in panel.texts}
+    assert offsets["first"] == offsets["third"] != offsets["second"]
+    assert offsets["second"][1] < offsets["first"][1]
+
+
+@pytest.mark.parametrize("name", [path.stem for path in EXAMPLES])
+def test_no_label_of_a_default_figure_overlaps_another(runs, name: str) -> None:
+    figure = plot_trace(runs[name][0].trace)
+    figure.canvas.draw()
+    renderer = figure.canvas.get_renderer()
+    for panel in figure.axes:
+        texts = [text for text in panel.texts if text.get_text()]
+        extents = [text.get_window_extent(renderer) for text in texts]
+        for number, extent in enumerate(extents):
+            clash = [other.get_text() for other, box in zip(texts[number + 1:],
+                                                            extents[number + 1:], strict=True)
+                     if extent.overlaps(box)]
+            assert not clash, (texts[number].get_text(), clash)
+
+
+def test_commands_issued_together_share_one_scope_label(runs) -> None:
+    trace = runs["abort_and_blend"][0].trace
+    top = scope_figure(trace).axes[0]
+    labels = [text.get_text() for text in top.texts]
+    assert {"enable, first", "abort, queued", "brake, refused"} <= set(labels)
+    issued = [event.label for event in trace.events if event.result == "ISSUED"]
+    assert [name for label in labels for name in label.split(", ")] == issued

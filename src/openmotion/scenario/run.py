@@ -326,7 +326,8 @@ class _Run:
         if figure:
             needed = figure_signals(describe([*rt.axes.values(), *objects]))
             signals += [name for name in needed if name not in signals]
-        self.recorder = TraceRecorder(rt, signals, scenario.record.every, objects=objects)
+        self.recorder = TraceRecorder(rt, signals, scenario.record.every, objects=objects,
+                                      title=scenario.name)
         self.checks = [_CheckState(check, self) for check in scenario.checks]
         self.quiet_since: int | None = None  #: first cycle of the current rest
 

@@ -19,7 +19,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from openmotion.trace.plot import RESULT_COLORS, axes_groups, event_text, new_figure, value_at
+from openmotion.trace.plot import (
+    axes_groups,
+    distinct_colors,
+    event_text,
+    mark_refusals,
+    new_figure,
+    value_at,
+)
 from openmotion.trace.record import Trace
 
 if TYPE_CHECKING:
@@ -98,8 +105,8 @@ def _draw_group(row: SubFigure, trace: Trace, name: str, group: dict[str, Any]) 
     for panel in panels[1:]:
         panel.sharex(panels[0])
     spans = command_spans(trace, name)
-    colors = {label: f"C{index % 10}" for index, label in
-              enumerate(dict.fromkeys(span.label for span in spans))}
+    labels = list(dict.fromkeys(span.label for span in spans))
+    colors = dict(zip(labels, distinct_colors(len(labels)), strict=True))
     _draw_plane(plane, trace, name, spans, colors)
     _draw_profiles(panels, trace, name, group, spans, colors)
     axes = ", ".join(group.get("axes", []))
@@ -138,26 +145,22 @@ def _draw_plane(plane: Axes, trace: Trace, name: str, spans: list[Span],
 
 
 def _mark_refused(plane: Axes, trace: Trace, name: str) -> None:
-    for event in trace.events:
-        if event.object != name or event.result != "ERROR":
-            continue
-        x = value_at(trace, f"{name}.x", event.time)
-        y = value_at(trace, f"{name}.y", event.time)
-        plane.plot([x], [y], "X", color=RESULT_COLORS["ERROR"], markersize=9,
-                   markeredgecolor="white", zorder=6, gid=f"refused:{event_text(event)}")
-        plane.annotate(event_text(event), (x, y), xytext=(6, -10), textcoords="offset points",
-                       fontsize=7, color=RESULT_COLORS["ERROR"], zorder=6)
+    mark_refusals(plane, [(value_at(trace, f"{name}.x", event.time),
+                           value_at(trace, f"{name}.y", event.time), event_text(event))
+                          for event in trace.events
+                          if event.object == name and event.result == "ERROR"])
 
 
 def _draw_profiles(panels: list[Axes], trace: Trace, name: str, group: dict[str, Any],
                    spans: list[Span], colors: dict[str, str]) -> None:
     axes = [axis for axis in group.get("axes", []) if f"{axis}.set_position" in trace]
+    axis_colors = distinct_colors(len(axes))
     for panel, (label, signal, path_signal) in zip(panels, PROFILES, strict=True):
-        for index, axis in enumerate(axes):
+        for axis, color in zip(axes, axis_colors, strict=True):
             column = f"{axis}.{signal}"
             if column in trace:
-                panel.plot(trace.time, trace[column], "-", color=f"C{index % 10}",
-                           linewidth=1.0, label=axis, gid=column)
+                panel.plot(trace.time, trace[column], "-", color=color, linewidth=1.0,
+                           label=axis, gid=column)
         column = f"{name}.{path_signal}"
         if path_signal is not None and column in trace:
             panel.plot(trace.time, trace[column], "--", color="k", linewidth=1.0,

@@ -5,8 +5,9 @@ system: each part is drawn in every position it can take there, filled where it 
 dashed where it may move to, and a mover's samples go to the panel of the coordinate system
 they were in (its ``coordinate_system`` signal). Each mover's path is a line in its colour,
 its footprint (turned by c when c was recorded) drawn dashed where the trace starts and
-filled where it ends. A command the planar group refused (or that failed) is a red cross at
-the mover's position when it ended, labelled with its id.
+filled where it ends, and its name just above where it ended, drawn over everything. A
+command the planar group refused (or that failed) is a red cross at the mover's position when
+it ended, labelled with its id below right of it.
 """
 
 from __future__ import annotations
@@ -16,8 +17,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from openmotion.trace.plot import (
+    NAME_ZORDER,
     RESULT_COLORS,
+    distinct_colors,
     event_text,
+    mark_refusals,
     new_figure,
     planar_movers,
     value_at,
@@ -30,6 +34,7 @@ if TYPE_CHECKING:
 
 MOVER_SIZE = 155.0  #: footprint side [mm] when the layout does not give it (the default)
 MARGIN = 40.0  #: around the field and the paths [mm]
+NAME_OFFSET = 7.0  #: [points] from where a mover ended up to its name: clear of a cross there
 
 
 def planar_figure(trace: Trace, title: str | None = None) -> Figure:
@@ -40,10 +45,11 @@ def planar_figure(trace: Trace, title: str | None = None) -> Figure:
     panels = figure.subplots(1, len(systems), squeeze=False)[0]
     sizes = planar.get("movers", {})
     movers = planar_movers(trace)
+    colors = distinct_colors(len(movers))
     for panel, system in zip(panels, systems, strict=True):
         _draw_field(panel, planar, system)
-        for index, mover in enumerate(movers):
-            _draw_mover(panel, trace, mover, sizes.get(mover, {}), f"C{index % 10}",
+        for mover, color in zip(movers, colors, strict=True):
+            _draw_mover(panel, trace, mover, sizes.get(mover, {}), color,
                         _in_system(trace, mover, system))
         _mark_refused(panel, trace, movers, system)
         panel.set_aspect("equal")
@@ -107,7 +113,11 @@ def _draw_mover(panel: Axes, trace: Trace, mover: str, size: dict[str, float], c
                                 linestyle="-" if filled else "--",
                                 gid=f"{mover}:{'end' if filled else 'start'}"))
     if inside[-1]:
-        panel.annotate(mover, (x[-1], y[-1]), ha="center", va="center", fontsize=8, zorder=4)
+        panel.annotate(mover, (x[-1], y[-1]), xytext=(0, NAME_OFFSET),
+                       textcoords="offset points", ha="center", va="bottom", fontsize=8,
+                       zorder=NAME_ZORDER, gid=f"name:{mover}",
+                       bbox={"boxstyle": "round,pad=0.15", "facecolor": "white",
+                             "edgecolor": "none", "alpha": 0.7})
 
 
 def footprint(x: float, y: float, c: float, width: float, height: float) -> np.ndarray:
@@ -119,6 +129,7 @@ def footprint(x: float, y: float, c: float, width: float, height: float) -> np.n
 
 
 def _mark_refused(panel: Axes, trace: Trace, movers: list[str], system: int | None) -> None:
+    refusals = []
     for event in trace.events:
         if event.object not in movers or event.result != "ERROR":
             continue
@@ -126,12 +137,9 @@ def _mark_refused(panel: Axes, trace: Trace, movers: list[str], system: int | No
         if system is not None and column in trace and \
                 value_at(trace, column, event.time) != system:
             continue
-        x = value_at(trace, f"{event.object}.x", event.time)
-        y = value_at(trace, f"{event.object}.y", event.time)
-        panel.plot([x], [y], "X", color=RESULT_COLORS["ERROR"], markersize=9,
-                   markeredgecolor="white", zorder=5, gid=f"refused:{event_text(event)}")
-        panel.annotate(event_text(event), (x, y), xytext=(6, -10), textcoords="offset points",
-                       fontsize=7, color=RESULT_COLORS["ERROR"], zorder=5)
+        refusals.append((value_at(trace, f"{event.object}.x", event.time),
+                         value_at(trace, f"{event.object}.y", event.time), event_text(event)))
+    mark_refusals(panel, refusals)
 
 
 def _fit(panel: Axes) -> None:

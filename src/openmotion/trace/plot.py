@@ -4,7 +4,9 @@ default.
 
 matplotlib is imported inside the functions, never with the package, and every figure is
 drawn on an Agg canvas of its own: no pyplot, no global backend, no GUI and no warnings.
-``save_plot`` takes the image format from the file's suffix: PNG, SVG or PDF.
+``save_plot`` takes the image format from the file's suffix: PNG, SVG or PDF. Objects and
+commands get colours from ``distinct_colors``: as many different ones as there are to tell
+apart. Labels are drawn above the marks they name.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from openmotion.core.errors import ConfigError
 from openmotion.trace.record import Trace
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 IMAGE_FORMATS = ("png", "svg", "pdf")  #: by the file's suffix
@@ -33,6 +36,32 @@ PATH_MEMBER_SIGNALS = ("set_position", "set_velocity", "set_acceleration")
 #: colour of an event by its result
 RESULT_COLORS = {"ISSUED": "0.45", "DONE": "tab:green", "ABORTED": "tab:orange",
                  "ERROR": "tab:red"}
+GOLDEN = (5 ** 0.5 - 1) / 2  #: hue step between neighbours beyond twenty colours
+LIGHTNESS = (0.38, 0.52, 0.66)  #: taken in turn beyond twenty colours
+#: drawing order: a refused command's cross, its label above it, an object's name above all
+REFUSAL_ZORDER, REFUSAL_LABEL_ZORDER, NAME_ZORDER = 5.0, 6.0, 7.0
+LABEL_STEP = 8.0  #: [points] between the labels of refusals at one point
+
+
+def distinct_colors(count: int) -> list[str]:
+    """``count`` colours, no two alike (hex): tab10 first (matplotlib's default cycle), then
+    tab20's light tones, then hues a golden-ratio step apart in three lightnesses, so that
+    neighbours in the list differ clearly. A longer list starts as a shorter one: one more
+    command does not recolour the others. (Beyond a few thousand, colours repeat.)"""
+    import colorsys
+
+    from matplotlib import colormaps
+    from matplotlib.colors import to_hex
+
+    tab20 = colormaps["tab20"].colors
+    colors = dict.fromkeys(to_hex(color) for color in (*tab20[0::2], *tab20[1::2]))
+    for index in range(2 * count):  # twice as many as needed: a clash is skipped
+        if len(colors) >= count:
+            break
+        rgb = colorsys.hls_to_rgb((index * GOLDEN) % 1.0, LIGHTNESS[index % 3], 0.8)
+        colors.setdefault(to_hex(rgb))
+    unique = list(colors)
+    return [unique[index % len(unique)] for index in range(count)]  # repeats: thousands
 
 
 def image_format(path: str | Path) -> str:
@@ -108,12 +137,14 @@ def figure_signals(layout: dict[str, Any]) -> list[str]:
 def plot_trace(trace: Trace, title: str | None = None,
                signals: Sequence[str] | None = None) -> Figure:
     """The trace's default figure (``default_figure``); with ``signals``, the scope figure
-    of those signals (or objects: every recorded signal of each)."""
+    of those signals (or objects: every recorded signal of each). ``title`` defaults to the
+    trace's own."""
     from openmotion.trace.path import path_figure
     from openmotion.trace.planar import planar_figure
     from openmotion.trace.rail import rail_figure
     from openmotion.trace.scope import scope_figure
 
+    title = trace.title if title is None else title
     if signals:
         return scope_figure(trace, signals, title)
     kind = default_figure(trace)
@@ -155,3 +186,17 @@ def value_at(trace: Trace, name: str, time: float) -> float:
 def event_text(event: Any) -> str:
     """How a figure labels an event: its label, else its command."""
     return event.label or event.command
+
+
+def mark_refusals(panel: Axes, refusals: Sequence[tuple[float, float, str]]) -> None:
+    """A red cross at each (x, y, label) with the label below right of it; the labels of
+    several refusals at one point go one under the other."""
+    at_point: dict[tuple[float, float], int] = {}
+    for x, y, text in refusals:
+        count = at_point.get((x, y), 0)
+        at_point[(x, y)] = count + 1
+        panel.plot([x], [y], "X", color=RESULT_COLORS["ERROR"], markersize=9,
+                   markeredgecolor="white", zorder=REFUSAL_ZORDER, gid=f"refused:{text}")
+        panel.annotate(text, (x, y), xytext=(6, -10 - LABEL_STEP * count),
+                       textcoords="offset points", fontsize=7, color=RESULT_COLORS["ERROR"],
+                       zorder=REFUSAL_LABEL_ZORDER, gid=f"refused-label:{text}")

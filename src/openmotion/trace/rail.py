@@ -16,7 +16,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from openmotion.trace.plot import RESULT_COLORS, ca_groups, event_text, new_figure, value_at
+from openmotion.trace.plot import (
+    RESULT_COLORS,
+    ca_groups,
+    distinct_colors,
+    event_text,
+    new_figure,
+    value_at,
+)
 from openmotion.trace.record import Trace
 
 if TYPE_CHECKING:
@@ -47,8 +54,7 @@ def _draw_group(rail: Axes, gaps: Axes, trace: Trace, name: str, group: dict[str
     length, ring, gap = group["rail_length"], group["rail_is_ring"], group["default_gap"]
     movers = [mover for mover in group["movers"] if f"{mover}.set_position" in trace]
     time = trace.time
-    for index, mover in enumerate(movers):
-        color = f"C{index % 10}"
+    for mover, color in zip(movers, distinct_colors(len(movers)), strict=True):
         position = trace[f"{mover}.set_position"]
         times, line = _broken(time, position, length) if ring else (time, position)
         rail.plot(times, line, "-", color=color, linewidth=1.0, label=mover, gid=mover)

@@ -61,10 +61,11 @@ class Event(NamedTuple):
 
 class Trace:
     """Recorded columns (``time`` first, then one per signal, in recording order), the command
-    events in time order, and the layout of the recorded objects (JSON-able)."""
+    events in time order, the layout of the recorded objects (JSON-able), and a title (what
+    was run: a scenario's name) for its figures."""
 
     def __init__(self, columns: Sequence[str], data: np.ndarray, events: Iterable[Event] = (),
-                 layout: dict[str, Any] | None = None) -> None:
+                 layout: dict[str, Any] | None = None, title: str = "") -> None:
         data = np.asarray(data, dtype=np.float64)
         if data.ndim != 2 or data.shape[1] != len(columns):
             raise ValueError(f"data of shape {data.shape} does not fit {len(columns)} columns")
@@ -74,6 +75,7 @@ class Trace:
         self.data = data
         self.events = tuple(Event(*event) for event in events)
         self.layout: dict[str, Any] = layout or {}
+        self.title = title
         self._index = {name: i for i, name in enumerate(self.columns)}
 
     def __getitem__(self, name: str) -> np.ndarray:
@@ -112,7 +114,8 @@ class Trace:
 
     def equals(self, other: Trace) -> bool:
         """Bit-identical columns: same names and the same float64 bits (NaN equals NaN, 0.0
-        differs from -0.0). Events and layout are not compared (a CSV holds neither)."""
+        differs from -0.0). Events, layout and title are not compared (a CSV alone holds
+        none of them)."""
         return self.columns == other.columns and self.data.shape == other.data.shape \
             and self.data.tobytes() == other.data.tobytes()
 
@@ -124,11 +127,11 @@ class TraceRecorder:
     (planar movers, groups, the environment: anything with a ``name`` whose type has a
     signal source, signals.py). Construct it, then ``runtime.add_observer(recorder)``; call
     ``sample(runtime)`` once more before the first cycle for a row at t = 0. ``follow`` a
-    command to record its events.
+    command to record its events. ``title`` goes with the trace (its figures' title).
     """
 
     def __init__(self, runtime: Runtime, signals: Sequence[str], every: int = 1,
-                 capacity: int = 1024, objects: Iterable[Any] = ()) -> None:
+                 capacity: int = 1024, objects: Iterable[Any] = (), title: str = "") -> None:
         if isinstance(every, bool) or not isinstance(every, int) or every < 1:
             raise ConfigError(f"every: must be an integer >= 1, got {every!r}")
         named: dict[str, Any] = dict(runtime.axes)
@@ -137,6 +140,7 @@ class TraceRecorder:
         self._bulk, self._single = _readers(runtime, named, signals)
         self.columns = (TIME, *signals)
         self.every = every
+        self.title = title
         self._buffer = np.empty((len(self.columns), max(capacity, 1)))
         self._rows = 0
         self._events: list[tuple[int, Event]] = []  #: (sequence, event)
@@ -202,7 +206,7 @@ class TraceRecorder:
         self._poll()
         events = sorted(self._events, key=lambda item: (item[1].time, item[0]))
         return Trace(self.columns, self._buffer[:, :self._rows].T.copy(),
-                     [event for _, event in events], describe(self._objects))
+                     [event for _, event in events], describe(self._objects), self.title)
 
 
 def _readers(runtime: Runtime, named: dict[str, Any], signals: Sequence[str]) \

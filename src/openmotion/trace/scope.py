@@ -3,7 +3,8 @@
 Each recorded signal goes to the panel of its quantity (positions, velocities, ...), one
 colour per object, setpoints solid and actual values dashed. Command events are marked on
 every panel: a dotted line where a command was issued (labelled with its id in the top
-panel) and, at the top edge, a triangle where it ended, coloured by its result.
+panel; commands issued too close together to be told apart share one label, their ids joined)
+and, at the top edge, a triangle where it ended, coloured by its result.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from openmotion.coordinated.states import AxesGroupState
 from openmotion.core.enums import AxisState
 from openmotion.core.errors import ConfigError
 from openmotion.planar import PlanarState
-from openmotion.trace.plot import RESULT_COLORS, event_text, new_figure
+from openmotion.trace.plot import RESULT_COLORS, distinct_colors, event_text, new_figure
 from openmotion.trace.record import Trace
 
 if TYPE_CHECKING:
@@ -44,7 +45,8 @@ _STYLES = {"position": "--", "velocity": "--", "path_velocity": "--", "y": "-.",
 _STEPS = frozenset({"state", "homed", "axis_error_id", "coordinate_system"})
 _STATES = {"axis": AxisState, "planar_mover": PlanarState, "planar_group": PlanarState,
            "axes_group": AxesGroupState}
-MAX_LABELS = 40  #: issue events labelled by name at most; more are only marked
+MAX_LABELS = 40  #: issue labels at most; more are only marked
+LABEL_SPACING = 0.015  #: issue labels closer than this share of the time axis are one label
 
 
 def selected(trace: Trace, signals: Sequence[str] | None) -> list[str]:
@@ -93,7 +95,7 @@ def scope_figure(trace: Trace, signals: Sequence[str] | None = None,
         return figure
     grid = figure.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     objects = list(dict.fromkeys(_split(name)[0] for name in columns))
-    colors = {name: f"C{i % 10}" for i, name in enumerate(objects)}
+    colors = dict(zip(objects, distinct_colors(len(objects)), strict=True))
     for panel, (name, members) in zip(grid, panels, strict=True):
         for column in members:
             subject, prop = _split(column)
@@ -124,6 +126,18 @@ def _state_ticks(panel: Axes, trace: Trace, members: list[str]) -> None:
     panel.set_yticks(values, [enum(v).name.lower() for v in values], fontsize="small")
 
 
+def issue_labels(issued: Sequence[Any], duration: float) -> list[tuple[float, str]]:
+    """(time, text) of the issue labels: events in time order, each issued less than
+    ``LABEL_SPACING`` of ``duration`` after the first of a label (or with it) joins it."""
+    labels: list[tuple[float, list[str]]] = []
+    for event in issued:
+        if labels and event.time - labels[-1][0] <= LABEL_SPACING * duration:
+            labels[-1][1].append(event_text(event))
+        else:
+            labels.append((event.time, [event_text(event)]))
+    return [(time, ", ".join(dict.fromkeys(texts))) for time, texts in labels]
+
+
 def _mark_events(figure: Figure, panels: list[Axes], trace: Trace, objects: set[str]) -> None:
     from matplotlib.lines import Line2D
 
@@ -136,11 +150,11 @@ def _mark_events(figure: Figure, panels: list[Axes], trace: Trace, objects: set[
         for panel in panels:
             panel.axvline(event.time, color=RESULT_COLORS["ISSUED"], linestyle=":",
                           linewidth=0.8, gid=f"event:{event_text(event)}")
-        if len(issued) <= MAX_LABELS:
-            top.annotate(event_text(event), (event.time, 1.0),
-                         xycoords=top.get_xaxis_transform(), xytext=(2, -2),
-                         textcoords="offset points", rotation=90, va="top", ha="left",
-                         fontsize=6, color="0.3")
+    labels = issue_labels(issued, float(trace.time[-1] - trace.time[0]) if len(trace) else 0.0)
+    for time, text in labels if len(labels) <= MAX_LABELS else ():
+        top.annotate(text, (time, 1.0), xycoords=top.get_xaxis_transform(), xytext=(2, -6),
+                     textcoords="offset points", rotation=90, va="top", ha="left",
+                     fontsize=6, color="0.3", gid=f"label:{text}")  # below the end marks
     ended = [event for event in events if event.result != "ISSUED"]
     for result in dict.fromkeys(event.result for event in ended):
         times = [event.time for event in ended if event.result == result]
