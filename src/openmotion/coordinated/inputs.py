@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from openmotion.core.checks import positive_number
 from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_MAXIMUM, InputValue
@@ -51,6 +52,10 @@ class PathDynamics:
     max_acceleration: float = 10000.0
     max_deceleration: float = 10000.0
     max_jerk: float = 1.0e6
+
+    def __post_init__(self) -> None:
+        for name in self.__slots__:
+            positive_number(getattr(self, name), name)
 
 
 _ERRORS = {"velocity": ErrorId.INVALID_VELOCITY, "acceleration": ErrorId.INVALID_ACCELERATION,

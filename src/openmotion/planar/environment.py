@@ -78,6 +78,8 @@ class MC_PlanarEnvironment(PlanarObject):
 
     def __init__(self, runtime: Runtime, layout: PartLayout | None = None,
                  name: str | None = None) -> None:
+        if layout is not None and not isinstance(layout, PartLayout):
+            raise ConfigError(f"layout: must be a PartLayout, got {type(layout).__name__}")
         system = PlanarSystem.of(runtime)
         super().__init__(system, system.next_oid("object"))
         self.name = name or "environment"

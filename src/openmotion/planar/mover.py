@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, TypeVar
 import numpy as np
 
 from openmotion.axis.axis import Axis
-from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.planar.enums import (
     CoordinateMode,
     ExternalSetPositionMode,
@@ -156,6 +156,9 @@ class MC_PlanarMover(StatefulObject):
 
     def __init__(self, runtime: Runtime, parameters: PlanarMoverParameters | None = None,
                  name: str | None = None) -> None:
+        if parameters is not None and not isinstance(parameters, PlanarMoverParameters):
+            raise ConfigError(f"parameters: must be a PlanarMoverParameters, got "
+                              f"{type(parameters).__name__}")
         system = PlanarSystem.of(runtime)
         super().__init__(system, system.next_oid("mover"))
         self.parameters = parameters or PlanarMoverParameters()
