@@ -109,6 +109,7 @@ from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 
 if TYPE_CHECKING:
+    from openmotion.planar.environment import MC_PlanarEnvironment
     from openmotion.runtime.runtime import Runtime
 
 COORDINATES = ("x", "y", "z", "a", "b", "c")
@@ -398,6 +399,11 @@ class MC_PlanarMover(StatefulObject):
             environment = self._system.environment()
             if kind == StateCommand.RESET and environment is not None:
                 environment._reset_parts(self.coordinate_system)  # §6.6: parts first
+            if kind == StateCommand.ENABLE and environment is not None and \
+                    self._states.current is PlanarState.DISABLED and not environment.carries(
+                        self.coordinate_system, np.array([self.pose[:2]])):
+                raise _off_stators(environment, "Enable: the mover stands off the stator "
+                                   "surface")
             self._states.request(command)
             return
         kind = MoverCommand(kind)
@@ -720,6 +726,8 @@ class MC_PlanarMover(StatefulObject):
         coordinates are aborted. ``straight``: the arc length of x and y when they run forward
         on one line from the start (``PlanarMotion.s``)."""
         previous = self._system.previous
+        if admit and _XY & profiles.keys():
+            self._check_carried(profiles, straight, previous, what)
         samples, releases = None, []
         if _AREA & profiles.keys() and self._group is not None:
             samples, area = self._future_area(profiles, previous, straight)
@@ -746,6 +754,25 @@ class MC_PlanarMover(StatefulObject):
             self._modes.c_motion_started(profiles["c"])
         command.started()
         self._reschedule()
+
+    def _check_carried(self, profiles: dict[str, Profile], straight: Profile | None,
+                       start: float, what: str) -> None:
+        """A motion whose centre path leaves the stator surface is refused (D-163): no
+        stator would carry the mover there. A group holding the environment checks the
+        whole footprint already (§6.3); halts and stops are never refused (D-084)."""
+        environment = self._system.environment()
+        if environment is None or environment.boundary is None or (
+                self._group is not None and self._group.registry.checks_surface):
+            return
+        if straight is not None:  # one line from where the mover is to where x and y end
+            x, y = self._state_at("x", start).position, self._state_at("y", start).position
+            points = np.array([(x, y), (profiles["x"].p[-1], profiles["y"].p[-1])])
+        else:
+            _, path = sample_path(self._future_plans(profiles, start)[:2], start,
+                                  self._system.cycle_time * _SAMPLE_CYCLES)
+            points = path
+        if not environment.carries(self.coordinate_system, points):
+            raise _off_stators(environment, f"{what} leaves the stator surface")
 
     def _future_area(self, profiles: dict[str, Profile], start: float,
                      straight: Profile | None) -> tuple[np.ndarray, SweptArea]:
@@ -982,6 +1009,16 @@ class MC_PlanarMover(StatefulObject):
                                       "or coordinate system: there are none (§5.3)")
             return 0, target.pose
         return environment._resolve(target, self.coordinate_system)
+
+
+def _off_stators(environment: MC_PlanarEnvironment, problem: str) -> CommandRejected:
+    """PLANAR_COLLISION with the environment as objectInfo, as a group answers a move over
+    the edge (§6.7.2), for a mover that no stator would carry (D-163)."""
+    rejection = CommandRejected(ErrorId.PLANAR_COLLISION,
+                                f"{problem} of environment 16#{environment.oid:08X}: no stator "
+                                "carries the mover there (§6.4)")
+    rejection.object_info = environment.get_planar_object_info()
+    return rejection
 
 
 def _copy(position: PositionXYC) -> PositionXYC:
