@@ -488,12 +488,12 @@ class MC_PlanarMover(StatefulObject):
         # not Enabled) it keeps to the area the mover holds
         admit = self._group is None or self._group.state is PlanarState.ENABLED
         try:
-            self._begin(command, profiles, "the halt", admit=admit)
+            self._begin(command, profiles, "the halt", admit=admit, check_carried=False)
         except Collision:  # the hardest brake stays on the path the mover has reserved
             command.warnings.append("the halt's stop would leave the reserved area: it brakes "
                                     "with the mover's maximum dynamics")
             self._begin(command, plan_halt(self._start_states(), self._limits("maximum")),
-                        "the halt", admit=False)
+                        "the halt", admit=False, check_carried=False)
 
     def _halt_own_coordinates(self) -> None:
         """A Halt on a track: the track brakes x and y; what runs on c (a MoveC), z, a or b
@@ -721,12 +721,14 @@ class MC_PlanarMover(StatefulObject):
 
     def _begin(self, command: PlanarCommand, profiles: dict[str, Profile], what: str, *,
                c_motion: bool = False, admit: bool = True, straight: Profile | None = None,
-               on_end: Callable[[bool], None] | None = None) -> None:
+               on_end: Callable[[bool], None] | None = None,
+               check_carried: bool = True) -> None:
         """Admit (in a group) and start ``profiles`` for ``command``: the commands on the same
         coordinates are aborted. ``straight``: the arc length of x and y when they run forward
-        on one line from the start (``PlanarMotion.s``)."""
+        on one line from the start (``PlanarMotion.s``). ``check_carried``: refuse a path
+        off the stators (D-163); a halt is never refused (D-084)."""
         previous = self._system.previous
-        if admit and _XY & profiles.keys():
+        if check_carried and _XY & profiles.keys():
             self._check_carried(profiles, straight, previous, what)
         samples, releases = None, []
         if _AREA & profiles.keys() and self._group is not None:
