@@ -247,6 +247,9 @@ class PartLayout:
         if not self.coordinate_systems:
             raise ConfigError("coordinate_systems: a layout needs at least one")
         part_list = list(parts)
+        for part in part_list:
+            if not isinstance(part, Part):
+                raise ConfigError(f"parts: must be Part objects, got {type(part).__name__}")
         self.parts = {part.oid: part for part in part_list}
         _check_unique([*self.coordinate_systems, *(part.oid for part in part_list)])
         for part in part_list:
