@@ -29,6 +29,7 @@ from openmotion.planar import (
     MC_PlanarTrackTrail,
     MoverVector,
     Part,
+    PartLayout,
     PartPosition,
     PlanarMoverParameters,
     PlanarObjectType,
@@ -450,6 +451,9 @@ def test_stator_fields_and_parts_in_python_set_up(value: object) -> None:
     with pytest.raises(ConfigError, match=r"positions\[1\]: must be a PartPosition"):
         Part(0x01010001, [(0.0, 0.0)], [(0x01010000, Pose())])  # type: ignore[list-item]
     part = Part(0x01010001, [(0.0, 0.0), (240.0, 0.0)], [PartPosition(0x01010000, Pose())])
+    with pytest.raises(ConfigError, match="parts: must be Part objects"):
+        PartLayout([0x01010000], [part, 0x01010002])  # type: ignore[list-item]
+    assert PartLayout([0x01010000], [part]).parts[0x01010001] is part
     assert len(part.stators) == 2 and len(StatorField.rectangular(2, 2)) == 4
 
 
