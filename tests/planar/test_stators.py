@@ -65,7 +65,7 @@ def test_corner_within_a_micrometre_snaps_to_the_grid() -> None:
 
 @pytest.mark.parametrize("corner", [(math.nan, 0.0), (0.0, math.inf)])
 def test_non_finite_corner_is_rejected(corner: tuple[float, float]) -> None:
-    with pytest.raises(ConfigError, match="must be finite"):
+    with pytest.raises(ConfigError, match="must be a finite number"):
         StatorField([corner])
 
 

@@ -149,7 +149,7 @@ GROUP = "axes_groups: [{name: g, axes: [a, b]}]\ntimeline:\n"
      "mapping, sign, offset)"),
     ("axes_groups:\n  - name: g\n    axes: [a, b]\n"
      "    kinematics: {model: scara, l1: -1, l2: 2}\n",
-     "bad.yaml:6: axes_groups[0].kinematics.l1: link length must be > 0 mm, got -1.0"),
+     "bad.yaml:6: axes_groups[0].kinematics.l1: must be a finite number > 0, got -1.0"),
     ("axes_groups:\n  - name: g\n    axes: [a, b, c]\n"
      "    kinematics: {model: scara, l1: 1, l2: 2}\n",
      "bad.yaml:6: axes_groups[0].kinematics: the scara model drives 2 axes, the group has 3"),

@@ -19,6 +19,7 @@ from openmotion.axis.homing import HomingSequence
 from openmotion.axis.parameters import PARAMETERS, AxisPara, AxisParameters
 from openmotion.axis.state_machine import admit
 from openmotion.axis.superposition import plan_superposition
+from openmotion.core.checks import is_finite
 from openmotion.core.enums import (
     AxisState,
     BufferMode,
@@ -212,7 +213,7 @@ class Axis:
                 ErrorId.PARAMETER_TYPE_MISMATCH,
                 f"parameter {number} is {spec.kind.__name__}, written as {kind.__name__}",
             )
-        if kind is not bool and not (isinstance(value, int | float) and math.isfinite(value)):
+        if kind is not bool and not is_finite(value):
             raise CommandRejected(ErrorId.INVALID_PARAMETER_VALUE,
                                   f"parameter {number}: {value!r} is not a finite number")
         old = getattr(self.parameters, spec.source)
@@ -1390,6 +1391,9 @@ class Axis:
         base_jerk = running.jerk if running else p.jerk
         given = not _is_zero(deceleration) and not _is_zero(jerk)
         if not given:
+            for name, value in (("deceleration", deceleration), ("jerk", jerk)):
+                if not _is_zero(value):  # unused without its partner, but never NaN or text
+                    resolve(name, value, p, [])
             if _is_zero(deceleration) != _is_zero(jerk):
                 command.warnings.append("MC_Stop takes deceleration and jerk only together; "
                                         "the running move's values are used")

@@ -10,6 +10,9 @@ import math
 from dataclasses import dataclass
 from typing import Literal
 
+from openmotion.core.checks import non_negative_number
+from openmotion.core.errors import ConfigError
+
 
 @dataclass(frozen=True)
 class DriveModel:
@@ -19,11 +22,9 @@ class DriveModel:
 
     def __post_init__(self) -> None:
         if self.model not in ("ideal", "lag"):
-            raise ValueError(f"model: must be 'ideal' or 'lag', got {self.model!r}")
+            raise ConfigError(f"model: must be 'ideal' or 'lag', got {self.model!r}")
         for name in ("time_constant", "dead_time"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value >= 0.0):
-                raise ValueError(f"{name}: must be a finite number >= 0, got {value!r}")
+            non_negative_number(getattr(self, name), name)
 
     def coefficients(self, cycle_time: float) -> tuple[float, int]:
         """Lag factor per cycle and dead time in cycles."""

@@ -8,11 +8,18 @@ name the same quantity (docs/decisions.md, D-006). Times are in seconds.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields
 from enum import IntEnum
 
+from openmotion.core.checks import (
+    finite_number,
+    finite_pair,
+    flag,
+    non_negative_number,
+    positive_number,
+)
 from openmotion.core.enums import Direction, ReferenceMode
+from openmotion.core.errors import ConfigError
 
 
 @dataclass
@@ -79,31 +86,45 @@ class AxisParameters:
         self.validate()
 
     def validate(self) -> None:
-        """Raise ``ValueError`` naming the first field that is out of range."""
-        positive = (
-            "max_velocity", "acceleration", "deceleration", "jerk", "max_acceleration",
-            "max_deceleration", "max_jerk", "modulo_period", "sync_pulse_distance",
-        )
-        for name in positive:
-            value = getattr(self, name)
-            if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-                raise ValueError(f"{name}: must be a finite number > 0, got {value!r}")
-        non_negative = (
-            "max_position_lag", "position_lag_filter_time", "position_range_window",
-            "target_position_window", "target_position_monitoring_time", "in_target_timeout",
-            "modulo_tolerance_window", "manual_velocity_fast", "manual_velocity_slow",
-            "calibration_velocity_forward", "calibration_velocity_backward",
-        )
-        for name in non_negative:
-            value = getattr(self, name)
-            if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
-                raise ValueError(f"{name}: must be a finite number >= 0, got {value!r}")
+        """Raise ``ConfigError`` (a ``ValueError``) naming the first field that is out of
+        range: every number must be a finite number (a bool is none), every flag a bool."""
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name in _POSITIVE:
+                positive_number(value, f.name)
+            elif f.name in _NON_NEGATIVE:
+                non_negative_number(value, f.name)
+            elif f.type == "float":
+                finite_number(value, f.name)
+            elif f.type == "bool":
+                flag(value, f.name)
+        mask = self.encoder_mask
+        if isinstance(mask, bool) or not isinstance(mask, int) or not 0 <= mask <= 0xFFFFFFFF:
+            raise ConfigError(f"encoder_mask: must be a DWORD (0..2**32-1), got {mask!r}")
+        if self.reference_cam is not None:
+            finite_pair(self.reference_cam, "reference_cam")
+        for name, kind in (("reference_mode", ReferenceMode), ("homing_direction", Direction)):
+            if getattr(self, name) not in set(kind):
+                raise ConfigError(f"{name}: must be a {kind.__name__}, got "
+                                  f"{getattr(self, name)!r}")
         for name, maximum in (("acceleration", "max_acceleration"),
                               ("deceleration", "max_deceleration"), ("jerk", "max_jerk")):
             if getattr(self, name) > getattr(self, maximum):
-                raise ValueError(f"{name}: default {getattr(self, name)} exceeds {maximum}")
+                raise ConfigError(f"{name}: default {getattr(self, name)} exceeds {maximum}")
         if self.min_soft_limit >= self.max_soft_limit:
-            raise ValueError("min_soft_limit: must be below max_soft_limit")
+            raise ConfigError("min_soft_limit: must be below max_soft_limit")
+
+
+_POSITIVE = frozenset((
+    "max_velocity", "acceleration", "deceleration", "jerk", "max_acceleration",
+    "max_deceleration", "max_jerk", "modulo_period", "sync_pulse_distance",
+))
+_NON_NEGATIVE = frozenset((
+    "max_position_lag", "position_lag_filter_time", "position_range_window",
+    "target_position_window", "target_position_monitoring_time", "in_target_timeout",
+    "modulo_tolerance_window", "manual_velocity_fast", "manual_velocity_slow",
+    "calibration_velocity_forward", "calibration_velocity_backward",
+))
 
 
 PARAMETER_FIELDS = {f.name for f in fields(AxisParameters)}

@@ -24,6 +24,7 @@ from enum import IntEnum
 from typing import TYPE_CHECKING
 
 from openmotion.axis.commands import Command, CommandStatus
+from openmotion.core.checks import limit_number
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 
 if TYPE_CHECKING:
@@ -79,12 +80,10 @@ _SIGNALS: weakref.WeakKeyDictionary[Axis, ProbeSignal] = weakref.WeakKeyDictiona
 def _intervals(name: str, spans: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
     result: list[tuple[float, float]] = []
     for span in spans:
-        try:
-            lo, hi = (float(v) for v in span)
-        except (TypeError, ValueError):
-            raise ConfigError(
-                f"{name}: each entry must be a pair (from, to), got {span!r}") from None
-        if math.isnan(lo) or math.isnan(hi) or not lo < hi:
+        if isinstance(span, str | bytes) or not hasattr(span, "__len__") or len(span) != 2:
+            raise ConfigError(f"{name}: each entry must be a pair (from, to), got {span!r}")
+        lo, hi = (limit_number(v, f"{name}: {span!r}") for v in span)  # inf: an open end
+        if not lo < hi:
             raise ConfigError(f"{name}: need from < to, got {span!r}")
         result.append((lo, hi))
     result.sort()

@@ -28,6 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from openmotion.core.angles import cos_sin
+from openmotion.core.checks import finite_number
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 
 _ORTHONORMAL_TOLERANCE = 1e-9  #: how far R^T R may be from the identity for a Frame
@@ -55,8 +56,12 @@ class Frame:
 
     def __init__(self, rotation: ArrayLike | None = None,
                  translation: ArrayLike = (0.0, 0.0, 0.0)) -> None:
-        r = np.eye(3) if rotation is None else np.array(rotation, dtype=float)
-        t = np.array(translation, dtype=float)
+        try:
+            r = np.eye(3) if rotation is None else np.array(rotation, dtype=float)
+            t = np.array(translation, dtype=float)
+        except (TypeError, ValueError):  # text, None, ragged lists
+            raise ConfigError(f"a frame needs a 3x3 rotation and 3 translation numbers, got "
+                              f"{rotation!r}, {translation!r}") from None
         if r.shape != (3, 3) or not np.all(np.isfinite(r)):
             raise ConfigError(f"rotation: must be a finite 3x3 matrix, got {r.tolist()}")
         if (not np.allclose(r.T @ r, np.eye(3), rtol=0.0, atol=_ORTHONORMAL_TOLERANCE)
@@ -207,10 +212,15 @@ class LinearFrame:
     start_time: float = 0.0  #: [s]
 
     def __post_init__(self) -> None:
-        if len(self.velocity) != 3 or not all(math.isfinite(v) for v in self.velocity):
-            raise ConfigError(f"velocity: must be 3 finite values, got {self.velocity}")
-        if not math.isfinite(self.start_time):
-            raise ConfigError(f"start_time: must be finite, got {self.start_time}")
+        if not isinstance(self.start, Frame):
+            raise ConfigError(f"start: must be a Frame, got {type(self.start).__name__}")
+        velocity = self.velocity
+        if isinstance(velocity, str | bytes) or not hasattr(velocity, "__len__") or \
+                len(velocity) != 3:
+            raise ConfigError(f"velocity: must be 3 finite values, got {velocity!r}")
+        for k, value in enumerate(velocity):
+            finite_number(value, f"velocity[{k}]")
+        finite_number(self.start_time, "start_time")
 
     def __call__(self, now: float) -> FrameMotion:
         velocity = np.array(self.velocity, dtype=float)

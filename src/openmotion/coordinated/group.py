@@ -52,7 +52,7 @@ from openmotion.coordinated.tracking import (
     RotaryTableFrame,
 )
 from openmotion.core.enums import AxisState, BufferMode
-from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, InputValue
 from openmotion.geometry.path import CircMode, PathChoice
 from openmotion.trajectory.plan import Limits
@@ -83,6 +83,9 @@ class AxesGroup:
 
     def __init__(self, runtime: Runtime, name: str = "group",
                  dynamics: PathDynamics | None = None) -> None:
+        if dynamics is not None and not isinstance(dynamics, PathDynamics):
+            raise ConfigError(f"axes group {name!r}: dynamics must be a PathDynamics, got "
+                              f"{type(dynamics).__name__}")
         self.name = name
         self._rt = runtime
         self._k = runtime._kernel

@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from openmotion.core.checks import is_finite, positive_number
 from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_MAXIMUM, InputValue
@@ -52,6 +53,10 @@ class PathDynamics:
     max_deceleration: float = 10000.0
     max_jerk: float = 1.0e6
 
+    def __post_init__(self) -> None:
+        for name in self.__slots__:
+            positive_number(getattr(self, name), name)
+
 
 _ERRORS = {"velocity": ErrorId.INVALID_VELOCITY, "acceleration": ErrorId.INVALID_ACCELERATION,
            "deceleration": ErrorId.INVALID_DECELERATION, "jerk": ErrorId.INVALID_JERK}
@@ -84,15 +89,18 @@ def path_dynamics(dynamics: PathDynamics, warnings: list[str], velocity: InputVa
 
 
 def vector(value: Any, size: int, name: str) -> np.ndarray:
-    """A finite vector of ``size`` values (a position in some coordinate system)."""
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        array = np.zeros(0)
-    if array.shape != (size,) or not np.all(np.isfinite(array)):
+    """A finite vector of ``size`` values (a position in some coordinate system); a bool or
+    a text among them is no number (numpy would read True as 1)."""
+    if isinstance(value, np.ndarray):
+        ok = value.dtype.kind in "iuf" and value.shape == (size,) \
+            and bool(np.all(np.isfinite(value)))
+    else:
+        ok = not isinstance(value, str | bytes) and hasattr(value, "__len__") \
+            and len(value) == size and all(is_finite(v) for v in value)
+    if not ok:
         raise CommandRejected(ErrorId.INVALID_POSITION,
                               f"{name}: needs {size} finite values, got {value!r}")
-    return array
+    return np.array(value, dtype=float)
 
 
 #: Part 4's MC_BUFFER_MODE numbers (§2.4.2, Table 2); ``core.enums.BufferMode`` keeps TcMC's

@@ -24,6 +24,13 @@ from enum import Enum
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from openmotion.core.checks import (
+    finite_number,
+    finite_pair,
+    flag,
+    non_negative_number,
+    positive_number,
+)
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 
 Array = NDArray[np.float64]
@@ -198,12 +205,10 @@ class CartesianGantry(Kinematics):
             raise ConfigError(f"mapping: must name distinct coordinates of {COORDINATES}, "
                               f"got {mapping}")
         n = len(mapping)
-        signs = np.ones(n) if sign is None else np.asarray(sign, dtype=float)
-        offsets = np.zeros(n) if offset is None else np.asarray(offset, dtype=float)
-        if signs.shape != (n,) or not np.all(np.abs(signs) == 1.0):
+        signs = np.ones(n) if sign is None else _numbers(sign, n, "sign")
+        offsets = np.zeros(n) if offset is None else _numbers(offset, n, "offset")
+        if not np.all(np.abs(signs) == 1.0):
             raise ConfigError(f"sign: must be {n} values of +1 or -1, got {signs.tolist()}")
-        if offsets.shape != (n,) or not np.all(np.isfinite(offsets)):
-            raise ConfigError(f"offset: must be {n} finite values, got {offsets.tolist()}")
         super().__init__(n, tuple(c for c in COORDINATES if c in mapping))
         self.mapping = mapping  #: the MCS coordinate of each ACS axis
         self._slot = np.array([self.coordinates.index(c) for c in mapping])
@@ -242,9 +247,8 @@ class Scara(Kinematics):
 
     def __init__(self, l1: float, l2: float, *, z_axis: bool = False, c_axis: bool = False,
                  limits: Limits | None = None) -> None:
-        for name, value in (("l1", l1), ("l2", l2)):
-            if not (math.isfinite(value) and value > 0.0):
-                raise ConfigError(f"{name}: link length must be > 0 mm, got {value}")
+        l1, l2 = positive_number(l1, "l1"), positive_number(l2, "l2")  # link lengths [mm]
+        flag(z_axis, "z_axis"), flag(c_axis, "c_axis")
         coordinates = ("x", "y") + ("z",) * z_axis + ("c",) * c_axis
         super().__init__(len(coordinates), coordinates, limits)
         self.l1 = l1  #: length of link 1, base axis to elbow axis [mm]
@@ -337,13 +341,10 @@ class DeltaRobot(Kinematics):
 
     def __init__(self, base_radius: float, effector_radius: float, upper_arm: float,
                  forearm: float, *, limits: Limits | None = None) -> None:
-        for name, value, minimum in (("base_radius", base_radius, 0.0),
-                                     ("effector_radius", effector_radius, 0.0)):
-            if not (math.isfinite(value) and value >= minimum):
-                raise ConfigError(f"{name}: must be >= 0 mm, got {value}")
-        for name, value in (("upper_arm", upper_arm), ("forearm", forearm)):
-            if not (math.isfinite(value) and value > 0.0):
-                raise ConfigError(f"{name}: must be > 0 mm, got {value}")
+        base_radius = non_negative_number(base_radius, "base_radius")
+        effector_radius = non_negative_number(effector_radius, "effector_radius")
+        upper_arm, forearm = positive_number(upper_arm, "upper_arm"), positive_number(
+            forearm, "forearm")
         super().__init__(3, ("x", "y", "z"), limits)
         self.base_radius = base_radius  #: centre of the base to an arm's axis [mm]
         self.effector_radius = effector_radius  #: TCP to a forearm's platform joint [mm]
@@ -422,16 +423,24 @@ def _limit_array(limits: Limits | None, n_axes: int) -> Array:
     array = np.tile([-np.inf, np.inf], (n_axes, 1))
     if limits is None:
         return array
-    if len(limits) != n_axes:
-        raise ConfigError(f"limits: need {n_axes} entries (one per axis), got {len(limits)}")
+    if isinstance(limits, str | bytes) or not hasattr(limits, "__len__") or \
+            len(limits) != n_axes:
+        raise ConfigError(f"limits: need {n_axes} entries (one per axis), got {limits!r}")
     for k, pair in enumerate(limits):
         if pair is None:
             continue
-        low, high = pair
-        if not (math.isfinite(low) and math.isfinite(high) and low < high):
+        low, high = finite_pair(pair, f"limits[{k}]")
+        if not low < high:
             raise ConfigError(f"limits[{k}]: need finite minimum < maximum, got {pair}")
         array[k] = low, high
     return array
+
+
+def _numbers(values: object, n: int, field: str) -> Array:
+    """``n`` finite numbers, one per axis."""
+    if isinstance(values, str | bytes) or not hasattr(values, "__len__") or len(values) != n:
+        raise ConfigError(f"{field}: must be {n} values, got {values!r}")
+    return np.array([finite_number(v, f"{field}[{k}]") for k, v in enumerate(values)])
 
 
 def _fmt(values: Array) -> str:

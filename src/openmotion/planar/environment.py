@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import numpy as np
 import shapely
 
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
@@ -21,7 +22,7 @@ from openmotion.planar.motion import sample_path
 from openmotion.planar.options import CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD
 from openmotion.planar.parts import TOLERANCE, Part, PartLayout, PartPosition
 from openmotion.planar.positions import PositionXYC, finite
-from openmotion.planar.reservation import MemberId, footprint
+from openmotion.planar.reservation import MemberId, footprint, grown_surface, path_on_surface
 from openmotion.planar.states import ErrorReaction
 from openmotion.planar.stators import Boundary, StatorField
 from openmotion.planar.system import PlanarObject, PlanarSystem
@@ -78,12 +79,16 @@ class MC_PlanarEnvironment(PlanarObject):
 
     def __init__(self, runtime: Runtime, layout: PartLayout | None = None,
                  name: str | None = None) -> None:
+        if layout is not None and not isinstance(layout, PartLayout):
+            raise ConfigError(f"layout: must be a PartLayout, got {type(layout).__name__}")
         system = PlanarSystem.of(runtime)
         super().__init__(system, system.next_oid("object"))
         self.name = name or "environment"
         self.layout = layout
         self.field = StatorField()
         self.boundary: Boundary | None = None
+        #: the boundary's surface grown and prepared for ``carries``, made when first needed
+        self._carrier: tuple[BaseGeometry | None, tuple[float, ...] | None] | None = None
         self._group: MC_PlanarGroup | None = None
         self.error = False  #: the environment has no state machine (§7.2.2.1)
         self.error_id = ErrorId.NO_ERROR
@@ -191,8 +196,22 @@ class MC_PlanarEnvironment(PlanarObject):
         self._group = group
 
     def _surface_changed(self) -> None:
+        self._carrier = None
         if self._group is not None:
             self._group.registry.set_surface(self.surface)
+
+    def carries(self, coordinate_system: int, points: np.ndarray) -> bool:
+        """Whether stators carry a mover whose centre follows the polyline ``points`` (n, 2)
+        [mm] in ``coordinate_system``: the centre stays on the surface (edges count). True
+        where the surface is unknown: before CreateBoundary, or in a coordinate system
+        other than the boundary's (D-088); nothing can be checked there (D-163)."""
+        if self.boundary is None or (self.layout is not None
+                                     and coordinate_system != self._system_oid()):
+            return True
+        if self._carrier is None:
+            self._carrier = grown_surface(self.surface)
+        surface, rectangle = self._carrier
+        return surface is None or path_on_surface(surface, rectangle, points)
 
     def _system_oid(self) -> int:
         """The coordinate system a group checks in: the layout's first (§5.1)."""

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, TypeVar
 import numpy as np
 
 from openmotion.axis.axis import Axis
-from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.planar.enums import (
     CoordinateMode,
     ExternalSetPositionMode,
@@ -109,6 +109,7 @@ from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 
 if TYPE_CHECKING:
+    from openmotion.planar.environment import MC_PlanarEnvironment
     from openmotion.runtime.runtime import Runtime
 
 COORDINATES = ("x", "y", "z", "a", "b", "c")
@@ -156,6 +157,9 @@ class MC_PlanarMover(StatefulObject):
 
     def __init__(self, runtime: Runtime, parameters: PlanarMoverParameters | None = None,
                  name: str | None = None) -> None:
+        if parameters is not None and not isinstance(parameters, PlanarMoverParameters):
+            raise ConfigError(f"parameters: must be a PlanarMoverParameters, got "
+                              f"{type(parameters).__name__}")
         system = PlanarSystem.of(runtime)
         super().__init__(system, system.next_oid("mover"))
         self.parameters = parameters or PlanarMoverParameters()
@@ -395,6 +399,11 @@ class MC_PlanarMover(StatefulObject):
             environment = self._system.environment()
             if kind == StateCommand.RESET and environment is not None:
                 environment._reset_parts(self.coordinate_system)  # §6.6: parts first
+            if kind == StateCommand.ENABLE and environment is not None and \
+                    self._states.current is PlanarState.DISABLED and not environment.carries(
+                        self.coordinate_system, np.array([self.pose[:2]])):
+                raise _off_stators(environment, "Enable: the mover stands off the stator "
+                                   "surface")
             self._states.request(command)
             return
         kind = MoverCommand(kind)
@@ -479,12 +488,12 @@ class MC_PlanarMover(StatefulObject):
         # not Enabled) it keeps to the area the mover holds
         admit = self._group is None or self._group.state is PlanarState.ENABLED
         try:
-            self._begin(command, profiles, "the halt", admit=admit)
+            self._begin(command, profiles, "the halt", admit=admit, check_carried=False)
         except Collision:  # the hardest brake stays on the path the mover has reserved
             command.warnings.append("the halt's stop would leave the reserved area: it brakes "
                                     "with the mover's maximum dynamics")
             self._begin(command, plan_halt(self._start_states(), self._limits("maximum")),
-                        "the halt", admit=False)
+                        "the halt", admit=False, check_carried=False)
 
     def _halt_own_coordinates(self) -> None:
         """A Halt on a track: the track brakes x and y; what runs on c (a MoveC), z, a or b
@@ -712,11 +721,15 @@ class MC_PlanarMover(StatefulObject):
 
     def _begin(self, command: PlanarCommand, profiles: dict[str, Profile], what: str, *,
                c_motion: bool = False, admit: bool = True, straight: Profile | None = None,
-               on_end: Callable[[bool], None] | None = None) -> None:
+               on_end: Callable[[bool], None] | None = None,
+               check_carried: bool = True) -> None:
         """Admit (in a group) and start ``profiles`` for ``command``: the commands on the same
         coordinates are aborted. ``straight``: the arc length of x and y when they run forward
-        on one line from the start (``PlanarMotion.s``)."""
+        on one line from the start (``PlanarMotion.s``). ``check_carried``: refuse a path
+        off the stators (D-163); a halt is never refused (D-084)."""
         previous = self._system.previous
+        if check_carried and _XY & profiles.keys():
+            self._check_carried(profiles, straight, previous, what)
         samples, releases = None, []
         if _AREA & profiles.keys() and self._group is not None:
             samples, area = self._future_area(profiles, previous, straight)
@@ -743,6 +756,25 @@ class MC_PlanarMover(StatefulObject):
             self._modes.c_motion_started(profiles["c"])
         command.started()
         self._reschedule()
+
+    def _check_carried(self, profiles: dict[str, Profile], straight: Profile | None,
+                       start: float, what: str) -> None:
+        """A motion whose centre path leaves the stator surface is refused (D-163): no
+        stator would carry the mover there. A group holding the environment checks the
+        whole footprint already (§6.3); halts and stops are never refused (D-084)."""
+        environment = self._system.environment()
+        if environment is None or environment.boundary is None or (
+                self._group is not None and self._group.registry.checks_surface):
+            return
+        if straight is not None:  # one line from where the mover is to where x and y end
+            x, y = self._state_at("x", start).position, self._state_at("y", start).position
+            points = np.array([(x, y), (profiles["x"].p[-1], profiles["y"].p[-1])])
+        else:
+            _, path = sample_path(self._future_plans(profiles, start)[:2], start,
+                                  self._system.cycle_time * _SAMPLE_CYCLES)
+            points = path
+        if not environment.carries(self.coordinate_system, points):
+            raise _off_stators(environment, f"{what} leaves the stator surface")
 
     def _future_area(self, profiles: dict[str, Profile], start: float,
                      straight: Profile | None) -> tuple[np.ndarray, SweptArea]:
@@ -979,6 +1011,16 @@ class MC_PlanarMover(StatefulObject):
                                       "or coordinate system: there are none (§5.3)")
             return 0, target.pose
         return environment._resolve(target, self.coordinate_system)
+
+
+def _off_stators(environment: MC_PlanarEnvironment, problem: str) -> CommandRejected:
+    """PLANAR_COLLISION with the environment as objectInfo, as a group answers a move over
+    the edge (§6.7.2), for a mover that no stator would carry (D-163)."""
+    rejection = CommandRejected(ErrorId.PLANAR_COLLISION,
+                                f"{problem} of environment 16#{environment.oid:08X}: no stator "
+                                "carries the mover there (§6.4)")
+    rejection.object_info = environment.get_planar_object_info()
+    return rejection
 
 
 def _copy(position: PositionXYC) -> PositionXYC:

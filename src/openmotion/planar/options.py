@@ -25,6 +25,15 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass, fields
 from functools import cache, cached_property
 
+from openmotion.core.checks import (
+    finite_number,
+    flag,
+    is_finite,
+    is_number,
+    limit_number,
+    non_negative_number,
+    positive_number,
+)
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE, InputValue
 from openmotion.planar.enums import (
@@ -43,12 +52,8 @@ _INVALID = ErrorId.PLANAR_INVALID_INPUT
 _UDINT_MAX = 0xFFFFFFFF
 
 
-def _number(value: object) -> bool:
-    return isinstance(value, int | float) and not isinstance(value, bool)
-
-
 def _check_non_negative(name: str, value: float) -> None:
-    if not (_number(value) and math.isfinite(value) and value >= 0.0):
+    if not (is_finite(value) and value >= 0.0):
         raise CommandRejected(_INVALID, f"{name}: must be a finite number >= 0, got {value!r}")
 
 
@@ -279,7 +284,7 @@ class DynamicConstraint_PathXY(IPlcDynamicConstraint):
             return default
         if value is MC_IGNORE:
             return maximum
-        if not (_number(value) and math.isfinite(value) and value > 0.0):
+        if not (is_finite(value) and value > 0.0):
             raise CommandRejected(_INVALID, f"constraint {name}: must be a finite number > 0, "
                                   f"MC_DEFAULT or MC_IGNORE, got {value!r}")
         if value > maximum:
@@ -457,26 +462,36 @@ class PlanarMoverParameters:
 
     def __post_init__(self) -> None:
         for name in ("mover_width", "mover_height", "c_coordinate_modulus"):
-            if not (_number(value := getattr(self, name)) and math.isfinite(value)
-                    and value > 0.0):
-                raise ConfigError(f"{name}: must be a finite number > 0, got {value!r}")
-        window = self.c_coordinate_modulo_tolerance_window
-        if not (_number(window) and 0.0 <= window < self.c_coordinate_modulus / 2):
+            positive_number(getattr(self, name), name)
+        window = non_negative_number(self.c_coordinate_modulo_tolerance_window,
+                                     "c_coordinate_modulo_tolerance_window")
+        if not window < self.c_coordinate_modulus / 2:
             raise ConfigError("c_coordinate_modulo_tolerance_window: must be in "
                               f"[0, c_coordinate_modulus / 2), got {window!r}")
         for group in ("xy", "c", "z", "a", "b"):
             self._check_dynamics(group)
+        for name in ("position_lag_monitoring_enabled", "simulation_mode"):
+            flag(getattr(self, name), name)
+        for name in ("maximum_position_lag_value", "maximum_position_lag_filter_time",
+                     "minimum_position", "maximum_position", "initial_position"):
+            if not isinstance(getattr(self, name), MoverVector):
+                raise ConfigError(f"{name}: must be a MoverVector, got "
+                                  f"{type(getattr(self, name)).__name__}")
+        part = self.part_oid
+        if isinstance(part, bool) or not isinstance(part, int) or not 0 <= part <= _UDINT_MAX:
+            raise ConfigError(f"part_oid: must be an object id (an int, 0: none), got {part!r}")
         for f in fields(MoverVector):
-            low, high = getattr(self.minimum_position, f.name), getattr(self.maximum_position,
-                                                                        f.name)
+            # where the mover starts: NaN or inf would put it where no check can see it
+            finite_number(getattr(self.initial_position, f.name), f"initial_position.{f.name}")
+            low = limit_number(getattr(self.minimum_position, f.name),
+                               f"minimum_position.{f.name}")
+            high = limit_number(getattr(self.maximum_position, f.name),
+                                f"maximum_position.{f.name}")
             if not low < high:
                 raise ConfigError(f"minimum_position.{f.name}: must be below "
                                   f"maximum_position.{f.name}, got {low!r} >= {high!r}")
             for name in ("maximum_position_lag_value", "maximum_position_lag_filter_time"):
-                value = getattr(getattr(self, name), f.name)
-                if not (_number(value) and math.isfinite(value) and value >= 0.0):
-                    raise ConfigError(f"{name}.{f.name}: must be a finite number >= 0, "
-                                      f"got {value!r}")
+                non_negative_number(getattr(getattr(self, name), f.name), f"{name}.{f.name}")
         if not (math.isfinite(self.minimum_position.c) and math.isfinite(self.maximum_position.c)):
             raise ConfigError("minimum_position.c: the C limits must be finite; they set the "
                               "C windows (§4.2)")
@@ -490,11 +505,13 @@ class PlanarMoverParameters:
     def _check_dynamics(self, group: str) -> None:
         maximum = getattr(self, f"maximum_dynamic_{group}")
         default = getattr(self, f"default_dynamic_{group}")
+        for name, limits in ((f"maximum_dynamic_{group}", maximum),
+                             (f"default_dynamic_{group}", default)):
+            if not isinstance(limits, Limits):
+                raise ConfigError(f"{name}: must be a Limits, got {type(limits).__name__}")
         for f in fields(Limits):
             top, value = getattr(maximum, f.name), getattr(default, f.name)
-            if not (_number(top) and math.isfinite(top) and top > 0.0):
-                raise ConfigError(f"maximum_dynamic_{group}.{f.name}: must be a finite number "
-                                  f"> 0, got {top!r}")
-            if not (_number(value) and 0.0 < value <= top):
+            positive_number(top, f"maximum_dynamic_{group}.{f.name}")
+            if not (is_number(value) and 0.0 < value <= top):
                 raise ConfigError(f"default_dynamic_{group}.{f.name}: must be > 0 and at most "
                                   f"the maximum {top!r}, got {value!r}")

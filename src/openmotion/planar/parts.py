@@ -23,6 +23,7 @@ from shapely.affinity import affine_transform
 from shapely.geometry import LineString, Point, Polygon, box
 from shapely.geometry.base import BaseGeometry
 
+from openmotion.core.checks import finite_number, finite_pair
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.planar.enums import PlanarState
 from openmotion.planar.frames import Pose
@@ -51,6 +52,15 @@ class PartPosition:
     coordinate_system: int  #: OID of the coordinate system
     pose: Pose  #: the part's lower-left corner [mm] and rotation [°] in that system
 
+    def __post_init__(self) -> None:
+        _check_oid(self.coordinate_system, "coordinate_system")
+        pose = self.pose
+        if isinstance(pose, str | bytes) or not hasattr(pose, "__len__") or len(pose) != 3:
+            raise ConfigError(f"pose: must be a Pose (x, y, c), got {pose!r}")
+        object.__setattr__(self, "pose", Pose(*(finite_number(value, f"pose.{name}")
+                                                for value, name in zip(pose, "xyc",
+                                                                       strict=True))))
+
 
 class Part:
     """One part: stators, possible positions, the active one and its PlanarState (§5.1, §6.6).
@@ -67,6 +77,10 @@ class Part:
         #: lower-left corners of the stators in the part frame [mm]
         self.stators = tuple((col * STATOR_SIZE, row * STATOR_SIZE) for col, row in cells)
         self.positions = tuple(positions)
+        for index, position in enumerate(self.positions, start=1):
+            if not isinstance(position, PartPosition):
+                raise ConfigError(f"{self.name}: positions[{index}]: must be a PartPosition, "
+                                  f"got {type(position).__name__}")
         if not self.positions:
             raise ConfigError(f"{self.name}: positions: a part needs at least one position")
         if problem := _index_problem(position_index, len(self.positions)):
@@ -167,7 +181,8 @@ def _index_problem(index: int, count: int) -> str | None:
 
 def _stator_cells(name: str, stators: Iterable[tuple[float, float]]) -> list[tuple[int, int]]:
     """Stator corners as grid cells; a part is one edge-connected set without overlaps (§5.1)."""
-    cells = [_grid_cell(name, x, y) for x, y in stators]
+    cells = [_grid_cell(name, *finite_pair(corner, f"{name}: stators[{k}]"))
+             for k, corner in enumerate(stators)]
     if not cells:
         raise ConfigError(f"{name}: stators: a part needs at least one stator")
     if len(set(cells)) < len(cells):
@@ -232,6 +247,9 @@ class PartLayout:
         if not self.coordinate_systems:
             raise ConfigError("coordinate_systems: a layout needs at least one")
         part_list = list(parts)
+        for part in part_list:
+            if not isinstance(part, Part):
+                raise ConfigError(f"parts: must be Part objects, got {type(part).__name__}")
         self.parts = {part.oid: part for part in part_list}
         _check_unique([*self.coordinate_systems, *(part.oid for part in part_list)])
         for part in part_list:

@@ -7,11 +7,11 @@ static coordinate system exists. The setters keep the manual's method names in s
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from openmotion.core.checks import is_finite
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar.frames import Pose
 
@@ -45,7 +45,7 @@ class PositionXYC:
 
 def finite(value: object, name: str) -> float:
     """A command's number input, or PLANAR_INVALID_INPUT (no exception leaves a cycle)."""
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+    if not is_finite(value):
         raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
                               f"{name}: must be a finite number, got {value!r}")
     return float(value)

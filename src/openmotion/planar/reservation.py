@@ -431,6 +431,33 @@ def _travel(xy: np.ndarray) -> np.ndarray:
     return travel
 
 
+def grown_surface(surface: BaseGeometry | None
+                  ) -> tuple[BaseGeometry | None, tuple[float, float, float, float] | None]:
+    """A stator surface grown by ``SURFACE_TOLERANCE`` and prepared, and its bounds when it
+    is one rectangle (a convex piece is then on it when its bounds are); (None, None) for
+    no surface (nothing to check against)."""
+    if surface is None or surface.is_empty:
+        return None, None
+    grown = shapely.buffer(surface, SURFACE_TOLERANCE, join_style="mitre")
+    shapely.prepare(grown)
+    if shapely.equals(grown, shapely.box(*grown.bounds)):
+        return grown, tuple(grown.bounds)
+    return grown, None
+
+
+def path_on_surface(surface: BaseGeometry,
+                    rectangle: tuple[float, float, float, float] | None,
+                    points: np.ndarray) -> bool:
+    """Whether the polyline through ``points`` (n, 2) [mm] lies on the grown ``surface``
+    (``grown_surface``): where a mover's centre may go, since a stator must carry it."""
+    if rectangle is not None:  # convex: the polyline is inside when its points are
+        low_x, low_y, high_x, high_y = rectangle
+        x, y = points[:, 0], points[:, 1]
+        return bool(np.all((x >= low_x) & (x <= high_x) & (y >= low_y) & (y <= high_y)))
+    line = shapely.points(points[0]) if len(points) == 1 else shapely.linestrings(points)
+    return bool(shapely.covers(surface, line))
+
+
 def _as_swept(area: SweptArea | BaseGeometry) -> SweptArea:
     return area if isinstance(area, SweptArea) else SweptArea.from_geometry(area)
 
@@ -507,15 +534,13 @@ class ReservationRegistry:
         so nothing is checked against it (no boundary element to meet, §6.4)."""
         if self._environment is None:
             raise ConfigError("set_surface: the group holds no environment")
-        self._rectangle = None
-        if surface is None or surface.is_empty:
-            self._surface = None
-            return
-        grown = shapely.buffer(surface, SURFACE_TOLERANCE, join_style="mitre")
-        shapely.prepare(grown)
-        self._surface = grown
-        if shapely.equals(grown, shapely.box(*grown.bounds)):  # covers it: bounds inside
-            self._rectangle = tuple(grown.bounds)
+        self._surface, self._rectangle = grown_surface(surface)
+
+    @property
+    def checks_surface(self) -> bool:
+        """Whether areas are checked against a stator surface (an environment with a
+        boundary is a member)."""
+        return self._surface is not None
 
     def blocker(self, owner: MemberId, area: SweptArea | BaseGeometry,
                 ignore: Collection[MemberId] = ()) -> MemberId | None:

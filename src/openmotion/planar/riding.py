@@ -96,6 +96,8 @@ def leave_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
     _, pose = mover._resolve(target)
     goal = (pose.x, pose.y, pose.c) if options.use_orientation else (pose.x, pose.y)
     motion = _free_move(mover, goal, limits, options.use_orientation)
+    # before the mover lets go of the track: a refused leave leaves it coupled (D-163)
+    mover._check_carried(motion, None, mover._system.previous, "the leave")
     traffic = traffic_of(mover._system)
     traffic.uncouple(rider, mover._system.previous)
     mover._rider = None
@@ -104,7 +106,7 @@ def leave_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
         track.configuring.discard(mover.oid)
         mover._modes.ended(_C.LEAVE_TRACK, done=done, c=mover._set_pose().c)
 
-    mover._begin(command, motion, "the leave", on_end=left)
+    mover._begin(command, motion, "the leave", on_end=left, check_carried=False)
     track.configuring.add(mover.oid)
     mover._modes.started(_C.LEAVE_TRACK)
 

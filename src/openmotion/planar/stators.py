@@ -26,7 +26,6 @@ be contiguous (a field with two islands is allowed; no motion can cross the gap)
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -34,6 +33,7 @@ import shapely
 from shapely.geometry import LineString, MultiPolygon, Polygon
 from shapely.geometry.base import BaseGeometry
 
+from openmotion.core.checks import finite_number, finite_pair
 from openmotion.core.errors import ConfigError
 
 STATOR_SIZE = 240.0  #: side of a square stator [mm] (§5.1, §6.4.2)
@@ -92,6 +92,8 @@ class StatorField:
 
     def __init__(self, stators: Iterable[tuple[float, float]] = (),
                  origin: tuple[float, float] | None = None) -> None:
+        if origin is not None:
+            origin = finite_pair(origin, "stator field: origin")
         self._origin = origin
         self._anchor = origin  # grid anchor: origin, else the first stator's corner
         self._stators: list[Stator] = []
@@ -104,9 +106,11 @@ class StatorField:
     def rectangular(cls, columns: int, rows: int,
                     origin: tuple[float, float] = (0.0, 0.0)) -> StatorField:
         """A ``columns`` x ``rows`` block of stators whose lower-left corner is ``origin``."""
-        if columns < 1 or rows < 1:
-            raise ConfigError(f"stator field: columns and rows must be >= 1, got {columns}x{rows}")
-        x0, y0 = origin
+        if isinstance(columns, bool) or isinstance(rows, bool) or not isinstance(columns, int) \
+                or not isinstance(rows, int) or columns < 1 or rows < 1:
+            raise ConfigError(f"stator field: columns and rows must be ints >= 1, got "
+                              f"{columns!r}x{rows!r}")
+        x0, y0 = origin = finite_pair(origin, "stator field: origin")
         return cls(((x0 + i * STATOR_SIZE, y0 + j * STATOR_SIZE)
                     for j in range(rows) for i in range(columns)), origin=origin)
 
@@ -119,9 +123,9 @@ class StatorField:
 
     def add_stator(self, lower_x: float, lower_y: float) -> Stator:
         """Add a stator by its lower-left corner (§6.4.2); off-grid or overlapping: ConfigError."""
-        name = f"stators[{len(self._stators)}] ({lower_x}, {lower_y})"
-        if not (math.isfinite(lower_x) and math.isfinite(lower_y)):
-            raise ConfigError(f"{name}: corner must be finite")
+        name = f"stators[{len(self._stators)}] ({lower_x!r}, {lower_y!r})"
+        lower_x = finite_number(lower_x, f"{name}: lower_x")
+        lower_y = finite_number(lower_y, f"{name}: lower_y")
         if self._anchor is None:
             self._anchor = (float(lower_x), float(lower_y))
         cell = self._cell(name, lower_x, lower_y)

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
+from openmotion.core.checks import non_negative_number, positive_number
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.geometry.track import TrackPath
 from openmotion.geometry.track_elements import TrackPose
@@ -64,19 +65,20 @@ class MC_PlanarTrack(StatefulObject):
         system = PlanarSystem.of(runtime)
         super().__init__(system, system.next_oid("object"))
         self.name = name or f"track{len(network_of(system).tracks) + 1}"
-        for value, label in ((max_mover_width, "max_mover_width"),
-                             (max_mover_height, "max_mover_height")):
-            if not (math.isfinite(value) and value > 0.0):
-                raise ConfigError(f"{self.name}: {label} must be a positive number, got {value!r}")
-        self.max_mover_width, self.max_mover_height = max_mover_width, max_mover_height
+        self.max_mover_width = positive_number(max_mover_width, f"{self.name}: max_mover_width")
+        self.max_mover_height = positive_number(max_mover_height,
+                                                f"{self.name}: max_mover_height")
         if collision_ranges is not None and not (
-                isinstance(collision_ranges, tuple | list) and len(collision_ranges) == 2
-                and all(isinstance(v, int | float) and not isinstance(v, bool)
-                        and math.isfinite(v) and v >= 0.0 for v in collision_ranges)):
+                isinstance(collision_ranges, tuple | list) and len(collision_ranges) == 2):
             raise ConfigError(f"{self.name}: collision ranges must be two numbers >= 0 (at "
                               f"the start, at the end) [mm], got {collision_ranges!r}")
-        self._manual_ranges = None if collision_ranges is None else (
-            float(collision_ranges[0]), float(collision_ranges[1]))
+        self._manual_ranges = None if collision_ranges is None else tuple(
+            non_negative_number(value, f"{self.name}: collision_ranges[{k}]")
+            for k, value in enumerate(collision_ranges))
+        if isinstance(part_oid, bool) or not isinstance(part_oid, int) or \
+                not 0 <= part_oid <= 0xFFFF_FFFF:
+            raise ConfigError(f"{self.name}: part_oid must be an object id (an int, 0: none), "
+                              f"got {part_oid!r}")
         if not isinstance(check_collisions_against_static_objects, bool):
             raise ConfigError(f"{self.name}: check_collisions_against_static_objects must be a "
                               f"bool, got {check_collisions_against_static_objects!r}")
@@ -316,6 +318,7 @@ class MC_PlanarTrack(StatefulObject):
     def _local(self, position: PositionXYC) -> tuple[float, float]:
         """A point given with a ReferenceId in the track's part frame (§6.2.3: a part, or a
         coordinate system through the part's active position)."""
+        finite(position.x, "x"), finite(position.y, "y")
         part = self.part()
         if part is None or position.reference_id == part.oid:
             return position.x, position.y
@@ -483,11 +486,11 @@ class MC_PlanarTrack(StatefulObject):
 
 
 def _point(position: PositionXYC) -> PositionXYC:
-    """A copy of a track point as called (the PLC passes it IN_OUT), its numbers checked."""
+    """A copy of a track point as called (the PLC passes it IN_OUT); its numbers are checked
+    when the command runs (``_local``), so that a bad one is the command's error id."""
     if not isinstance(position, PositionXYC):
         raise TypeError(f"a track point must be a PositionXYC, got {type(position).__name__}")
-    return PositionXYC(finite(position.x, "x"), finite(position.y, "y"), 0.0,
-                       reference_id(position.reference_id))
+    return PositionXYC(position.x, position.y, 0.0, reference_id(position.reference_id))
 
 
 _ORIGIN = Pose()

@@ -10,6 +10,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
+from openmotion.core.checks import flag, positive_number
 from openmotion.runtime.runtime import Runtime
 
 
@@ -24,10 +25,8 @@ class PacedRuntime(Runtime):
                  clock: Callable[[], float] = time.monotonic,
                  sleep: Callable[[float], None] = time.sleep) -> None:
         super().__init__(cycle_time)
-        if not factor > 0:
-            raise ValueError(f"factor: must be > 0, got {factor!r}")
-        self.factor = factor
-        self.strict = strict
+        self.factor = positive_number(factor, "factor")
+        self.strict = flag(strict, "strict")
         self._clock = clock
         self._sleep = sleep
         self._origin: float | None = None

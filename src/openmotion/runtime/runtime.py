@@ -8,8 +8,8 @@ issued in cycle k shapes the setpoint of cycle k (docs/decisions.md D-001).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Any
 
 from openmotion.axis.axis import Axis
@@ -17,6 +17,7 @@ from openmotion.axis.commands import Command
 from openmotion.axis.drive import DriveModel
 from openmotion.axis.kernel import AxisKernel
 from openmotion.axis.parameters import PARAMETER_FIELDS, AxisParameters
+from openmotion.core.checks import finite_number, non_negative_number, positive_number
 from openmotion.core.errors import ConfigError, ErrorId
 
 Program = Callable[[], Any]
@@ -28,10 +29,7 @@ class Runtime:
     """Virtual-time cyclic runtime. ``cycle_time`` in seconds (default 1 ms)."""
 
     def __init__(self, cycle_time: float = 0.001) -> None:
-        if not (isinstance(cycle_time, int | float) and math.isfinite(cycle_time)
-                and cycle_time > 0):
-            raise ConfigError(f"cycle_time: must be a finite number > 0, got {cycle_time!r}")
-        self.cycle_time = float(cycle_time)
+        self.cycle_time = positive_number(cycle_time, "cycle_time")
         self.cycle = 0  #: number of completed cycles
         self.now = 0.0  #: virtual time [s], always cycle * cycle_time
         self.axes: dict[str, Axis] = {}
@@ -47,23 +45,36 @@ class Runtime:
 
     def add_axis(self, name: str, parameters: AxisParameters | None = None,
                  drive: DriveModel | None = None, position: float = 0.0, **overrides: Any) -> Axis:
-        """Create an axis; keyword ``overrides`` set AxisParameters fields by name."""
+        """Create an axis; keyword ``overrides`` set AxisParameters fields by name.
+
+        ``position`` is where the axis stands [mm or °]. A value that is no finite number,
+        here or in the parameters, is a ``ConfigError`` naming the field."""
+        if not isinstance(name, str):
+            raise ConfigError(f"axes: an axis name must be a str, got {name!r}")
         if name in self.axes:
             raise ConfigError(f"axes: an axis named {name!r} exists already")
         unknown = set(overrides) - PARAMETER_FIELDS
         if unknown:
             raise ConfigError(f"axis {name!r}: unknown parameter(s) {sorted(unknown)}")
+        if parameters is not None and not isinstance(parameters, AxisParameters):
+            raise ConfigError(f"axis {name!r}: parameters must be an AxisParameters, got "
+                              f"{type(parameters).__name__}")
+        if drive is not None and not isinstance(drive, DriveModel):
+            raise ConfigError(f"axis {name!r}: drive must be a DriveModel, got "
+                              f"{type(drive).__name__}")
+        start = finite_number(position, f"axis {name!r}: position")
         try:
-            parameters = parameters or AxisParameters(**overrides)
-            if parameters and overrides:
-                for key, value in overrides.items():
-                    setattr(parameters, key, value)
+            if parameters is None:
+                parameters = AxisParameters(**overrides)
+            elif overrides:  # a copy: a refused override leaves the caller's object as it was
+                parameters = replace(parameters, **overrides)
+            else:
                 parameters.validate()
         except (TypeError, ValueError) as exc:
             raise ConfigError(f"axis {name!r}: {exc}") from None
         drive = drive or DriveModel()
         alpha, dead = drive.coefficients(self.cycle_time)
-        row = self._kernel.add(float(position), alpha, dead)
+        row = self._kernel.add(start, alpha, dead)
         axis = Axis(self, self._kernel, name, row, parameters, drive)
         self.axes[name] = axis
         self._axis_list.append(axis)
@@ -135,7 +146,9 @@ class Runtime:
             self._watchers = sorted(keep + self._watchers)
 
     def run(self, seconds: float) -> None:
-        """Run for ``seconds`` of virtual time (rounded to whole cycles)."""
+        """Run for ``seconds`` of virtual time (rounded to whole cycles; 0 runs none).
+        NaN, infinite or negative: ``ConfigError``."""
+        seconds = non_negative_number(seconds, "run: seconds")
         for _ in range(round(seconds / self.cycle_time)):
             self.step()
 
@@ -143,8 +156,10 @@ class Runtime:
         """Step until ``predicate()`` is true (or a Command finishes); returns ``now``.
 
         Raises ``TimeoutError`` naming the predicate and the time when ``timeout`` seconds of
-        virtual time pass first.
+        virtual time pass first (0: the predicate is asked once, without a step). A
+        ``timeout`` that is NaN, infinite or negative is a ``ConfigError``.
         """
+        timeout = non_negative_number(timeout, "run_until: timeout")
         if isinstance(predicate, Command):
             command = predicate
             predicate = lambda: command.finished  # noqa: E731 - a named closure reads worse

@@ -18,6 +18,7 @@ share its value types, conditions and name checks.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterable
 from typing import Annotated, Any, ClassVar, Literal, get_args
 
@@ -256,13 +257,15 @@ class PathDynamicsSpec(_Model):
 
     @model_validator(mode="after")
     def _positive(self) -> PathDynamicsSpec:
-        built = self.build()
-        _raise(self, [((name,), f"must be > 0, got {getattr(built, name)!r}")
-                      for name in type(self).model_fields if not getattr(built, name) > 0.0])
-        _raise(self, [((name,), f"{getattr(built, name)!r} is above max_{name} "
-                                f"{getattr(built, f'max_{name}')!r}")
+        # the values as built, but not built: PathDynamics would refuse the first bad one
+        # alone, where this names every bad field at its path
+        built = {f.name: f.default for f in dataclasses.fields(PathDynamics)} | {
+            name: getattr(self, name) for name in self.model_fields_set}
+        _raise(self, [((name,), f"must be > 0, got {value!r}")
+                      for name, value in built.items() if not value > 0.0])
+        _raise(self, [((name,), f"{built[name]!r} is above max_{name} {built[f'max_{name}']!r}")
                       for name in ("velocity", "acceleration", "deceleration", "jerk")
-                      if getattr(built, name) > getattr(built, f"max_{name}")])
+                      if built[name] > built[f"max_{name}"]])
         return self
 
     def build(self) -> PathDynamics:

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from openmotion.axis.commands import Command, CommandStatus
+from openmotion.core.checks import finite_number, non_negative_number
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.trajectory.plan import Limits, plan_stop
 from openmotion.trajectory.segments import KinematicState
@@ -55,10 +56,7 @@ class StarterKitGeometry:
 
     def __post_init__(self) -> None:
         for name in ("rail_length", "curve_radius", "rail_offset"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int | float) or \
-                    not math.isfinite(value):
-                raise ConfigError(f"StarterKitGeometry.{name}: a finite number, got {value!r}")
+            finite_number(getattr(self, name), f"StarterKitGeometry.{name}")
         if self.curve_radius <= 0.0 or 2.0 * math.pi * self.curve_radius >= self.rail_length:
             raise ConfigError(f"StarterKitGeometry: curve_radius {self.curve_radius:g} must be "
                               f"> 0 and leave straights: 2 pi R < rail_length "
@@ -134,10 +132,7 @@ class MoverTemplate:
         if isinstance(self.template_id, bool) or not isinstance(self.template_id, int) or \
                 self.template_id <= 0:
             raise ConfigError(f"MoverTemplate.template_id: an OTCID > 0, got {self.template_id!r}")
-        y = self.y_shift
-        if isinstance(y, bool) or not isinstance(y, int | float) or not (math.isfinite(y)
-                                                                         and y >= 0.0):
-            raise ConfigError(f"MoverTemplate.y_shift: a finite number >= 0, got {y!r}")
+        non_negative_number(self.y_shift, "MoverTemplate.y_shift")
 
 
 class GeoCompensation:

@@ -14,6 +14,7 @@ the largest position), so a cycle is a few numpy passes over the group.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -71,9 +72,13 @@ class CaGroup(GroupCycle):
         unknown = set(overrides) - PARAMETER_FIELDS
         if unknown:
             raise ConfigError(f"CA group {name!r}: unknown parameter(s) {sorted(unknown)}")
+        if parameters is not None and not isinstance(parameters, CaGroupParameters):
+            raise ConfigError(f"CA group {name!r}: parameters must be a CaGroupParameters, got "
+                              f"{type(parameters).__name__}")
+        # a copy with the overrides: a refused value leaves the caller's object as it was
         parameters = parameters or CaGroupParameters()
-        for key, value in overrides.items():
-            setattr(parameters, key, value)
+        if overrides:
+            parameters = replace(parameters, **overrides)
         try:
             parameters.validate()
         except (TypeError, ValueError) as exc:

@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields
 
+from openmotion.core.checks import flag, non_negative_number, positive_number
+from openmotion.core.errors import ConfigError
 from openmotion.transport.enums import (
     GapControlDirection,
     GapControlMode,
@@ -31,20 +32,15 @@ class CaGroupParameters:
         GearInPosDefaultDynamicsAfterSync.JOB_DYNAMICS)
 
     def validate(self) -> None:
-        """ValueError naming the first field that makes no sense."""
+        """``ConfigError`` (a ValueError) naming the first field that makes no sense."""
         for name in ("rail_length", "default_velocity", "default_acceleration",
                      "default_deceleration", "default_jerk"):
-            value = getattr(self, name)
-            if not (isinstance(value, int | float) and not isinstance(value, bool)
-                    and math.isfinite(value) and value > 0):
-                raise ValueError(f"{name}: must be a finite number > 0, got {value!r}")
-        gap = self.default_gap
-        if not (isinstance(gap, int | float) and not isinstance(gap, bool)
-                and math.isfinite(gap) and 0 <= gap < self.rail_length):
-            raise ValueError(f"default_gap: must be a number in [0, rail_length), got {gap!r}")
+            positive_number(getattr(self, name), name)
+        gap = non_negative_number(self.default_gap, "default_gap")
+        if not gap < self.rail_length:
+            raise ConfigError(f"default_gap: must be a number in [0, rail_length), got {gap!r}")
         for name in ("rail_is_ring", "active_gap_establishing", "standby_gap_control"):
-            if not isinstance(getattr(self, name), bool):
-                raise ValueError(f"{name}: must be true or false, got {getattr(self, name)!r}")
+            flag(getattr(self, name), name)
         mode = GapControlMode(self.default_gap_control_mode)
         if mode not in (GapControlMode.STANDARD, GapControlMode.FAST):
             raise ValueError(f"default_gap_control_mode: STANDARD or FAST, got {mode.name}")

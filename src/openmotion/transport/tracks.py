@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from openmotion.axis.commands import Command, CommandStatus
+from openmotion.core.checks import finite_number
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.transport.enums import ModuloDirection
 from openmotion.transport.geo import GeoCompensation, MoverTemplate, StarterKitGeometry
@@ -92,8 +93,8 @@ class TrackTable:
         if not _oid(part_id) or part_id in self.parts or part_id in self.tracks:
             raise ConfigError(f"part {part_id!r}: a new OTCID > 0 is needed")
         for name, value in (("start", start), ("end", end)):
-            if isinstance(value, bool) or not isinstance(value, int | float) or \
-                    not 0.0 <= value <= length_ or (name == "start" and value == length_):
+            finite_number(value, f"part {part_id}: {name}")
+            if not 0.0 <= value <= length_ or (name == "start" and value == length_):
                 raise ConfigError(f"part {part_id}: {name} {value!r} outside [0, {length_:g})")
         if ring:
             length = (end - start) % length_ or length_
