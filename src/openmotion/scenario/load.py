@@ -8,6 +8,7 @@ offending key. Every problem of a file is collected, so ``openmotion check`` lis
 from __future__ import annotations
 
 import difflib
+import functools
 import re
 import typing
 from dataclasses import dataclass
@@ -18,25 +19,9 @@ import yaml
 from pydantic import BaseModel, ValidationError
 
 from openmotion.core.errors import ConfigError
+from openmotion.scenario import reading
+from openmotion.scenario.reading import Refused
 from openmotion.scenario.schema import CHECKS, TIMELINE_COMMANDS, Scenario
-
-
-class ScenarioLoader(yaml.SafeLoader):
-    """SafeLoader with YAML 1.2 scalars: ``1e-9`` is a float, ``on``/``no`` stay strings."""
-
-
-_BOOL = "tag:yaml.org,2002:bool"
-ScenarioLoader.yaml_implicit_resolvers = {
-    first: [(tag, regexp) for tag, regexp in resolvers if tag != _BOOL]
-    for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()
-}
-ScenarioLoader.add_implicit_resolver(
-    _BOOL, re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"), list("tTfF"))
-ScenarioLoader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(r"^[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"),
-    list("-+0123456789"),
-)
 
 
 @dataclass(frozen=True)
@@ -63,39 +48,70 @@ class ScenarioError(ConfigError):
         super().__init__(f"{problems[0]}{more}")
 
 
-def load_scenario(path: str | Path) -> Scenario:
-    """Read and validate a scenario file; raises ``ScenarioError`` listing every problem."""
+def load_scenario(path: str | Path, max_bytes: int | None = None) -> Scenario:
+    """Read and validate a scenario file; raises ``ScenarioError`` listing every problem.
+
+    A file over ``max_bytes`` (default: the ``OPENMOTION_MAX_SCENARIO_BYTES`` environment
+    variable, else 2 MiB) is refused before it is read; see docs/scenarios.md, "Limits".
+    """
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        limit = reading.max_bytes(max_bytes)
+        text = reading.read_text(path, limit)
     except OSError as exc:
         raise ScenarioError([Problem(str(path), 0, "", f"cannot read: {exc.strerror}")]) \
             from None
-    return parse_scenario(text, str(path))
+    except Refused as exc:
+        raise ScenarioError([Problem(str(path), exc.line, "", exc.message)]) from None
+    return _parse(text, str(path))
 
 
-def parse_scenario(text: str, file: str = "<string>") -> Scenario:
-    """Validate scenario YAML ``text``; ``file`` names it in error messages."""
-    loader = ScenarioLoader(text)
+def parse_scenario(text: str, file: str = "<string>", max_bytes: int | None = None) -> Scenario:
+    """Validate scenario YAML ``text``; ``file`` names it in error messages. The bounds of
+    ``load_scenario`` apply (``max_bytes`` counts the UTF-8 bytes of ``text``)."""
     try:
-        root = loader.get_single_node()
-        data = loader.construct_document(root) if root is not None else None
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        line = mark.line + 1 if mark else 0
-        raise ScenarioError([Problem(file, line, "", f"invalid YAML: {exc.problem}")]) from None
-    finally:
-        loader.dispose()
-    if root is None or not isinstance(data, dict):
-        raise ScenarioError([Problem(file, 1, "", "the file must hold a mapping with at least "
-                                                  "'name' and 'axes' (or 'planar')")])
-    problems = _duplicate_keys(root, (), file)
-    try:
-        scenario = Scenario.model_validate(data)
-    except ValidationError as exc:
-        problems += [_problem(error, root, file) for error in exc.errors()]
+        reading.check_text(text, reading.max_bytes(max_bytes))
+    except Refused as exc:
+        raise ScenarioError([Problem(file, exc.line, "", exc.message)]) from None
+    return _parse(text, file)
+
+
+def _parse(text: str, file: str) -> Scenario:
+    with reading.gc_paused():  # until the nodes and data are freed: no collection walks them
+        scenario, problems = _validate(text, file)
     if problems:
         raise ScenarioError(sorted(problems, key=lambda p: p.line))
     return scenario
+
+
+def _validate(text: str, file: str) -> tuple[Scenario | None, list[Problem]]:
+    root, data, problems = _nodes_and_data(text, file)
+    if root is None or not isinstance(data, dict):
+        raise ScenarioError([Problem(file, 1, "", "the file must hold a mapping with at least "
+                                                  "'name' and 'axes' (or 'planar')")])
+    try:
+        return Scenario.model_validate(data), problems
+    except ValidationError as exc:
+        return None, problems + [_problem(error, root, file) for error in exc.errors()]
+
+
+def _nodes_and_data(text: str, file: str) -> tuple[yaml.Node | None, Any, list[Problem]]:
+    """The node tree (within the depth and alias bounds), its duplicate keys and its data."""
+    loader = reading.ScenarioLoader(text)
+    try:
+        root = loader.get_single_node()
+        if root is None:
+            return None, None, []
+        problems = _duplicate_keys(root, file)  # before the constructor flattens merge keys
+        return root, loader.construct_document(root), problems
+    except Refused as exc:
+        raise ScenarioError([Problem(file, exc.line, "", exc.message)]) from None
+    except yaml.MarkedYAMLError as exc:
+        line, message = reading.yaml_problem(exc)
+        raise ScenarioError([Problem(file, line, "", message)]) from None
+    except yaml.YAMLError as exc:  # a reader error; check_text refuses what causes them
+        raise ScenarioError([Problem(file, 0, "", f"invalid YAML: {exc}")]) from None
+    finally:
+        loader.dispose()
 
 
 # -- pydantic errors to problems -----------------------------------------------------------
@@ -178,42 +194,66 @@ def _node_at(root: yaml.Node, loc: tuple) -> tuple[yaml.Node, int]:
     return node, line + 1
 
 
-def _duplicate_keys(node: yaml.Node, loc: tuple, file: str) -> list[Problem]:
+def _duplicate_keys(root: yaml.Node, file: str) -> list[Problem]:
+    """Keys given twice in one mapping, from the nodes as composed (before merge keys are
+    flattened, so ``<<: *defaults`` then a key overrides without a complaint). Each node is
+    visited once, however many aliases refer to it."""
     problems: list[Problem] = []
-    if isinstance(node, yaml.MappingNode):
-        seen: set[str] = set()
-        for key, value in node.value:
-            name = key.value if isinstance(key, yaml.ScalarNode) else None
-            if name in seen:
-                problems.append(Problem(file, key.start_mark.line + 1, _dotted((*loc, name)),
-                                        "duplicate key (the last one would win)"))
-            seen.add(name)
-            problems += _duplicate_keys(value, (*loc, name), file)
-    elif isinstance(node, yaml.SequenceNode):
-        for index, item in enumerate(node.value):
-            problems += _duplicate_keys(item, (*loc, index), file)
+    visited: set[int] = set()
+    stack: list[tuple[yaml.Node, tuple]] = [(root, ())]
+    while stack:
+        node, loc = stack.pop()
+        if id(node) in visited:
+            continue
+        visited.add(id(node))
+        if isinstance(node, yaml.MappingNode):
+            names: set[str | None] = set()
+            children = []
+            for key, value in node.value:
+                name = key.value if isinstance(key, yaml.ScalarNode) else None
+                if name in names:
+                    problems.append(Problem(file, key.start_mark.line + 1,
+                                            _dotted((*loc, name)),
+                                            "duplicate key (the last one would win)"))
+                names.add(name)
+                children.append((value, (*loc, name)))
+        elif isinstance(node, yaml.SequenceNode):
+            children = [(item, (*loc, index)) for index, item in enumerate(node.value)]
+        else:
+            continue
+        stack.extend(child for child in reversed(children)
+                     if not isinstance(child[0], yaml.ScalarNode))
     return problems
 
 
 def _suggestion(word: str, choices: list[str]) -> str:
+    close = _closest(word, tuple(choices))
+    return f" (did you mean {close!r}?)" if close else ""
+
+
+@functools.lru_cache(maxsize=1024)  # a generated file repeats one misspelling many times
+def _closest(word: str, choices: tuple[str, ...]) -> str | None:
     close = difflib.get_close_matches(word, choices, n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
+    return close[0] if close else None
 
 
 def _fields_at(raw_loc: tuple) -> list[str]:
     """Field names of the model holding the last key of ``raw_loc`` (for suggestions)."""
+    return list(_fields_of(tuple(part for part in raw_loc[:-1] if not isinstance(part, int))))
+
+
+@functools.lru_cache(maxsize=1024)  # walking the union annotations costs ~1 ms an error
+def _fields_of(names: tuple[str, ...]) -> tuple[str, ...]:
     model: Any = Scenario
-    for part in raw_loc[:-1]:
-        if isinstance(part, int):
-            continue
+    for part in names:
         if isinstance(model, type) and issubclass(model, BaseModel) \
                 and part in model.model_fields:
             model = _model_in(model.model_fields[part].annotation)
         else:
             model = {**TIMELINE_COMMANDS, **CHECKS}.get(str(part))
         if model is None:
-            return []
-    return list(model.model_fields) if isinstance(model, type) else []
+            return ()
+    return tuple(model.model_fields) if isinstance(model, type) else ()
 
 
 def _model_in(annotation: Any) -> Any:
