@@ -216,13 +216,17 @@ def view(
     port: Annotated[int, typer.Option(help="TCP port of the page (0: a free one).")] = 8765,
     host: Annotated[str, typer.Option(help="Interface to listen on.")] = "127.0.0.1",
     no_open: Annotated[bool, typer.Option("--no-open", help="Do not open a browser.")] = False,
+    start_now: Annotated[bool, typer.Option(
+        "--start-now", help="Start the scenario at once instead of when the first page "
+        "connects (headless use).")] = False,
 ) -> None:
     """Watch a scenario live in the browser: paced runtime, machine, scope, controls."""
     from openmotion.scenario import default_scenario
     from openmotion.viewer import Session, serve
 
     try:
-        session = Session.for_scenario(scenario or default_scenario(), speed=speed)
+        session = Session.for_scenario(scenario or default_scenario(), speed=speed,
+                                       wait_for_page=not start_now)
     except ConfigError as exc:
         raise _fail(f"ConfigError: {exc}") from None
     except ValueError as exc:
