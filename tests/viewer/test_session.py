@@ -183,7 +183,7 @@ def test_a_late_machine_drops_frames_before_the_pace_falls_and_says_so(
     assert last["notice"] == (
         f"This computer runs the simulation at {last['rate']:.2f}× real time, slower than the "
         "1× asked, even with 5 frames a second instead of 25. Every 1 ms cycle is still "
-        "computed: the motion is exactly that of openmotion run, only slower.")
+        "computed: the motion is the same, only slower.")
     made.pause()
     made.tick()
     assert frame(made)["notice"] == "" and not frame(made)["behind"]  # nothing runs late

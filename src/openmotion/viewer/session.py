@@ -22,8 +22,8 @@ period doubles at every frame down to ``MIN_FRAME_RATE``, and halves again once 
 frames would still leave the kernel idle a fifth of the time (``RAISE_BELOW``). Only when
 the machine is still more than ``MAX_LAG`` late at the fewest frames does the anchor move:
 the machine then runs as fast as it can, and the frame says ``behind`` with a ``notice`` in
-plain words. Virtual time is unaffected by all this: a
-scenario runs through exactly the cycles ``openmotion run`` gives it, whatever the pace.
+plain words. Virtual time is unaffected by all this: a scenario runs through exactly the
+cycles ``openmotion run`` gives it, whatever the pace.
 """
 
 from __future__ import annotations
@@ -48,8 +48,7 @@ from openmotion.viewer.machine import Machine, scenario_machine
 
 FRAME_RATE = 25.0  #: frames per second of wall time, the most a session sends
 MIN_FRAME_RATE = 5.0  #: the fewest frames per second a session that cannot keep up sends
-RAISE_BELOW = 0.8  #: most share of the wall time the kernel may work with twice the frames
-#: for it to get them
+RAISE_BELOW = 0.8  #: the kernel gets twice the frames if it would then work less of the time
 SCOPE_EVERY = 0.01  #: virtual seconds between two scope samples
 SCOPE_HISTORY = 2000  #: scope samples kept (a page that connects gets them all)
 SCOPE_SIGNALS = 6  #: most signals the scope shows at once
@@ -468,8 +467,8 @@ class Session:
         if self.behind and rate is not None:
             return (f"This computer runs the simulation at {rate:.2f}× real time, slower than "
                     f"the {self.speed:g}× asked, even with {shown:g} frames a second instead "
-                    f"of {asked:g}. Every {cycle} cycle is still computed: the motion is "
-                    "exactly that of openmotion run, only slower.")
+                    f"of {asked:g}. Every {cycle} cycle is still computed: the motion is the "
+                    "same, only slower.")
         if shown < asked:
             return (f"{shown:g} frames a second instead of {asked:g}: frames are dropped so "
                     f"that this computer keeps the {self.speed:g}× asked. Every {cycle} cycle "
