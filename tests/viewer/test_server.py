@@ -200,6 +200,9 @@ def test_a_page_opened_after_the_end_sees_it_finished_and_can_restart() -> None:
         with socket_of(url) as ws:
             ended = receive_until(ws, lambda m: m["type"] == "frame")
             assert ended["finished"] and ended["time"] > 0.5 and ended["generation"] == 1
-            ws.send(json.dumps({"op": "restart"}))
+            ws.send(json.dumps({"op": "pause"}))  # a restart keeps the pause: the new run
+            ws.send(json.dumps({"op": "restart"}))  # waits at its start, for the test to see
             again = receive_until(ws, lambda m: m["type"] == "frame" and m["generation"] == 2)
-            assert not again["finished"] and again["time"] < ended["time"]
+            assert (again["time"], again["finished"], again["paused"]) == (0.0, False, True)
+            ws.send(json.dumps({"op": "play"}))
+            receive_until(ws, lambda m: m["type"] == "frame" and m["cycle"] > 0)
