@@ -270,23 +270,26 @@ def view(
                                            "name. Anything but loopback lets other machines "
                                            "control the simulation.")] = "127.0.0.1",
     no_open: Annotated[bool, typer.Option("--no-open", help="Do not open a browser.")] = False,
+    start_now: Annotated[bool, typer.Option(
+        "--start-now", help="Start the scenario at once instead of when the first page "
+        "connects (headless use).")] = False,
 ) -> None:
     """Watch a scenario live in the browser: paced runtime, machine, scope, controls."""
     from openmotion.viewer import Session, serve
 
     _started()
-
     _check_host(host)
     path = _scenario_path(scenario)
     try:
-        session = Session.for_scenario(path, speed=speed)
+        session = Session.for_scenario(path, speed=speed, wait_for_page=not start_now)
     except ConfigError as exc:
         raise _fail(f"ConfigError: {exc}") from None
     except ValueError as exc:
         raise _fail(f"error: {exc}") from None
+    waits = "" if start_now else "; the scenario starts when the page connects"
     try:
         serve(session, host, port, open_browser=not no_open,
-              announce=lambda url: typer.echo(f"openmotion view: {url} (Ctrl+C stops)",
+              announce=lambda url: typer.echo(f"openmotion view: {url} (Ctrl+C stops{waits})",
                                               err=True))
     except OSError as exc:
         raise _fail(f"error: cannot listen on {host}:{port}: {exc.strerror or exc}") from None

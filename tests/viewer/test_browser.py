@@ -19,7 +19,7 @@ from typing import Any
 import pytest
 
 from openmotion.scenario import examples_dir
-from openmotion.viewer import Session, serving
+from openmotion.viewer import Layer, Row, Session, registered_layers, serving
 
 CHROMIUM = Path("/usr/bin/chromium")
 FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
@@ -46,13 +46,14 @@ def sync_playwright() -> Any:
 
 
 @contextlib.contextmanager
-def browser_page(entry: Any) -> Iterator[tuple[Any, list[str]]]:
+def browser_page(entry: Any, viewport: dict[str, int] = VIEWPORT
+                 ) -> Iterator[tuple[Any, list[str]]]:
     """A page in a fresh Chromium with an empty profile, and the errors it reports."""
     errors: list[str] = []
     with entry() as playwright, tempfile.TemporaryDirectory() as profile:
         context = playwright.chromium.launch_persistent_context(
             profile, executable_path=str(CHROMIUM), args=FLAGS, headless=True,
-            viewport=VIEWPORT)
+            viewport=viewport)
         try:
             page = context.new_page()
             page.on("pageerror", lambda error: errors.append(str(error)))
@@ -112,6 +113,52 @@ def test_the_viewer_plays_draws_pauses_and_steps_in_chromium(tmp_path: Path) -> 
         assert errors == []
     assert picture.read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
     assert picture.stat().st_size > 20_000
+
+
+class _Crowded(Layer):
+    """Table rows as long as they come: a long name, state, command and detail, and an
+    error message longer than the table is wide."""
+
+    kind = "crowded"
+
+    def __init__(self, runtime: Any) -> None:
+        self.name = "crowded"
+
+    def panel(self) -> dict[str, Any]:
+        return {}
+
+    def rows(self) -> list[Row]:
+        return [Row("planar mover", "conveyor_mover_12", "synchronized_motion",
+                    "1234.5, -2345.6", "-1000.000", "move_absolute_ca",
+                    "gap 100.0, track 21, z 4.0, c 90.0°",
+                    "PLANAR_TARGET_BLOCKED: the target position is reserved by mover m7 in "
+                    "group field, which waits for its own way to clear")]
+
+
+@pytest.mark.parametrize("width", [1280, 1920])
+def test_the_objects_table_fits_its_panel_from_1280_px_on(width: int) -> None:
+    entry = sync_playwright()
+    session = Session.for_scenario(SCENARIO, paused=True,
+                                   layers=[*registered_layers(), lambda rt: [_Crowded(rt)]])
+    with serving(session) as url, browser_page(entry, {"width": width, "height": 800}) as (
+            page, errors):
+        page.goto(url)
+        page.wait_for_selector("#objects td.error")  # the crowded row's error line is drawn
+        boxes = page.evaluate("""() => {
+            const right = (element) => element.getBoundingClientRect().right;
+            return {panel: right(document.getElementById('table-box')),
+                    table: right(document.getElementById('objects')),
+                    cells: Math.max(...[...document.querySelectorAll('#objects th, #objects td')]
+                                    .map(right)),
+                    page: document.documentElement.scrollWidth};
+        }""")
+        assert boxes["page"] <= width  # no horizontal scrolling of the page
+        assert boxes["table"] <= boxes["panel"] <= width  # the table inside its panel ...
+        assert boxes["cells"] <= boxes["panel"]  # ... and every column in it
+        names = page.eval_on_selector_all("#objects td.name",
+                                          "cells => cells.map(cell => cell.textContent)")
+        assert "conveyor_mover_12" in names and len(names) == 11  # wrapped, not cut
+        assert errors == []
 
 
 @pytest.mark.parametrize(("ci", "outcome"), [("true", pytest.fail.Exception),

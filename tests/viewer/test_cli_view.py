@@ -19,7 +19,7 @@ runner = CliRunner()
 def test_view_help_lists_its_options() -> None:
     result = runner.invoke(app, ["view", "--help"])
     assert result.exit_code == 0
-    for option in ("--speed", "--port", "--host", "--no-open"):
+    for option in ("--speed", "--port", "--host", "--no-open", "--start-now"):
         assert option in result.output
 
 
@@ -38,8 +38,10 @@ def test_view_serves_the_scenario(monkeypatch: pytest.MonkeyPatch) -> None:
     (call,) = calls
     assert call["session"].machine.name == "CA tracks and geo-compensation"
     assert call["session"].speed == 0.5 and call["session"].restartable
+    assert call["session"].waiting  # the scenario starts when the first page connects
     assert (call["host"], call["port"], call["open_browser"]) == ("127.0.0.1", 9999, False)
-    assert result.stderr == "openmotion view: http://127.0.0.1:9999/ (Ctrl+C stops)\n"
+    assert result.stderr == ("openmotion view: http://127.0.0.1:9999/ (Ctrl+C stops; the "
+                             "scenario starts when the page connects)\n")
 
 
 def test_view_without_a_scenario_shows_the_default_one(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -48,6 +50,16 @@ def test_view_without_a_scenario_shows_the_default_one(monkeypatch: pytest.Monke
                         lambda session, *args, **options: names.append(session.machine.name))
     assert runner.invoke(app, ["view"]).exit_code == 0
     assert names == ["single move"]
+
+
+def test_view_start_now_starts_the_scenario_without_a_page(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    sessions: list[Any] = []
+    monkeypatch.setattr(openmotion.viewer, "serve",
+                        lambda session, *args, **options: sessions.append(session))
+    assert runner.invoke(app, ["view", "--start-now", "--no-open"]).exit_code == 0
+    (session,) = sessions
+    assert not session.waiting and not session.paused
 
 
 def test_view_config_error_is_one_line_and_exit_2(tmp_path: Path) -> None:

@@ -177,3 +177,32 @@ def test_a_page_that_never_reads_slows_neither_the_kernel_nor_other_pages() -> N
                 assert abs(frame["time"] - rt.now) < 0.5  # the reading page is up to date
         finally:
             stuck.close()
+
+
+def test_the_first_page_starts_a_session_that_waits_for_one() -> None:
+    session = Session.for_scenario(examples_dir() / "single_move.yaml", wait_for_page=True)
+    with serving(session) as url:
+        wait_for(lambda: get(f"{url}api/frame")[0] == 200)
+        time.sleep(0.3)  # the kernel runs its passes, the machine waits at its start
+        waiting = json.loads(get(f"{url}api/frame")[2])
+        assert waiting["waiting"] and (waiting["time"], waiting["cycle"]) == (0.0, 0)
+        assert session.machine.runtime.cycle == 0  # reading frames over HTTP starts nothing
+        with socket_of(url) as ws:
+            running = receive_until(ws, lambda m: m["type"] == "frame" and m["cycle"] > 0)
+            assert not running["waiting"] and not running["finished"]
+        assert not session.waiting
+
+
+def test_a_page_opened_after_the_end_sees_it_finished_and_can_restart() -> None:
+    session = Session.for_scenario(examples_dir() / "single_move.yaml", speed=20.0)
+    with serving(session) as url:  # started at once: nobody watches
+        wait_for(lambda: session.finished)
+        with socket_of(url) as ws:
+            ended = receive_until(ws, lambda m: m["type"] == "frame")
+            assert ended["finished"] and ended["time"] > 0.5 and ended["generation"] == 1
+            ws.send(json.dumps({"op": "pause"}))  # a restart keeps the pause: the new run
+            ws.send(json.dumps({"op": "restart"}))  # waits at its start, for the test to see
+            again = receive_until(ws, lambda m: m["type"] == "frame" and m["generation"] == 2)
+            assert (again["time"], again["finished"], again["paused"]) == (0.0, False, True)
+            ws.send(json.dumps({"op": "play"}))
+            receive_until(ws, lambda m: m["type"] == "frame" and m["cycle"] > 0)

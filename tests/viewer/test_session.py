@@ -131,15 +131,165 @@ def test_a_speed_out_of_range_is_refused(speed: object) -> None:
         Session(Runtime()).set_speed(speed)  # type: ignore[arg-type]
 
 
-def test_a_kernel_that_cannot_keep_up_slips_instead_of_catching_up_in_a_burst() -> None:
-    slow = FakeClock(step=0.005)  # every look at the clock finds 5 ms gone: a slow machine
-    made = session("single_move.yaml", slow)
-    slow.advance(1.0)
+# -- a machine that cannot keep up: frames give way first, the motion never ----------------
+
+
+def costly(made: Session, clock: FakeClock, cost: list[float]) -> Session:
+    """Every cycle of ``made`` from now on takes ``cost[0]`` seconds of the fake wall clock."""
+    made.machine.runtime.add_observer(lambda rt: clock.advance(cost[0]))
+    return made
+
+
+def endless(clock: FakeClock, **options: Any) -> Session:
+    """A runtime of one's own that never ends: an axis moving at 100 mm/s."""
+    rt = Runtime()
+    x = rt.add_axis("x")
+    x.power()
+    x.move_velocity(100.0)
+    made = Session(rt, clock=clock, **options)
     made.tick()
-    assert 0 < cycle(made) < 100  # a batch lasts at most half a frame period
-    assert frame(made)["behind"] is True
+    return made
+
+
+def run_wall(made: Session, clock: FakeClock, seconds: float) -> list[dict]:
+    """The kernel loop for ``seconds`` of the fake wall clock: a pass, then a pass again at
+    once when it had work (a late kernel does not sleep), else 1 ms later. Returns the frames
+    published, in order."""
+    frames, end = [], clock.now + seconds
+    while clock.now < end:
+        before, seq = clock.now, made.frame.seq if made.frame else 0
+        made.tick()
+        if made.frame is not None and made.frame.seq != seq:
+            frames.append(frame(made))
+        if clock.now == before:
+            clock.advance(0.001)
+    return frames
+
+
+def test_a_late_machine_drops_frames_before_the_pace_falls_and_says_so(
+        clock: FakeClock) -> None:
+    made = costly(endless(clock), clock, [0.002])  # 2 ms a 1 ms cycle: 0.5x at most
+    frames = run_wall(made, clock, 1.0)
+    first_behind = next(index for index, data in enumerate(frames) if data["behind"])
+    rates = [data["frame_rate"] for data in frames[:first_behind + 1]]
+    assert rates[0] == 25.0 and rates == sorted(rates, reverse=True)
+    assert rates[-1] == 5.0  # the pace falls only at the fewest frames
+    assert {12.5, 6.25} <= set(rates)  # halved frame by frame on the way there
+    frames = run_wall(made, clock, 2.0)
+    last = frames[-1]
+    assert last["behind"] and last["frame_rate"] == 5.0
+    assert last["rate"] == pytest.approx(0.5, abs=0.05)
+    assert 9 <= len(frames) <= 11  # 5 frames a second
+    assert last["notice"] == (
+        f"This computer runs the simulation at {last['rate']:.2f}× real time, slower than the "
+        "1× asked, even with 5 frames a second instead of 25. Every 1 ms cycle is still "
+        "computed: the motion is the same, only slower.")
+    made.pause()
     made.tick()
-    assert cycle(made) < 200  # the clock slipped: the lost second is not run in a burst
+    assert frame(made)["notice"] == "" and not frame(made)["behind"]  # nothing runs late
+
+
+class _CostlyFrames(Layer):
+    """A layer whose panel takes ``cost`` seconds of the fake wall clock to build."""
+
+    kind = "costly"
+
+    def __init__(self, clock: FakeClock, cost: float) -> None:
+        self.name, self._clock, self._cost = "costly", clock, cost
+
+    def panel(self) -> dict[str, Any]:
+        self._clock.advance(self._cost)
+        return {}
+
+
+def test_when_frames_are_what_costs_fewer_frames_keep_the_asked_speed(
+        clock: FakeClock) -> None:
+    made = costly(endless(clock, layers=[*registered_layers(),
+                                         lambda rt: [_CostlyFrames(clock, 0.03)]]),
+                  clock, [0.0005])  # 25 frames of 30 ms and 1000 cycles of 0.5 ms: 1.25 s
+    run_wall(made, clock, 3.0)
+    frames = run_wall(made, clock, 2.0)
+    last = frames[-1]
+    assert not any(data["behind"] for data in frames)  # the pace holds ...
+    assert last["rate"] == pytest.approx(1.0, abs=0.02)
+    assert 5.0 <= last["frame_rate"] < 25.0  # ... on fewer frames
+    assert last["notice"] == (
+        f"{last['frame_rate']:g} frames a second instead of 25: frames are dropped so that "
+        "this computer keeps the 1× asked. Every 1 ms cycle is still computed.")
+
+
+def test_a_machine_that_keeps_up_again_gets_every_frame_back(clock: FakeClock) -> None:
+    cost = [0.002]
+    made = costly(endless(clock), clock, cost)
+    assert run_wall(made, clock, 1.0)[-1]["behind"]
+    cost[0] = 0.0001  # the load has gone
+    frames = run_wall(made, clock, 1.0)
+    assert frames[-1]["frame_rate"] == 25.0
+    assert frames[-1]["rate"] == pytest.approx(1.0, abs=0.01)
+    assert frames[-1]["behind"]  # the slip is reported for a while ...
+    frames = run_wall(made, clock, 2.0)
+    assert not frames[-1]["behind"] and frames[-1]["notice"] == ""  # ... then all is well
+
+
+def test_dropping_frames_never_changes_the_motion(clock: FakeClock) -> None:
+    """The trace of a paced machine is its own, whatever the pace: the scope samples of a
+    machine that fell behind (frames dropped, clock slipped) equal those of one that kept up,
+    and the scenario ends at the cycle ``openmotion run`` ends it."""
+    quick = session("ca_starter_kit.yaml", clock)
+    slow_clock = FakeClock()
+    slow = costly(session("ca_starter_kit.yaml", slow_clock), slow_clock, [0.003])
+    frames = run_wall(slow, slow_clock, 8.0)
+    assert any(data["behind"] for data in frames)
+    assert min(data["frame_rate"] for data in frames) == 5.0
+    assert slow.finished
+    while not quick.finished:
+        clock.advance(0.1)
+        quick.tick()
+    assert cycle(slow) == cycle(quick) == run_scenario(EXAMPLES / "ca_starter_kit.yaml").cycles
+    assert slow.scope_since(0, 0)[0] == quick.scope_since(0, 0)[0]
+
+
+# -- waiting for a page --------------------------------------------------------------------
+
+
+def test_a_session_waiting_for_a_page_holds_at_the_start_until_one_connects(
+        clock: FakeClock) -> None:
+    made = session("single_move.yaml", clock, wait_for_page=True)
+    clock.advance(3.0)  # longer than the whole scenario
+    made.tick()
+    data = frame(made)
+    assert cycle(made) == 0 and data["waiting"] and not data["paused"]
+    assert (data["time"], data["finished"], data["notice"]) == (0.0, False, "")
+    made.page_connected()
+    made.tick()
+    assert cycle(made) == 0  # time runs from the connection, without a burst
+    clock.advance(0.2)
+    made.tick()
+    assert cycle(made) == 200 and not frame(made)["waiting"]
+    made.page_connected()  # a second page sees the run as it is
+    made.tick()
+    clock.advance(0.1)
+    made.tick()
+    assert cycle(made) == 300
+
+
+def test_a_waiting_session_starts_on_play_and_a_paused_one_stays_paused(
+        clock: FakeClock) -> None:
+    made = session("single_move.yaml", clock, wait_for_page=True)
+    made.play()  # headless: /api/control or Python
+    made.tick()
+    clock.advance(0.1)
+    made.tick()
+    assert cycle(made) == 100 and not made.waiting
+    held = session("single_move.yaml", clock, wait_for_page=True, paused=True)
+    held.page_connected()
+    held.tick()
+    clock.advance(0.5)
+    held.tick()
+    assert cycle(held) == 0 and frame(held)["paused"] and not frame(held)["waiting"]
+    held.step()
+    held.tick()
+    assert cycle(held) == 40
 
 
 def test_a_scenario_ends_at_the_cycle_openmotion_run_ends_it(clock: FakeClock) -> None:

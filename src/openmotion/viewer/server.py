@@ -1,8 +1,9 @@
 """The viewer's web server: the page, its files, the frame stream and the controls.
 
-One websocket per page. Its sending task looks at the session's latest frame every half frame
-period and sends it when it is new, so a page that reads slowly skips frames and never holds
-anything up; its receiving loop hands control messages to the session. Everything the page
+One websocket per page. The first one to connect starts a session that waits for a page.
+Its sending task looks at the session's latest frame every half frame period and sends it
+when it is new, so a page that reads slowly skips frames and never holds anything up; its
+receiving loop hands control messages to the session. Everything the page
 needs ships in ``static/``: the server fetches nothing and the page loads nothing from
 elsewhere, so the viewer works offline.
 
@@ -79,6 +80,7 @@ def create_app(session: Session) -> Starlette:
             await websocket.close(code=1008)
             return
         await websocket.accept()
+        session.page_connected()
         sender = asyncio.create_task(_send_frames(websocket, session))
         try:
             await _receive_controls(websocket, session)
@@ -113,7 +115,7 @@ async def _send_frames(websocket: WebSocket, session: Session) -> None:
                 await websocket.send_text(json.dumps(scope, separators=(",", ":")))
             await websocket.send_text(latest.text)
             seq = latest.seq
-        await asyncio.sleep(0.5 / session.frame_rate)
+        await asyncio.sleep(0.5 / session.current_frame_rate)
 
 
 async def _receive_controls(websocket: WebSocket, session: Session) -> None:

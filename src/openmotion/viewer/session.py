@@ -3,19 +3,27 @@
 The kernel thread owns the runtime: it alone steps it and reads it. Each pass of its loop
 (``tick``) it applies the controls the pages sent (play, pause, step, speed, restart, scope
 signals), steps the cycles the wall clock asks for, samples the selected scope signals every
-``scope_every`` seconds of virtual time into a history and, ``frame_rate`` times a second
-of wall time, builds a frame: the state of every layer as one JSON text. Publishing a frame
-replaces one reference, so the server's tasks read frames without locks and the kernel never
-waits for them: a slow page only gets fewer frames. Scope samples are not part of the frames:
-each page asks for the samples it has not seen yet (``scope_since``), so a skipped frame loses
-none; the history's lock is held only to append or copy a few samples.
+``scope_every`` seconds of virtual time into a history and, up to ``frame_rate`` times a
+second of wall time, builds a frame: the state of every layer as one JSON text. Publishing a
+frame replaces one reference, so the server's tasks read frames without locks and the kernel
+never waits for them: a slow page only gets fewer frames. Scope samples are not part of the
+frames: each page asks for the samples it has not seen yet (``scope_since``), so a skipped
+frame loses none; the history's lock is held only to append or copy a few samples.
+
+A session made with ``wait_for_page`` holds its machine at its start until the first page
+connects (``page_connected``) or a ``play``, so that a page opened late still sees the run
+from t = 0.
 
 Pacing is ``PacedRuntime``'s rule, virtual time = anchor + wall time since the anchor x speed,
 with the anchor set again at every play and speed change, so that a pause or a new speed never
 makes the kernel catch up in a burst. Cycles run in batches of at most half a frame period of
-wall time; when the kernel cannot keep up by more than ``MAX_LAG``, the anchor moves too: the
-machine runs as fast as it can and the frame says ``behind``. Virtual time is unaffected by
-all this: a scenario runs through exactly the cycles ``openmotion run`` gives it.
+wall time. When the machine is more than a frame late, the frames give way first: the frame
+period doubles at every frame down to ``MIN_FRAME_RATE``, and halves again once twice the
+frames would still leave the kernel idle a fifth of the time (``RAISE_BELOW``). Only when
+the machine is still more than ``MAX_LAG`` late at the fewest frames does the anchor move:
+the machine then runs as fast as it can, and the frame says ``behind`` with a ``notice`` in
+plain words. Virtual time is unaffected by all this: a scenario runs through exactly the
+cycles ``openmotion run`` gives it, whatever the pace.
 """
 
 from __future__ import annotations
@@ -38,12 +46,16 @@ from openmotion.scenario import Scenario
 from openmotion.viewer.layers import Layer, LayerFactory, Reader, finite, registered_layers
 from openmotion.viewer.machine import Machine, scenario_machine
 
-FRAME_RATE = 25.0  #: frames per second of wall time
+FRAME_RATE = 25.0  #: frames per second of wall time, the most a session sends
+MIN_FRAME_RATE = 5.0  #: the fewest frames per second a session that cannot keep up sends
+RAISE_BELOW = 0.8  #: the kernel gets twice the frames if it would then work less of the time
 SCOPE_EVERY = 0.01  #: virtual seconds between two scope samples
 SCOPE_HISTORY = 2000  #: scope samples kept (a page that connects gets them all)
 SCOPE_SIGNALS = 6  #: most signals the scope shows at once
 MAX_ROWS = 200  #: table rows in one frame
-MAX_LAG = 0.25  #: wall seconds the kernel may be late before the clock slips
+MAX_LAG = 0.25  #: wall seconds the kernel may be late at the fewest frames before time slips
+SLOW_HOLD = 2.0  #: wall seconds ``behind`` stays after the clock last slipped
+RATE_WINDOW = 1.0  #: wall seconds over which the reached speed is measured
 MIN_SPEED, MAX_SPEED = 0.01, 1000.0
 MIN_WAIT = 0.002  #: shortest sleep of the kernel loop [s]
 _CLOCK_EVERY = 8  #: cycles between two looks at the wall clock inside a batch
@@ -63,14 +75,17 @@ class Session:
     """Runs ``machine`` (a ``Machine``, a ``Runtime``, or a function that builds a Machine,
     which makes the session restartable) paced at ``speed`` virtual seconds per wall second.
 
-    The controls (``play`` ... ``select``, ``control``) may be called from any thread; they
-    take effect at the kernel's next pass. ``start`` runs the kernel thread; tests may call
-    ``tick`` themselves instead, with a fake ``clock``.
+    With ``wait_for_page`` the machine stays at its start until the first page connects
+    (``openmotion view`` does this unless told ``--start-now``); ``paused`` keeps it paused
+    after that too. The controls (``play`` ... ``select``, ``control``) may be called from
+    any thread; they take effect at the kernel's next pass. ``start`` runs the kernel thread;
+    tests may call ``tick`` themselves instead, with a fake ``clock``.
     """
 
     def __init__(self, machine: Machine | Runtime | Callable[[], Machine], *,
                  speed: float = 1.0, frame_rate: float = FRAME_RATE,
                  scope_every: float = SCOPE_EVERY, paused: bool = False,
+                 wait_for_page: bool = False,
                  layers: Sequence[LayerFactory] | None = None,
                  clock: Callable[[], float] = time.monotonic) -> None:
         if isinstance(machine, Runtime):
@@ -83,10 +98,12 @@ class Session:
             raise ValueError(f"scope_every: must be > 0 s, got {scope_every!r}")
         self.frame_rate = float(frame_rate)
         self.paused = paused
+        self.waiting = wait_for_page  #: held at the start until the first page connects
         self.finished = False  #: the machine has ended; only a restart goes on
-        self.behind = False  #: the last batch could not keep up with the wall clock
+        self.behind = False  #: the asked speed could not be kept lately, even at fewest frames
         self.failure = ""  #: why the kernel stopped or a restart failed
-        self._period = 1.0 / self.frame_rate
+        self._base_period = self._period = 1.0 / self.frame_rate  #: asked, current [s]
+        self._max_period = max(self._base_period, 1.0 / MIN_FRAME_RATE)
         self._scope_every = float(scope_every)
         self._factories = tuple(layers) if layers is not None else registered_layers()
         self._clock = clock
@@ -101,7 +118,11 @@ class Session:
         self._seq = 0
         self._generation = 0
         self._frame: Frame | None = None
-        self._next_frame = clock()
+        self._next_frame = self._last_frame = clock()
+        self._busy = 0.0  #: wall seconds the kernel worked since the last frame
+        self._frame_cost = 0.0  #: wall seconds the last frame took to build
+        self._lag = 0.0  #: wall seconds the machine is late after the last batch
+        self._slipped = -math.inf  #: wall time the clock last slipped
         self._dirty = True
         self._load(machine if isinstance(machine, Machine) else machine())
 
@@ -120,6 +141,11 @@ class Session:
     @property
     def restartable(self) -> bool:
         return self._build is not None
+
+    @property
+    def current_frame_rate(self) -> float:
+        """Frames per second now: ``frame_rate``, or fewer while the machine is late."""
+        return 1.0 / self._period
 
     def hello(self) -> str:
         """What a page needs once per machine: its name and the signal list, as JSON."""
@@ -144,7 +170,12 @@ class Session:
     # -- controls (any thread) -------------------------------------------------------------
 
     def play(self) -> None:
+        """Let virtual time go on (a session waiting for a page starts too)."""
         self._send(self._play)
+
+    def page_connected(self) -> None:
+        """A page is watching: a session waiting for its first page starts."""
+        self._send(self._page_connected)
 
     def pause(self) -> None:
         self._send(self._pause)
@@ -194,7 +225,7 @@ class Session:
         """Run the kernel loop on a daemon thread (once)."""
         if self._thread is None:
             self._stopping = False
-            self._anchor(self._clock())  # the wall clock counts from here, not from __init__
+            self._go(self._clock())  # the wall clock counts from here, not from __init__
             self._thread = threading.Thread(target=self._loop, name="openmotion-viewer",
                                             daemon=True)
             self._thread.start()
@@ -214,33 +245,47 @@ class Session:
             except Exception as exc:  # the page must say why the kernel stopped
                 self.failure, self.finished = f"{type(exc).__name__}: {exc}", True
                 self._frame = self._failure_frame()
-            self._wake.wait(self._wait())
-            self._wake.clear()
+            timeout = self._wait()
+            if timeout > 0:
+                self._wake.wait(timeout)
+                self._wake.clear()
 
     def tick(self) -> None:
         """One pass: the controls, the cycles that are due, then a frame when one is due."""
-        now = self._clock()
+        start = self._clock()
         while True:
             try:
                 apply = self._controls.get_nowait()
             except queue.Empty:
                 break
-            apply(now)
+            apply(start)
             self._dirty = True
-        self._advance(now)
+        self._advance(start)
         now = self._clock()
+        self._busy += now - start
         if self._dirty or now >= self._next_frame:
+            if now >= self._next_frame:
+                self._adapt(now)
             self._publish(now)
             later = self._next_frame + self._period
             self._next_frame = later if later > now else now + self._period
             self._dirty = False
+            self._frame_cost = self._clock() - now
+            self._busy += self._frame_cost
+
+    def _running(self) -> bool:
+        return not (self.paused or self.waiting or self.finished)
 
     def _wait(self) -> float:
-        """Seconds until the next cycle or frame is due."""
+        """Seconds until the next cycle or frame is due; 0 when a cycle is due already: a late
+        machine goes on at once (a sleep costs it a turn of the OS scheduler, on a loaded
+        machine many milliseconds)."""
         now, until = self._clock(), self._next_frame
-        if not (self.paused or self.finished):
+        if self._running():
             rt = self.machine.runtime
             until = min(until, self._wall_of(rt.now + rt.cycle_time))
+            if until <= now:
+                return 0.0
         return min(max(until - now, MIN_WAIT), self._period)
 
     # -- pacing ----------------------------------------------------------------------------
@@ -251,18 +296,27 @@ class Session:
     def _wall_of(self, virtual: float) -> float:
         return self._anchor_wall + (virtual - self._anchor_virtual) / self.speed
 
+    def _go(self, now: float) -> None:
+        """Virtual time runs (again) from ``now``: a new anchor, the pace measured anew."""
+        self._anchor(now)
+        self._rates.clear()
+        self._slipped, self._lag = -math.inf, 0.0
+
     def _due(self, now: float) -> int:
-        """Cycles to run now: the pending steps when paused, else what the clock asks for."""
+        """Cycles to run now: the pending steps when paused, none while waiting for a page,
+        else what the clock asks for."""
         if self.paused:
             return self._pending
+        if self.waiting:
+            return 0
         rt = self.machine.runtime
         target = self._anchor_virtual + (now - self._anchor_wall) * self.speed
         return math.floor((target - rt.now) / rt.cycle_time + 1e-9)
 
     def _advance(self, now: float) -> None:
         due = 0 if self.finished else self._due(now)
+        self._lag = 0.0
         if due <= 0:
-            self.behind = False
             return
         rt, deadline, done = self.machine.runtime, now + self._period / 2, 0
         while done < due:
@@ -278,25 +332,46 @@ class Session:
         if self.paused:
             self._pending = 0 if self.finished else self._pending - done
             return
-        late = (due - done) * rt.cycle_time / self.speed  # [s] of wall time
-        self.behind = late > self._period and not self.finished
-        if late > MAX_LAG:
-            self._anchor(self._clock())
+        if self.finished:
+            return
+        self._lag = (due - done) * rt.cycle_time / self.speed  # [s] of wall time
+        if self._lag > MAX_LAG and self._period >= self._max_period:
+            self._slipped = self._clock()  # frames cannot give more: the pace falls
+            self._anchor(self._slipped)
+
+    def _adapt(self, now: float) -> None:
+        """At a frame that is due: half the frames while the machine is more than a frame
+        late; twice as many again when the kernel, with one frame more in the last frame
+        period, would still have worked less than ``RAISE_BELOW`` of it; all of them while
+        time stands still."""
+        span, busy = now - self._last_frame, self._busy
+        self._last_frame, self._busy = now, 0.0
+        if not self._running():
+            self._period = self._base_period
+        elif self._lag > self._base_period:
+            self._period = min(2.0 * self._period, self._max_period)
+        elif busy + self._frame_cost < RAISE_BELOW * span:
+            self._period = max(self._period / 2.0, self._base_period)
 
     def _play(self, now: float) -> None:
-        self.paused, self._pending = False, 0
-        self._anchor(now)
+        self.paused, self.waiting, self._pending = False, False, 0
+        self._go(now)
+
+    def _page_connected(self, now: float) -> None:
+        if self.waiting:
+            self.waiting = False
+            self._go(now)
 
     def _pause(self, now: float) -> None:
         self.paused, self._pending = True, 0
 
     def _step(self, now: float) -> None:
         rt = self.machine.runtime
-        self.paused = True
+        self.paused, self.waiting = True, False
         self._pending += max(1, round(self.speed / self.frame_rate / rt.cycle_time))
 
     def _set_speed(self, now: float, speed: float) -> None:
-        self._anchor(now)
+        self._go(now)
         self.speed = speed
 
     def _restart(self, now: float) -> None:
@@ -325,8 +400,8 @@ class Session:
         self._pending = 0
         self._generation += 1
         self._scope_cycles = max(1, round(self._scope_every / rt.cycle_time))
-        self._rates: deque[tuple[float, float]] = deque(maxlen=round(self.frame_rate) + 1)
-        self._anchor(self._clock())
+        self._rates: deque[tuple[float, float]] = deque()  #: (wall, virtual) at frames
+        self._go(self._clock())
         self._hello = json.dumps({
             "type": "hello", "generation": self._generation, "name": machine.name,
             "cycle_time": rt.cycle_time, "frame_rate": self.frame_rate,
@@ -353,27 +428,55 @@ class Session:
     # -- frames ----------------------------------------------------------------------------
 
     def _publish(self, now: float) -> None:
-        rt = self.machine.runtime
-        self._rates.append((now, rt.now))
-        (wall0, virtual0), (wall1, virtual1) = self._rates[0], self._rates[-1]
-        rate = (virtual1 - virtual0) / (wall1 - wall0) if wall1 > wall0 else 0.0
+        rate = self._reached(now)
+        self.behind = self._running() and now - self._slipped < SLOW_HOLD
         rows = [asdict(row) for layer in self._layers for row in layer.rows()]
-        data = {**self._status(), "rate": finite(rate),
+        data = {**self._status(rate),
                 "panels": [{"kind": layer.kind, "name": layer.name, **layer.panel()}
                            for layer in self._layers],
                 "rows": rows[:MAX_ROWS], "hidden_rows": max(0, len(rows) - MAX_ROWS)}
         self._set_frame(data)
 
-    def _status(self) -> dict[str, Any]:
+    def _reached(self, now: float) -> float | None:
+        """Virtual seconds per wall second over the last ``RATE_WINDOW``; None right after
+        a play, a speed change or a start."""
+        rates = self._rates
+        rates.append((now, self.machine.runtime.now))
+        while len(rates) > 2 and now - rates[1][0] >= RATE_WINDOW:
+            rates.popleft()
+        (wall0, virtual0), (wall1, virtual1) = rates[0], rates[-1]
+        return finite((virtual1 - virtual0) / (wall1 - wall0)) if wall1 > wall0 else None
+
+    def _status(self, rate: float | None = None) -> dict[str, Any]:
         rt = self.machine.runtime
         self._seq += 1
         return {"type": "frame", "seq": self._seq, "generation": self._generation,
                 "name": self.machine.name, "time": rt.now, "cycle": rt.cycle,
-                "speed": self.speed, "paused": self.paused, "finished": self.finished,
-                "behind": self.behind, "failure": self.failure, "scope": self._scope_names}
+                "speed": self.speed, "rate": rate, "frame_rate": self.current_frame_rate,
+                "paused": self.paused, "waiting": self.waiting, "finished": self.finished,
+                "behind": self.behind, "notice": self._notice(rate), "failure": self.failure,
+                "scope": self._scope_names}
+
+    def _notice(self, rate: float | None) -> str:
+        """What the page says of the pace, in plain words; "" while the asked speed holds
+        with every frame."""
+        if not self._running():
+            return ""
+        shown, asked = self.current_frame_rate, self.frame_rate
+        cycle = f"{self.machine.runtime.cycle_time * 1e3:g} ms"
+        if self.behind and rate is not None:
+            return (f"This computer runs the simulation at {rate:.2f}× real time, slower than "
+                    f"the {self.speed:g}× asked, even with {shown:g} frames a second instead "
+                    f"of {asked:g}. Every {cycle} cycle is still computed: the motion is the "
+                    "same, only slower.")
+        if shown < asked:
+            return (f"{shown:g} frames a second instead of {asked:g}: frames are dropped so "
+                    f"that this computer keeps the {self.speed:g}× asked. Every {cycle} cycle "
+                    "is still computed.")
+        return ""
 
     def _failure_frame(self) -> Frame:
-        data = {**self._status(), "rate": 0.0, "panels": [], "rows": [], "hidden_rows": 0}
+        data = {**self._status(), "panels": [], "rows": [], "hidden_rows": 0}
         return Frame(self._seq, self._generation, data, json.dumps(data, default=str))
 
     def _set_frame(self, data: dict[str, Any]) -> None:

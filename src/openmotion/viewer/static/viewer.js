@@ -3,7 +3,8 @@
 //
 // Messages in: {type: "hello"} once per machine (its name, the signals), {type: "scope"} with
 // the scope samples this page has not seen (reset: a new selection), {type: "frame"} at the
-// session's frame rate, {type: "error"} when a control was refused. Messages out: the
+// session's frame rate (fewer while the machine is late: frame.notice says so in plain
+// words), {type: "error"} when a control was refused. Messages out: the
 // controls, {op: "play" | "pause" | "step" | "restart" | "speed" | "scope", ...}.
 // Each panel kind of a frame ("axes", "rail", "planar") has a height and a draw function
 // below; a new kind of layer needs both here.
@@ -22,7 +23,8 @@ const SCOPE_HEIGHT = 220;
 const SCOPE_LIMIT = 6; // the session's SCOPE_SIGNALS
 const TITLE = 22; // height of a panel's title line
 const PICKER_LIMIT = 400; // signal check boxes shown at once
-const COLUMNS = ["kind", "name", "state", "position", "velocity", "command", "detail", "error"];
+const COLUMNS = ["kind", "name", "state", "position", "velocity", "command", "detail"]; // and
+// the error, on a line of its own
 const UNITS = {set_position: "mm", position: "mm", x: "mm", y: "mm", z: "mm", gap: "mm",
   following_error: "mm lag", set_velocity: "mm/s", velocity: "mm/s", set_acceleration: "mm/s²",
   c: "°"}; // signals of one unit share a scale
@@ -115,11 +117,17 @@ function renderStatus(frame) {
   $("time").textContent = frame.time.toFixed(3);
   $("cycle").textContent = `cycle ${frame.cycle}`;
   const status = frame.finished ? (frame.failure ? "stopped" : "finished")
-    : frame.paused ? "paused" : frame.behind ? "behind" : "running";
-  setBadge(status, status === "stopped" ? "behind" : status);
-  const running = !(frame.paused || frame.finished);
-  $("rate").textContent = running && frame.rate !== null
+    : frame.waiting ? "waiting" : frame.paused ? "paused" : frame.behind ? "behind" : "running";
+  setBadge(status === "waiting" ? "waiting for a page" : status,
+    status === "stopped" ? "behind" : status);
+  const running = !(frame.paused || frame.finished || frame.waiting);
+  let rate = running && frame.rate !== null
     ? `${frame.speed}× asked, ${frame.rate.toFixed(2)}× running` : `${frame.speed}×`;
+  if (running && view.hello && frame.frame_rate < view.hello.frame_rate) {
+    rate += ` · ${Number(frame.frame_rate.toFixed(2))} frames/s`; // frames dropped
+  }
+  $("rate").textContent = rate;
+  $("notice").textContent = frame.notice;
   $("toggle").textContent = frame.paused ? "Play" : "Pause";
   $("toggle").disabled = frame.finished;
   $("step").disabled = frame.finished;
@@ -690,41 +698,78 @@ function escapeHtml(text) {
 
 // -- the objects table --------------------------------------------------------------------
 
+// one line per object; an object in error gets a second line under it with the error id and
+// message across the table, so that a long message never widens the table
+function tableLines(row) {
+  const line = document.createElement("tr");
+  line.dataset.kind = row.kind;
+  line.dataset.name = row.name;
+  for (const column of COLUMNS) {
+    const cell = document.createElement("td");
+    cell.className = column;
+    line.appendChild(cell);
+  }
+  const note = document.createElement("tr");
+  note.className = "error-line";
+  const cell = document.createElement("td");
+  cell.className = "error";
+  cell.colSpan = COLUMNS.length;
+  note.appendChild(cell);
+  return {line, note};
+}
+
 function renderTable(frame) {
   const body = $("objects").tBodies[0];
   const seen = new Set();
-  frame.rows.forEach((row, index) => {
+  const order = [];
+  for (const row of frame.rows) {
     const key = `${row.kind}/${row.name}`;
     seen.add(key);
-    let line = view.rows.get(key);
-    if (!line) {
-      line = document.createElement("tr");
-      line.dataset.kind = row.kind;
-      line.dataset.name = row.name;
-      for (const column of COLUMNS) {
-        const cell = document.createElement("td");
-        cell.className = column;
-        line.appendChild(cell);
-      }
-      view.rows.set(key, line);
+    if (!view.rows.has(key)) {
+      view.rows.set(key, tableLines(row));
     }
-    if (body.children[index] !== line) {
-      body.insertBefore(line, body.children[index] || null);
-    }
+    const {line, note} = view.rows.get(key);
     COLUMNS.forEach((column, i) => {
       if (line.cells[i].textContent !== row[column]) {
-        line.cells[i].textContent = row[column];
+        setBreakable(line.cells[i], row[column]);
       }
     });
     line.classList.toggle("error", row.error !== "");
+    order.push(line);
+    if (row.error !== "") {
+      if (note.cells[0].textContent !== row.error) {
+        setBreakable(note.cells[0], row.error);
+      }
+      order.push(note);
+    }
+  }
+  order.forEach((element, index) => {
+    if (body.children[index] !== element) {
+      body.insertBefore(element, body.children[index] || null);
+    }
   });
-  for (const [key, line] of view.rows) {
+  while (body.children.length > order.length) {
+    body.lastElementChild.remove();
+  }
+  for (const key of [...view.rows.keys()]) {
     if (!seen.has(key)) {
-      line.remove();
       view.rows.delete(key);
     }
   }
   $("hidden-rows").textContent = frame.hidden_rows ? `and ${frame.hidden_rows} more objects` : "";
+}
+
+// the text with a chance to break after every "_" (discrete_motion, move_absolute, error ids),
+// so that a narrow table wraps it rather than running out of its panel
+function setBreakable(cell, text) {
+  const nodes = [];
+  text.split("_").forEach((part, index, parts) => {
+    if (index) {
+      nodes.push(document.createElement("wbr"));
+    }
+    nodes.push(index < parts.length - 1 ? `${part}_` : part);
+  });
+  cell.replaceChildren(...nodes);
 }
 
 bindControls();
