@@ -176,7 +176,9 @@ def line_limits(directions: ArrayLike, gantry: CartesianGantry, axis_limits: Seq
     if d.ndim != 2 or d.shape[1] != 3:
         raise CommandRejected(ErrorId.INVALID_POSITION, "line directions: need shape (m, 3), "
                               f"got {d.shape}")
-    size = np.linalg.norm(d, axis=1, keepdims=True)
+    # each row's length as Line measures its chord (a 1-D norm is a BLAS dot product, which
+    # can round differently from a reduction over rows): equal caps bit for bit
+    size = np.array([[np.linalg.norm(row)] for row in d]).reshape(len(d), 1)
     if not np.all(np.isfinite(size) & (size > 0.0)):
         raise CommandRejected(ErrorId.INVALID_PATH_GEOMETRY,
                               "line directions: every row must be finite and not zero")
