@@ -315,12 +315,12 @@ def write_setpoints(mode: Ints, idle: int, p: Floats, v: Floats, a: Floats, base
         j_all[rx] = j_all[ry] = 0.0
         if oriented[k]:
             c = cdeg[k]
-            c = c + ((np.degrees(heading) - c + 180.0) % 360.0 - 180.0)
+            c = c + ((math.degrees(heading) - c + 180.0) % 360.0 - 180.0)
             cdeg[k] = c
             rc = cr[k]
             p_all[rc] = c
-            v_all[rc] = np.degrees(curvature * vk)
-            a_all[rc] = np.degrees(curvature * ak)
+            v_all[rc] = math.degrees(curvature * vk)
+            a_all[rc] = math.degrees(curvature * ak)
             j_all[rc] = 0.0
     return fresh[:fresh_count]
 
