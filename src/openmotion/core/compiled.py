@@ -20,6 +20,7 @@ than the few lines do.
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from typing import Any, TypeVar
 
@@ -37,10 +38,31 @@ OPTIONS: dict[str, Any] = {"cache": True, "error_model": "numpy", "no_cfunc_wrap
 def compiled(func: F | None = None, *, inline: bool = False) -> Any:
     """``numba.njit`` with the package's options (``OPTIONS``); ``inline``: typed and inlined
     into each compiled caller (numba's ``inline="always"``) rather than compiled apart."""
-    options = dict(OPTIONS, inline="always") if inline else OPTIONS
-    if func is None:
-        return njit(**options)
-    return njit(**options)(func)
+    options = dict(OPTIONS, inline="always") if inline else dict(OPTIONS)
+
+    def decorate(function: F) -> Any:
+        try:
+            return njit(**options)(function)
+        except RuntimeError as exc:  # no folder to cache in: compile in every process
+            if "no locator available" not in str(exc):
+                raise
+            _warn_uncached(exc)
+            return njit(**dict(options, cache=False))(function)
+
+    return decorate if func is None else decorate(func)
+
+
+_warned = False  #: ``_warn_uncached`` said it once
+
+
+def _warn_uncached(exc: RuntimeError) -> None:
+    """numba finds no writable folder for its cache (the package's ``__pycache__``, then the
+    user's cache folder): the loops still run, but every process compiles them again."""
+    global _warned
+    if not _warned:
+        _warned = True
+        warnings.warn(f"compiled loops are not cached, every run compiles them ({exc}); set "
+                      "NUMBA_CACHE_DIR to a writable folder", RuntimeWarning, stacklevel=4)
 
 
 @compiled
