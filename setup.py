@@ -42,11 +42,14 @@ class BuildWithExamples(build_py):
     def precompile(self, package_root: Path) -> None:
         """Compile the examples' loops into numba's cache beside the modules under
         ``package_root``; a failure costs only the speed of the first runs."""
+        # pip's isolated build environment reaches the interpreter through the environment
+        # (PYTHONPATH): keep it, and put the package first on the path
         env = {name: value for name, value in os.environ.items() if name != "NUMBA_CACHE_DIR"}
-        env.update(PYTHONPATH=str(package_root), PYTHONDONTWRITEBYTECODE="1")
-        self.announce("compiling the loops of the shipped examples (python -m openmotion.warm)",
-                      level=2)
-        done = subprocess.run([sys.executable, "-m", "openmotion.warm", str(EXAMPLES)],
+        env["PYTHONDONTWRITEBYTECODE"] = "1"
+        code = ("import sys; sys.path.insert(0, sys.argv[1]); from openmotion.warm import main; "
+                "sys.exit(main(sys.argv[2:]))")
+        self.announce("compiling the loops of the shipped examples (openmotion.warm)", level=2)
+        done = subprocess.run([sys.executable, "-c", code, str(package_root), str(EXAMPLES)],
                               env=env, capture_output=True, text=True, check=False)
         if done.returncode != 0:
             why = (done.stderr.strip() or done.stdout.strip())[-300:]
