@@ -229,20 +229,27 @@ def _flatten_bumps(vel: np.ndarray, starts: np.ndarray, acc: np.ndarray, dec: np
                    previous: np.ndarray) -> bool:
     """Lower the velocity caps of the bump zones in place; True if any changed."""
     n = vel.shape[0]
-    first = np.flatnonzero(starts)
-    m = first.shape[0]
+    first = np.empty(n, dtype=np.int64)  # numpy.flatnonzero(starts)
+    m = 0
+    for k in range(n):
+        if starts[k]:
+            first[m] = k
+            m += 1
     if m == 0:
         return False
     v_min = np.empty(m)
     length = np.zeros(m)
     for z in range(m):
         lo, hi = first[z], first[z + 1] if z + 1 < m else n
-        v_min[z] = vel[lo:hi].min()
-        length[z] = lengths[lo:hi].sum()
+        v_min[z] = _lowest(vel, lo, hi)
+        total = 0.0  # lengths[lo:hi].sum(), in its order
+        for k in range(lo, hi):
+            total += lengths[k]
+        length[z] = total
     changed = False
     for z in range(m):
         lo, hi = first[z], first[z + 1] if z + 1 < m else n
-        a_z, d_z, j_z = acc[lo:hi].min(), dec[lo:hi].min(), jerk[lo:hi].min()
+        a_z, d_z, j_z = _lowest(acc, lo, hi), _lowest(dec, lo, hi), _lowest(jerk, lo, hi)
         if length[z] >= ramp_distance(RATIO * v_min[z], v_min[z], a_z, d_z, j_z):
             continue
         # the neighbours' speeds (a binding junction caps them; rest beyond the path)
@@ -254,8 +261,7 @@ def _flatten_bumps(vel: np.ndarray, starts: np.ndarray, acc: np.ndarray, dec: np
                 v_left, ex, same = previous[1], previous[2], previous[3] == space[lo]
             left = v_min[z - 1] if z > 0 else previous[4]
             soft = ex >= min(v_left, vel[lo]) and same
-            left_soft = soft and (z > 0 or _keeps_caps(left, acc[lo:hi].min(), dec[lo:hi].min(),
-                                                       jerk[lo:hi].min(), previous))
+            left_soft = soft and (z > 0 or _keeps_caps(left, a_z, d_z, j_z, previous))
             if not soft:
                 left = min(left, ex) if same else 0.0
         right, right_soft = 0.0, False
@@ -283,6 +289,19 @@ def _flatten_bumps(vel: np.ndarray, starts: np.ndarray, acc: np.ndarray, dec: np
             vel[k] = min(vel[k], target)
         changed = True
     return changed
+
+
+@compiled
+def _lowest(x: np.ndarray, lo: int, hi: int) -> float:
+    """``x[lo:hi].min()`` (lo < hi) as numba computes it: the first NaN, else the first of
+    the smallest values."""
+    low = x[lo]
+    for k in range(lo, hi):
+        if math.isnan(x[k]):
+            return x[k]
+        if x[k] < low:
+            low = x[k]
+    return low
 
 
 @compiled
