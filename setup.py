@@ -8,7 +8,7 @@ module, so that ``openmotion run`` and ``openmotion run NAME`` work after any in
 A first run compiles the numba loops it uses (up to ~15 s for a planar track example) and
 numba caches them next to their modules. The build runs ``python -m openmotion.warm`` on the
 examples (about 40 s), so the wheel, or the checkout of an editable install, carries that
-cache and a fresh install's first run only loads it (D-157). The cache is valid for the
+cache and a fresh install's first run only loads it (D-158). The cache is valid for the
 machine, Python and numba of the build; elsewhere numba ignores it and compiles as before.
 ``OPENMOTION_PRECOMPILE=0`` skips the step.
 """
