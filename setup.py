@@ -5,7 +5,7 @@ The scenarios live in the checkout's top-level ``examples/`` folder (where users
 look for them); a wheel carries a copy inside the package, beside ``openmotion/examples``'s
 module, so that ``openmotion run`` and ``openmotion run NAME`` work after any install.
 
-A first run compiles the numba loops it uses (up to ~15 s for a planar track example) and
+A first run compiles the numba loops it uses (11-15 s for a planar track example) and
 numba caches them next to their modules. The build runs ``python -m openmotion.warm`` on the
 examples (about 40 s), so the wheel, or the checkout of an editable install, carries that
 cache and a fresh install's first run only loads it (D-158). The cache is valid for the
