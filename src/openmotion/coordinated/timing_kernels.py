@@ -16,7 +16,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from openmotion.core.compiled import compiled
 
 #: a zone's velocity caps lie within this factor of each other; a zone runs at its smallest
 #: cap, so a path whose caps change gradually keeps at least this share of them (D-134)
@@ -24,7 +25,7 @@ RATIO = 0.95
 _BISECTIONS = 200  #: bound on bisection steps; they stop earlier when the interval is one ulp
 
 
-@njit(cache=True)
+@compiled
 def ramp_time(dv: float, a_max: float, j: float) -> float:
     """Duration of a ramp changing the speed by ``dv`` >= 0."""
     if dv * j >= a_max * a_max:
@@ -32,7 +33,7 @@ def ramp_time(dv: float, a_max: float, j: float) -> float:
     return 2.0 * math.sqrt(dv / j)
 
 
-@njit(cache=True)
+@compiled
 def ramp_distance(v1: float, v2: float, acc: float, dec: float, j: float) -> float:
     """D: the distance of the ramp from v1 to v2 (``acc`` speeding up, ``dec`` slowing)."""
     if v2 >= v1:
@@ -40,7 +41,7 @@ def ramp_distance(v1: float, v2: float, acc: float, dec: float, j: float) -> flo
     return 0.5 * (v1 + v2) * ramp_time(v1 - v2, dec, j)
 
 
-@njit(cache=True)
+@compiled
 def other_end(v: float, length: float, a_max: float, j: float) -> float:
     """The speed w >= v with D(v, w) = ``length``: how fast a ramp from ``v`` gets within
     ``length``, or (D being symmetric) how fast one may be and still slow to ``v`` in it.
@@ -67,7 +68,7 @@ def other_end(v: float, length: float, a_max: float, j: float) -> float:
     return -half + math.sqrt((v - half) * (v - half) + 2.0 * a_max * length)
 
 
-@njit(cache=True)
+@compiled(inline=True)  # called with constants: one copy, not one per constant
 def _ramp_phases(v1: float, v2: float, acc: float, dec: float, j: float,
                  jerks: np.ndarray, times: np.ndarray, n: int) -> int:
     """Append the (jerk, duration) phases of the ramp v1 -> v2 at index ``n``; new count."""
@@ -89,7 +90,7 @@ def _ramp_phases(v1: float, v2: float, acc: float, dec: float, j: float,
     return n + 3
 
 
-@njit(cache=True)
+@compiled
 def leg(v0: float, length: float, u: float, v_max: float, acc: float, dec: float,
         j: float) -> tuple[np.ndarray, float, bool]:
     """Time-optimal leg from (0, v0, a = 0) to (``length``, w, a = 0), w <= ``u`` as high as
@@ -133,7 +134,7 @@ def leg(v0: float, length: float, u: float, v_max: float, acc: float, dec: float
         w, True
 
 
-@njit(cache=True)
+@compiled
 def _integrate(v0: float, jerks: np.ndarray, times: np.ndarray, n: int, first_ramp_end: int,
                second_ramp_start: int, peak: float, length: float, w: float) -> np.ndarray:
     """Segments of the phases; where the acceleration is known to be zero (the end of a ramp)
@@ -158,7 +159,7 @@ def _integrate(v0: float, jerks: np.ndarray, times: np.ndarray, n: int, first_ra
     return data[:, :m + 1].copy()
 
 
-@njit(cache=True)
+@compiled
 def zones(vel: np.ndarray, acc: np.ndarray, dec: np.ndarray, jerk: np.ndarray,
           exit_: np.ndarray, space: np.ndarray, lengths: np.ndarray,
           previous: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -186,7 +187,7 @@ def zones(vel: np.ndarray, acc: np.ndarray, dec: np.ndarray, jerk: np.ndarray,
             return starts, effective
 
 
-@njit(cache=True)
+@compiled
 def _ratio_starts(vel: np.ndarray, acc: np.ndarray, dec: np.ndarray, jerk: np.ndarray,
                   exit_: np.ndarray, space: np.ndarray, previous: np.ndarray) -> np.ndarray:
     n = vel.shape[0]
@@ -209,39 +210,46 @@ def _ratio_starts(vel: np.ndarray, acc: np.ndarray, dec: np.ndarray, jerk: np.nd
     return starts
 
 
-@njit(cache=True)
+@compiled
 def _keeps_caps(vel: float, acc: float, dec: float, jerk: float, previous: np.ndarray) -> bool:
     return (vel >= previous[4] and acc >= previous[6] and dec >= previous[7]
             and jerk >= previous[8])
 
 
-@njit(cache=True)
+@compiled
 def _joins(v_before: float, exit_before: float, space_before: float, v: float, space: float,
            v_min: float, v_max: float) -> bool:
     return (exit_before >= min(v_before, v) and space_before == space
             and min(v_min, v) >= RATIO * max(v_max, v))
 
 
-@njit(cache=True)
+@compiled
 def _flatten_bumps(vel: np.ndarray, starts: np.ndarray, acc: np.ndarray, dec: np.ndarray,
                    jerk: np.ndarray, exit_: np.ndarray, space: np.ndarray, lengths: np.ndarray,
                    previous: np.ndarray) -> bool:
     """Lower the velocity caps of the bump zones in place; True if any changed."""
     n = vel.shape[0]
-    first = np.flatnonzero(starts)
-    m = first.shape[0]
+    first = np.empty(n, dtype=np.int64)  # numpy.flatnonzero(starts)
+    m = 0
+    for k in range(n):
+        if starts[k]:
+            first[m] = k
+            m += 1
     if m == 0:
         return False
     v_min = np.empty(m)
     length = np.zeros(m)
     for z in range(m):
         lo, hi = first[z], first[z + 1] if z + 1 < m else n
-        v_min[z] = vel[lo:hi].min()
-        length[z] = lengths[lo:hi].sum()
+        v_min[z] = _lowest(vel, lo, hi)
+        total = 0.0  # lengths[lo:hi].sum(), in its order
+        for k in range(lo, hi):
+            total += lengths[k]
+        length[z] = total
     changed = False
     for z in range(m):
         lo, hi = first[z], first[z + 1] if z + 1 < m else n
-        a_z, d_z, j_z = acc[lo:hi].min(), dec[lo:hi].min(), jerk[lo:hi].min()
+        a_z, d_z, j_z = _lowest(acc, lo, hi), _lowest(dec, lo, hi), _lowest(jerk, lo, hi)
         if length[z] >= ramp_distance(RATIO * v_min[z], v_min[z], a_z, d_z, j_z):
             continue
         # the neighbours' speeds (a binding junction caps them; rest beyond the path)
@@ -253,8 +261,7 @@ def _flatten_bumps(vel: np.ndarray, starts: np.ndarray, acc: np.ndarray, dec: np
                 v_left, ex, same = previous[1], previous[2], previous[3] == space[lo]
             left = v_min[z - 1] if z > 0 else previous[4]
             soft = ex >= min(v_left, vel[lo]) and same
-            left_soft = soft and (z > 0 or _keeps_caps(left, acc[lo:hi].min(), dec[lo:hi].min(),
-                                                       jerk[lo:hi].min(), previous))
+            left_soft = soft and (z > 0 or _keeps_caps(left, a_z, d_z, j_z, previous))
             if not soft:
                 left = min(left, ex) if same else 0.0
         right, right_soft = 0.0, False
@@ -284,13 +291,26 @@ def _flatten_bumps(vel: np.ndarray, starts: np.ndarray, acc: np.ndarray, dec: np
     return changed
 
 
-@njit(cache=True)
+@compiled
+def _lowest(x: np.ndarray, lo: int, hi: int) -> float:
+    """``x[lo:hi].min()`` (lo < hi) as numba computes it: the first NaN, else the first of
+    the smallest values."""
+    low = x[lo]
+    for k in range(lo, hi):
+        if math.isnan(x[k]):
+            return x[k]
+        if x[k] < low:
+            low = x[k]
+    return low
+
+
+@compiled
 def _need(v: float, acc: float, dec: float, j: float) -> float:
     """Look-ahead one zone asks for: speed up from rest, then twice its stopping distance."""
     return ramp_distance(0.0, v, acc, dec, j) + 2.0 * ramp_distance(v, 0.0, acc, dec, j)
 
 
-@njit(cache=True)
+@compiled
 def look_ahead(start: np.ndarray, end: np.ndarray, vel: np.ndarray, acc: np.ndarray,
                dec: np.ndarray, jerk: np.ndarray, exit_: np.ndarray, z0: int, s0: float,
                fv: float, fa: float, fj: float,

@@ -18,9 +18,9 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 
+from openmotion.core.compiled import compiled
 from openmotion.core.errors import ConfigError
 from openmotion.geometry.track_elements import NODES, TABLE_PIECES, WEIGHTS
 
@@ -49,7 +49,7 @@ class TrackTable(NamedTuple):
     closed: bool
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _point(c: NDArray[np.float64], j: int, u: float) -> tuple[float, float]:
     """B(u) - origin of transition j by Horner's rule (c: coefficients)."""
     a = c[j]
@@ -58,7 +58,7 @@ def _point(c: NDArray[np.float64], j: int, u: float) -> tuple[float, float]:
     return x, y
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _first(c: NDArray[np.float64], j: int, u: float) -> tuple[float, float]:
     """dB/du of transition j (c: first)."""
     a = c[j]
@@ -67,7 +67,7 @@ def _first(c: NDArray[np.float64], j: int, u: float) -> tuple[float, float]:
     return x, y
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _second(c: NDArray[np.float64], j: int, u: float) -> tuple[float, float]:
     """d²B/du² of transition j (c: second)."""
     a = c[j]
@@ -76,13 +76,13 @@ def _second(c: NDArray[np.float64], j: int, u: float) -> tuple[float, float]:
     return x, y
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _speed(first: NDArray[np.float64], j: int, u: float) -> float:
     x, y = _first(first, j, u)
     return math.sqrt(x * x + y * y)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _integral(first: NDArray[np.float64], j: int, lo: float, hi: float) -> float:
     """Arc length of transition j between curve parameters lo and hi (Gauss-Legendre)."""
     width = hi - lo
@@ -92,7 +92,7 @@ def _integral(first: NDArray[np.float64], j: int, lo: float, hi: float) -> float
     return width * total
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _parameter(first: NDArray[np.float64], second: NDArray[np.float64],
                tables: NDArray[np.float64], speeds: NDArray[np.float64], j: int,
                s: float) -> float:
@@ -125,7 +125,7 @@ def _parameter(first: NDArray[np.float64], second: NDArray[np.float64],
     return min(max(u, 0.0), 1.0)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _piece(starts: NDArray[np.float64], s: float) -> int:
     """Index of the piece holding arc length s (the last one for s = length)."""
     lo, hi = 0, starts.size - 2
@@ -138,7 +138,7 @@ def _piece(starts: NDArray[np.float64], s: float) -> int:
     return lo
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _wrapped(s: float, length: float, closed: bool) -> float:
     if closed:
         s = s - length * math.floor(s / length)
@@ -146,7 +146,7 @@ def _wrapped(s: float, length: float, closed: bool) -> float:
     return min(max(s, 0.0), length)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def frames(s: NDArray[np.float64], starts: NDArray[np.float64], kinds: NDArray[np.int64],
            rows: NDArray[np.float64], origins: NDArray[np.float64],
            coefficients: NDArray[np.float64], first: NDArray[np.float64],
@@ -192,7 +192,7 @@ def frames(s: NDArray[np.float64], starts: NDArray[np.float64], kinds: NDArray[n
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _closest_on_transition(coefficients: NDArray[np.float64], first: NDArray[np.float64],
                            second: NDArray[np.float64], j: int, px: float,
                            py: float) -> tuple[float, float]:
@@ -239,7 +239,7 @@ def _closest_on_transition(coefficients: NDArray[np.float64], first: NDArray[np.
     return best_u, best
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def closest(points: NDArray[np.float64], starts: NDArray[np.float64],
             kinds: NDArray[np.int64], rows: NDArray[np.float64], origins: NDArray[np.float64],
             coefficients: NDArray[np.float64], first: NDArray[np.float64],
@@ -285,7 +285,7 @@ def closest(points: NDArray[np.float64], starts: NDArray[np.float64],
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _closest_on_arc(row: NDArray[np.float64], piece_length: float, px: float,
                     py: float) -> tuple[float, float]:
     cx, cy, radius, start, sense = row[0], row[1], row[2], row[3], row[4]

@@ -22,24 +22,25 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
+
+from openmotion.core.compiled import compiled, search_right, sort_in_place
 
 _DEDUPE = 1e-12  #: [s] sample times closer than this to the one before are dropped
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _position(data: NDArray[np.float64], time: float) -> float:
     """Position of profile ``data`` (t, p, v, a, j rows) at ``time`` after its start."""
     t = data[0]
-    k = np.searchsorted(t, time, side="right") - 1
+    k = search_right(t, time) - 1
     if k < 0:
         k = 0
     dt = time - t[k]
     return data[1, k] + dt * (data[2, k] + dt * (data[3, k] / 2.0 + dt * data[4, k] / 6.0))
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _plan_position(data: NDArray[np.float64], t0: float, running: bool, time: float) -> float:
     """One plan started at ``t0``, as ``motion.sample_path`` evaluates it: its position at the
     absolute ``time`` (its start position before t0), or its end when it is not ``running``."""
@@ -49,7 +50,7 @@ def _plan_position(data: NDArray[np.float64], t0: float, running: bool, time: fl
     return _position(data, dt if dt > 0.0 else 0.0)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def straight_runs(s: NDArray[np.float64], x: NDArray[np.float64], x_t0: float, x_running: bool,
                   y: NDArray[np.float64], y_t0: float, y_running: bool, c: NDArray[np.float64],
                   c_t0: float, c_running: bool, c_in_grid: bool, start: float, step: float,
@@ -88,8 +89,9 @@ def straight_runs(s: NDArray[np.float64], x: NDArray[np.float64], x_t0: float, x
                 n += 1
     times[n] = end
     n += 1
-    times = np.sort(times[:n])
-    n = np.searchsorted(times, end, side="right")
+    times = times[:n]
+    sort_in_place(times)  # sorted runs, values >= start >= 0 or NaN: as numpy.sort
+    n = search_right(times, end)
     samples = np.empty(n)
     kept = 0
     for i in range(n):
@@ -119,7 +121,7 @@ def straight_runs(s: NDArray[np.float64], x: NDArray[np.float64], x_t0: float, x
     return samples, ends, poses
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def straight_area_numbers(s: NDArray[np.float64], x: NDArray[np.float64], x_t0: float,
                           x_running: bool, y: NDArray[np.float64], y_t0: float,
                           y_running: bool, c: NDArray[np.float64], c_t0: float,
@@ -135,7 +137,7 @@ def straight_area_numbers(s: NDArray[np.float64], x: NDArray[np.float64], x_t0: 
     return samples, ends, poses, fits, low, high, bounds, keys, key
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _quarter_cos_sin(c: float) -> tuple[float, float]:
     """``core.angles.cos_sin``: exact at multiples of 90 degrees."""
     turns = math.floor(c / 90.0)
@@ -153,14 +155,14 @@ def _quarter_cos_sin(c: float) -> tuple[float, float]:
     return math.cos(radians), math.sin(radians)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _reach(c: float, hx: float, hy: float) -> tuple[float, float]:
     cos, sin = _quarter_cos_sin(c)
     cos, sin = abs(cos), abs(sin)
     return cos * hx + sin * hy, sin * hx + cos * hy
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def line_piece_bounds(points: NDArray[np.float64], low: NDArray[np.float64],
                       high: NDArray[np.float64], hx: float, hy: float, noise: float
                       ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
@@ -193,7 +195,7 @@ def line_piece_bounds(points: NDArray[np.float64], low: NDArray[np.float64],
     return bounds, keys, key
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def straight_pieces(poses: NDArray[np.float64], span: float, hx: float, hy: float,
                     noise: float) -> tuple[bool, NDArray[np.float64], NDArray[np.float64],
                                            NDArray[np.float64], NDArray[np.float64],
@@ -209,7 +211,7 @@ def straight_pieces(poses: NDArray[np.float64], span: float, hx: float, hy: floa
     return True, low, high, bounds, keys, key
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def run_turns(poses: NDArray[np.float64], span: float
               ) -> tuple[NDArray[np.float64], NDArray[np.float64], bool]:
     """Lowest and highest c [deg] of each run between consecutive ``poses`` (x, y, c rows),
@@ -225,7 +227,7 @@ def run_turns(poses: NDArray[np.float64], span: float
     return low, high, fits
 
 
-@njit(cache=True, error_model="numpy")
+@compiled(inline=True)  # called with constants: one copy, not one per constant
 def _turned_corners(c: float, hx: float, hy: float, scale: float,
                     out: NDArray[np.float64], row: int) -> None:
     """The four corners (ccw from (-hx, -hy)) of a footprint about the origin turned by c
@@ -238,7 +240,7 @@ def _turned_corners(c: float, hx: float, hy: float, scale: float,
     out[row + 3, 0], out[row + 3, 1] = (-cu - sv) / scale, (-su + cv) / scale
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def line_piece_hull(x0: float, y0: float, x1: float, y1: float, a: float, b: float,
                     hx: float, hy: float, noise: float) -> NDArray[np.float64]:
     """Vertices (ccw) of a piece of ``_line_pieces``: the hull of the footprint's corners at
@@ -260,12 +262,12 @@ def line_piece_hull(x0: float, y0: float, x1: float, y1: float, a: float, b: flo
     return convex_hull(cloud)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _cross(ox: float, oy: float, ax: float, ay: float, bx: float, by: float) -> float:
     return (ax - ox) * (by - oy) - (ay - oy) * (bx - ox)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def convex_hull(points: NDArray[np.float64]) -> NDArray[np.float64]:
     """Vertices of the convex hull of ``points`` (k, 2), counter-clockwise, without collinear
     points (Andrew's monotone chain)."""
@@ -300,7 +302,7 @@ def convex_hull(points: NDArray[np.float64]) -> NDArray[np.float64]:
     return hull[:k - 1].copy()
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _separates(edges: NDArray[np.float64], others: NDArray[np.float64]) -> bool:
     """Whether the line of an edge of ``edges`` (ccw) has every vertex of ``others`` on its
     outer side or on it."""
@@ -318,14 +320,14 @@ def _separates(edges: NDArray[np.float64], others: NDArray[np.float64]) -> bool:
     return False
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def interiors_meet(first: NDArray[np.float64], second: NDArray[np.float64]) -> bool:
     """Whether two convex polygons (vertices ccw) share interior points: shapely's
     ``intersects and not touches`` for convex polygons."""
     return not (_separates(first, second) or _separates(second, first))
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def near_slots(boxes: NDArray[np.float64], key: NDArray[np.float64], ranks: NDArray[np.int64],
                skip: NDArray[np.int64]) -> NDArray[np.int64]:
     """Slots whose stored box (min x, min y, -max x, -max y) lies below ``key`` in all four
@@ -350,7 +352,7 @@ def near_slots(boxes: NDArray[np.float64], key: NDArray[np.float64], ranks: NDAr
     return near[:, :count]
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def write_slots(boxes: NDArray[np.float64], ranks: NDArray[np.int64], until: NDArray[np.int64],
                 slots: NDArray[np.int64], bounds: NDArray[np.float64],
                 piece_until: NDArray[np.int64], rank: int) -> None:
@@ -365,7 +367,7 @@ def write_slots(boxes: NDArray[np.float64], ranks: NDArray[np.int64], until: NDA
         until[slot] = piece_until[i]
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def clear_slots(boxes: NDArray[np.float64], ranks: NDArray[np.int64],
                 slots: NDArray[np.int64]) -> None:
     """Free ``slots``: a box of +inf meets none, rank -1 belongs to nobody."""
@@ -376,7 +378,7 @@ def clear_slots(boxes: NDArray[np.float64], ranks: NDArray[np.int64],
         ranks[slot] = -1
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def footprint_outline(x: float, y: float, c: float, hx: float, hy: float
                       ) -> tuple[NDArray[np.float64], NDArray[np.float64],
                                  NDArray[np.float64], NDArray[np.float64]]:
@@ -391,8 +393,17 @@ def footprint_outline(x: float, y: float, c: float, hx: float, hy: float
         outline[i, 0] = x + cos * u - sin * v
         outline[i, 1] = y + sin * u + cos * v
     bounds = np.empty((1, 4))
-    bounds[0, 0], bounds[0, 1] = outline[:, 0].min(), outline[:, 1].min()
-    bounds[0, 2], bounds[0, 3] = outline[:, 0].max(), outline[:, 1].max()
+    for axis in range(2):  # outline[:, axis].min() and .max(): the first NaN wins
+        low = high = outline[0, axis]
+        for i in range(1, 4):
+            value = outline[i, axis]
+            if math.isnan(low):
+                break
+            if math.isnan(value):
+                low = high = value
+                break
+            low, high = (value if value < low else low), (value if value > high else high)
+        bounds[0, axis], bounds[0, 2 + axis] = low, high
     keys = np.empty((1, 4))
     keys[0, 0], keys[0, 1], keys[0, 2], keys[0, 3] = \
         bounds[0, 2], bounds[0, 3], -bounds[0, 0], -bounds[0, 1]

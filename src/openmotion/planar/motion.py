@@ -34,8 +34,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from openmotion.core.compiled import compiled
 from openmotion.core.enums import ModuloDirection
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar.rotation import CWindows, monotonic, move_c_target
@@ -258,7 +258,7 @@ def _along(s: Profile, origin: float, component: float) -> Profile:
     return Profile.from_data(data)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _along_line(s: np.ndarray, x0: float, ux: float, tx: float, y0: float, uy: float,
                 ty: float) -> tuple[np.ndarray, np.ndarray]:
     """``_along`` for x and y in one compiled pass, the open segments on the target exactly

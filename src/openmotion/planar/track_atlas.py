@@ -14,9 +14,9 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 
+from openmotion.core.compiled import compiled, search_right
 from openmotion.core.errors import ConfigError
 from openmotion.geometry.track_elements import TABLE_PIECES
 from openmotion.geometry.track_kernels import (
@@ -135,7 +135,7 @@ class Atlas:
                 self.second, self.lookup, self.speeds)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def frames_on(ids: NDArray[np.int64], s: NDArray[np.float64], clamp: bool, tables: tuple
                ) -> NDArray[np.float64]:
     """track_kernels.frames of each arc length on its own track, then the track's placement
@@ -200,7 +200,7 @@ def frames_on(ids: NDArray[np.int64], s: NDArray[np.float64], clamp: bool, table
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _along(ids: NDArray[np.int64], bases: NDArray[np.float64], q: NDArray[np.float64],
            max_curvature: NDArray[np.float64], tables: tuple
            ) -> tuple[NDArray[np.float64], float]:
@@ -210,14 +210,14 @@ def _along(ids: NDArray[np.int64], bases: NDArray[np.float64], q: NDArray[np.flo
     track, s = np.empty(q.size, dtype=np.int64), np.empty(q.size)
     curvature = 0.0
     for i in range(q.size):
-        leg = np.searchsorted(bases, q[i], side="right") - 1
+        leg = search_right(bases, q[i]) - 1
         leg = min(max(leg, 0), bases.size - 1)
         track[i], s[i] = ids[leg], q[i] - bases[leg]
         curvature = max(curvature, max_curvature[ids[leg]])
     return frames_on(track, s, True, tables)[:3], curvature
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _along_routes(ids: NDArray[np.int64], bases: NDArray[np.float64],
                   route_at: NDArray[np.int64], q: NDArray[np.float64], q_at: NDArray[np.int64],
                   max_curvature: NDArray[np.float64], tables: tuple
@@ -228,7 +228,7 @@ def _along_routes(ids: NDArray[np.int64], bases: NDArray[np.float64],
     for r in range(route_at.size - 1):
         legs, offsets = ids[route_at[r]:route_at[r + 1]], bases[route_at[r]:route_at[r + 1]]
         for i in range(q_at[r], q_at[r + 1]):
-            leg = np.searchsorted(offsets, q[i], side="right") - 1
+            leg = search_right(offsets, q[i]) - 1
             leg = min(max(leg, 0), offsets.size - 1)
             track[i], s[i] = legs[leg], q[i] - offsets[leg]
             curvature[r] = max(curvature[r], max_curvature[legs[leg]])

@@ -73,7 +73,6 @@ from openmotion.planar.traffic_kernels import (
     stretch_hits,
     stretch_samples,
     turning_gaps,
-    warm,
     write_setpoints,
     zone_entries,
     zone_holders,
@@ -1628,9 +1627,6 @@ def _hard(u: np.ndarray, b: np.ndarray, dec: np.ndarray, jerk: np.ndarray) -> np
     return (b < -dec) | (u + b * np.abs(b) / (2.0 * jerk) < 0.0)
 
 
-_warm = False  #: the compiled loops were loaded (``traffic_kernels.warm``)
-
-
 def network_of(system: Any) -> Any:
     """The TrackNetwork of a planar system (made with its first track)."""
     if system.network is None:
@@ -1641,12 +1637,9 @@ def network_of(system: Any) -> Any:
 
 
 def traffic_of(system: Any) -> Traffic:
-    """The movers on the tracks of a planar system (its loops loaded with the first)."""
+    """The movers on the tracks of a planar system. Its compiled loops load (or compile) when
+    a cycle first needs each (``traffic_kernels.warm`` loads them all at once)."""
     if system.traffic is None:
-        global _warm
-        if not _warm:
-            warm()
-            _warm = True
         system.traffic = Traffic(network_of(system), system.cycle_time)
         system.traffic.table = system.table
     return system.traffic

@@ -10,7 +10,8 @@ same formulas in the same order as the numpy formulation each replaced in traffi
 docstring names it), so the results are the same bit for bit: numpy's NaN rules of
 ``minimum``/``maximum``/``clip`` and Python's ``max``/``min`` are kept where the old code
 had them (tests/planar/test_track_kernels.py compares them). Planning and the rider objects
-stay in traffic.py (D-143). ``warm`` loads every loop with the cycle's argument types.
+stay in traffic.py (D-143). Each loop loads (or compiles) when a cycle first needs it;
+``warm`` loads every loop with the cycle's argument types (D-157).
 """
 
 from __future__ import annotations
@@ -18,9 +19,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 
+from openmotion.core.compiled import compiled
 from openmotion.planar.track_atlas import frames_on
 from openmotion.transport.kernels import brake_states, candidates, envelope
 
@@ -32,19 +33,19 @@ Ints = NDArray[np.int64]
 Bools = NDArray[np.bool_]
 
 
-@njit(cache=True)
+@compiled
 def _minimum(a: float, b: float) -> float:
     """numpy.minimum of two floats (NaN wins)."""
     return a if (a <= b or math.isnan(a)) else b
 
 
-@njit(cache=True)
+@compiled
 def _maximum(a: float, b: float) -> float:
     """numpy.maximum of two floats (NaN wins)."""
     return a if (a >= b or math.isnan(a)) else b
 
 
-@njit(cache=True)
+@compiled
 def rooms(n: int, succ: Ints, pred: Ints, offset: Floats, gap: Floats, lo: Floats,
           hi: Floats, stopped: Ints, low: Floats, high: Floats) -> tuple[Floats, Floats]:
     """``Traffic._room``: where each of ``n`` riders may stop given its neighbours' brake
@@ -65,7 +66,7 @@ def rooms(n: int, succ: Ints, pred: Ints, offset: Floats, gap: Floats, lo: Float
     return room_lo, room_hi
 
 
-@njit(cache=True)
+@compiled
 def extensions(queued: Ints, target: Floats, goal: Floats, room_lo: Floats, room_hi: Floats,
                ahead: Ints, v: Floats, a: Floats, mode: Ints, held: int, extend: float
                ) -> tuple[Floats, Bools]:
@@ -92,7 +93,7 @@ def extensions(queued: Ints, target: Floats, goal: Floats, room_lo: Floats, room
     return reach, grow
 
 
-@njit(cache=True)
+@compiled
 def neighbours(n: int, succ: Ints, pred: Ints) -> tuple[Ints, Ints]:
     """The rider ahead of and behind each rider on its path (-1: none); of several pairs
     the last one counts, as numpy's fancy assignment has it."""
@@ -103,7 +104,7 @@ def neighbours(n: int, succ: Ints, pred: Ints) -> tuple[Ints, Ints]:
     return ahead, behind
 
 
-@njit(cache=True)
+@compiled
 def held_plans(held: Ints, p: Floats, v: Floats, a: Floats, target: Floats, lim: Floats,
                room_lo: Floats, room_hi: Floats, mode: Ints, idle: int, ahead: Ints,
                behind: Ints, nxt_p: Floats, nxt_v: Floats, nxt_a: Floats, nxt_j: Floats,
@@ -150,7 +151,7 @@ def held_plans(held: Ints, p: Floats, v: Floats, a: Floats, target: Floats, lim:
     return sign, goal, fits, rest
 
 
-@njit(cache=True)
+@compiled
 def held_steps(held: Ints, sign: Floats, rest: Bools, dt: float, p: Floats, v: Floats,
                a: Floats, target: Floats, lim: Floats, bdec: Floats, bjerk: Floats,
                room_lo: Floats, room_hi: Floats, lo: Floats, hi: Floats, nxt_p: Floats,
@@ -165,26 +166,41 @@ def held_steps(held: Ints, sign: Floats, rest: Bools, dt: float, p: Floats, v: F
     signs = np.ones(n)
     for i in range(held.size):
         signs[held[i]] = sign[i]
-    rows = held[rest]
+    rows = np.empty(held.size, dtype=np.int64)  # held[rest]
+    count = 0
+    for i in range(held.size):
+        if rest[i]:
+            rows[count] = held[i]
+            count += 1
+    rows = rows[:count]
     wide_lo, wide_hi = np.empty(n), np.empty(n)
     for k in range(n):
         wide_lo[k], wide_hi[k] = _minimum(room_lo[k], lo[k]), _maximum(room_hi[k], hi[k])
     out, env = np.empty((4, n)), np.empty((2, n))
     fitted = candidates(rows, dt, p, v, a, signs, target, lim[0], lim[1], lim[2], lim[3],
                         bdec, bjerk, wide_lo, wide_hi, out, env)
-    lost = rows[~fitted]
-    for k in rows[fitted]:
-        nxt_p[k], nxt_v[k], nxt_a[k], nxt_j[k] = out[0, k], out[1, k], out[2, k], out[3, k]
-        known[k], known_lo[k], known_hi[k] = True, env[0, k], env[1, k]
+    lost = np.empty(rows.size, dtype=np.int64)  # rows[~fitted]
+    count = 0
+    for i in range(rows.size):
+        k = rows[i]
+        if fitted[i]:
+            nxt_p[k], nxt_v[k], nxt_a[k], nxt_j[k] = out[0, k], out[1, k], out[2, k], out[3, k]
+            known[k], known_lo[k], known_hi[k] = True, env[0, k], env[1, k]
+        else:
+            lost[count] = k
+            count += 1
+    lost = lost[:count]
     if lost.size:
+        lp, lv, la = np.empty(lost.size), np.empty(lost.size), np.empty(lost.size)
         dec, jerk = np.empty(lost.size), np.empty(lost.size)
         for i in range(lost.size):
             k = lost[i]
+            lp[i], lv[i], la[i] = p[k], v[k], a[k]
             u, b = signs[k] * v[k], signs[k] * a[k]
             d, j = lim[2, k], lim[3, k]
             hard = (b < -d) or (u + b * abs(b) / (2.0 * j) < 0.0)
             dec[i], jerk[i] = (bdec[k], bjerk[k]) if hard else (d, j)
-        step = brake_states(p[lost], v[lost], a[lost], dec, jerk, dt)
+        step = brake_states(lp, lv, la, dec, jerk, dt)
         for i in range(lost.size):
             k = lost[i]
             nxt_p[k], nxt_v[k], nxt_a[k], nxt_j[k] = step[0][i], step[1][i], step[2][i], step[3][i]
@@ -194,7 +210,21 @@ def held_steps(held: Ints, sign: Floats, rest: Bools, dt: float, p: Floats, v: F
             known[k] = False
 
 
-@njit(cache=True)
+@compiled
+def _bounds(x: Floats) -> tuple[float, float]:
+    """``x.min(), x.max()`` of a non-empty array, NaN where x holds one (as numpy's)."""
+    low = high = x[0]
+    for k in range(1, x.size):
+        if math.isnan(x[k]):
+            return x[k], x[k]
+        if x[k] < low:
+            low = x[k]
+        if x[k] > high:
+            high = x[k]
+    return low, high
+
+
+@compiled
 def touching(ax: Floats, ay: Floats, ca: Floats, sa: Floats, ahx: float, ahy: float,
              bx: Floats, by: Floats, cb: Floats, sb: Floats, bhx: float, bhy: float,
              reach: float) -> Bools:
@@ -208,8 +238,9 @@ def touching(ax: Floats, ay: Floats, ca: Floats, sa: Floats, ahx: float, ahy: fl
     # margin dwarfs the rounding of the differences); a difference of at least ``reach``
     # along x or y has a hypot of at least ``reach``: both skip only pairs that are far
     margin = reach + 1.0
-    x_lo, x_hi, y_lo, y_hi = bx.min() - margin, bx.max() + margin, by.min() - margin, \
-        by.max() + margin
+    x_lo, x_hi = _bounds(bx)
+    y_lo, y_hi = _bounds(by)
+    x_lo, x_hi, y_lo, y_hi = x_lo - margin, x_hi + margin, y_lo - margin, y_hi + margin
     for i in range(ax.size):
         if ax[i] < x_lo or ax[i] > x_hi or ay[i] < y_lo or ay[i] > y_hi:
             continue
@@ -239,7 +270,7 @@ def touching(ax: Floats, ay: Floats, ca: Floats, sa: Floats, ahx: float, ahy: fl
     return out
 
 
-@njit(cache=True)
+@compiled
 def write_setpoints(mode: Ints, idle: int, p: Floats, v: Floats, a: Floats, base: Floats,
                     rested: Bools, track: Ints, xr: Ints, yr: Ints, cr: Ints,
                     oriented: Bools, cdeg: Floats, p_all: Floats, v_all: Floats,
@@ -284,17 +315,17 @@ def write_setpoints(mode: Ints, idle: int, p: Floats, v: Floats, a: Floats, base
         j_all[rx] = j_all[ry] = 0.0
         if oriented[k]:
             c = cdeg[k]
-            c = c + ((np.degrees(heading) - c + 180.0) % 360.0 - 180.0)
+            c = c + ((math.degrees(heading) - c + 180.0) % 360.0 - 180.0)
             cdeg[k] = c
             rc = cr[k]
             p_all[rc] = c
-            v_all[rc] = np.degrees(curvature * vk)
-            a_all[rc] = np.degrees(curvature * ak)
+            v_all[rc] = math.degrees(curvature * vk)
+            a_all[rc] = math.degrees(curvature * ak)
             j_all[rc] = 0.0
     return fresh[:fresh_count]
 
 
-@njit(cache=True)
+@compiled
 def gap_filter(p: Floats, v: Floats, a: Floats, lo_cur: Floats, hi_cur: Floats,
                nxt_p: Floats, nxt_v: Floats, nxt_a: Floats, nxt_j: Floats, dt: float,
                dec: Floats, jerk: Floats, succ: Ints, pred: Ints, offset: Floats, gap: Floats,
@@ -329,10 +360,21 @@ def gap_filter(p: Floats, v: Floats, a: Floats, lo_cur: Floats, hi_cur: Floats,
                 flag[k] = True
         if not bad:
             return braking, lo, hi
-        blamed = np.flatnonzero(flag)
-        if blamed.size == 0:
+        blamed = np.empty(n, dtype=np.int64)  # numpy.flatnonzero(flag)
+        count = 0
+        for k in range(n):
+            if flag[k]:
+                blamed[count] = k
+                count += 1
+        if count == 0:
             return braking, lo, hi  # only pairs that were unsafe before and do not get worse
-        step = brake_states(p[blamed], v[blamed], a[blamed], dec[blamed], jerk[blamed], dt)
+        blamed = blamed[:count]
+        bp, bv, ba = np.empty(count), np.empty(count), np.empty(count)
+        bdec, bjerk = np.empty(count), np.empty(count)
+        for i in range(count):
+            k = blamed[i]
+            bp[i], bv[i], ba[i], bdec[i], bjerk[i] = p[k], v[k], a[k], dec[k], jerk[k]
+        step = brake_states(bp, bv, ba, bdec, bjerk, dt)
         for i in range(blamed.size):
             k = blamed[i]
             braking[k] = True
@@ -342,7 +384,7 @@ def gap_filter(p: Floats, v: Floats, a: Floats, lo_cur: Floats, hi_cur: Floats,
             check[m] = flag[succ[m]] or flag[pred[m]]
 
 
-@njit(cache=True)
+@compiled
 def zone_holders(base: Floats, length: Floats, crs: Floats, cre: Floats, zgap: Floats,
                  sws: Ints, swe: Ints, lo: Floats, hi: Floats
                  ) -> tuple[Floats, Floats, Bools, Bools, Ints, Bools, Ints]:
@@ -354,7 +396,6 @@ def zone_holders(base: Floats, length: Floats, crs: Floats, cre: Floats, zgap: F
     n = base.size
     end_line, start_line = np.empty(n), np.empty(n)
     in_end, in_start = np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_)
-    ends, starts = 0, 0
     for k in range(n):
         end_line[k] = base[k] + length[k] - _maximum(cre[k], zgap[k])
         start_line[k] = base[k] + _maximum(crs[k], zgap[k])
@@ -362,17 +403,18 @@ def zone_holders(base: Floats, length: Floats, crs: Floats, cre: Floats, zgap: F
                                      or end_line[k] <= base[k] + TOLERANCE)
         in_start[k] = sws[k] >= 0 and (lo[k] < start_line[k] - TOLERANCE
                                        or start_line[k] >= base[k] + length[k] - TOLERANCE)
-        ends += in_end[k]
-        starts += in_start[k]
-    k_out, end, switch = _sides(in_end, in_start, ends, starts, sws, swe)
+    k_out, end, switch = _sides(in_end, in_start, sws, swe)
     return end_line, start_line, in_end, in_start, k_out, end, switch
 
 
-@njit(cache=True)
-def _sides(at_end: Bools, at_start: Bools, ends: int, starts: int, sws: Ints, swe: Ints
-           ) -> tuple[Ints, Bools, Ints]:
+@compiled
+def _sides(at_end: Bools, at_start: Bools, sws: Ints, swe: Ints) -> tuple[Ints, Bools, Ints]:
     """The riders of ``at_end`` then those of ``at_start`` (each in rider order), whether
     each is at its track's end, and the switch id there."""
+    ends, starts = 0, 0
+    for k in range(at_end.size):
+        ends += 1 if at_end[k] else 0
+        starts += 1 if at_start[k] else 0
     k_out = np.empty(ends + starts, dtype=np.int64)
     end = np.zeros(ends + starts, dtype=np.bool_)
     switch = np.empty(ends + starts, dtype=np.int64)
@@ -387,7 +429,7 @@ def _sides(at_end: Bools, at_start: Bools, ends: int, starts: int, sws: Ints, sw
     return k_out, end, switch
 
 
-@njit(cache=True)
+@compiled
 def zone_entries(sws: Ints, swe: Ints, in_end: Bools, in_start: Bools, end_line: Floats,
                  start_line: Floats, lo: Floats, hi: Floats, lookahead: float
                  ) -> tuple[Ints, Bools, Ints, Floats, Floats, Bools]:
@@ -396,13 +438,10 @@ def zone_entries(sws: Ints, swe: Ints, in_end: Bools, in_start: Bools, end_line:
     keep them out (low, high) and whether their envelope passes them (``wanting`` in)."""
     n = sws.size
     near_end, near_start = np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_)
-    ends, starts = 0, 0
     for k in range(n):
         near_end[k] = swe[k] >= 0 and not in_end[k] and hi[k] > end_line[k] - lookahead
         near_start[k] = sws[k] >= 0 and not in_start[k] and lo[k] < start_line[k] + lookahead
-        ends += near_end[k]
-        starts += near_start[k]
-    k_out, end, switch = _sides(near_end, near_start, ends, starts, sws, swe)
+    k_out, end, switch = _sides(near_end, near_start, sws, swe)
     low, high = np.empty(k_out.size), np.empty(k_out.size)
     wanting = np.empty(k_out.size, dtype=np.bool_)
     for i in range(k_out.size):
@@ -413,7 +452,7 @@ def zone_entries(sws: Ints, swe: Ints, in_end: Bools, in_start: Bools, end_line:
     return k_out, end, switch, low, high, wanting
 
 
-@njit(cache=True)
+@compiled
 def going_back(v: Floats, a: Floats, jerk: Floats) -> Bools:
     """``Traffic._going_back``: moving back, or in a state that even the rider's own brake
     (``jerk``) turns round (a forward motion braked harder than it needs to stop)."""
@@ -424,7 +463,7 @@ def going_back(v: Floats, a: Floats, jerk: Floats) -> Bools:
     return out
 
 
-@njit(cache=True)
+@compiled
 def pair_gaps(succ: Ints, pred: Ints, mode: Ints, idle: int, target: Floats, p: Floats,
               going: Bools, gap: Floats) -> Floats:
     """``Traffic._pair_gaps``: the gap of each pair, the follower's, or the larger of the
@@ -437,7 +476,7 @@ def pair_gaps(succ: Ints, pred: Ints, mode: Ints, idle: int, target: Floats, p: 
     return out
 
 
-@njit(cache=True)
+@compiled
 def proposals(mode: Ints, follow: int, idle: int, rows: Ints, p: Floats, v: Floats,
               a: Floats, jerk: Floats, goal: Floats, target: Floats, p_all: Floats,
               v_all: Floats, a_all: Floats, j_all: Floats
@@ -465,7 +504,7 @@ def proposals(mode: Ints, follow: int, idle: int, rows: Ints, p: Floats, v: Floa
             queued[:count])
 
 
-@njit(cache=True)
+@compiled
 def _linspace(out: Floats, start: float, stop: float) -> None:
     """numpy.linspace(start, stop, out.size) into ``out``, with numpy's arithmetic."""
     num = out.size
@@ -481,7 +520,7 @@ def _linspace(out: Floats, start: float, stop: float) -> None:
             out[i] = i * delta + start
 
 
-@njit(cache=True)
+@compiled
 def stretch_samples(low: float, high: float, start: float, end: float, step: float,
                     count: int, own: int, lows: Floats, highs: Floats, sizes: Ints
                     ) -> tuple[Floats, Ints]:
@@ -503,7 +542,7 @@ def stretch_samples(low: float, high: float, start: float, end: float, step: flo
     return q, at
 
 
-@njit(cache=True)
+@compiled
 def stretch_hits(x: Floats, y: Floats, cos: Floats, sin: Floats, at: Ints, hx: Floats,
                  hy: Floats, radius: Floats, own: int, count: int) -> tuple[bool, int, int]:
     """Of ``Traffic._clear_stretch``'s samples (x, y, cos and sin of the turn; rider r's
@@ -530,13 +569,17 @@ def stretch_hits(x: Floats, y: Floats, cos: Floats, sin: Floats, at: Ints, hx: F
     return on_envelope, first_ahead, first_behind
 
 
-@njit(cache=True)
+@compiled
 def group_by_track(index: Ints) -> tuple[Ints, Ints, Ints]:
     """Riders grouped by their tracks (``index``: each rider's track index): each rider's
     place (its track's, in the order first met), the riders by place (in rider order within
     a place) and where each place's riders end in that."""
     n = index.size
-    place_of = np.full(index.max() + 1 if n else 0, -1, dtype=np.int64)
+    top = index[0] if n else -1  # index.max()
+    for k in range(1, n):
+        if index[k] > top:
+            top = index[k]
+    place_of = np.full(top + 1, -1, dtype=np.int64)
     place = np.empty(n, dtype=np.int64)
     count = 0
     for k in range(n):
@@ -544,13 +587,15 @@ def group_by_track(index: Ints) -> tuple[Ints, Ints, Ints]:
             place_of[index[k]] = count
             count += 1
         place[k] = place_of[index[k]]
-    tails = np.zeros(count, dtype=np.int64)
+    sizes = np.zeros(count, dtype=np.int64)
     for k in range(n):
-        tails[place[k]] += 1
-    tails = np.cumsum(tails)
-    fill = np.empty(count, dtype=np.int64)
-    fill[0:1] = 0
-    fill[1:] = tails[:-1]
+        sizes[place[k]] += 1
+    tails, fill = np.empty(count, dtype=np.int64), np.empty(count, dtype=np.int64)
+    total = 0
+    for g in range(count):  # tails: the running sum of the sizes; fill: where each begins
+        fill[g] = total
+        total += sizes[g]
+        tails[g] = total
     ranked = np.empty(n, dtype=np.int64)
     for k in range(n):
         ranked[fill[place[k]]] = k
@@ -558,22 +603,30 @@ def group_by_track(index: Ints) -> tuple[Ints, Ints, Ints]:
     return place, ranked, tails
 
 
-@njit(cache=True)
+@compiled
 def in_order(s: Floats, grouped: Ints, tails: Ints) -> Ints:
     """The riders of each group (``grouped``, a group ending at each of ``tails``) by arc
-    length ``s``, stable: numpy.lexsort((s, place)) of the riders."""
+    length ``s``, stable: numpy.lexsort((s, place)) of the riders. A group is sorted by
+    insertion, numpy's float order (NaN last); a stable sort has one result."""
     ranked = np.empty(grouped.size, dtype=np.int64)
     head = 0
-    for tail in tails:
-        members = grouped[head:tail]
-        order = np.argsort(s[members], kind="mergesort")
-        for i in range(members.size):
-            ranked[head + i] = members[order[i]]
-        head = tail
+    for g in range(tails.size):
+        for i in range(head, tails[g]):
+            k = grouped[i]
+            key = s[k]
+            j = i
+            while j > head:
+                other = s[ranked[j - 1]]
+                if not (key < other or (math.isnan(other) and not math.isnan(key))):
+                    break
+                ranked[j] = ranked[j - 1]
+                j -= 1
+            ranked[j] = k
+        head = tails[g]
     return ranked
 
 
-@njit(cache=True)
+@compiled
 def zone_stops(n: int, k: Ints, low: Floats, high: Floats, wanting: Bools, blocked: Bools
                ) -> tuple[Ints, Floats, Floats, Ints]:
     """Of ``zone_entries``' riders ``k``: those ``blocked`` (a conflicting rider holds the
@@ -603,7 +656,7 @@ def zone_stops(n: int, k: Ints, low: Floats, high: Floats, wanting: Bools, block
     return riders[:count], lows[:count], highs[:count], entering[:entries]
 
 
-@njit(cache=True)
+@compiled
 def out_of_bounds(riders: Ints, lows: Floats, highs: Floats, skip: Bools, braking: Bools,
                   lo: Floats, hi: Floats) -> Ints:
     """The ``riders`` (not ``skip``-ped, not ``braking``) whose envelope (lo, hi) passes their
@@ -619,7 +672,7 @@ def out_of_bounds(riders: Ints, lows: Floats, highs: Floats, skip: Bools, brakin
     return out[:count]
 
 
-@njit(cache=True)
+@compiled
 def turning_gaps(nxt_v: Floats, nxt_a: Floats, jerk: Floats, going: Bools, succ: Ints,
                  pred: Ints, mode: Ints, idle: int, target: Floats, p: Floats, gap: Floats
                  ) -> tuple[Bools, Floats]:
@@ -633,7 +686,7 @@ def turning_gaps(nxt_v: Floats, nxt_a: Floats, jerk: Floats, going: Bools, succ:
     return turning, pair_gaps(succ, pred, mode, idle, target, p, either, gap)
 
 
-@njit(cache=True)
+@compiled
 def past_ends(p: Floats, base: Floats, length: Floats) -> Ints:
     """Riders whose arc length reached the end of their track (to 1e-12 mm) or fell below
     its start (a route back over a loop's seam goes on there, D-147)."""
@@ -647,7 +700,7 @@ def past_ends(p: Floats, base: Floats, length: Floats) -> Ints:
     return out[:count]
 
 
-@njit(cache=True)
+@compiled
 def resting(mode: Ints, held: int, v: Floats, a: Floats) -> Ints:
     """Riders in mode ``held`` at rest."""
     out = np.empty(mode.size, dtype=np.int64)
@@ -659,7 +712,7 @@ def resting(mode: Ints, held: int, v: Floats, a: Floats) -> Ints:
     return out[:count]
 
 
-@njit(cache=True)
+@compiled
 def ended(mode: Ints, follow: int, end: Floats, rows: Ints, now: float) -> Ints:
     """Riders in mode ``follow`` whose profile (table row) ended by ``now``."""
     out = np.empty(mode.size, dtype=np.int64)
@@ -671,7 +724,7 @@ def ended(mode: Ints, follow: int, end: Floats, rows: Ints, now: float) -> Ints:
     return out[:count]
 
 
-@njit(cache=True)
+@compiled
 def _conflict(r: int, at_end: bool, h: int, their_end: bool, track_of: Ints, next_of: Ints,
               seam: Bools, back: Bools) -> bool:
     """``Traffic._conflicts`` of rider ``r`` (at the end of its track, else its start) and
@@ -688,7 +741,7 @@ def _conflict(r: int, at_end: bool, h: int, their_end: bool, track_of: Ints, nex
     return (other or same) and r != h
 
 
-@njit(cache=True)
+@compiled
 def conflicts(slots: Ints, ends: Bools, holders: Ints, holder_ends: Bools, track_of: Ints,
               next_of: Ints, seam: Bools, back: Bools) -> NDArray[np.bool_]:
     """``Traffic._conflicts``: whether each of ``slots`` may meet each of ``holders`` at
@@ -701,7 +754,7 @@ def conflicts(slots: Ints, ends: Bools, holders: Ints, holder_ends: Bools, track
     return out
 
 
-@njit(cache=True)
+@compiled
 def zone_lines(sws: Ints, swe: Ints, in_end: Bools, in_start: Bools, end_line: Floats,
                start_line: Floats, lo: Floats, hi: Floats, lookahead: float, hk: Ints,
                he: Bools, hs: Ints, track_of: Ints, next_of: Ints, seam: Bools, back: Bools
@@ -723,8 +776,10 @@ def zone_lines(sws: Ints, swe: Ints, in_end: Bools, in_start: Bools, end_line: F
 
 def warm() -> None:
     """Load every loop of the traffic's cycle now (from numba's cache, or compile it), each
-    with the argument types of the cycle: otherwise the first cycle that needs one (the
-    first switch conflict, say) spends milliseconds loading it."""
+    with the argument types of the cycle. A run loads each loop in the first cycle that
+    needs it (the first switch conflict, say: milliseconds from the cache, about a second
+    to compile), and compiles none it does not need; a benchmark that times cycles calls
+    this first."""
     from openmotion.planar.track_atlas import Atlas
     from openmotion.transport.kernels import brake_states as states
     from openmotion.transport.kernels import envelopes
@@ -734,8 +789,6 @@ def warm() -> None:
     none, nothing = np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.bool_)
     atlas = Atlas([])
     tables = atlas.tables()
-    atlas.frames(none, np.zeros(0), clamp=True)
-    atlas.along(none, np.zeros(0), np.zeros(0), tables)
     atlas.along_routes(none, np.zeros(0), i, np.zeros(0), i, tables)
     q, at = stretch_samples(0.0, 1.0, 0.0, 1.0, 2.0, 1, 1, np.zeros(0), np.zeros(0), none)
     stretch_hits(q, q, q, q, at, f, f, f, 1, 1)

@@ -20,13 +20,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
+
+from openmotion.core.compiled import compiled
 
 _MIN_PHASE = 1e-12  #: [s] shorter phases are dropped, as the ruckig plans drop them
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def optimal_duration(distance: float, velocity: float, acceleration: float,
                      jerk: float) -> float:
     """[s] of the time-optimal move over ``distance`` (either sign) from rest to rest."""
@@ -34,7 +35,7 @@ def optimal_duration(distance: float, velocity: float, acceleration: float,
     return _duration(abs(distance), peak, acceleration, jerk)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def rest_to_rest(start: float, target: float, velocity: float, acceleration: float,
                  jerk: float, duration: float) -> NDArray[np.float64]:
     """Profile data (rows t, p, v, a, j; the last column the open end segment at rest on
@@ -77,7 +78,7 @@ def rest_to_rest(start: float, target: float, velocity: float, acceleration: flo
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def synchronised(distance: float, velocity: float, acceleration: float, jerk: float,
                  start: float, target: float, c_velocity: float, c_acceleration: float,
                  c_jerk: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -89,7 +90,7 @@ def synchronised(distance: float, velocity: float, acceleration: float, jerk: fl
             rest_to_rest(start, target, c_velocity, c_acceleration, c_jerk, end))
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _peak_speed(d: float, velocity: float, acceleration: float, jerk: float) -> float:
     """The cruise (or top) speed of the time-optimal move over ``d`` >= 0."""
     t1, t2 = _ramp(velocity, acceleration, jerk)
@@ -101,7 +102,7 @@ def _peak_speed(d: float, velocity: float, acceleration: float, jerk: float) -> 
     return (d * math.sqrt(jerk) / 2.0) ** (2.0 / 3.0)  # only the jerk limits
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _ramp(speed: float, acceleration: float, jerk: float) -> tuple[float, float]:
     """(jerk phase, constant-acceleration phase) [s] of a ramp from rest to ``speed``."""
     if speed * jerk >= acceleration * acceleration:
@@ -109,7 +110,7 @@ def _ramp(speed: float, acceleration: float, jerk: float) -> tuple[float, float]
     return math.sqrt(speed / jerk), 0.0
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _duration(d: float, speed: float, acceleration: float, jerk: float) -> float:
     """[s] of the move over ``d`` cruising at ``speed`` (two ramps and the cruise)."""
     if d == 0.0:
@@ -118,7 +119,7 @@ def _duration(d: float, speed: float, acceleration: float, jerk: float) -> float
     return d / speed + 2.0 * t1 + t2
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _stretched_speed(d: float, acceleration: float, jerk: float, duration: float) -> float:
     """The cruise speed at which the move over ``d`` lasts ``duration``: d / v + ramp = T,
     which falls as v grows, so one root on each side of a² / j."""

@@ -10,8 +10,8 @@ every row every cycle.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from openmotion.core.compiled import compiled
 from openmotion.trajectory.segments import KinematicState, Profile
 
 _T, _P, _V, _A, _J = range(5)
@@ -97,7 +97,7 @@ class SegmentTable:
         return KinematicState(position, velocity, a0 + dt * j)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _states(seg: np.ndarray, cur: np.ndarray, next_start: np.ndarray, end: np.ndarray,
             rows: np.ndarray, time: float) -> np.ndarray:
     """``SegmentTable.state`` of several rows at once: (rows, 3) position, velocity,
@@ -123,7 +123,7 @@ def _states(seg: np.ndarray, cur: np.ndarray, next_start: np.ndarray, end: np.nd
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _evaluate(seg: np.ndarray, cur: np.ndarray, next_start: np.ndarray, n: int, now: float,
               p: np.ndarray, v: np.ndarray, a: np.ndarray, j: np.ndarray) -> None:
     """``SegmentTable.evaluate`` in one compiled pass (a hundred planar movers are 600 rows;
@@ -148,7 +148,7 @@ def _evaluate(seg: np.ndarray, cur: np.ndarray, next_start: np.ndarray, n: int, 
         p[row] = ((a0 * 0.5 + (j0 * (1.0 / 6.0)) * dt) * dt + v0) * dt + p0
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _install(seg: np.ndarray, cur: np.ndarray, next_start: np.ndarray, end: np.ndarray,
              row: int, data: np.ndarray, time: float) -> None:
     """``SegmentTable.install``: the records of ``data`` from absolute ``time`` on (a planar

@@ -14,9 +14,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 from ruckig import ControlInterface, InputParameter, Result, Ruckig, RuckigError, Trajectory
 
+from openmotion.core.compiled import compiled
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.trajectory.double_s import rest_to_rest
 from openmotion.trajectory.segments import KinematicState, Profile
@@ -301,7 +301,7 @@ def _segments(profile) -> Profile:  # noqa: ANN001 - ruckig.Profile has no publi
     return Profile.from_data(_flatten(np.array((durations, jerks, ps[:7], vs[:7], accs[:7]))))
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _flatten(raw: np.ndarray) -> np.ndarray:
     """(t, p, v, a, j) rows of the phases in ``raw`` (rows: durations, jerks, p, v, a at each
     phase's start) that last longer than ``_MIN_SEGMENT``, and the end state after them."""

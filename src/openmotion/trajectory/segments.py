@@ -11,8 +11,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike
+
+from openmotion.core.compiled import compiled
 
 
 @dataclass(frozen=True, slots=True)
@@ -97,7 +98,7 @@ class Profile:
         return Profile.from_data(both)
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _position_extrema(data: np.ndarray) -> tuple[float, float]:
     """``Profile.position_extrema`` compiled: segment ends and the instants where the
     velocity v0 + a0 t + j t²/2 is zero inside a segment (position limits of every plan)."""
@@ -124,7 +125,7 @@ def _position_extrema(data: np.ndarray) -> tuple[float, float]:
     return low, high
 
 
-@njit(cache=True, error_model="numpy")
+@compiled
 def _velocity_extrema(data: np.ndarray) -> tuple[float, float]:
     """``Profile.velocity_extrema`` compiled: every plan asks it (does a motion turn back?)."""
     t, v, a, j = data[0], data[2], data[3], data[4]

@@ -14,13 +14,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from openmotion.core.compiled import compiled
 
 TOLERANCE = 1e-9  #: [mm] as gap_control.TOLERANCE
 _SLACK = 1 + 1e-12  #: relative float slack of the limit checks
 
 
-@njit(cache=True)
+@compiled
 def _sign(x: float) -> float:
     if x > 0.0:
         return 1.0
@@ -29,7 +30,7 @@ def _sign(x: float) -> float:
     return x  # 0.0, -0.0 or nan, as numpy.sign
 
 
-@njit(cache=True)
+@compiled
 def _phases(v: float, a: float, dec: float, jerk: float) -> tuple[float, ...]:
     """The brake from (v, a) for one mover: durations t1, t2, t3, jerks j1, j3 (j2 = 0) and the
     velocity once the acceleration is taken away at once (its sign decides the brake)."""
@@ -46,7 +47,7 @@ def _phases(v: float, a: float, dec: float, jerk: float) -> tuple[float, ...]:
             release)
 
 
-@njit(cache=True)
+@compiled
 def envelope(p: float, v: float, a: float, dec: float, jerk: float) -> tuple[float, float]:
     """braking.brake_envelope for one mover: the lowest and highest position of its brake."""
     t1, t2, t3, j1, j3, release = _phases(v, a, dec, jerk)
@@ -73,7 +74,7 @@ def envelope(p: float, v: float, a: float, dec: float, jerk: float) -> tuple[flo
     return lo, hi
 
 
-@njit(cache=True)
+@compiled
 def _roots(v0: float, a0: float, j: float, duration: float) -> tuple[float, float]:
     """Times in [0, duration] where v0 + a0 t + j t²/2 = 0 (nan: none)."""
     disc = math.sqrt(max(a0 * a0 - 2.0 * j * v0, 0.0))
@@ -87,7 +88,7 @@ def _roots(v0: float, a0: float, j: float, duration: float) -> tuple[float, floa
     return out1, out2
 
 
-@njit(cache=True)
+@compiled
 def envelopes(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
               jerk: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``envelope`` for every mover."""
@@ -98,7 +99,7 @@ def envelopes(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
     return lo, hi
 
 
-@njit(cache=True)
+@compiled
 def candidates(rows: np.ndarray, dt: float, p: np.ndarray, v: np.ndarray, a: np.ndarray,
                sign: np.ndarray, target: np.ndarray, vmax: np.ndarray, acc: np.ndarray,
                dec: np.ndarray, jm: np.ndarray, bdec: np.ndarray, bjerk: np.ndarray,
@@ -139,7 +140,7 @@ def candidates(rows: np.ndarray, dt: float, p: np.ndarray, v: np.ndarray, a: np.
     return fitted
 
 
-@njit(cache=True)
+@compiled
 def brake_states(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
                  jerk: np.ndarray, t: float) -> tuple[np.ndarray, ...]:
     """braking.brake_state: (p, v, a, j) a time ``t`` into each mover's brake."""
@@ -174,7 +175,7 @@ def brake_states(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
     return po, vo, ao, jo
 
 
-@njit(cache=True)
+@compiled
 def phase_table(v: np.ndarray, a: np.ndarray, dec: np.ndarray,
                 jerk: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """braking.brake_phases: durations and jerks of the three phases, each (N, 3)."""
