@@ -25,7 +25,6 @@ app = typer.Typer(name="openmotion", no_args_is_help=True, add_completion=False,
 JsonFlag = Annotated[bool, typer.Option("--json", help="Print one JSON object: no colour, "
                                                         "no progress bar.")]
 WALL_DELAY = 1.0  #: seconds of wall time before a progress bar appears
-LOOPBACK_HOSTS = ("127.0.0.1", "::1", "localhost")
 ScenarioArgument = Annotated[str | None, typer.Argument(
     metavar="SCENARIO", show_default=False,
     help="A scenario file, or the name of a shipped example (see 'openmotion examples'). "
