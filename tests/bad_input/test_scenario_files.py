@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
+from openmotion.bench.startup import large_scenario
 from openmotion.cli import app
 from openmotion.scenario import ScenarioError, load_scenario, parse_scenario, reading
 from openmotion.scenario.reading import (
@@ -74,26 +75,6 @@ def deep_block_mappings(depth: int) -> str:
     lines = [HEAD.rstrip("\n"), "x:"] + [
         "  " * level + f"k{level}:" for level in range(1, depth + 1)]
     return "\n".join(lines) + " 1\n"
-
-
-def legit(target_bytes: int, axes: int = 100) -> str:
-    """A valid scenario of about ``target_bytes``: many axes and a long chained timeline."""
-    lines = ["name: big legit", "axes:"]
-    for a in range(axes):
-        lines += [f"  - name: a{a}", "    parameters: {max_velocity: 500.0, jerk: 20000.0}",
-                  "    drive: {model: lag, time_constant: 0.004, dead_time: 0.002}"]
-    lines += ["timeline:"] + [f"  - {{id: p{a}, at: 0.0, axis: a{a}, command: power}}"
-                              for a in range(axes)]
-    size, n = sum(len(line) + 1 for line in lines), 0
-    while size < target_bytes:
-        after = f"p{n}" if n < axes else f"m{n - axes}"
-        entry = [f"  - id: m{n}", f"    when: {after}.done", f"    axis: a{n % axes}",
-                 "    command: move_absolute", f"    position: {(n % 7) * 10.0}",
-                 "    velocity: 250.0"]
-        lines += entry
-        size += sum(len(line) + 1 for line in entry)
-        n += 1
-    return "\n".join(lines + ["checks:", "  - {command: m0, result: done}"]) + "\n"
 
 
 # -- helpers -------------------------------------------------------------------------------
@@ -358,7 +339,7 @@ def test_utf8_with_a_byte_order_mark_loads(tmp_path: Path, loader: type) -> None
 # -- big legitimate files ------------------------------------------------------------------
 
 def test_a_one_megabyte_scenario_loads(tmp_path: Path) -> None:
-    path = write(tmp_path, legit(1_000_000))
+    path = write(tmp_path, large_scenario(1_000_000))
     assert 1_000_000 <= path.stat().st_size < DEFAULT_MAX_BYTES
     scenario = load_scenario(path)
     assert len(scenario.axes) == 100 and len(scenario.timeline) > 7000
@@ -368,7 +349,8 @@ def test_a_one_megabyte_scenario_loads(tmp_path: Path) -> None:
 
 def test_errors_of_a_big_file_are_all_listed(tmp_path: Path) -> None:
     """Every misspelt field of a long timeline is reported at its line."""
-    path = write(tmp_path, legit(200_000).replace("    velocity: 250.0", "    velocty: 250.0"))
+    text = large_scenario(200_000).replace("    velocity: 250.0", "    velocty: 250.0")
+    path = write(tmp_path, text)
     found = refused(path)
     moves = path.read_text().count("velocty")
     assert len(found) == 2 * moves  # the unknown field and the missing one of each entry

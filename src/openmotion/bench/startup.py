@@ -5,7 +5,8 @@ Each figure is the wall time of a fresh ``python`` process, as a user starts it:
 - floors (the peers of this benchmark): ``python -c pass`` and a process that imports
   numpy and numba, the least any numba-based simulator pays;
 - warm: ``import openmotion``, ``from openmotion import Runtime``, ``openmotion check`` and
-  ``openmotion run`` of the default example, after a priming run has written the bytecode
+  ``openmotion run`` of the default example, and ``openmotion check`` of a generated 1 MB
+  scenario (``large_scenario``), after a priming run has written the bytecode
   and the compiled kernels (so a warm start reads caches only);
 - first run: every shipped example once (quick: the default one) with the kernel cache the
   package has, as a user meets it after installing (the build compiles the examples'
@@ -36,7 +37,29 @@ from openmotion.examples import DEFAULT_EXAMPLE, list_examples
 Progress = Callable[[str], None] | None
 KERNEL_CACHE_VARIABLE = "NUMBA_CACHE_DIR"  #: where numba keeps compiled kernels
 BYTECODE_VARIABLE = "PYTHONDONTWRITEBYTECODE"
-PROCESS_TIMEOUT = 600.0  #: [s] one process; a cold run of the largest example takes ~10 s
+PROCESS_TIMEOUT = 600.0  #: [s] one process; a cold run of the largest example takes ~20 s
+LARGE_SCENARIO_BYTES = 1_000_000  #: the size of the generated scenario `check` reads
+
+
+def large_scenario(target_bytes: int, axes: int = 100) -> str:
+    """A valid scenario of about ``target_bytes``: many axes and a long chained timeline (the
+    size a generated production scenario reaches; issue 18 asks 1 MB to load in <= 2 s)."""
+    lines = ["name: big legit", "axes:"]
+    for a in range(axes):
+        lines += [f"  - name: a{a}", "    parameters: {max_velocity: 500.0, jerk: 20000.0}",
+                  "    drive: {model: lag, time_constant: 0.004, dead_time: 0.002}"]
+    lines += ["timeline:"] + [f"  - {{id: p{a}, at: 0.0, axis: a{a}, command: power}}"
+                              for a in range(axes)]
+    size, n = sum(len(line) + 1 for line in lines), 0
+    while size < target_bytes:
+        after = f"p{n}" if n < axes else f"m{n - axes}"
+        entry = [f"  - id: m{n}", f"    when: {after}.done", f"    axis: a{n % axes}",
+                 "    command: move_absolute", f"    position: {(n % 7) * 10.0}",
+                 "    velocity: 250.0"]
+        lines += entry
+        size += sum(len(line) + 1 for line in entry)
+        n += 1
+    return "\n".join(lines + ["checks:", "  - {command: m0, result: done}"]) + "\n"
 
 
 def _command(*arguments: str) -> list[str]:
@@ -82,10 +105,13 @@ def run_startup(repeats: int = 5, cold_repeats: int = 3, every_example: bool = T
     with tempfile.TemporaryDirectory(prefix="openmotion-startup-") as work:
         trace = str(Path(work) / "trace.csv")
         run = _openmotion("run", str(default), "--trace", trace, "--quiet")
+        large = Path(work) / "large.yaml"
+        large.write_text(large_scenario(LARGE_SCENARIO_BYTES), encoding="utf-8")
         warm_commands = {
             "import": _command("-c", "import openmotion"),
             "import_runtime": _command("-c", "from openmotion import Runtime"),
             "check": _openmotion("check", str(default)),
+            "check_1mb": _openmotion("check", str(large)),
             "run": run,
         }
         floors = {
