@@ -15,7 +15,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from numba import njit
 
-from openmotion.core.compiled import OPTIONS, search_right, sort_in_place
+from openmotion.core.compiled import OPTIONS, search_right, sort_in_place, true_indices
 from openmotion.planar.traffic_kernels import _bounds, group_by_track, in_order
 
 _FLOATS = st.one_of(st.floats(allow_nan=True, allow_infinity=True, width=64),
@@ -26,6 +26,12 @@ _FLOATS = st.one_of(st.floats(allow_nan=True, allow_infinity=True, width=64),
 def test_search_right_is_numpys(values: list[float], v: float) -> None:
     a = np.sort(np.array(values, dtype=float))
     assert search_right(a, v) == np.searchsorted(a, v, side="right")
+
+
+@given(st.lists(st.booleans(), max_size=40))
+def test_true_indices_are_numpys_flatnonzero(values: list[bool]) -> None:
+    mask = np.array(values, dtype=np.bool_)
+    assert true_indices(mask).tolist() == np.flatnonzero(mask).tolist()
 
 
 @given(st.lists(st.one_of(st.floats(min_value=0.0, allow_nan=False, allow_infinity=True),

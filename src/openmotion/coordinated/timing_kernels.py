@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from openmotion.core.compiled import compiled
+from openmotion.core.compiled import compiled, true_indices
 
 #: a zone's velocity caps lie within this factor of each other; a zone runs at its smallest
 #: cap, so a path whose caps change gradually keeps at least this share of them (D-134)
@@ -229,12 +229,8 @@ def _flatten_bumps(vel: np.ndarray, starts: np.ndarray, acc: np.ndarray, dec: np
                    previous: np.ndarray) -> bool:
     """Lower the velocity caps of the bump zones in place; True if any changed."""
     n = vel.shape[0]
-    first = np.empty(n, dtype=np.int64)  # numpy.flatnonzero(starts)
-    m = 0
-    for k in range(n):
-        if starts[k]:
-            first[m] = k
-            m += 1
+    first = true_indices(starts)
+    m = first.size
     if m == 0:
         return False
     v_min = np.empty(m)

@@ -80,6 +80,18 @@ def search_right(a: NDArray[np.float64], v: float) -> int:
 
 
 @compiled
+def true_indices(mask: NDArray[np.bool_]) -> NDArray[np.int64]:
+    """``numpy.flatnonzero(mask)``: the indices where ``mask`` holds, ascending."""
+    found = np.empty(mask.size, dtype=np.int64)
+    count = 0
+    for k in range(mask.size):
+        if mask[k]:
+            found[count] = k
+            count += 1
+    return found[:count]
+
+
+@compiled
 def sort_in_place(a: NDArray[np.float64]) -> None:
     """Sort ``a`` ascending, NaN last, as ``numpy.sort``: by insertion (stable), quick on the
     few sorted runs the loops join. Equal values keep their order, so an array with both 0.0

@@ -21,7 +21,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from openmotion.core.compiled import compiled
+from openmotion.core.compiled import compiled, true_indices
 from openmotion.planar.track_atlas import frames_on
 from openmotion.transport.kernels import brake_states, candidates, envelope
 
@@ -360,15 +360,10 @@ def gap_filter(p: Floats, v: Floats, a: Floats, lo_cur: Floats, hi_cur: Floats,
                 flag[k] = True
         if not bad:
             return braking, lo, hi
-        blamed = np.empty(n, dtype=np.int64)  # numpy.flatnonzero(flag)
-        count = 0
-        for k in range(n):
-            if flag[k]:
-                blamed[count] = k
-                count += 1
+        blamed = true_indices(flag)
+        count = blamed.size
         if count == 0:
             return braking, lo, hi  # only pairs that were unsafe before and do not get worse
-        blamed = blamed[:count]
         bp, bv, ba = np.empty(count), np.empty(count), np.empty(count)
         bdec, bjerk = np.empty(count), np.empty(count)
         for i in range(count):
