@@ -28,6 +28,7 @@ from openmotion.plcopen import (
     MC_Reset,
     MC_SetActualPosition,
     MC_SetOverride,
+    MC_SetReferenceFlag,
     MC_Stop,
     MC_WriteBoolParameter,
     MC_WriteParameter,
@@ -239,7 +240,7 @@ def test_reset_of_a_powered_off_error_goes_to_disabled() -> None:
 # -- MC_ReadStatus, MC_ReadActualPosition, MC_ReadAxisError (§4.3-4.5; rules 104, 105) -------
 
 FLAGS = ("error_stop", "stopping", "standstill", "discrete_motion", "continuous_motion",
-         "homing", "accelerating", "decelerating", "constant_velocity")
+         "homing_busy", "homing", "accelerating", "decelerating", "constant_velocity")
 
 
 def _flags(status: MC_ReadStatus) -> set[str]:
@@ -356,15 +357,33 @@ def test_read_actual_position_is_the_actual_position() -> None:
     assert read.position != axis.set_position  # the lag drive trails
 
 
-def test_read_status_homing_flag_while_homing() -> None:
-    """Rule 67 (D-011): Homing TRUE while the reference search runs."""
+def test_read_status_homing_busy_while_homing_then_homing_once_referenced() -> None:
+    """TcMC §4.4 (D-192): Homing is TRUE once the axis is referenced; the reference
+    search itself is the Homing state, shown by ``homing_busy``."""
     rt, axis = powered_axis(position=50.0, reference_cam=(10.0, 20.0))
     home, status = MC_Home(axis), MC_ReadStatus(axis)
+    status(enable=True)
+    assert not status.homing and not status.homing_busy
     home(execute=True)
     status(enable=True)
-    assert status.homing and not status.standstill
+    assert status.homing_busy and not status.homing and not status.standstill
     run(rt, axis, lambda: (home(execute=True), status(enable=True)), lambda: home.done)
-    assert not status.homing and status.standstill
+    assert status.homing and not status.homing_busy and status.standstill
+
+
+def test_read_status_homing_follows_the_reference_flag() -> None:
+    """TcMC §4.4 with §4.15 (D-192): MC_SetReferenceFlag(TRUE) makes Homing TRUE,
+    FALSE takes it back; the state flags are untouched."""
+    rt, axis = powered_axis()
+    status, flag = MC_ReadStatus(axis), MC_SetReferenceFlag(axis)
+    status(enable=True)
+    assert not status.homing
+    for value in (True, False):
+        flag(execute=True, reference_flag=value)
+        assert flag.done
+        flag(execute=False)
+        status(enable=True)
+        assert status.homing is value and status.standstill and not status.homing_busy
 
 
 # -- parameters (§4.6-4.11, §6.1; rules 106-111, 143) -----------------------------------------

@@ -23,18 +23,20 @@ class MC_ReadActualPosition(EnableBlock):
 class MC_ReadStatus(EnableBlock):
     """The PLCopen state as flags, plus the profile sub-states (TcMC §4.4).
 
-    ``homing`` is TRUE while homing runs (D-011); ``disabled`` is our addition.
+    ``homing`` is TRUE once the axis is referenced, as §4.4 defines it (D-192);
+    ``homing_busy`` (the Homing state, a reference search running) and ``disabled``
+    are our additions, so every state has exactly one flag.
     """
 
     _FLAGS = ("error_stop", "disabled", "stopping", "standstill", "discrete_motion",
-              "continuous_motion", "synchronized_motion", "homing", "constant_velocity",
-              "accelerating", "decelerating")
+              "continuous_motion", "synchronized_motion", "homing_busy", "homing",
+              "constant_velocity", "accelerating", "decelerating")
     _STATE_FLAG = {
         AxisState.ERROR_STOP: "error_stop", AxisState.DISABLED: "disabled",
         AxisState.STOPPING: "stopping", AxisState.STANDSTILL: "standstill",
         AxisState.DISCRETE_MOTION: "discrete_motion",
         AxisState.CONTINUOUS_MOTION: "continuous_motion",
-        AxisState.SYNCHRONIZED_MOTION: "synchronized_motion", AxisState.HOMING: "homing",
+        AxisState.SYNCHRONIZED_MOTION: "synchronized_motion", AxisState.HOMING: "homing_busy",
     }
 
     def _reset_outputs(self) -> None:
@@ -46,6 +48,7 @@ class MC_ReadStatus(EnableBlock):
         for flag in self._FLAGS:
             setattr(self, flag, False)
         setattr(self, self._STATE_FLAG[axis.state], True)
+        self.homing = axis.homed
         v, a = axis.set_velocity, axis.set_acceleration
         moving = v != 0.0
         self.constant_velocity = moving and a == 0.0
