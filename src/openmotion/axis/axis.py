@@ -19,7 +19,7 @@ from openmotion.axis.dynamics import require_position, resolve, resolve_limits
 from openmotion.axis.homing import HomingSequence
 from openmotion.axis.parameters import PARAMETERS, AxisPara, AxisParameters
 from openmotion.axis.state_machine import admit
-from openmotion.axis.superposition import plan_superposition, room_beside
+from openmotion.axis.superposition import ROOM_FLOOR, plan_superposition, room_beside
 from openmotion.core.checks import is_finite
 from openmotion.core.enums import (
     AxisState,
@@ -710,7 +710,7 @@ class Axis:
                 raise CommandRejected(ErrorId.SUPERPOSITION_ACTIVE,
                                       "a superposition runs already (D-041)")
             room = room_beside(self.parameters, self._base_rest())
-            if not room.fits(self.parameters) or room.velocity(_sign(d)) <= 0.0:
+            if not room.fits(self.parameters, _sign(d)):
                 raise CommandRejected(ErrorId.SUPERPOSITION_INCOMPLETE,
                                       "the base motion leaves no room within the axis "
                                       "maxima for a superimposed motion (D-180)")
@@ -748,7 +748,10 @@ class Axis:
         if self._superposition is not None and k.superimposed[self.row]:
             state = k.overlay.state(self.row, k.sample_time)
             p = self.parameters
-            profile = plan_stop(state, p.deceleration, p.jerk)
+            room = room_beside(p, self._base_rest())  # D-180: the brake keeps the maxima too
+            profile = plan_stop(state, max(min(p.deceleration, room.acceleration),
+                                           abs(state.acceleration)),
+                                max(min(p.jerk, room.jerk), p.jerk * ROOM_FLOOR))
             k.overlay.install(self.row, profile, k.sample_time)
             self._superposition._end(CommandStatus.ABORTED, self._rt.now,
                                      message="aborted by MC_AbortSuperposition")
@@ -1133,13 +1136,13 @@ class Axis:
         if not k.superimposed[self.row]:
             return jobs.plan_job(job, start, override, p)
         room = room_beside(p, k.overlay.remaining(self.row, k.sample_time))
-        if not room.fits(p):
-            self._fold_overlay(CommandStatus.ABORTED, "the base motion was re-planned where "
-                               "the axis limits leave no room beside the superposition")
-            return jobs.plan_job(job, k.state(self.row), override, p)
         direction = _sign(job.velocity) if job.kind == "velocity" else (
             _sign((job.target if job.target is not None else start.position) - start.position)
             or _sign(start.velocity))
+        if not room.fits(p, direction):
+            self._fold_overlay(CommandStatus.ABORTED, "the base motion was re-planned where "
+                               "the axis limits leave no room beside the superposition")
+            return jobs.plan_job(job, k.state(self.row), override, p)
         cap = room.velocity(direction) / max(override, jobs.MIN_OVERRIDE)
         limits = job.limits
         capped = Limits(min(limits.velocity, cap), min(limits.acceleration, room.acceleration),

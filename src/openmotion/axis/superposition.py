@@ -94,9 +94,10 @@ class Room:
     def velocity(self, direction: int) -> float:
         return self.up if direction >= 0 else self.down
 
-    def fits(self, parameters: AxisParameters) -> bool:
-        """Enough room left to plan in at all (ruckig needs positive limits)."""
-        return (min(self.up, self.down) > ROOM_FLOOR * parameters.max_velocity
+    def fits(self, parameters: AxisParameters, direction: int) -> bool:
+        """Enough room left to plan in at all, moving in ``direction`` (ruckig needs
+        positive limits)."""
+        return (self.velocity(direction) > ROOM_FLOOR * parameters.max_velocity
                 and self.acceleration > ROOM_FLOOR * _max_acceleration(parameters)
                 and self.jerk > ROOM_FLOOR * parameters.max_jerk)
 
