@@ -40,6 +40,12 @@ class Samples:
     def column(self, i: int) -> np.ndarray:
         return np.array([row[i] for row in self.rows])
 
+    def assert_state_matches_motion(self) -> None:
+        """D-181: never StandStill while the setpoint moves."""
+        moving = [row for row in self.rows if row[4] is AxisState.STANDSTILL and row[1] != 0.0]
+        assert not moving, f"{len(moving)} samples in StandStill at up to " \
+            f"{max(abs(row[1]) for row in moving)} mm/s"
+
     def assert_within(self, v_max: float, a_max: float, j_max: float) -> None:
         """Every sample within the maxima; no velocity step larger than a_max allows."""
         p, v, a, j = (self.column(i) for i in range(4))
@@ -299,6 +305,7 @@ operations = st.one_of(
     st.tuples(st.just("override"), st.floats(0.0, 100.0)),
     st.tuples(st.just("feed"), st.booleans(), st.booleans()),
     st.tuples(st.just("abort_superposition")),
+    st.tuples(st.just("halt")),
     st.tuples(st.just("run"), st.integers(1, 300)),
 )
 
@@ -321,15 +328,17 @@ def apply(axis: om.Axis, operation: tuple) -> None:
         axis.power(True, enable_positive=values[0], enable_negative=values[1])
     elif kind == "abort_superposition":
         axis.abort_superposition()
+    elif kind == "halt":
+        axis.halt()
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(operations, min_size=1, max_size=25), st.floats(2.0e4, 1.0e6))
 def test_storm_keeps_the_maxima_and_the_velocity_continuous(program: list[tuple],
                                                             default_jerk: float) -> None:
-    """Issue 19 points 2 and 3, D-180: random base motion, superpositions, override and
-    feed-enable changes: every cycle |v|, |a|, |j| within the axis maxima and no velocity
-    step larger than max_acceleration * cycle; the axis still takes a command afterwards."""
+    """Issue 19 points 2, 3 and 4, D-180, D-181: random base motion, halts, superpositions,
+    override and feed-enable changes: every cycle |v|, |a|, |j| within the axis maxima, no
+    velocity step larger than max_acceleration * cycle, never StandStill while moving."""
     rt = om.Runtime()
     axis = rt.add_axis("x", jerk=default_jerk, **LIMITS)
     axis.power()
@@ -342,4 +351,45 @@ def test_storm_keeps_the_maxima_and_the_velocity_continuous(program: list[tuple]
     axis.set_override(100.0)
     run(rt, axis, 400, samples)
     samples.assert_within(500.0, 20000.0, 1.0e6)
+    samples.assert_state_matches_motion()
     assert not axis.error, axis.axis_error_message
+
+
+master_operations = st.one_of(
+    st.tuples(st.just("velocity"), st.floats(1.0, 500.0), st.sampled_from(
+        [Direction.POSITIVE, Direction.NEGATIVE]), st.floats(500.0, 20000.0),
+        st.floats(1.0e4, 1.0e6)),
+    st.tuples(st.just("absolute"), st.floats(-2000.0, 2000.0), st.floats(1.0, 500.0),
+              st.sampled_from([BufferMode.ABORTING, BufferMode.BLENDING_NEXT])),
+    st.tuples(st.just("superimposed"), st.floats(-200.0, 200.0).filter(lambda d: abs(d) > 0.1),
+              st.floats(1.0, 1000.0), st.floats(10.0, 1000.0), st.floats(10.0, 2000.0),
+              st.floats(0.0, 25000.0)),
+    st.tuples(st.just("override"), st.floats(0.0, 100.0)),
+    st.tuples(st.just("run"), st.integers(1, 300)),
+)
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(master_operations, min_size=1, max_size=15),
+       st.floats(-3.0, 3.0).filter(lambda r: abs(r) > 0.01), st.booleans())
+def test_geared_slave_never_outputs_a_sample_beyond_its_maxima(
+        program: list[tuple], ratio: float, superimpose_on_slave: bool) -> None:
+    """Issue 19 point 7, D-182: whatever the master does, each sample of the slave keeps its
+    maxima (master and slave have the same ones); where the coupling would break them the
+    slave is in ErrorStop with GEAR_LIMIT_EXCEEDED instead."""
+    rt = om.Runtime()
+    master = rt.add_axis("m", **LIMITS)
+    slave = rt.add_axis("s", **LIMITS)
+    master.power()
+    slave.power()
+    coupling = slave.gear_in(master, ratio)
+    samples = Samples()
+    for operation in program:
+        apply(master, operation)
+        if superimpose_on_slave and slave.state is AxisState.SYNCHRONIZED_MOTION:
+            apply(slave, ("superimposed", 20.0, 100.0, 200.0, 400.0, 0.0))
+        cycles = operation[1] if operation[0] == "run" else 20
+        run(rt, slave, cycles, samples)
+    run(rt, slave, 300, samples)
+    samples.assert_within(500.0, 20000.0, 1.0e6)
+    assert coupling.active or slave.axis_error_id is E.GEAR_LIMIT_EXCEEDED
