@@ -16,7 +16,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import openmotion as om
-from openmotion.core.enums import AxisState, BufferMode, Direction
+from openmotion.core.enums import AxisState, BufferMode, Direction, NewPosAndVeloMode
 from openmotion.plcopen import MC_Power
 from openmotion.plcopen.jog import JogMode, MC_Jog
 
@@ -204,6 +204,27 @@ def test_feed_enable_restored_under_jog_and_superposition_does_not_jump() -> Non
     samples.assert_within(500.0, 20000.0, 1.0e6)
     assert superposition is not None and superposition.finished
     assert jog.busy and axis.set_velocity == pytest.approx(-466.69)  # the jog goes on
+
+
+def test_base_capped_beside_a_superposition_gets_its_velocity_when_it_ends() -> None:
+    """D-180: MC_NewPosAndVelo raises the base to 450 mm/s while a superposition adds up to
+    150 mm/s on a 500 mm/s axis: the base is held at what the sum allows, and reaches 450
+    mm/s once the superposition is done."""
+    rt = om.Runtime()
+    axis = rt.add_axis("x", **LIMITS)
+    axis.power()
+    axis.move_velocity(300.0)
+    rt.run(1.0)
+    superposition = axis.move_superimposed(100.0, 150.0, 300.0, 600.0)
+    rt.run(0.05)
+    change = axis.new_position_and_velocity(NewPosAndVeloMode.CHANGE_VELO, 0.0, 450.0)
+    assert change.done
+    samples = Samples()
+    while superposition.busy:
+        run(rt, axis, 1, samples)
+    run(rt, axis, 500, samples)
+    samples.assert_within(500.0, 20000.0, 1.0e6)
+    assert superposition.done and axis.set_velocity == pytest.approx(450.0)
 
 
 # -- point 4: the state matches the motion ---------------------------------------------------

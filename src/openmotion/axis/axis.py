@@ -999,6 +999,7 @@ class Axis:
         except CommandRejected as rejected:
             return self._reject(command, rejected.error_id, rejected.message)
         job.limits = limits
+        _keep_room_mark(trial, job)
         self._install(profile)
         self._finish(command)
         return command
@@ -1199,6 +1200,7 @@ class Axis:
         job.kind, job.limits, job.target, job.velocity = (trial.kind, trial.limits, trial.target,
                                                           trial.velocity)
         job.soft_limit_stop, job.settle_time, job.settling_for = trial.soft_limit_stop, 0.0, 0.0
+        _keep_room_mark(trial, job)
         job.command.in_velocity = False
         self._install(profile)
         if job.kind == "position" and self.state is AxisState.CONTINUOUS_MOTION:
@@ -1526,6 +1528,12 @@ class Axis:
 
     def _new(self, kind: str) -> Command:
         return Command(kind, self._rt.now)
+
+
+def _keep_room_mark(trial: Job, job: Job) -> None:
+    """A trial planned beside a superposition marks the job it becomes (D-180)."""
+    if trial.extra.get("beside_superposition"):
+        job.extra["beside_superposition"] = True
 
 
 def _check_dynamics_change(job: Job, profile: Profile, start: KinematicState) -> None:
