@@ -327,6 +327,8 @@ operations = st.one_of(
     st.tuples(st.just("feed"), st.booleans(), st.booleans()),
     st.tuples(st.just("abort_superposition")),
     st.tuples(st.just("halt")),
+    st.tuples(st.just("new_velocity"), st.floats(1.0, 500.0)),
+    st.tuples(st.just("dynamics"), st.floats(500.0, 20000.0), st.floats(1.0e4, 1.0e6)),
     st.tuples(st.just("run"), st.integers(1, 300)),
 )
 
@@ -351,6 +353,10 @@ def apply(axis: om.Axis, operation: tuple) -> None:
         axis.abort_superposition()
     elif kind == "halt":
         axis.halt()
+    elif kind == "new_velocity":
+        axis.new_position_and_velocity(NewPosAndVeloMode.CHANGE_VELO, 0.0, values[0])
+    elif kind == "dynamics":
+        axis.change_dynamics(values[0], values[0], values[1])
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -358,8 +364,9 @@ def apply(axis: om.Axis, operation: tuple) -> None:
 def test_storm_keeps_the_maxima_and_the_velocity_continuous(program: list[tuple],
                                                             default_jerk: float) -> None:
     """Issue 19 points 2, 3 and 4, D-180, D-181: random base motion, halts, superpositions,
-    override and feed-enable changes: every cycle |v|, |a|, |j| within the axis maxima, no
-    velocity step larger than max_acceleration * cycle, never StandStill while moving."""
+    override and feed-enable changes, MC_NewPosAndVelo and MC_ChangeDynParam: every cycle
+    |v|, |a|, |j| within the axis maxima, no velocity step larger than max_acceleration *
+    cycle, never StandStill while moving."""
     rt = om.Runtime()
     axis = rt.add_axis("x", jerk=default_jerk, **LIMITS)
     axis.power()
