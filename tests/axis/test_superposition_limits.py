@@ -255,13 +255,15 @@ def test_halt_under_a_superposition_ends_with_it() -> None:
 
 
 def test_position_move_is_done_only_after_the_superposition() -> None:
-    """D-181: a positioning whose base profile has ended settles only when the
-    superimposed motion is over too, at its target shifted by the distance (D-041)."""
+    """D-181: a positioning whose base profile ends just after a superposition starts
+    settles only when the superimposed motion is over too, at its target shifted by the
+    distance (D-041); it used to be Done (and the axis StandStill) while the superimposed
+    motion had hardly begun."""
     rt = om.Runtime()
     axis = rt.add_axis("x")
     axis.power()
     move = axis.move_absolute(100.0, 200.0)
-    rt.run(0.3)
+    rt.run_until(lambda: axis.remaining_time < 0.005, timeout=5.0)
     superposition = axis.move_superimposed(30.0, 100.0, 200.0, 400.0)
     assert superposition.busy
     while not move.done:
