@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from openmotion.axis import jobs
@@ -18,7 +19,7 @@ from openmotion.axis.dynamics import require_position, resolve, resolve_limits
 from openmotion.axis.homing import HomingSequence
 from openmotion.axis.parameters import PARAMETERS, AxisPara, AxisParameters
 from openmotion.axis.state_machine import admit
-from openmotion.axis.superposition import plan_superposition
+from openmotion.axis.superposition import ROOM_FLOOR, plan_superposition, room_beside
 from openmotion.core.checks import is_finite
 from openmotion.core.enums import (
     AxisState,
@@ -192,6 +193,8 @@ class Axis:
         k.lag_on[row] = p.enable_position_lag_monitoring
         k.lag_max[row] = p.max_position_lag
         k.lag_filter[row] = p.position_lag_filter_time
+        k.v_max[row], k.j_max[row] = p.max_velocity, p.max_jerk
+        k.a_max[row] = max(p.max_acceleration, p.max_deceleration)
 
     def read_parameter(self, number: int, kind: type = float) -> float | bool:
         spec = _parameter_spec(number)
@@ -628,21 +631,28 @@ class Axis:
             couplings.set_ratio(self.row, new, master.set_position, (new - ratio) / cycle)
         elif couplings.ratio_rate[couplings.slaves == self.row].any():
             couplings.set_ratio(self.row, ratio, master.set_position, 0.0)
+        return True  # the kernel watches the slave's limits in every sample (D-182)
+
+    def _gear_limit_fault(self) -> None:
+        """Kernel event: this slave's new sample would pass its maximum velocity,
+        acceleration or jerk (or brake beyond its maximum velocity). ErrorStop, decoupled,
+        braking with the maximum deceleration and jerk from the previous sample, the last
+        one within the limits, so that no sample beyond them is ever output (D-182)."""
+        v, a, j = self.set_velocity, self.set_acceleration, self.set_jerk
+        time, start = self._k.previous_sample(self.row)
+        self._fault(ErrorId.GEAR_LIMIT_EXCEEDED,
+                    f"the geared slave would reach {v:.6g} mm/s, {a:.6g} mm/s², {j:.6g} mm/s³ "
+                    "beyond its maxima")
         p = self.parameters
-        v, a = abs(self.set_velocity), abs(self.set_acceleration)
-        if v > p.max_velocity * (1 + 1e-9) or a > max(p.max_acceleration,
-                                                     p.max_deceleration) * (1 + 1e-9):
-            self._fault(ErrorId.GEAR_LIMIT_EXCEEDED,
-                        f"geared slave at {v:.6g} mm/s, {a:.6g} mm/s² beyond its maxima")
-            return False
-        return True
+        self._install(plan_stop(start, p.max_deceleration, p.max_jerk), has_job=False,
+                      time=time)
 
     def _release_coupling(self) -> None:
         """Decouple: continue from the coupled state, releasing the acceleration (§3.20)."""
         k = self._k
         if self.row not in k.couplings:
             return
-        start = k.state(self.row)
+        start = k.base_state(self.row)  # a superposition keeps riding on top (D-180)
         k.couplings.decouple(self.row)
         p = self.parameters
         cruise = start.velocity + start.acceleration * abs(start.acceleration) / (2.0 * p.jerk)
@@ -696,14 +706,21 @@ class Axis:
                 raise CommandRejected(ErrorId.INVALID_POSITION, "length must not be 0")
             acc = resolve("acceleration", acceleration, self.parameters, w)
             dec = resolve("deceleration", deceleration, self.parameters, w)
-            plan = plan_superposition(mode, d, dv, acc, dec, self.parameters.jerk, v0, span,
-                                      self.set_velocity)
+            if self._k.superimposed[self.row]:
+                raise CommandRejected(ErrorId.SUPERPOSITION_ACTIVE,
+                                      "a superposition runs already (D-041)")
+            room = room_beside(self.parameters, self._base_rest())
+            if not room.fits(self.parameters, _sign(d)):
+                raise CommandRejected(ErrorId.SUPERPOSITION_INCOMPLETE,
+                                      "the base motion leaves no room within the axis "
+                                      "maxima for a superimposed motion (D-180)")
+            jerk = min(self.parameters.jerk, room.jerk)
+            plan = plan_superposition(mode, d, min(dv, room.velocity(_sign(d))),
+                                      min(acc, room.acceleration), min(dec, room.acceleration),
+                                      jerk, v0, span, self.set_velocity)
         except CommandRejected as rejected:
             return self._reject(command, rejected.error_id, rejected.message)
         k = self._k
-        if k.superimposed[self.row]:
-            return self._reject(command, ErrorId.SUPERPOSITION_ACTIVE,
-                                "a superposition runs already (D-041)")
         k.set_superimposed(self.row, True)
         k.overlay.install(self.row, plan.profile, k.sample_time)
         command.value = (plan.velocity_diff, plan.distance, plan.length)
@@ -711,6 +728,14 @@ class Axis:
         command.in_velocity = plan.complete
         self._superposition = command
         return command
+
+    def _base_rest(self) -> Profile:
+        """The rest of the base motion as planned now: the profile of a free axis; a geared
+        or fed axis only knows its present state (its limits are watched every cycle)."""
+        k, row = self._k, self.row
+        if row in k.couplings or k.external[row]:
+            return Profile.hold(k.base_state(row))
+        return k.segments.remaining(row, k.sample_time)
 
     def abort_superposition(self) -> Command:
         """MC_AbortSuperposition (TcMC §3.12): end the superimposed part; the base continues.
@@ -723,7 +748,10 @@ class Axis:
         if self._superposition is not None and k.superimposed[self.row]:
             state = k.overlay.state(self.row, k.sample_time)
             p = self.parameters
-            profile = plan_stop(state, p.deceleration, p.jerk)
+            room = room_beside(p, self._base_rest())  # D-180: the brake keeps the maxima too
+            profile = plan_stop(state, max(min(p.deceleration, room.acceleration),
+                                           abs(state.acceleration)),
+                                max(min(p.jerk, room.jerk), p.jerk * ROOM_FLOOR))
             k.overlay.install(self.row, profile, k.sample_time)
             self._superposition._end(CommandStatus.ABORTED, self._rt.now,
                                      message="aborted by MC_AbortSuperposition")
@@ -770,6 +798,24 @@ class Axis:
         if self._superposition is not None:
             self._superposition._end(status, self._rt.now, error_id, message)
             self._superposition = None
+        if ended:
+            self._after_superposition()
+
+    def _after_superposition(self) -> None:
+        """The superposition has ended: a base planned in the room beside it gets its own
+        limits back, and a base that came to rest meanwhile ends now (D-180, D-181)."""
+        job = self._job
+        if job is None or job.command.finished:
+            return
+        if job.extra.pop("beside_superposition", False) and job.kind in (
+                "position", "velocity") and (self.has_job or job.kind == "velocity"):
+            try:
+                self._install(self._plan(job))
+                job.command.in_velocity = False
+            except CommandRejected as rejected:
+                self._fault(rejected.error_id, rejected.message)
+        elif job.kind in ("halt", "stop") and not self.has_job:
+            self._end_stop(job)
 
     # -- external setpoint generation (TcMC §4.16-4.18) -----------------------------------------
 
@@ -949,10 +995,11 @@ class Axis:
             trial = Job(job.kind, job.command, limits, job.target, job.velocity,
                         job.buffer_mode, job.end_velocity, job.soft_limit_stop)
             profile = self._plan_dynamics_change(trial)
-            _check_dynamics_change(job, profile, self._k.state(self.row))
+            _check_dynamics_change(job, profile, self._k.base_state(self.row))
         except CommandRejected as rejected:
             return self._reject(command, rejected.error_id, rejected.message)
         job.limits = limits
+        _keep_room_mark(trial, job)
         self._install(profile)
         self._finish(command)
         return command
@@ -1033,7 +1080,7 @@ class Axis:
         if job.buffer_mode is BufferMode.ABORTING or current is None or self._idle():
             if job.target is None and "target_of" in job.extra:
                 job.target = job.extra["target_of"](self.set_position)
-            profile = self._plan(job)
+            profile = self._plan(job, whole=True)  # it ends the superposition (D-041)
             jobs.check_soft_limits(self.parameters, profile, job.target)
             self._abort_all(f"aborted by {job.command.kind}")
             self._hold = None
@@ -1056,7 +1103,7 @@ class Axis:
                                                          following.limits.velocity)
         running = previous is self._job and self.has_job
         if running:
-            start = self._k.state(self.row)
+            start = self._k.base_state(self.row)
         elif previous is self._job:
             start = KinematicState(self.set_position)
         else:  # queued: it will start where the job before it ends
@@ -1072,10 +1119,45 @@ class Axis:
         job = self._job
         return job is None or (job.command.finished and not self.has_job)
 
-    def _plan(self, job: Job) -> Profile:
-        start = self._k.state(self.row)
+    def _plan(self, job: Job, whole: bool = False) -> Profile:
+        """Plan ``job`` from the last sample. ``whole``: from the whole setpoint, for a command
+        that ends a running superposition; otherwise from the base motion, which the
+        superposition keeps riding on (D-180)."""
+        k = self._k
+        start = k.state(self.row) if whole else k.base_state(self.row)
         job.extra["start"] = start.position
-        return jobs.plan_job(job, start, self._effective_override, self.parameters)
+        if whole:
+            return jobs.plan_job(job, start, self._effective_override, self.parameters)
+        return self._plan_base(job, start)
+
+    def _plan_base(self, job: Job, start: KinematicState) -> Profile:
+        """Plan the base motion; beside a running superposition only in the room its rest
+        leaves (D-180), or, where there is none, after folding it into the base."""
+        k, p, override = self._k, self.parameters, self._effective_override
+        if not k.superimposed[self.row]:
+            return jobs.plan_job(job, start, override, p)
+        room = room_beside(p, k.overlay.remaining(self.row, k.sample_time))
+        direction = _sign(job.velocity) if job.kind == "velocity" else (
+            _sign((job.target if job.target is not None else start.position) - start.position)
+            or _sign(start.velocity))
+        if not room.fits(p, direction):
+            self._fold_overlay(CommandStatus.ABORTED, "the base motion was re-planned where "
+                               "the axis limits leave no room beside the superposition")
+            return jobs.plan_job(job, k.state(self.row), override, p)
+        cap = room.velocity(direction) / max(override, jobs.MIN_OVERRIDE)
+        limits = job.limits
+        capped = Limits(min(limits.velocity, cap), min(limits.acceleration, room.acceleration),
+                        min(limits.deceleration, room.acceleration),
+                        min(limits.jerk, room.jerk))
+        trial = Job(job.kind, job.command, capped, job.target,
+                    math.copysign(min(abs(job.velocity), cap), job.velocity), job.buffer_mode,
+                    math.copysign(min(abs(job.end_velocity), cap), job.end_velocity),
+                    job.soft_limit_stop)
+        job.extra["beside_superposition"] = True  # re-planned in full when it ends
+        j_max = min(p.max_jerk, room.jerk)  # D-020 raises a jerk at most to what is left
+        caps = replace(p, max_velocity=min(p.max_velocity, room.velocity(direction)),
+                       max_jerk=j_max, jerk=min(p.jerk, j_max))
+        return jobs.plan_job(trial, start, override, caps)
 
     def _start(self, job: Job, profile: Profile, time: float | None = None) -> None:
         self._job = job
@@ -1118,6 +1200,7 @@ class Axis:
         job.kind, job.limits, job.target, job.velocity = (trial.kind, trial.limits, trial.target,
                                                           trial.velocity)
         job.soft_limit_stop, job.settle_time, job.settling_for = trial.soft_limit_stop, 0.0, 0.0
+        _keep_room_mark(trial, job)
         job.command.in_velocity = False
         self._install(profile)
         if job.kind == "position" and self.state is AxisState.CONTINUOUS_MOTION:
@@ -1144,23 +1227,28 @@ class Axis:
             elif not job.extra.get("settling"):
                 job.extra["settling"] = True
                 self._rt._watch(self, lambda now: self._settle(job, now))
-        elif job.kind in ("halt", "stop"):
-            self._finish(job.command)
-            if job.kind == "stop" and job.command.hold:
-                self._hold = job.command
-                self._rt._watch(self, self._release_stop)
-            else:
-                self._job = None
-                self.state = AxisState.STANDSTILL
-                self._start_next(self._k.sample_time)
+        elif job.kind in ("halt", "stop") and not self._k.superimposed[self.row]:
+            self._end_stop(job)
+        # a halt whose base came to rest under a superposition ends with it (D-181)
+
+    def _end_stop(self, job: Job) -> None:
+        """A halt or stop has brought the axis to rest."""
+        self._finish(job.command)
+        if job.kind == "stop" and job.command.hold:
+            self._hold = job.command
+            self._rt._watch(self, self._release_stop)
+        else:
+            self._job = None
+            self.state = AxisState.STANDSTILL
+            self._start_next(self._k.sample_time)
 
     def _settle(self, job: Job, now: float) -> bool:
         """TcMC §7.1: Done once the monitors enabled by 1022/1024 agree; False = stop watching."""
         if job is not self._job or job.command.finished:
             return False
-        if self.has_job:  # re-planned (override, MC_NewPos): settle after the new profile
-            job.settle_time = job.settling_for = 0.0
-            return True
+        if self.has_job or self._k.superimposed[self.row]:  # re-planned (override, MC_NewPos),
+            job.settle_time = job.settling_for = 0.0  # or still superimposed (D-181): settle
+            return True  # after the motion has ended
         p = self.parameters
         cycle = self._rt.cycle_time
         job.settling_for += cycle
@@ -1201,7 +1289,8 @@ class Axis:
             if self._job is not None and self._job.command.finished:
                 self._job = None
                 if self.state in (AxisState.DISCRETE_MOTION, AxisState.CONTINUOUS_MOTION) \
-                        and not self.has_job and self.set_velocity == 0.0:
+                        and not self.has_job and self.set_velocity == 0.0 \
+                        and not self._k.superimposed[self.row]:
                     self.state = AxisState.STANDSTILL
             return
         job = self._queue.pop(0)
@@ -1213,12 +1302,12 @@ class Axis:
         job.extra["start"] = start.position
         try:
             try:
-                profile = jobs.plan_job(job, start, self._effective_override, self.parameters)
+                profile = self._plan_base(job, start)
             except CommandRejected:
                 if job.end_velocity == 0.0:
                     raise
                 job.end_velocity = 0.0  # the blend is not plannable from here: stop at the target
-                profile = jobs.plan_job(job, start, self._effective_override, self.parameters)
+                profile = self._plan_base(job, start)
             jobs.check_soft_limits(self.parameters, profile, job.target)
         except CommandRejected as rejected:
             job.command._end(CommandStatus.ERROR, time, rejected.error_id, rejected.message)
@@ -1439,6 +1528,12 @@ class Axis:
 
     def _new(self, kind: str) -> Command:
         return Command(kind, self._rt.now)
+
+
+def _keep_room_mark(trial: Job, job: Job) -> None:
+    """A trial planned beside a superposition marks the job it becomes (D-180)."""
+    if trial.extra.get("beside_superposition"):
+        job.extra["beside_superposition"] = True
 
 
 def _check_dynamics_change(job: Job, profile: Profile, start: KinematicState) -> None:

@@ -27,16 +27,18 @@ def plan_job(job: Job, start: KinematicState, override: float,
     to ``max_jerk`` (D-020).
     """
     profile = _plan_job(job, start, override)
-    if parameters is None or start.acceleration * start.velocity <= 0.0:
+    if parameters is None or start.acceleration == 0.0:
         return profile
     v_max = parameters.max_velocity
-    reach = abs(start.velocity) + start.acceleration**2 / (2.0 * job.limits.jerk)
-    if reach <= v_max:  # even releasing the acceleration at this jerk stays below v_max
+    # velocity left before the bound the acceleration drives towards (braking through zero
+    # towards -v_max counts too: issue 19)
+    room = v_max - start.velocity * math.copysign(1.0, start.acceleration)
+    if start.acceleration**2 / (2.0 * job.limits.jerk) <= room:  # releasing it stays inside
         return profile
     lo, hi = profile.velocity_extrema()
-    if max(-lo, hi) <= v_max * (1.0 + 1e-9) or abs(start.velocity) >= v_max:
+    if max(-lo, hi) <= v_max * (1.0 + 1e-9) or room <= 0.0:
         return profile
-    needed = start.acceleration**2 / (2.0 * (v_max - abs(start.velocity)))
+    needed = start.acceleration**2 / (2.0 * room)
     jerk = min(max(job.limits.jerk, needed * (1.0 + 1e-6)), parameters.max_jerk)
     if jerk <= job.limits.jerk:
         return profile

@@ -14,9 +14,10 @@ from openmotion.trajectory.evaluate import SegmentTable
 from openmotion.trajectory.segments import KinematicState, Profile
 
 _FLOAT_FIELDS = ("set_p", "set_v", "set_a", "set_j", "act_p", "act_v", "alpha", "lag_max",
-                 "lag_filter", "lag_timer", "ext_p", "ext_v", "ext_a")
+                 "lag_filter", "lag_timer", "ext_p", "ext_v", "ext_a", "v_max", "a_max", "j_max")
 _BOOL_FIELDS = ("has_job", "lag_on", "monitored", "blocked", "external", "fed", "superimposed")
 _EMPTY = np.zeros(0, dtype=np.int64)
+LIMIT_TOLERANCE = 1e-9  #: relative slack of the limit checks (rounding of the cubic)
 
 
 class AxisKernel:
@@ -36,6 +37,8 @@ class AxisKernel:
         self._externals = 0  #: axes following external setpoints
         self._blocked = 0  #: axes whose drive is mechanically blocked (stall simulation)
         self.couplings = Couplings()
+        #: time, rows and (p, v, a) of the geared slaves' previous sample
+        self.previous = (0.0, _EMPTY, np.zeros((0, 3)))
         self._grow(capacity)
 
     def _grow(self, capacity: int) -> None:
@@ -79,7 +82,13 @@ class AxisKernel:
         n = self.size
         return np.flatnonzero(self.has_job[:n] & (self.segments.end[:n] <= now))
 
-    def evaluate(self, now: float) -> None:
+    def evaluate(self, now: float, again: bool = False) -> None:
+        """Sample every setpoint at ``now``; ``again``: the same instant after a fault
+        re-planned some rows (the slaves' previous samples stay)."""
+        slaves = self.couplings.slaves
+        if slaves.size and not again:  # where a slave brakes from if its next sample is refused
+            self.previous = (self.sample_time, slaves.copy(), np.stack(
+                (self.set_p[slaves], self.set_v[slaves], self.set_a[slaves]), axis=1))
         self.segments.evaluate(now, self.set_p, self.set_v, self.set_a, self.set_j)
         if self._overlays:  # MC_MoveSuperImposed, free axes first: their slaves follow them
             self._add_overlays(now, slaves=False)
@@ -91,6 +100,30 @@ class AxisKernel:
             self.set_p[rows], self.set_v[rows] = self.ext_p[rows], self.ext_v[rows]
             self.set_a[rows], self.set_j[rows] = self.ext_a[rows], 0.0
         self.sample_time = now
+
+    def slave_violations(self) -> np.ndarray:
+        """Geared slave rows whose new sample breaks their maximum velocity, acceleration or
+        jerk, or from which braking with the maximum jerk would pass the maximum velocity
+        (D-182): they must fault and brake from their previous sample instead."""
+        s = self.couplings.slaves
+        if not s.size:
+            return _EMPTY
+        v, a, j = self.set_v[s], self.set_a[s], self.set_j[s]
+        slack = 1.0 + LIMIT_TOLERANCE
+        v_max, a_max, j_max = self.v_max[s] * slack, self.a_max[s] * slack, self.j_max[s] * slack
+        reach = np.abs(v) + np.where(a * v > 0.0, a * a / (2.0 * self.j_max[s]), 0.0)
+        bad = (reach > v_max) | (np.abs(a) > a_max) | (np.abs(j) > j_max)
+        bad &= ~self.external[s]
+        return s[bad]
+
+    def previous_sample(self, row: int) -> tuple[float, KinematicState]:
+        """Time and state of a geared slave's previous sample (its last admissible one)."""
+        time, rows, values = self.previous
+        found = np.flatnonzero(rows == row)
+        if not found.size:  # coupled in this cycle: at rest where it stands
+            return self.sample_time, KinematicState(float(self.set_p[row]))
+        p, v, a = values[int(found[0])].tolist()
+        return time, KinematicState(p, v, a)
 
     def simulate_drives(self) -> None:
         n = self.size
@@ -156,6 +189,18 @@ class AxisKernel:
         extra = self.overlay.state(row, self.sample_time)
         return KinematicState(base.position + extra.position, base.velocity + extra.velocity,
                               base.acceleration + extra.acceleration)
+
+    def base_state(self, row: int) -> KinematicState:
+        """The setpoint state at the last sample without the superimposed part: where a
+        re-plan of the base motion starts while the superposition goes on (D-180)."""
+        whole = self.state(row)
+        if not self.superimposed[row]:
+            return whole
+        if row not in self.couplings and not self.external[row]:
+            return self.segments.state(row, self.sample_time)
+        extra = self.overlay.state(row, self.sample_time)
+        return KinematicState(whole.position - extra.position, whole.velocity - extra.velocity,
+                              whole.acceleration - extra.acceleration)
 
     def _add_overlays(self, now: float, slaves: bool) -> None:
         n = self.size

@@ -7,6 +7,10 @@ the budget is length / v (ADDITIVE) or (length - distance) / v (LIMITED). VELORE
 the whole budget with the smallest velocity change; LENGTHREDUCTION is as fast as the velocity
 change allows. What cannot be done in the budget is done as far as possible: the result says
 so and the command reports 0x4243 (SUPERPOSITION_INCOMPLETE).
+
+The sum of base and superimposed motion keeps the axis maxima (D-180): the superimposed
+motion is planned in the room the rest of the base profile leaves, and a base re-planned
+while it runs in the room the rest of the superimposed profile leaves (``room_beside``).
 """
 
 from __future__ import annotations
@@ -14,12 +18,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
+from openmotion.axis.parameters import AxisParameters
 from openmotion.core.enums import SuperpositionMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.trajectory.plan import Limits, plan_in_time
 from openmotion.trajectory.segments import Profile
 
 BISECTION_STEPS = 40
+ROOM_FLOOR = 1e-6  #: less room than this fraction of a maximum counts as none (D-180)
 
 
 @dataclass(frozen=True)
@@ -72,3 +80,37 @@ def _reachable(distance: float, limits: Limits, budget: float) -> float:
         else:
             hi = mid
     return math.copysign(lo, distance)
+
+
+@dataclass(frozen=True)
+class Room:
+    """What the axis maxima leave beside the other part of a superimposed motion (D-180)."""
+
+    up: float  #: velocity that may still be added in the positive direction [mm/s]
+    down: float  #: velocity that may still be added in the negative direction [mm/s]
+    acceleration: float  #: [mm/s²]
+    jerk: float  #: [mm/s³]
+
+    def velocity(self, direction: int) -> float:
+        return self.up if direction >= 0 else self.down
+
+    def fits(self, parameters: AxisParameters, direction: int) -> bool:
+        """Enough room left to plan in at all, moving in ``direction`` (ruckig needs
+        positive limits)."""
+        return (self.velocity(direction) > ROOM_FLOOR * parameters.max_velocity
+                and self.acceleration > ROOM_FLOOR * _max_acceleration(parameters)
+                and self.jerk > ROOM_FLOOR * parameters.max_jerk)
+
+
+def room_beside(parameters: AxisParameters, other: Profile) -> Room:
+    """The room the axis maxima leave beside ``other`` for the rest of its course."""
+    lo, hi = other.velocity_extrema()
+    a = float(np.abs(other.a).max())
+    j = float(np.abs(other.j).max())
+    v_max = parameters.max_velocity
+    return Room(v_max - max(hi, 0.0), v_max + min(lo, 0.0),
+                _max_acceleration(parameters) - a, parameters.max_jerk - j)
+
+
+def _max_acceleration(parameters: AxisParameters) -> float:
+    return min(parameters.max_acceleration, parameters.max_deceleration)

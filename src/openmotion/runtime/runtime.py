@@ -124,6 +124,13 @@ class Runtime:
                 for row in ended.tolist():
                     self._axis_list[row]._on_profile_end(float(end[row]))
         kernel.evaluate(now)
+        for _ in range(kernel.size):  # a faulted master changes its slaves' samples too
+            bad = kernel.slave_violations()
+            if not bad.size:
+                break
+            for row in bad.tolist():
+                self._axis_list[row]._gear_limit_fault()
+            kernel.evaluate(now, again=True)
         for advance in self._systems:
             advance(now)
 

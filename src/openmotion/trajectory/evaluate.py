@@ -62,6 +62,18 @@ class SegmentTable:
         n = int(np.isfinite(records[:, _T]).sum())
         return float(records[n - 1, _P])
 
+    def remaining(self, row: int, time: float) -> Profile:
+        """The part of row ``row``'s profile from ``time`` on, as a profile starting at 0
+        (superposition plans in the room the other part of the motion leaves, D-180)."""
+        records = self.seg[row]
+        n = int(np.isfinite(records[:, _T]).sum())
+        k = max(int((records[1:n, _T] <= time).sum()), 0)
+        data = records[k:n].T.copy()
+        start = self.state(row, time)
+        data[0] = np.maximum(data[0] - time, 0.0)
+        data[1:4, 0] = start.position, start.velocity, start.acceleration
+        return Profile.from_data(data)
+
     def shift(self, row: int, offset: float) -> None:
         """Move every position of ``row`` by ``offset`` (a coordinate shift)."""
         self.seg[row, :, _P] += offset
