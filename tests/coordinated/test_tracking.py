@@ -307,7 +307,9 @@ def test_rule114_slave_ramps_to_ratio_times_path_speed_then_in_sync():
         cycles += 1
         assert abs(slave.set_velocity - previous) <= 500.0 * rt.cycle_time * (1 + 1e-9)
         previous = slave.set_velocity
-    assert cycles == pytest.approx(150.0 / 500.0 / rt.cycle_time, abs=1.0)  # 0.3 s
+    # jerk-limited with the slave's default jerk (MC_DEFAULT, D-195): 0.3 s + a / j
+    ramp = 150.0 / 500.0 + 500.0 / slave.parameters.jerk
+    assert cycles == pytest.approx(ramp / rt.cycle_time, abs=1.0)
     start, length = slave.set_position, 0.0
     for _ in range(200):
         rt.step()

@@ -167,7 +167,7 @@ class PathMotion:
         or None: then it starts from rest (D-110)."""
         law, sampled = self.law, self._sampled
         if self.halt_command is None or law is None or law.standing or sampled is None \
-                or self.interrupted:
+                or self.interrupted or "couple" in request.extra:
             return None
         time, piece, local = sampled
         entry = self.entries.get(piece)
@@ -195,10 +195,12 @@ class PathMotion:
         self._abort_queue("aborted by MC_GroupHalt")
         self.follow = None
         self.interrupted = False
+        if self.law is None:  # nothing runs (a buffered halt, or one at rest): at rest now
+            command._end(CommandStatus.DONE, now)
+            return
         command.status = CommandStatus.ACTIVE
         self.halt_command = command
-        if self.law is not None:
-            self.law.stop(now, deceleration, jerk, keep=False)
+        self.law.stop(now, deceleration, jerk, keep=False)
 
     def interrupt(self, command: Command, deceleration: float, jerk: float) -> None:
         active = self.active
@@ -398,6 +400,10 @@ class PathMotion:
         geometry = request.build(start, request.extra["reference"])
         last_acs_v = self._last_acs_v
         self._clear()
+        couple = request.extra.get("couple")  # MC_SyncGroupToAxis: the law becomes a cam
+        if not geometry and couple is not None:
+            raise CommandRejected(ErrorId.GROUP_MOVING, "the path could not start: the TCP "
+                                  "is at its end already")
         if not geometry:  # already there: Done without motion
             request.end = start
             request.command._end(CommandStatus.DONE, group._rt.now)
@@ -419,6 +425,8 @@ class PathMotion:
         request.command.status = CommandStatus.ACTIVE
         request.end = self._end_of(request, geometry, start)
         self._push(request, geometry, pieces)
+        if couple is not None:
+            couple(start)
 
     def _append(self, request: PathCommand) -> None:
         """Buffered or blending: after the last queued command (§7.3.2, §7.3.3)."""
