@@ -498,7 +498,7 @@ class MC_TrackConveyorBelt(_Tracking):
     transform FB replaces the PCS. Moves in PCS then follow the object. ``coord_system``:
     PCS, the one system that can move (others: INVALID_MODE); ``buffer_mode``: Aborting
     sets it now, Buffered (the Blending modes act as Buffered) when the motion before it is
-    over, Busy and not Active until then (decisions D-196)."""
+    over, Busy and not Active until then (decisions D-194)."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"conveyor_belt": None, "conveyor_belt_origin": None,
                                         "initial_object_position": None,
@@ -535,7 +535,7 @@ class MC_SetDynCoordTransform(_Tracking):
     """This group's PCS rides on the TCP of ``master`` (another AxesGroup), offset by
     ``coord_transform`` (§6.5). ``mode`` (MC_PathMode) is checked and changes nothing (the
     PCS follows the master's TCP whatever its path); ``coord_system`` and ``buffer_mode``
-    as MC_TrackConveyorBelt (decisions D-196)."""
+    as MC_TrackConveyorBelt (decisions D-194)."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"master": None, "coord_transform": None,
                                         "mode": PathMode.NON_PERIODIC,
@@ -557,7 +557,7 @@ class MC_SyncAxisToGroup(_GroupCommand):
     locks in position. ``in_sync`` once locked; a single-axis command to the slave ends it
     (CommandAborted). Retriggering with a new ratio replaces it (rule 116). ``buffer_mode``
     Buffered (the Blending modes act as Buffered) waits until the slave's own command is
-    over (decisions D-195)."""
+    over (decisions D-193)."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"slave": None, "ratio_numerator": 1.0,
                                         "ratio_denominator": 1.0, "acceleration": MC_DEFAULT,

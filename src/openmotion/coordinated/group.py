@@ -585,7 +585,7 @@ class AxesGroup:
         return self._after_motion(command, mode, lambda: self._start_home(command, values))
 
     def _home_values(self, position: Any, coord: CoordSystem) -> list[Any]:
-        """MC_GroupHome's Position as one reference value per member (D-196)."""
+        """MC_GroupHome's Position as one reference value per member (D-194)."""
         from openmotion.coordinated.inputs import vector
         if coord is CoordSystem.ACS:
             return vector(position, len(self.members), "Position").tolist()
@@ -819,7 +819,7 @@ class AxesGroup:
                                 buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
         """MC_SetDynCoordTransform (§6.5): this group's PCS rides on ``master``'s TCP.
         ``mode`` (MC_PathMode) is checked and changes nothing: the frame follows the master's
-        TCP whatever its path does (decisions D-196)."""
+        TCP whatever its path does (decisions D-194)."""
         if master is self:
             command = self._command("MC_SetDynCoordTransform")
             return self._reject(command, CommandRejected(ErrorId.INVALID_MODE,
@@ -838,7 +838,7 @@ class AxesGroup:
         """The tracking FBs (§6.5-§6.7): CoordSystem names the system that becomes dynamic,
         and only the PCS can (the MCS is the machine's, the ACS the axes'); Aborting sets the
         frame now, Buffered (and the Blending modes, which act as Buffered) when the motion
-        issued before is over, Busy and not Active until then (decisions D-196). The frame
+        issued before is over, Busy and not Active until then (decisions D-194). The frame
         is made when it is set: a belt's or table's travel counts from that cycle."""
         command = self._command(block)
         try:
@@ -847,7 +847,7 @@ class AxesGroup:
             coord = enum_value(CoordSystem, coord_system, "CoordSystem")
             if coord is not CoordSystem.PCS:
                 raise CommandRejected(ErrorId.INVALID_MODE, f"CoordSystem {coord.name}: only "
-                                      "the PCS can follow a moving object (§2.1, D-196)")
+                                      "the PCS can follow a moving object (§2.1, D-194)")
         except CommandRejected as rejected:
             return self._reject(command, rejected)
         return self._after_motion(command, mode, lambda: self._track(command, frame(command)))
@@ -870,7 +870,7 @@ class AxesGroup:
         ``command.in_velocity`` is InSync. A new call replaces the ratio (rule 116). Aborting
         takes the slave over at once; Buffered (and the Blending modes, which act as
         Buffered) waits, Busy and not Active, until the slave's own command is over
-        (decisions D-195)."""
+        (decisions D-193)."""
         command = self._command("MC_SyncAxisToGroup")
         try:
             mode = part4_buffer_mode(buffer_mode)

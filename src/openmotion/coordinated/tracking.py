@@ -132,7 +132,7 @@ class AxisSync:
     cycle as the target moves. Once it is reached, InSync, and the slave locks in position:
     from then on it is the odometer, position = position at the lock + ratio x path length
     travelled since (in ``coord_system``), its velocity ratio x path speed, whatever the
-    ramp-in limits (decisions D-195). The group writes the slave's setpoint after its own
+    ramp-in limits (decisions D-193). The group writes the slave's setpoint after its own
     axes every cycle; a single-axis command to the slave ends the coupling (CommandAborted).
     """
 
