@@ -517,7 +517,8 @@ class AxesGroup:
             self.machine.fire(GroupEvent.HALT)
             self._couple()
             self.motion.halt(command, dec, jerk_value)
-            self._abort_queued("aborted by MC_GroupHalt")
+            if mode is BufferMode.ABORTING:  # a buffered halt keeps what was issued after it
+                self._abort_queued("aborted by MC_GroupHalt")
         return self._after_motion(command, mode, start)
 
     def interrupt(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT
