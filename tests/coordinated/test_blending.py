@@ -314,3 +314,113 @@ def test_a_blending_contour_needs_a_sensible_parameter(mode, parameter):
         assert not command.error  # a distance of 101 mm is fine
     else:
         assert command.error and command.error_id is ErrorId.INVALID_MODE
+
+
+# -- Aborting with a transition at speed (§7.4.2, §7.4.3; issue 20 point 5, D-195) ----------
+
+JOIN = {"velocity": 200.0, "acceleration": 2000.0, "deceleration": 2000.0, "jerk": 1.0e5}
+
+
+def aborted_at_speed(mode: TransitionMode, target: list[float], parameter: float = 50.0
+                     ) -> tuple[om.Runtime, AxesGroup, Any, Any, np.ndarray, np.ndarray]:
+    """A line along +x at 200 mm/s, aborted at x = 108 by a line to ``target`` with
+    ``mode``; the path speed and the axes' set accelerations of every cycle until Done."""
+    rt, group, axes = group_of(0.0, 0.0, 0.0)
+    first = group.move_linear_absolute([300.0, 0.0, 0.0], **JOIN)
+    rt.run(0.6)
+    assert group.motion.path_velocity == pytest.approx(200.0, rel=1e-12)
+    second = group.move_linear_absolute(target, **JOIN, transition_mode=mode,
+                                        transition_parameter=[parameter])
+    assert first.aborted and second.active  # the hand-over of Aborting, in the call
+    speeds, accelerations = [], []
+    while not second.done:
+        assert not second.error and rt.now < 5.0
+        rt.step()
+        speeds.append(group.motion.path_velocity)
+        accelerations.append(group._k.set_a[group.rows].copy())
+    return rt, group, first, second, np.array(speeds), np.array(accelerations)
+
+
+def _smooth(rt: om.Runtime, accelerations: np.ndarray) -> None:
+    """Axis accelerations change by at most the jerk per cycle: no jump at the abort."""
+    steps = np.abs(np.diff(accelerations, axis=0)).max()
+    assert steps <= JOIN["jerk"] * rt.cycle_time * (1 + 1e-6)
+
+
+def test_aborting_with_constant_velocity_joins_the_new_path_at_p_percent_of_its_velocity():
+    """§7.4.3: with Aborting, the first FB is aborted and the group returns to the commanded
+    path on a contour run at TPVelocity % of the transition velocity, here 50 % of the new
+    FB's 200 mm/s (D-195). Before issue 20 it stopped (TMNone)."""
+    rt, group, first, second, speeds, accelerations = aborted_at_speed(
+        T.TM_CONSTANT_VELOCITY, [200.0, 150.0, 0.0])
+    moving = speeds[:-1]
+    assert moving.min() > 0.0  # never at rest between the two paths
+    on_contour = np.isclose(moving, 100.0, rtol=1e-9)
+    assert on_contour.sum() * rt.cycle_time > 0.1  # a stretch at constant 100 mm/s
+    assert moving.max() <= 200.0 * (1 + 1e-9)
+    assert group.position(CoordSystem.MCS, actual=False) == pytest.approx(
+        [200.0, 150.0, 0.0], abs=TOL)
+    _smooth(rt, accelerations)
+    rt.step()
+    assert group.state.name == "STANDBY"  # at rest after Done, and usable
+    assert group.move_linear_absolute([0.0, 0.0, 0.0]).busy
+
+
+def test_aborting_with_start_velocity_leaves_at_p_percent_of_the_aborted_velocity():
+    """§7.4.2: the contour starts once the aborted motion has slowed to TPStartVelocity %
+    of its Velocity (50 % of 200 mm/s) and the group never stops (D-195)."""
+    rt, group, first, second, speeds, accelerations = aborted_at_speed(
+        T.TM_START_VELOCITY, [200.0, 150.0, 0.0])
+    low = speeds[:-1]
+    assert low.min() > 0.0
+    turn = int(np.argmin(low[: len(low) // 2]))
+    assert low[turn] == pytest.approx(100.0, rel=1e-6)
+    assert group.position(CoordSystem.MCS, actual=False) == pytest.approx(
+        [200.0, 150.0, 0.0], abs=TOL)
+    _smooth(rt, accelerations)
+
+
+def test_aborting_with_constant_velocity_on_an_arc_keeps_the_acceleration_continuous():
+    """The lead-out continues the arc the TCP is on (same curvature), so the abort does not
+    change the axes' acceleration in a step (D-195)."""
+    rt, group, axes = group_of(0.0, 0.0, 0.0)
+    first = group.move_circular_absolute([50.0, 50.0, 0.0], [100.0, 0.0, 0.0], velocity=100.0,
+                                         acceleration=2000.0, deceleration=2000.0, jerk=1.0e5)
+    rt.run(0.5)
+    second = group.move_linear_absolute([150.0, 100.0, 0.0], velocity=100.0,
+                                        acceleration=2000.0, deceleration=2000.0, jerk=1.0e5,
+                                        transition_mode=T.TM_CONSTANT_VELOCITY,
+                                        transition_parameter=[80.0])
+    assert first.aborted and second.active
+    speeds, accelerations = [], []
+    while not second.done:
+        assert rt.now < 5.0
+        rt.step()
+        speeds.append(group.motion.path_velocity)
+        accelerations.append(group._k.set_a[group.rows].copy())
+    assert min(speeds[:-1]) > 0.0
+    _smooth(rt, np.array(accelerations))
+    assert group.position(CoordSystem.MCS, actual=False) == pytest.approx(
+        [150.0, 100.0, 0.0], abs=TOL)
+
+
+def test_aborting_with_constant_velocity_stops_first_where_the_path_turns_back():
+    """A new path straight back cannot be joined at speed: the group brakes to rest along the
+    old path first, as with TMNone (D-110, D-195)."""
+    rt, group, first, second, speeds, accelerations = aborted_at_speed(
+        T.TM_CONSTANT_VELOCITY, [0.0, 0.0, 0.0])
+    assert speeds[:-1].min() == 0.0
+    assert group.position(CoordSystem.MCS, actual=False) == pytest.approx([0.0, 0.0, 0.0],
+                                                                            abs=TOL)
+
+
+@pytest.mark.parametrize("mode", [T.TM_START_VELOCITY, T.TM_CONSTANT_VELOCITY],
+                         ids=lambda m: m.name)
+def test_aborting_with_a_velocity_transition_needs_a_percentage(mode):
+    """§7.4.2/§7.4.3: the percentage is now evaluated with Aborting too (D-195)."""
+    rt, group, axes = group_of(0.0, 0.0, 0.0)
+    move = group.move_linear_absolute([40.0, 0.0, 0.0], transition_mode=mode,
+                                      transition_parameter=[150.0])
+    assert move.error and move.error_id is ErrorId.INVALID_MODE
+    assert group.move_linear_absolute([40.0, 0.0, 0.0], transition_mode=mode,
+                                      transition_parameter=[50.0]).busy

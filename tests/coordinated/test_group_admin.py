@@ -1134,3 +1134,103 @@ def test_rule127_short_names_are_the_same_classes(short):
     import openmotion.coordinated.blocks as blocks
 
     assert getattr(blocks, short) is getattr(blocks, SHORT[short])
+
+
+# -- optional inputs of the stop blocks and MC_GroupHome (issue 20 point 6; D-194) ----------
+
+
+@pytest.mark.parametrize("mode", [BufferMode.BUFFERED, BufferMode.BLENDING_NEXT],
+                         ids=lambda m: m.name)
+def test_buffered_group_stop_waits_for_the_motion_then_stops_at_rest(mode):
+    """§5.13 gives MC_GroupStop a BufferMode (§7.3): Buffered starts after the motion
+    before it; the Blending modes act as Buffered (D-194)."""
+    rt, group, axes, move = moving_group()
+    stop = MC_GroupStop(group)
+    stop(execute=True, buffer_mode=mode)
+    assert outputs(stop) == (True, False, False, False, False)  # waits: Busy only
+    assert move.active and group.state is G.MOVING
+    drive(rt, stop, until=lambda: move.done)
+    assert not move.aborted
+    assert tcp(group).tolist() == pytest.approx([200.0, 0.0, 0.0], abs=TOL)
+    drive(rt, stop, until=lambda: stop.done, limit=5)
+    assert group.state is G.STOPPING and stop.busy and stop.active
+    stop(execute=False)
+    rt.step()
+    assert group.state is G.STANDBY
+    assert group.move_linear_absolute([0.0, 0.0, 0.0]).busy
+
+
+def test_a_waiting_group_stop_released_early_ends_stopping_at_standstill():
+    """Note 3: a short stop pulse still stops; released while it waited, the group is
+    GroupStandby once the stop is Done (D-194)."""
+    rt, group, axes, move = moving_group()
+    stop = MC_GroupStop(group)
+    stop(execute=True, buffer_mode=BufferMode.BUFFERED)
+    stop(execute=False)
+    assert stop.busy and not stop.active
+    drive(rt, stop, until=lambda: move.done)
+    run_cycles = drive(rt, stop, until=lambda: group.state is G.STANDBY, limit=5)
+    assert run_cycles <= 2 and not stop.busy
+
+
+@pytest.mark.parametrize("mode", [BufferMode.BUFFERED, BufferMode.BLENDING_LOW],
+                         ids=lambda m: m.name)
+def test_buffered_group_halt_is_done_when_the_motion_before_it_ends(mode):
+    """§5.14 gives MC_GroupHalt a BufferMode: Buffered waits, the motion is not aborted,
+    and the halt is Done at the rest point (D-194)."""
+    rt, group, axes, move = moving_group()
+    halt = MC_GroupHalt(group)
+    halt(execute=True, buffer_mode=mode)
+    assert outputs(halt) == (True, False, False, False, False)
+    drive(rt, halt, until=lambda: halt.done)
+    assert move.done and not move.aborted
+    assert tcp(group).tolist() == pytest.approx([200.0, 0.0, 0.0], abs=TOL)
+    rt.step()
+    assert group.state is G.STANDBY
+
+
+def test_group_halt_at_rest_is_done_at_once():
+    """§5.14: Done when the velocity is zero; a halt of a standing group is Done in its
+    call, and the group goes back to GroupStandby (it used to stay GroupMoving)."""
+    rt, group, axes = group_of(0.0, 0.0)
+    halt = MC_GroupHalt(group)
+    halt(execute=True)
+    assert halt.done and not halt.error
+    rt.step()
+    assert group.state is G.STANDBY
+    assert group.move_linear_absolute([10.0, 0.0]).busy
+
+
+def test_a_ca_group_stop_block_has_no_buffer_mode():
+    """A CA group (TF5410 §9.3.1.2) knows only Aborting: another BufferMode is an FB error."""
+    from openmotion.transport.group import CaGroup
+
+    ca = CaGroup(om.Runtime(), "ca")
+    stop = MC_GroupStop(ca)
+    stop(execute=True, buffer_mode=BufferMode.BUFFERED)
+    assert stop.error and stop.error_id is om.ErrorId.INVALID_MODE
+
+
+@pytest.mark.parametrize("coord", [CoordSystem.MCS, CoordSystem.PCS], ids=lambda c: c.name)
+def test_group_home_position_in_mcs_or_pcs_is_where_the_tcp_ends(coord):
+    """§5.7 gives MC_GroupHome a CoordSystem: Position is read in it, so the TCP reads that
+    position in that system after homing (D-194). The PCS is shifted by (10, 20, 0)."""
+    rt, group, axes = group_of(3.0, 4.0, 0.0, reference_mode=ReferenceMode.DIRECT)
+    assert group.set_cartesian_transform(Frame.from_cartesian(10.0, 20.0, 0.0)).done
+    home = MC_GroupHome(group)
+    home(execute=True, position=[100.0, 200.0, 5.0], coord_system=coord)
+    drive(rt, home, until=lambda: home.done, limit=100)
+    assert tcp(group, coord).tolist() == pytest.approx([100.0, 200.0, 5.0], abs=TOL)
+    shift = [10.0, 20.0, 0.0] if coord is CoordSystem.PCS else [0.0, 0.0, 0.0]
+    assert tcp(group, CoordSystem.ACS).tolist() == pytest.approx(
+        np.add([100.0, 200.0, 5.0], shift).tolist(), abs=TOL)
+
+
+def test_group_home_with_a_bad_coord_system_is_an_error():
+    rt, group, axes = group_of(3.0, 4.0, reference_mode=ReferenceMode.DIRECT)
+    home = MC_GroupHome(group)
+    home(execute=True, position=[1.0, 2.0], coord_system=7)
+    assert home.error and group.state is G.STANDBY
+    home(execute=False)
+    home(execute=True, position=[1.0, 2.0], coord_system=CoordSystem.ACS)
+    assert home.busy

@@ -307,7 +307,9 @@ def test_rule114_slave_ramps_to_ratio_times_path_speed_then_in_sync():
         cycles += 1
         assert abs(slave.set_velocity - previous) <= 500.0 * rt.cycle_time * (1 + 1e-9)
         previous = slave.set_velocity
-    assert cycles == pytest.approx(150.0 / 500.0 / rt.cycle_time, abs=1.0)  # 0.3 s
+    # jerk-limited with the slave's default jerk (MC_DEFAULT, D-193): 0.3 s + a / j
+    ramp = 150.0 / 500.0 + 500.0 / slave.parameters.jerk
+    assert cycles == pytest.approx(ramp / rt.cycle_time, abs=1.0)
     start, length = slave.set_position, 0.0
     for _ in range(200):
         rt.step()
@@ -482,3 +484,236 @@ def test_override_does_not_act_on_a_slave_group():
     group.set_override(0.5)
     run(rt, 100, sync)
     assert group.velocity(MCS)[1] == pytest.approx(20.0, abs=1e-6)  # rule 97
+
+
+# -- MC_SyncGroupToAxis on a moving group, BufferMode (§6.4; issue 20 point 4, D-193) --------
+
+
+def moving_to_y(rt_group: tuple[om.Runtime, AxesGroup, list[om.Axis], om.Axis]
+                ) -> tuple[Any, Any]:
+    """The group runs from the origin towards (0, 80, 0) at 100 mm/s; the path of CAM_PATH
+    selected. Returns the move and the PathData."""
+    rt, group, _, master = rt_group
+    select = MC_PathSelect(group)
+    select(execute=True, path_description=CAM_PATH)
+    move = group.move_linear_absolute([0.0, 80.0, 0.0], velocity=100.0, **SYNC)
+    rt.run(0.3)
+    assert move.active and group.velocity(MCS)[1] == pytest.approx(100.0, rel=1e-9)
+    return move, select.path_data
+
+
+def test_sync_group_to_axis_aborting_takes_over_a_moving_group():
+    """§6.4 gives MC_SyncGroupToAxis a BufferMode and asks no standstill: Aborting aborts
+    the moving group's command, brakes along its path (no turn off it) and couples at the
+    rest point; the path runs from there with s = master travel since then (D-193). Before
+    issue 20 it was refused with GROUP_MOVING."""
+    rt, group, axes, master = cell(0.0, 0.0, 0.0)
+    move, path = moving_to_y((rt, group, axes, master))
+    sync = MC_SyncGroupToAxis(group)
+    sync(execute=True, master=master, path_data=path, **SYNC)
+    assert not sync.error and sync.busy and sync.active
+    assert move.aborted and group.state is G.MOVING
+    run(rt, 200, sync)  # brakes along y, then holds: the master stands
+    rest = group.position(MCS)[:3]
+    assert rest[0] == pytest.approx(0.0, abs=TOL) and 20.0 < rest[1] < 80.0
+    assert group.velocity(MCS)[1] == pytest.approx(0.0, abs=TOL)
+    master.move_absolute(50.0, 100.0, acceleration=1000.0, deceleration=1000.0, jerk=1.0e5)
+    run(rt, 1500, sync)
+    assert sync.in_sync and sync.active
+    way = np.array([100.0, 0.0, 0.0]) - rest
+    expected = rest + 50.0 * way / np.linalg.norm(way)  # 50 mm along the path's first line
+    assert group.position(MCS)[:3] == pytest.approx(expected.tolist(), abs=TOL)
+
+
+@pytest.mark.parametrize("mode", [1, 4], ids=["buffered", "blending_next"])
+def test_sync_group_to_axis_buffered_waits_for_the_motion_before_it(mode):
+    """Buffered (and a Blending mode, which acts as Buffered: no transition input) couples
+    when the motion before it is over, Busy and not Active until then (§7.3, D-193)."""
+    rt, group, axes, master = cell(0.0, 0.0, 0.0)
+    move, path = moving_to_y((rt, group, axes, master))
+    sync = MC_SyncGroupToAxis(group)
+    sync(execute=True, master=master, path_data=path, buffer_mode=mode, **SYNC)
+    assert sync.busy and not sync.active and not sync.error
+    while not move.done:
+        rt.step()
+        sync()
+        assert not move.aborted
+    rt.step()
+    sync()
+    assert sync.active and group.state is G.MOVING
+    assert group.position(MCS)[:3] == pytest.approx([0.0, 80.0, 0.0], abs=TOL)
+    master.move_absolute(40.0, 100.0, acceleration=1000.0, deceleration=1000.0, jerk=1.0e5)
+    run(rt, 1500, sync)
+    way = np.array([100.0, -80.0, 0.0]) / math.hypot(100.0, 80.0)
+    assert group.position(MCS)[:3] == pytest.approx((np.array([0.0, 80.0, 0.0])
+                                                     + 40.0 * way).tolist(), abs=TOL)
+
+
+def test_a_waiting_sync_group_to_axis_is_aborted_by_an_aborting_move():
+    rt, group, axes, master = cell(0.0, 0.0, 0.0)
+    move, path = moving_to_y((rt, group, axes, master))
+    sync = MC_SyncGroupToAxis(group)
+    sync(execute=True, master=master, path_data=path, buffer_mode=1, **SYNC)
+    other = group.move_linear_absolute([10.0, 0.0, 0.0], velocity=100.0)
+    sync()
+    assert sync.command_aborted and other.busy
+
+
+# -- MC_SyncAxisToGroup: position lock and its optional inputs (§6.3; point 4, 6, D-193) ----
+
+
+def test_sync_axis_to_group_locks_in_position_while_the_path_accelerates_harder():
+    """§6.3: the slave ramps up to the ratio and locks in position: from then on it is the
+    odometer of the path, also where the path accelerates faster than the slave's ramp-in
+    acceleration (500 here against 4000). Before issue 20 only the velocity followed, at
+    most 500 mm/s² (D-193)."""
+    rt, group, axes, slave = cell(0.0, 0.0, 0.0)
+    sync = MC_SyncAxisToGroup(group)
+    sync(execute=True, slave=slave, ratio_numerator=3, ratio_denominator=2, acceleration=500.0)
+    run(rt, 2, sync)
+    assert sync.in_sync  # at rest: ratio x 0 reached at once
+    start = slave.set_position
+    move = group.move_linear_absolute([100.0, 0.0, 0.0], **FAST)
+    while not move.done:
+        rt.step()
+        sync()
+        assert sync.in_sync
+        assert slave.set_velocity == pytest.approx(1.5 * group.velocity(MCS)[1], abs=1e-9)
+    assert slave.set_position - start == pytest.approx(150.0, abs=1e-3)
+
+
+def test_sync_axis_to_group_ramps_with_its_deceleration_and_jerk():
+    """Deceleration bounds the ramp when the slave's speed falls, Jerk the change of its
+    acceleration (§6.3, D-193)."""
+    rt, group, slave, move = cruising()
+    sync = MC_SyncAxisToGroup(group)
+    sync(execute=True, slave=slave, ratio_numerator=2, acceleration=5000.0)
+    run(rt, 300, sync)
+    assert sync.in_sync and slave.set_velocity == pytest.approx(200.0, rel=1e-12)
+    sync(execute=False)
+    sync(execute=True, ratio_numerator=1, deceleration=200.0, jerk=2.0e4)
+    previous_v, previous_a, cycles = slave.set_velocity, slave.set_acceleration, 0
+    while not sync.in_sync:
+        rt.step()
+        sync()
+        cycles += 1
+        assert previous_v - slave.set_velocity <= 200.0 * rt.cycle_time * (1 + 1e-9)
+        assert abs(slave.set_acceleration - previous_a) <= 2.0e4 * rt.cycle_time * (1 + 1e-6)
+        previous_v, previous_a = slave.set_velocity, slave.set_acceleration
+    assert cycles * rt.cycle_time == pytest.approx(100.0 / 200.0 + 200.0 / 2.0e4, abs=0.002)
+
+
+def test_sync_axis_to_group_measures_the_path_in_its_coord_system():
+    """CoordSystem (§6.3): a group at rest in the MCS on a moving PCS travels relative to the
+    PCS at the belt's speed (D-193)."""
+    rt, group, axes, belt = cell(0.0, 0.0, 0.0)
+    slave = rt.add_axis("slave", **AXIS)
+    slave.power()
+    track(group, belt)
+    belt.move_velocity(50.0, acceleration=1000.0, deceleration=1000.0, jerk=1.0e5)
+    in_pcs, in_mcs = MC_SyncAxisToGroup(group), MC_SyncAxisToGroup(group)
+    in_pcs(execute=True, slave=slave, coord_system=PCS, acceleration=5000.0)
+    run(rt, 500, in_pcs)
+    assert in_pcs.in_sync and slave.set_velocity == pytest.approx(50.0, rel=1e-9)
+    in_mcs(execute=True, slave=slave, coord_system=MCS, acceleration=5000.0)
+    run(rt, 500, in_mcs)
+    assert in_mcs.in_sync and slave.set_velocity == 0.0
+
+
+def test_buffered_sync_axis_to_group_waits_for_the_slaves_own_move():
+    """BufferMode (§6.3): Buffered starts after the slave's own command; Aborting (the
+    default) takes the slave over at once (D-193)."""
+    rt, group, slave, move = cruising()
+    own = slave.move_absolute(20.0, 100.0)
+    sync = MC_SyncAxisToGroup(group)
+    sync(execute=True, slave=slave, buffer_mode=1, acceleration=5000.0)
+    assert sync.busy and not sync.active
+    while not own.done:
+        rt.step()
+        sync()
+        assert not own.aborted and not sync.active
+    run(rt, 100, sync)
+    assert sync.active and sync.in_sync
+    assert slave.set_velocity == pytest.approx(group.velocity(MCS)[1], rel=1e-9)
+
+
+@pytest.mark.parametrize(("inputs", "error_id"), [
+    ({"deceleration": -1.0}, ErrorId.INVALID_DECELERATION),
+    ({"jerk": 0.0}, ErrorId.INVALID_JERK),
+    ({"coord_system": 9}, ErrorId.INVALID_MODE),
+    ({"buffer_mode": 9}, ErrorId.INVALID_MODE)], ids=str)
+def test_sync_axis_to_group_with_bad_optional_inputs_is_an_error(inputs, error_id):
+    rt, group, slave, move = cruising()
+    sync = MC_SyncAxisToGroup(group)
+    sync(execute=True, slave=slave, **inputs)
+    assert sync.error and sync.error_id is error_id
+    sync(execute=False)
+    sync(execute=True, slave=slave, **{name: MC_SyncAxisToGroup.INPUTS[name] for name in inputs})
+    assert sync.busy and not sync.error
+
+
+# -- tracking FBs: BufferMode, CoordSystem, Mode (§6.5-§6.7; issue 20 point 6, D-194) --------
+
+
+@pytest.mark.parametrize("kind", ["belt", "table", "dyn"])
+def test_buffered_tracking_waits_for_the_motion_and_counts_from_then(kind):
+    """§6.5-§6.7 give the tracking FBs a BufferMode: Buffered sets the moving PCS when the
+    motion before it is over (Busy, not Active, not Done until then); a belt's travel counts
+    from that cycle (D-194)."""
+    rt, group, axes, belt = cell(0.0, 0.0, 0.0)
+    belt.move_velocity(50.0, acceleration=1000.0, deceleration=1000.0, jerk=1.0e5)
+    move = group.move_linear_absolute([50.0, 0.0, 0.0], **FAST)
+    if kind == "dyn":
+        master = AxesGroup(rt, "master")
+        axis = rt.add_axis("m1", **AXIS)
+        axis.power()
+        master.add_axis(axis, 1)
+        master.enable()
+        fb: Any = MC_SetDynCoordTransform(group)
+        fb(execute=True, master=master, buffer_mode=1, mode=1)
+    elif kind == "table":
+        fb = MC_TrackRotaryTable(group)
+        fb(execute=True, rotary_table=belt, rotary_table_origin=BELT_ORIGIN, buffer_mode=1)
+    else:
+        fb = MC_TrackConveyorBelt(group)
+        fb(execute=True, conveyor_belt=belt, conveyor_belt_origin=BELT_ORIGIN,
+           initial_object_position=OBJECT, buffer_mode=1)
+    assert (fb.busy, fb.active, fb.done) == (True, False, False)
+    while not move.done:
+        assert not fb.done and group.spaces.dynamic is None
+        rt.step()
+        fb()
+    assert fb.active and fb.done and group.spaces.dynamic is not None  # in the same cycle
+    if kind == "belt":  # the object where it lay when the PCS was set, not at the call
+        x, y, _ = pcs_origin(group)
+        assert x == pytest.approx(-5.0, abs=TOL)
+        assert 120.0 <= y <= 120.0 + 50.0 * 2.0 * rt.cycle_time
+
+
+@pytest.mark.parametrize("coord", [CoordSystem.ACS, CoordSystem.MCS], ids=lambda c: c.name)
+def test_only_the_pcs_can_be_the_tracked_coord_system(coord):
+    """CoordSystem of the tracking FBs (§6.5-§6.7): only the PCS may move (D-194)."""
+    rt, group, axes, belt = cell(0.0, 0.0, 0.0)
+    fb = MC_TrackConveyorBelt(group)
+    fb(execute=True, conveyor_belt=belt, conveyor_belt_origin=BELT_ORIGIN, coord_system=coord)
+    assert fb.error and fb.error_id is ErrorId.INVALID_MODE and group.spaces.dynamic is None
+    fb(execute=False)
+    fb(execute=True, conveyor_belt=belt, conveyor_belt_origin=BELT_ORIGIN,
+       coord_system=CoordSystem.PCS)
+    assert fb.done and fb.active
+
+
+def test_set_dyn_coord_transform_checks_its_mode():
+    """Mode (MC_PathMode, §6.5) is checked; it changes nothing in our system (D-194)."""
+    rt, group, axes, belt = cell(0.0, 0.0, 0.0)
+    master = AxesGroup(rt, "master")
+    axis = rt.add_axis("m1", **AXIS)
+    axis.power()
+    master.add_axis(axis, 1)
+    master.enable()
+    fb = MC_SetDynCoordTransform(group)
+    fb(execute=True, master=master, mode=5)
+    assert fb.error and fb.error_id is ErrorId.INVALID_MODE
+    fb(execute=False)
+    fb(execute=True, master=master, mode=1)
+    assert fb.done and fb.active

@@ -344,3 +344,69 @@ def test_sync_group_to_axis_follows_the_master_along_the_path_and_stops_at_its_e
     assert np.allclose(x[following], s[following], atol=1e-9)
     assert np.all(y[following] == 0.0) and np.all(x <= 100.0) and np.all(y <= 50.0 + 1e-9)
     assert (x[-1], y[-1]) == pytest.approx(end, abs=1e-9)
+
+
+PART4_INPUTS = """\
+name: part4 inputs
+axes: [{name: x}, {name: y}, {name: m}, {name: s}, {name: belt}]
+axes_groups: [{name: xy, axes: [x, y]}]
+timeline:
+  - {at: 0, axis: m, command: power}
+  - {at: 0, axis: s, command: power}
+  - {at: 0, axis: belt, command: power}
+  - {id: odo, at: 0, group: xy, command: sync_axis_to_group, slave: s, deceleration: 500,
+     jerk: 20000, coord_system: mcs, buffer_mode: aborting}
+  - {id: go, at: 0, group: xy, command: move_linear_absolute, position: [0, 80]}
+  - {id: halt, at: 0.2, group: xy, command: group_halt, buffer_mode: buffered}
+  - {id: belt_on, at: 0.2, group: xy, command: track_conveyor_belt, belt: belt,
+     origin: [0, 0, 0, 0, 0, 0], coord_system: pcs, buffer_mode: blending_next}
+  - {id: sync, at: 0.3, group: xy, command: sync_group_to_axis, master: m,
+     path: [{line: [100, 0]}], buffer_mode: buffered}
+  - {id: pull, when: sync.active, axis: m, command: move_absolute, position: 40,
+     velocity: 100}
+checks:
+  - {command: go, result: done}
+  - {command: halt, result: done}
+  - {command: pull, result: done}
+"""
+
+
+def test_the_optional_inputs_of_points_4_and_6_reach_the_group_from_a_scenario() -> None:
+    """Part 4 §5.14, §6.3, §6.4, §6.6 from a scenario file (issue 20 points 4 and 6): the
+    buffered halt, tracking and sync wait for the move, the sync then follows the master
+    from (0, 80) towards (100, 0), and the odometer counts the whole path (D-193, D-194)."""
+    result = run_scenario(parse_scenario(PART4_INPUTS))
+    assert result.passed, [check for check in result.checks if not check.passed]
+    rows = {row.id: row for row in result.commands}
+    assert rows["halt"].ended_at == pytest.approx(rows["go"].ended_at)
+    assert rows["sync"].result == "BUSY" and rows["belt_on"].result == "BUSY"
+    trace = result.trace
+    way = np.array([100.0, -80.0]) / np.hypot(100.0, 80.0)
+    end = np.array([0.0, 80.0]) + 40.0 * way
+    assert (trace["xy.x"][-1], trace["xy.y"][-1]) == pytest.approx(tuple(end), abs=1e-6)
+    assert trace["s.set_position"][-1] == pytest.approx(120.0, abs=1e-3)  # 80 + 40 mm
+
+
+@pytest.mark.parametrize("command", ["group_halt", "group_stop"])
+def test_a_ca_groups_halt_and_stop_take_no_buffer_mode(command: str) -> None:
+    text = ("name: t\naxes: [{name: a}]\nca_groups: [{name: ca, axes: [a]}]\ntimeline:\n"
+            f"  - {{at: 0, group: ca, command: {command}, buffer_mode: buffered}}\n")
+    found = problems(text)
+    assert any("buffer_mode" in problem and "CA group" in problem for problem in found), found
+
+
+def test_group_home_takes_a_coord_system_from_a_scenario() -> None:
+    text = """\
+name: home
+axes: [{name: x, parameters: {reference_mode: direct}},
+       {name: y, parameters: {reference_mode: direct}}]
+axes_groups: [{name: xy, axes: [x, y], cartesian_transform: [10, 20, 0, 0, 0, 0]}]
+timeline:
+  - {id: home, at: 0, group: xy, command: group_home, position: [1, 2], coord_system: pcs}
+checks:
+  - {command: home, result: done}
+  - {signal: x.set_position, expect: 11.0}
+  - {signal: y.set_position, expect: 22.0}
+"""
+    result = run_scenario(parse_scenario(text))
+    assert result.passed, [check for check in result.checks if not check.passed]

@@ -1,8 +1,9 @@
 """The PLCopen Part 4 function blocks over the ``AxesGroup`` Python API (§5, §6).
 
-The administration and stop blocks (MC_AddAxisToGroup, MC_GroupEnable, MC_GroupStop, ...)
-are the same classes as for the CA group (transport/blocks.py): one set of group blocks for
-both kinds of group. This module adds the rest. The group comes first, as there::
+The administration blocks (MC_AddAxisToGroup, MC_GroupEnable, MC_GroupReset, ...) are the
+same classes as for the CA group (transport/blocks.py): one set of group blocks for both kinds
+of group. MC_GroupStop and MC_GroupHalt extend the CA group's with Part 4's BufferMode input.
+This module adds the rest. The group comes first, as there::
 
     move = MC_MoveLinearAbsolute(group)
     move(execute=True, position=[100.0, 50.0, 0.0], velocity=200.0)
@@ -31,15 +32,14 @@ from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import MC_DEFAULT
 from openmotion.geometry.path import CircMode, PathChoice
+from openmotion.transport import blocks as ca_blocks
 from openmotion.transport.blocks import (
     MC_AddAxisToGroup,
     MC_GroupDisable,
     MC_GroupEnable,
-    MC_GroupHalt,
     MC_GroupReadError,
     MC_GroupReadStatus,
     MC_GroupReset,
-    MC_GroupStop,
     MC_RemoveAxisFromGroup,
     MC_UngroupAllAxes,
     _GroupCommand,
@@ -190,14 +190,52 @@ class MC_MovePath(_Move):
 
 
 class MC_GroupHome(_GroupCommand):
-    """Home every member (§5.7); ``position``: ACS values or None for the configured ones.
+    """Home every member (§5.7); ``position``: where the group is after homing, in
+    ``coord_system`` (ACS: one value per axis; MCS, PCS: per coordinate, taken back to the
+    axes through the transforms in force), or None for the configured ones.
     ``buffer_mode`` Aborting needs GroupStandby; Buffered (the Blending modes act as
     Buffered) waits, Busy and not Active, until the motion before it is over."""
 
-    INPUTS: ClassVar[dict[str, Any]] = {"position": None, "buffer_mode": BufferMode.ABORTING}
+    INPUTS: ClassVar[dict[str, Any]] = {"position": None, "buffer_mode": BufferMode.ABORTING,
+                                        "coord_system": CoordSystem.ACS}
 
     def _issue(self, group: Any) -> Command:  # type: ignore[override]
-        return _group(group).home(self.position, self.buffer_mode)
+        return _group(group).home(self.position, self.buffer_mode, self.coord_system)
+
+
+class _BufferedBrake:
+    """Part 4's BufferMode on the CA group's stop blocks (§5.13, §5.14): a CA group
+    (TF5410) has none, so there only Aborting, the default, is accepted."""
+
+    INPUTS: ClassVar[dict[str, Any]] = {"buffer_mode": BufferMode.ABORTING}
+    deceleration: Any
+    jerk: Any
+    buffer_mode: Any
+    method: ClassVar[str]
+
+    def _issue(self, group: Any) -> Command:  # type: ignore[override]
+        if isinstance(group, AxesGroup):
+            return getattr(group, self.method)(self.deceleration, self.jerk, self.buffer_mode)
+        if self.buffer_mode is not BufferMode.ABORTING and self.buffer_mode != 0:
+            raise CommandRejected(ErrorId.INVALID_MODE, "a CA group's stop blocks have no "
+                                  "BufferMode (Tc3_McCoordinatedMotion §9.3.1.2)")
+        return super()._issue(group)  # type: ignore[misc]
+
+
+class MC_GroupStop(_BufferedBrake, ca_blocks.MC_GroupStop):
+    """MC_GroupStop (§5.13) with ``buffer_mode``: Aborting stops at once; Buffered (the
+    Blending modes act as Buffered) waits, Busy and not Active, until the motion before
+    it is over, then stops the group at rest (decisions D-194). As the CA group's
+    otherwise (transport/blocks.py)."""
+
+    method = "stop"
+
+
+class MC_GroupHalt(_BufferedBrake, ca_blocks.MC_GroupHalt):
+    """MC_GroupHalt (§5.14) with ``buffer_mode``: Buffered (the Blending modes act as
+    Buffered) waits until the motion before it is over and is Done then (D-194)."""
+
+    method = "halt"
 
 
 class MC_GroupSetPosition(_GroupCommand):
@@ -442,6 +480,8 @@ class _Tracking(_GroupCommand):
         self._set_shown = False
 
     def _show_progress(self, command: Command) -> None:
+        if command.status is CommandStatus.BUFFERED:  # a buffered one waits: Busy only
+            return
         self.busy = False
         self.done = bool(self.execute) or not self._set_shown
         self._set_shown = True
@@ -455,63 +495,85 @@ class MC_TrackConveyorBelt(_Tracking):
     """The PCS rides on ``conveyor_belt`` (an axis) (§6.6): ``conveyor_belt_origin`` places the
     belt frame in the MCS (its x axis is the belt's direction), ``initial_object_position``
     the object on the belt. Done once set, Active while tracking; CommandAborted when another
-    transform FB replaces the PCS. Moves in PCS then follow the object."""
+    transform FB replaces the PCS. Moves in PCS then follow the object. ``coord_system``:
+    PCS, the one system that can move (others: INVALID_MODE); ``buffer_mode``: Aborting
+    sets it now, Buffered (the Blending modes act as Buffered) when the motion before it is
+    over, Busy and not Active until then (decisions D-194)."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"conveyor_belt": None, "conveyor_belt_origin": None,
                                         "initial_object_position": None,
-                                        "coord_system": CoordSystem.PCS}
+                                        "coord_system": CoordSystem.PCS,
+                                        "buffer_mode": BufferMode.ABORTING}
 
     def _issue(self, group: Any) -> Command:  # type: ignore[override]
         return _group(group).track_conveyor_belt(
             _axis_input(self.conveyor_belt, "ConveyorBelt"),
             _frame_or_identity(self.conveyor_belt_origin),
-            _frame_or_identity(self.initial_object_position))
+            _frame_or_identity(self.initial_object_position), self.coord_system,
+            self.buffer_mode)
 
 
 class MC_TrackRotaryTable(_Tracking):
     """The PCS turns with ``rotary_table`` (an axis, degrees) about the z axis of
-    ``rotary_table_origin`` (§6.7)."""
+    ``rotary_table_origin`` (§6.7); ``coord_system`` and ``buffer_mode`` as
+    MC_TrackConveyorBelt."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"rotary_table": None, "rotary_table_origin": None,
                                         "initial_object_position": None,
-                                        "coord_system": CoordSystem.PCS}
+                                        "coord_system": CoordSystem.PCS,
+                                        "buffer_mode": BufferMode.ABORTING}
 
     def _issue(self, group: Any) -> Command:  # type: ignore[override]
         return _group(group).track_rotary_table(
             _axis_input(self.rotary_table, "RotaryTable"),
             _frame_or_identity(self.rotary_table_origin),
-            _frame_or_identity(self.initial_object_position))
+            _frame_or_identity(self.initial_object_position), self.coord_system,
+            self.buffer_mode)
 
 
 class MC_SetDynCoordTransform(_Tracking):
     """This group's PCS rides on the TCP of ``master`` (another AxesGroup), offset by
-    ``coord_transform`` (§6.5)."""
+    ``coord_transform`` (§6.5). ``mode`` (MC_PathMode) is checked and changes nothing (the
+    PCS follows the master's TCP whatever its path); ``coord_system`` and ``buffer_mode``
+    as MC_TrackConveyorBelt (decisions D-194)."""
 
-    INPUTS: ClassVar[dict[str, Any]] = {"master": None, "coord_transform": None}
+    INPUTS: ClassVar[dict[str, Any]] = {"master": None, "coord_transform": None,
+                                        "mode": PathMode.NON_PERIODIC,
+                                        "coord_system": CoordSystem.PCS,
+                                        "buffer_mode": BufferMode.ABORTING}
 
     def _issue(self, group: Any) -> Command:  # type: ignore[override]
         if not isinstance(self.master, AxesGroup):
             raise CommandRejected(ErrorId.INVALID_MODE, "Master: an AxesGroup")
-        return _group(group).set_dyn_coord_transform(self.master,
-                                                     _frame_or_identity(self.coord_transform))
+        return _group(group).set_dyn_coord_transform(
+            self.master, _frame_or_identity(self.coord_transform), self.mode,
+            self.coord_system, self.buffer_mode)
 
 
 class MC_SyncAxisToGroup(_GroupCommand):
-    """``slave`` (an axis outside the group) runs at ratio_numerator / ratio_denominator x
-    the path speed (§6.3). ``in_sync`` once reached; a single-axis command to the slave ends
-    it (CommandAborted). Retriggering with a new ratio replaces it (rule 116)."""
+    """``slave`` (an axis outside the group) counts the group's path length (§6.3): it ramps
+    in to ratio_numerator / ratio_denominator x the path speed in ``coord_system`` with
+    ``acceleration``, ``deceleration`` and ``jerk`` (MC_DEFAULT: the slave's defaults), then
+    locks in position. ``in_sync`` once locked; a single-axis command to the slave ends it
+    (CommandAborted). Retriggering with a new ratio replaces it (rule 116). ``buffer_mode``
+    Buffered (the Blending modes act as Buffered) waits until the slave's own command is
+    over (decisions D-193)."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"slave": None, "ratio_numerator": 1.0,
-                                        "ratio_denominator": 1.0, "acceleration": MC_DEFAULT}
+                                        "ratio_denominator": 1.0, "acceleration": MC_DEFAULT,
+                                        "deceleration": MC_DEFAULT, "jerk": MC_DEFAULT,
+                                        "coord_system": CoordSystem.MCS,
+                                        "buffer_mode": BufferMode.ABORTING}
 
     def _reset_outputs(self) -> None:
         super()._reset_outputs()
         self.in_sync = False
 
     def _issue(self, group: Any) -> Command:  # type: ignore[override]
-        return _group(group).sync_axis_to_group(_axis_input(self.slave, "Slave"),
-                                                self.ratio_numerator, self.ratio_denominator,
-                                                self.acceleration)
+        return _group(group).sync_axis_to_group(
+            _axis_input(self.slave, "Slave"), self.ratio_numerator, self.ratio_denominator,
+            self.acceleration, self.deceleration, self.jerk, self.coord_system,
+            self.buffer_mode)
 
     def _show_progress(self, command: Command) -> None:
         self.in_sync = command.in_velocity
@@ -522,9 +584,12 @@ class MC_SyncAxisToGroup(_GroupCommand):
 
 class MC_SyncGroupToAxis(_GroupCommand):
     """The group's arc length along ``path_data`` (MC_PathSelect) follows ``master`` like a
-    cam (§6.4): s = tuc_numerator / tuc_denominator x (master - master at the start).
-    ``in_sync`` once synchronised; MC_GroupStop or any other motion command ends it
-    (CommandAborted); never Done."""
+    cam (§6.4): s = tuc_numerator / tuc_denominator x (master - master when it couples).
+    ``buffer_mode`` Aborting takes over a moving group (it brakes along its path, then
+    couples there); Buffered (the Blending modes act as Buffered) waits, Busy and not
+    Active, until the motion before it is over (decisions D-193). ``in_sync`` once
+    synchronised; MC_GroupStop or any other motion command ends it (CommandAborted); never
+    Done."""
 
     INPUTS: ClassVar[dict[str, Any]] = {
         "master": None, "path_data": None, "mode": PathMode.NON_PERIODIC, "tuc_numerator": 1,

@@ -50,6 +50,7 @@ from openmotion.coordinated.tracking import (
     ConveyorFrame,
     GroupFrame,
     RotaryTableFrame,
+    SyncInputs,
 )
 from openmotion.core.enums import AxisState, BufferMode
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
@@ -103,6 +104,8 @@ class AxesGroup:
         self._pending: list[tuple[Command, set[int], Callable[[], None]]] = []
         self._last_axis_states: dict[int, AxisState] = {}
         self._syncs: dict[int, AxisSync] = {}  #: MC_SyncAxisToGroup slaves by kernel row
+        #: Buffered MC_SyncAxisToGroup calls waiting for their slave's own command to end
+        self._waiting_syncs: list[tuple[Axis, SyncInputs, Command]] = []
         self._written: tuple[float, np.ndarray, np.ndarray, np.ndarray] | None = None
         self._reset: tuple[Command, list[Command]] | None = None
         self._solo: dict[int, Axis] = {}  #: members running their own MC_Stop / MC_Home
@@ -473,39 +476,50 @@ class AxesGroup:
 
     # -- stopping (§5.13-§5.16) ----------------------------------------------------------------
 
-    def stop(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT
-             ) -> Command:
+    def stop(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT,
+             buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
         """MC_GroupStop (§5.13): brake along the path, abort everything, hold GroupStopping
-        until Done and the Execute input is low (``Command.release``)."""
+        until Done and the Execute input is low (``Command.release``). Buffered (and the
+        Blending modes, which act as Buffered) waits, Busy and not Active, until the motion
+        issued before it is over, then stops the group at rest (decisions D-194)."""
         command = self._command("group_stop")
         try:
+            mode = part4_buffer_mode(buffer_mode)
             self.machine.accept("MC_GroupStop")
             dec, jerk_value = self._brake_limits(deceleration, jerk, command)
         except CommandRejected as rejected:
             return self._reject(command, rejected)
-        self.motion.brake(dec, jerk_value, "aborted by MC_GroupStop")
-        self._home_abort("aborted by MC_GroupStop")
-        self.machine.fire(GroupEvent.STOP)
-        self._couple()
-        command.status = CommandStatus.ACTIVE
-        command.hold = True
-        self._stop = command
-        return command
+        command.hold = True  # Execute is TRUE from now: a stop that waits may be released
 
-    def halt(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT
-             ) -> Command:
-        """MC_GroupHalt (§5.14): brake along the path to rest; any motion FB may abort it."""
+        def start() -> None:
+            self.motion.brake(dec, jerk_value, "aborted by MC_GroupStop")
+            self._home_abort("aborted by MC_GroupStop")
+            self.machine.fire(GroupEvent.STOP)
+            self._couple()
+            command.status = CommandStatus.ACTIVE
+            self._stop = command
+        return self._after_motion(command, mode, start)
+
+    def halt(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT,
+             buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
+        """MC_GroupHalt (§5.14): brake along the path to rest; any motion FB may abort it.
+        Buffered (and the Blending modes) waits until the motion before it is over and is
+        then Done at once (D-194)."""
         command = self._command("group_halt")
         try:
-            self.machine.accept("MC_GroupHalt")
+            mode = part4_buffer_mode(buffer_mode)
+            self.machine.accept("MC_GroupHalt", mode)
             dec, jerk_value = self._brake_limits(deceleration, jerk, command)
         except CommandRejected as rejected:
             return self._reject(command, rejected)
-        self.machine.fire(GroupEvent.HALT)
-        self._couple()
-        self.motion.halt(command, dec, jerk_value)
-        self._abort_queued("aborted by MC_GroupHalt")
-        return command
+
+        def start() -> None:
+            self.machine.fire(GroupEvent.HALT)
+            self._couple()
+            self.motion.halt(command, dec, jerk_value)
+            if mode is BufferMode.ABORTING:  # a buffered halt keeps what was issued after it
+                self._abort_queued("aborted by MC_GroupHalt")
+        return self._after_motion(command, mode, start)
 
     def interrupt(self, deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT
                   ) -> Command:
@@ -550,24 +564,35 @@ class AxesGroup:
             self.motion.set_factors(*self.factors)
         return self._finish(command)
 
-    def home(self, position: Any = None, buffer_mode: BufferMode = BufferMode.ABORTING
-             ) -> Command:
+    def home(self, position: Any = None, buffer_mode: BufferMode = BufferMode.ABORTING,
+             coord_system: CoordSystem = CoordSystem.ACS) -> Command:
         """MC_GroupHome (§5.7): every member homes (its own MC_Home); GroupHoming until all
-        are Done. ``position``: one ACS value per axis, or None for the configured ones.
-        Aborting needs GroupStandby; Buffered (and the Blending modes, which act as
-        Buffered) waits until the motion before it is over."""
+        are Done. ``position``: where the group is after homing in ``coord_system`` (one
+        value per axis in ACS, per coordinate in MCS and PCS, taken back to ACS through the
+        transforms in force when the call is accepted), or None for each axis' configured
+        home position. Aborting needs GroupStandby; Buffered (and the Blending modes, which
+        act as Buffered) waits until the motion before it is over."""
         command = self._command("group_home")
         try:
             mode = part4_buffer_mode(buffer_mode)
             self.machine.accept("MC_GroupHome", mode)
+            coord = enum_value(CoordSystem, coord_system, "CoordSystem")
             if position is not None:
-                from openmotion.coordinated.inputs import vector
-                values = vector(position, len(self.members), "Position").tolist()
+                values = self._home_values(position, coord)
             else:
                 values = [None] * len(self.members)
         except CommandRejected as rejected:
             return self._reject(command, rejected)
         return self._after_motion(command, mode, lambda: self._start_home(command, values))
+
+    def _home_values(self, position: Any, coord: CoordSystem) -> list[Any]:
+        """MC_GroupHome's Position as one reference value per member (D-194)."""
+        from openmotion.coordinated.inputs import vector
+        if coord is CoordSystem.ACS:
+            return vector(position, len(self.members), "Position").tolist()
+        value = vector(position, self.spaces.size, "Position")
+        mcs = value if coord is CoordSystem.MCS else self.spaces.mcs_of(value, self._rt.now)
+        return [float(x) for x in self.spaces.to_acs(mcs, near=self.acs_set())]
 
     def _start_home(self, command: Command, values: list[Any]) -> None:
         self.machine.fire(GroupEvent.HOME_START)
@@ -724,74 +749,109 @@ class AxesGroup:
                            buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
         """MC_SyncGroupToAxis (§6.4): the arc length along ``path`` (MC_PathSelect's
         PathData) follows ``master``: s = TuCNumerator / TuCDenominator x (master - master
-        at the start). From standstill; Active while it runs, ``command.in_velocity`` is
-        InSync; MC_GroupStop or any other motion command ends it (CommandAborted)."""
+        when the coupling starts). Aborting takes over a moving group as any Aborting motion
+        does (it brakes along its path, the old commands CommandAborted at once) and couples
+        from the rest point; Buffered (and the Blending modes, which act as Buffered) waits,
+        Busy and not Active, until the motion before it is over (decisions D-193). Active
+        while it runs, ``command.in_velocity`` is InSync; MC_GroupStop or any other motion
+        command ends it (CommandAborted)."""
         command = self._command("MC_SyncGroupToAxis")
         try:
-            self.machine.accept("MC_SyncGroupToAxis", part4_buffer_mode(buffer_mode))
-            if self.motion.law is not None or self.motion.waiting is not None:
-                raise CommandRejected(ErrorId.GROUP_MOVING, "MC_SyncGroupToAxis starts from "
-                                      "standstill (docs/decisions.md D-127)")
+            queue_mode = part4_buffer_mode(buffer_mode)
+            self.machine.accept("MC_SyncGroupToAxis", queue_mode)
             ratio = _conversion(tuc_numerator, tuc_denominator)
             mode = PathMode(mode)
             request = build_request(self, command, "path", path, None, MC_DEFAULT, acceleration,
                                     deceleration, jerk, coord_system, BufferMode.ABORTING,
                                     TransitionMode.TM_NONE, None, False)
-            self.motion.submit(request)
-            law = self.motion.law
-            if law is None:
-                raise CommandRejected(ErrorId.GROUP_MOVING, "the path could not start")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        _, a, d, j = request.dynamics  # §6.4 has no velocity: the group's maximum
+        limits = Limits(self.dynamics.max_velocity, a, d, j)
+
+        def couple(start: np.ndarray) -> None:
+            """The path's time law becomes the cam, from the rest point ``start``."""
             if mode is PathMode.PERIODIC:
                 try:
-                    check_periodic(tuple(request.extra["reference"]), tuple(request.end))
+                    check_periodic(tuple(start), tuple(request.end))
                 except CommandRejected:
                     self.motion._clear()
                     raise
-            _, a, d, j = request.dynamics  # §6.4 has no velocity: the group's maximum
-            self.motion.law = CamLaw(law, master, ratio, mode,
-                                     Limits(self.dynamics.max_velocity, a, d, j), command,
+            assert self.motion.law is not None
+            self.motion.law = CamLaw(self.motion.law, master, ratio, mode, limits, command,
                                      self._rt.cycle_time)
-        except CommandRejected as rejected:
-            return self._reject(command, rejected)
-        self._abort_queued("aborted by MC_SyncGroupToAxis")
-        command.status = CommandStatus.ACTIVE
-        if self.state is G.STANDBY:
-            self.machine.start("MC_SyncGroupToAxis")
-            self._couple()
-        return command
 
-    def track_conveyor_belt(self, belt: Axis, origin: Frame, initial_object: Frame) -> Command:
-        """MC_TrackConveyorBelt (§6.6): the PCS rides on ``belt`` from now on; Active while
-        it tracks, CommandAborted when a transform FB replaces the PCS. Starts no motion."""
-        command = self._command("MC_TrackConveyorBelt")
-        try:
-            self.machine.accept("MC_TrackConveyorBelt")
-        except CommandRejected as rejected:
-            return self._reject(command, rejected)
-        frame = ConveyorFrame(belt, origin, initial_object, belt.set_position, command)
-        return self._track(command, frame)
+        def start() -> None:
+            request.extra["couple"] = couple
+            self.motion.submit(request)
+            self._abort_queued("aborted by MC_SyncGroupToAxis")
+            command.status = CommandStatus.ACTIVE
+            if self.state is G.STANDBY and not command.finished:
+                self.machine.start("MC_SyncGroupToAxis")
+                self._couple()
+        return self._after_motion(command, queue_mode, start)
 
-    def track_rotary_table(self, table: Axis, origin: Frame, initial_object: Frame) -> Command:
+    def track_conveyor_belt(self, belt: Axis, origin: Frame, initial_object: Frame,
+                            coord_system: CoordSystem = CoordSystem.PCS,
+                            buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
+        """MC_TrackConveyorBelt (§6.6): the PCS rides on ``belt`` from the moment it is set
+        (the belt's travel counts from there); Active while it tracks, CommandAborted when
+        a transform FB replaces the PCS. Starts no motion. ``coord_system``: the PCS, the
+        one system that can move; ``buffer_mode`` as for the other tracking FBs
+        (``_set_tracking``)."""
+        return self._set_tracking(
+            "MC_TrackConveyorBelt", coord_system, buffer_mode,
+            lambda command: ConveyorFrame(belt, origin, initial_object, belt.set_position,
+                                          command))
+
+    def track_rotary_table(self, table: Axis, origin: Frame, initial_object: Frame,
+                           coord_system: CoordSystem = CoordSystem.PCS,
+                           buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
         """MC_TrackRotaryTable (§6.7): the PCS turns with ``table`` about the z axis of
-        ``origin``."""
-        command = self._command("MC_TrackRotaryTable")
-        try:
-            self.machine.accept("MC_TrackRotaryTable")
-        except CommandRejected as rejected:
-            return self._reject(command, rejected)
-        frame = RotaryTableFrame(table, origin, initial_object, table.set_position, command)
-        return self._track(command, frame)
+        ``origin``; as ``track_conveyor_belt`` otherwise."""
+        return self._set_tracking(
+            "MC_TrackRotaryTable", coord_system, buffer_mode,
+            lambda command: RotaryTableFrame(table, origin, initial_object,
+                                             table.set_position, command))
 
-    def set_dyn_coord_transform(self, master: AxesGroup, offset: Frame) -> Command:
-        """MC_SetDynCoordTransform (§6.5): this group's PCS rides on ``master``'s TCP."""
-        command = self._command("MC_SetDynCoordTransform")
+    def set_dyn_coord_transform(self, master: AxesGroup, offset: Frame,
+                                mode: PathMode = PathMode.NON_PERIODIC,
+                                coord_system: CoordSystem = CoordSystem.PCS,
+                                buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
+        """MC_SetDynCoordTransform (§6.5): this group's PCS rides on ``master``'s TCP.
+        ``mode`` (MC_PathMode) is checked and changes nothing: the frame follows the master's
+        TCP whatever its path does (decisions D-194)."""
+        if master is self:
+            command = self._command("MC_SetDynCoordTransform")
+            return self._reject(command, CommandRejected(ErrorId.INVALID_MODE,
+                                                         "a group cannot follow itself"))
         try:
-            self.machine.accept("MC_SetDynCoordTransform")
-            if master is self:
-                raise CommandRejected(ErrorId.INVALID_MODE, "a group cannot follow itself")
+            PathMode(mode)
+        except ValueError:
+            command = self._command("MC_SetDynCoordTransform")
+            return self._reject(command, CommandRejected(
+                ErrorId.INVALID_MODE, f"Mode: non_periodic (0) or periodic (1), got {mode!r}"))
+        return self._set_tracking("MC_SetDynCoordTransform", coord_system, buffer_mode,
+                                  lambda command: GroupFrame(master, offset, command))
+
+    def _set_tracking(self, block: str, coord_system: Any, buffer_mode: Any,
+                      frame: Callable[[Command], Any]) -> Command:
+        """The tracking FBs (§6.5-§6.7): CoordSystem names the system that becomes dynamic,
+        and only the PCS can (the MCS is the machine's, the ACS the axes'); Aborting sets the
+        frame now, Buffered (and the Blending modes, which act as Buffered) when the motion
+        issued before is over, Busy and not Active until then (decisions D-194). The frame
+        is made when it is set: a belt's or table's travel counts from that cycle."""
+        command = self._command(block)
+        try:
+            mode = part4_buffer_mode(buffer_mode)
+            self.machine.accept(block)
+            coord = enum_value(CoordSystem, coord_system, "CoordSystem")
+            if coord is not CoordSystem.PCS:
+                raise CommandRejected(ErrorId.INVALID_MODE, f"CoordSystem {coord.name}: only "
+                                      "the PCS can follow a moving object (§2.1, D-194)")
         except CommandRejected as rejected:
             return self._reject(command, rejected)
-        return self._track(command, GroupFrame(master, offset, command))
+        return self._after_motion(command, mode, lambda: self._track(command, frame(command)))
 
     def _track(self, command: Command, frame: Any) -> Command:
         self.motion.end_tracking(f"replaced by {command.kind}")
@@ -801,11 +861,20 @@ class AxesGroup:
 
     def sync_axis_to_group(self, slave: Axis, ratio_numerator: float = 1.0,
                            ratio_denominator: float = 1.0,
-                           acceleration: InputValue = MC_DEFAULT) -> Command:
-        """MC_SyncAxisToGroup (§6.3): ``slave`` runs at numerator/denominator x path speed;
-        ``command.in_velocity`` is InSync. A new call replaces the ratio (rule 116)."""
+                           acceleration: InputValue = MC_DEFAULT,
+                           deceleration: InputValue = MC_DEFAULT, jerk: InputValue = MC_DEFAULT,
+                           coord_system: CoordSystem = CoordSystem.MCS,
+                           buffer_mode: BufferMode = BufferMode.ABORTING) -> Command:
+        """MC_SyncAxisToGroup (§6.3): ``slave`` ramps in to numerator/denominator x path speed
+        (in ``coord_system``) with ``acceleration``, ``deceleration`` and ``jerk`` (MC_DEFAULT:
+        the slave's defaults), then counts the path length, locked in position;
+        ``command.in_velocity`` is InSync. A new call replaces the ratio (rule 116). Aborting
+        takes the slave over at once; Buffered (and the Blending modes, which act as
+        Buffered) waits, Busy and not Active, until the slave's own command is over
+        (decisions D-193)."""
         command = self._command("MC_SyncAxisToGroup")
         try:
+            mode = part4_buffer_mode(buffer_mode)
             self.machine.accept("MC_SyncAxisToGroup")
             if slave.group is not None:
                 raise CommandRejected(ErrorId.AXIS_IN_GROUP, f"{slave.name} is grouped")
@@ -814,18 +883,17 @@ class AxesGroup:
                     AxisState.CONTINUOUS_MOTION, AxisState.SYNCHRONIZED_MOTION):
                 raise CommandRejected(ErrorId.AXIS_DISABLED,
                                       f"{slave.name} is {slave.state.name}")
-            for name, value in (("RatioNumerator", ratio_numerator),
-                                ("RatioDenominator", ratio_denominator)):
-                if not isinstance(value, int | float) or not math.isfinite(value):
-                    raise CommandRejected(ErrorId.INVALID_GEAR_RATIO, f"{name}: {value!r}")
-            if ratio_denominator == 0:
-                raise CommandRejected(ErrorId.INVALID_GEAR_RATIO, "RatioDenominator is 0")
-            acc = (slave.parameters.acceleration if acceleration is MC_DEFAULT
-                   else dynamic_value("acceleration", acceleration,
-                                      PathDynamics(max_acceleration=slave.parameters
-                                                   .max_acceleration), command.warnings))
+            inputs = _sync_inputs(slave, ratio_numerator, ratio_denominator, acceleration,
+                                  deceleration, jerk, coord_system, command.warnings)
         except CommandRejected as rejected:
             return self._reject(command, rejected)
+        if mode is not BufferMode.ABORTING and (slave.has_job or slave.row in self._syncs):
+            self._waiting_syncs.append((slave, inputs, command))
+            return command
+        self._start_sync(slave, inputs, command)
+        return command
+
+    def _start_sync(self, slave: Axis, inputs: SyncInputs, command: Command) -> None:
         old = self._syncs.pop(slave.row, None)
         if old is not None:
             old.end(self._rt.now, "replaced by a new MC_SyncAxisToGroup")
@@ -833,9 +901,20 @@ class AxesGroup:
             slave._abort_all("aborted by MC_SyncAxisToGroup")
             slave._k.has_job[slave.row] = False
         command.status = CommandStatus.ACTIVE
-        self._syncs[slave.row] = AxisSync(self, slave, ratio_numerator / ratio_denominator,
-                                          acc, command)
-        return command
+        self._syncs[slave.row] = AxisSync(self, slave, inputs, command)
+
+    def _start_waiting_syncs(self) -> None:
+        """Buffered MC_SyncAxisToGroup: start once the slave's own command is over."""
+        keep = []
+        for slave, inputs, command in self._waiting_syncs:
+            if command.finished:
+                continue
+            if slave.has_job or slave.row in self._syncs or slave.state not in (
+                    AxisState.STANDSTILL, AxisState.SYNCHRONIZED_MOTION):
+                keep.append((slave, inputs, command))
+                continue
+            self._start_sync(slave, inputs, command)
+        self._waiting_syncs = keep
 
     # -- the cycle -----------------------------------------------------------------------------
 
@@ -846,6 +925,8 @@ class AxesGroup:
         self._check_members()
         if self.state in (G.MOVING, G.STOPPING) or self.motion.running:
             self.motion.advance(now)
+        if self._waiting_syncs:
+            self._start_waiting_syncs()
         if self._syncs:
             for row, sync in list(self._syncs.items()):
                 sync.step(now, self._rt.cycle_time)
@@ -1123,3 +1204,27 @@ def _conversion(numerator: Any, denominator: Any) -> float:
                               "not keep the path: one factor for all (D-127)")
     return factors.pop()
 
+
+
+def _sync_inputs(slave: Axis, numerator: Any, denominator: Any, acceleration: InputValue,
+                 deceleration: InputValue, jerk: InputValue, coord_system: Any,
+                 warnings: list[str]) -> SyncInputs:
+    """MC_SyncAxisToGroup's inputs checked: a finite ratio, dynamics > 0 (MC_DEFAULT: the
+    slave's default, MC_MAXIMUM: its maximum), one of the three coordinate systems."""
+    for name, value in (("RatioNumerator", numerator), ("RatioDenominator", denominator)):
+        if isinstance(value, bool) or not isinstance(value, int | float) \
+                or not math.isfinite(value):
+            raise CommandRejected(ErrorId.INVALID_GEAR_RATIO, f"{name}: {value!r}")
+    if denominator == 0:
+        raise CommandRejected(ErrorId.INVALID_GEAR_RATIO, "RatioDenominator is 0")
+    parameters = slave.parameters
+    limits = PathDynamics(acceleration=parameters.acceleration,
+                          deceleration=parameters.deceleration, jerk=parameters.jerk,
+                          max_acceleration=parameters.max_acceleration,
+                          max_deceleration=parameters.max_deceleration,
+                          max_jerk=parameters.max_jerk)
+    return SyncInputs(numerator / denominator,
+                      dynamic_value("acceleration", acceleration, limits, warnings),
+                      dynamic_value("deceleration", deceleration, limits, warnings),
+                      dynamic_value("jerk", jerk, limits, warnings),
+                      enum_value(CoordSystem, coord_system, "CoordSystem"))

@@ -45,6 +45,8 @@ _TRANSITION_SPEED: dict[BufferMode, Callable[[float, float], float]] = {
     BufferMode.BLENDING_HIGH: max,
 }
 _TAKE_OVER_TOLERANCE = 1e-6  #: tangent [1] and curvature [1/mm] a halted path is taken over at
+_JOIN_LENGTH = 1e-3  #: [mm] added to a lead-out (D-195), so that it is never empty
+_JOIN_SLACK = 1e-9  #: relative: the speed now may lie this far above the lead-out's cap
 _CONTOURS = (TransitionMode.TM_START_VELOCITY, TransitionMode.TM_CONSTANT_VELOCITY,
              TransitionMode.TM_CORNER_DISTANCE, TransitionMode.TM_MAX_CORNER_DEVIATION)
 
@@ -141,10 +143,14 @@ class PathMotion:
             start = self._start_point(request)
             request.extra["reference"] = start
             takes_over = self._takes_over_halt(request, start)
+            joins = None if takes_over is not None else self._join_plan(request, start)
             self._abort_queue(f"aborted by {command.kind}")
             self.follow = None
             if takes_over is not None:
                 self._begin(request, start, moving=takes_over)
+                return command
+            if joins is not None:
+                self._join(request, start, *joins)
                 return command
             if self.law is not None and not self.law.standing:
                 _, _, dec, jerk = request.dynamics
@@ -167,7 +173,7 @@ class PathMotion:
         or None: then it starts from rest (D-110)."""
         law, sampled = self.law, self._sampled
         if self.halt_command is None or law is None or law.standing or sampled is None \
-                or self.interrupted:
+                or self.interrupted or "couple" in request.extra:
             return None
         time, piece, local = sampled
         entry = self.entries.get(piece)
@@ -190,15 +196,93 @@ class PathMotion:
             return None
         return time, v, a
 
+    def _join_plan(self, request: PathCommand, start: np.ndarray
+                   ) -> tuple[tuple[float, float, float], list[Any], list[Piece]] | None:
+        """§7.4.2, §7.4.3: an Aborting command with TMStartVelocity or TMConstantVelocity
+        joins its path at speed instead of stopping (decisions D-195). The TCP runs on along
+        a lead-out that continues its motion (same tangent and curvature: a line or an arc),
+        its speed falling to the contour's; the lead-out's end is the corner the new path is
+        built from (relative inputs still add to the TCP when the FB was accepted), and the
+        contour of the transition mode joins the two as for a Blending command: for
+        TMStartVelocity it starts once the speed has fallen to p % of the aborted command's
+        Velocity, for TMConstantVelocity it runs at p % of the new command's Velocity (the
+        transition velocity of Aborting). Returns the law's start state, the geometry and its
+        pieces, or None where that cannot be done within the new command's dynamics (ACS,
+        a reversal, a cam, a standing path): then the path stops first (D-110)."""
+        law, sampled = self.law, self._sampled
+        if request.transition not in (TransitionMode.TM_START_VELOCITY,
+                                      TransitionMode.TM_CONSTANT_VELOCITY) \
+                or not isinstance(law, TimeLaw) or law.standing or sampled is None \
+                or self.interrupted or "couple" in request.extra:
+            return None
+        time, piece, local = sampled
+        entry = self.entries.get(piece)
+        v, a = self.path_velocity, self.path_acceleration
+        if entry is None or entry.space != request.space or request.space == ACS or v <= 0.0:
+            return None
+        previous = entry.owner
+        v2, a2, d2, j2 = request.dynamics
+        speed = request.parameter / 100.0 * (
+            previous.dynamics[0] if request.transition is TransitionMode.TM_START_VELOCITY
+            else v2)
+        point, tangent, curvature = evaluate(entry.geometry, local)
+        reach = _speed_change_distance(v, speed, d2, j2) if v > speed else 0.0
+        room = 2.0 * speed * speed / min(a2, previous.dynamics[1])  # a contour's radius
+        try:
+            lead = _lead_out(point, tangent, curvature, 2.0 * (reach + room) + _JOIN_LENGTH)
+            corner = self.group.spaces.with_xyz(start, lead.end)
+            geometry = request.build(corner, request.extra["reference"])
+            if not geometry:
+                return None
+            blend = self._contour(request, lead, geometry[0], previous, v2)
+            if blend is None:
+                return None
+            kept = [blend.before, blend.contour, blend.after, *geometry[1:]]
+            first = caps_for(self.group, blend.before, request.space,
+                             (v * (1.0 + _JOIN_SLACK), a2, d2, j2))
+            joint = self._piece(blend.contour, request.space, request, math.inf,
+                                speed_cap=speed, other=previous)
+            rest = self._pieces(request, kept[2:], exit_last=0.0)
+        except CommandRejected:  # a reversal, a degenerate lead-out or corner: stop first
+            return None
+        lead_piece = Piece(blend.before.length, *first, exit_velocity=math.inf,
+                           space=_SPACE_ID[request.space])
+        slow = _speed_change_distance(v, min(speed, joint.velocity), d2, j2) \
+            if v > min(speed, joint.velocity) else 0.0
+        slow += v * abs(a) / j2  # while the acceleration it has now ramps out
+        if v > lead_piece.velocity * (1.0 + _JOIN_SLACK) or -a > lead_piece.deceleration \
+                or a > lead_piece.acceleration or blend.before.length < slow:
+            return None
+        return (time, v, a), kept, [lead_piece, joint, *rest]
+
+    def _join(self, request: PathCommand, start: np.ndarray,
+              moving: tuple[float, float, float], geometry: list[Any],
+              pieces: list[Piece]) -> None:
+        """Start the joined path of ``_join_plan`` from the last sample's state."""
+        group = self.group
+        last_acs_v = self._last_acs_v
+        self._clear()
+        self._last_acs_v = last_acs_v
+        self._orientation = start.copy()
+        self._acs_start = group.acs_set()
+        self.law = TimeLaw(*moving)
+        if group.factors != (1.0, 1.0, 1.0):
+            self.law.set_factors(group._rt.now, *group.factors)
+        request.command.status = CommandStatus.ACTIVE
+        request.end = self._end_of(request, geometry, start)
+        self._push(request, geometry, pieces)
+
     def halt(self, command: Command, deceleration: float, jerk: float) -> None:
         now = self.group._rt.now
         self._abort_queue("aborted by MC_GroupHalt")
         self.follow = None
         self.interrupted = False
+        if self.law is None:  # nothing runs (a buffered halt, or one at rest): at rest now
+            command._end(CommandStatus.DONE, now)
+            return
         command.status = CommandStatus.ACTIVE
         self.halt_command = command
-        if self.law is not None:
-            self.law.stop(now, deceleration, jerk, keep=False)
+        self.law.stop(now, deceleration, jerk, keep=False)
 
     def interrupt(self, command: Command, deceleration: float, jerk: float) -> None:
         active = self.active
@@ -398,6 +482,10 @@ class PathMotion:
         geometry = request.build(start, request.extra["reference"])
         last_acs_v = self._last_acs_v
         self._clear()
+        couple = request.extra.get("couple")  # MC_SyncGroupToAxis: the law becomes a cam
+        if not geometry and couple is not None:
+            raise CommandRejected(ErrorId.GROUP_MOVING, "the path could not start: the TCP "
+                                  "is at its end already")
         if not geometry:  # already there: Done without motion
             request.end = start
             request.command._end(CommandStatus.DONE, group._rt.now)
@@ -419,6 +507,8 @@ class PathMotion:
         request.command.status = CommandStatus.ACTIVE
         request.end = self._end_of(request, geometry, start)
         self._push(request, geometry, pieces)
+        if couple is not None:
+            couple(start)
 
     def _append(self, request: PathCommand) -> None:
         """Buffered or blending: after the last queued command (§7.3.2, §7.3.3)."""
@@ -629,6 +719,21 @@ class PathMotion:
         self._last_acs_v = None
         self._acs_start = None
         self._sampled = None
+
+
+def _lead_out(point: np.ndarray, tangent: np.ndarray, curvature: np.ndarray,
+              length: float) -> Line | Arc:
+    """The path a TCP at ``point`` would run on for ``length`` [mm] keeping its tangent and
+    curvature vector: a line, or an arc of at most a quarter turn on its osculating circle."""
+    kappa = float(np.linalg.norm(curvature))
+    if kappa * length <= _TAKE_OVER_TOLERANCE:
+        return Line(point, point + length * tangent)
+    radius = 1.0 / kappa
+    inward = curvature / kappa
+    center = point + radius * inward
+    sweep = min(length / radius, 0.5 * math.pi)
+    end = center + radius * (-math.cos(sweep) * inward + math.sin(sweep) * tangent)
+    return Arc(point, end, center, np.cross(tangent, inward))
 
 
 def _speed_change_distance(v1: float, v2: float, acceleration: float, jerk: float) -> float:

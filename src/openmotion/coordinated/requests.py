@@ -47,8 +47,11 @@ def build_request(group: AxesGroup, command: Command, kind: str, target: Any, ci
             mode.TM_CORNER_DISTANCE, mode.TM_MAX_CORNER_DEVIATION):
         raise CommandRejected(ErrorId.INVALID_MODE,
                               f"BufferMode Aborting with {mode.name} is not defined (§2.4.4)")
+    joins = buffer_mode is BufferMode.ABORTING and mode in (
+        mode.TM_START_VELOCITY, mode.TM_CONSTANT_VELOCITY)  # at speed (moves.py, D-195)
     value = transition_parameter(mode, parameter) \
-        if buffer_mode not in (BufferMode.ABORTING, BufferMode.BUFFERED) else 0.0
+        if buffer_mode is not BufferMode.BUFFERED and (
+            buffer_mode is not BufferMode.ABORTING or joins) else 0.0
     if buffer_mode is BufferMode.BUFFERED:
         mode = mode.TM_NONE  # §7.3.2: TransitionMode is not evaluated
     dynamics = path_dynamics(group.dynamics, command.warnings, velocity, acceleration,

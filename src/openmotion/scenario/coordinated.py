@@ -542,7 +542,13 @@ class GroupHome(AxesGroupEntry):
     method = "home"
     command: Literal["group_home"]
     position: Position | None = None
-    """One ACS value per member; default: each axis' configured home position."""
+    """Where the group is after homing, in ``coord_system``; default: each axis' configured
+    home position."""
+    buffer_mode: BufferModeName = BufferMode.ABORTING
+    """aborting (at rest only) or buffered (the blending modes act as buffered): after the
+    motion issued before."""
+    coord_system: CoordSystemName = CoordSystem.ACS  # type: ignore[valid-type]
+    """acs (one value per member), mcs or pcs (one per coordinate)."""
 
 
 class GroupSetPosition(AxesGroupEntry):
@@ -587,11 +593,19 @@ class SetCartesianTransform(AxesGroupEntry):
         return {"frame": frame_of(self.frame), "mode": self.mode}
 
 
-class _Tracking(AxesGroupEntry):
+class _TrackingInputs(AxesGroupEntry):
+    coord_system: CoordSystemName = CoordSystem.PCS  # type: ignore[valid-type]
+    """The system that moves: pcs, the only one that can."""
+    buffer_mode: BufferModeName = BufferMode.ABORTING
+    """aborting (set now) or buffered (the blending modes act as buffered): once the motion
+    issued before is over."""
+
+
+class _Tracking(_TrackingInputs):
     origin: Transform
     """Six values: the moving frame's origin in the MCS."""
     initial_object: Transform = [0.0] * 6
-    """Six values: the object in the moving frame when the entry fires."""
+    """Six values: the object in the moving frame when it is set."""
 
     def arguments(self) -> dict[str, Any]:
         arguments = super().arguments()
@@ -623,7 +637,7 @@ class TrackRotaryTable(_Tracking):
     """The table axis [°]."""
 
 
-class SetDynCoordTransform(AxesGroupEntry):
+class SetDynCoordTransform(_TrackingInputs):
     """MC_SetDynCoordTransform (§6.5): this group's PCS rides on ``master``'s TCP."""
 
     method = "set_dyn_coord_transform"
@@ -633,9 +647,13 @@ class SetDynCoordTransform(AxesGroupEntry):
     """The master axes group."""
     offset: Transform = [0.0] * 6
     """Six values: the PCS on the master's TCP."""
+    mode: PathModeName = PathMode.NON_PERIODIC  # type: ignore[valid-type]
+    """non_periodic or periodic (MC_PathMode): checked, changes nothing."""
 
     def arguments(self) -> dict[str, Any]:
-        return {"master": self.master, "offset": frame_of(self.offset)}
+        arguments = super().arguments()
+        arguments["offset"] = frame_of(self.offset)
+        return arguments
 
 
 class SyncAxisToGroup(AxesGroupEntry):
@@ -652,13 +670,22 @@ class SyncAxisToGroup(AxesGroupEntry):
     ratio_denominator: Number = 1.0
     """Ratio denominator, != 0."""
     acceleration: InputValue = MC_DEFAULT
-    """Of the slave while it syncs [mm/s²]; MC_DEFAULT: its default acceleration."""
+    """Of the slave while it ramps in and speeds up [mm/s²]; MC_DEFAULT: its default."""
+    deceleration: InputValue = MC_DEFAULT
+    """While it ramps in and slows down [mm/s²]; MC_DEFAULT: its default."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³]; MC_DEFAULT: its default."""
+    coord_system: CoordSystemName = CoordSystem.MCS  # type: ignore[valid-type]
+    """Where the path length is measured: acs, mcs or pcs."""
+    buffer_mode: BufferModeName = BufferMode.ABORTING
+    """aborting (takes the slave over) or buffered (the blending modes act as buffered):
+    after the slave's own command."""
 
 
 class SyncGroupToAxis(AxesGroupEntry):
     """MC_PathSelect, then MC_SyncGroupToAxis (§5.26, §6.4) in the same cycle: the arc length
     along ``path`` follows ``master``, s = tuc_numerator / tuc_denominator x (master - master
-    at the start); from standstill. Busy while it follows (``<id>.in_velocity``: InSync); a
+    when it couples). Busy while it follows (``<id>.in_velocity``: InSync); a
     non-periodic path stops at its end and waits. Does not keep an open-ended run going."""
 
     method = "sync_group_to_axis"
@@ -682,6 +709,9 @@ class SyncGroupToAxis(AxesGroupEntry):
     """[mm/s²]."""
     jerk: InputValue = MC_DEFAULT
     """[mm/s³]."""
+    buffer_mode: BufferModeName = BufferMode.ABORTING
+    """aborting (a moving group brakes along its path and couples at rest) or buffered (the
+    blending modes act as buffered): after the motion issued before."""
 
     def description(self) -> list[dict[str, Any]]:
         return [element.description() for element in self.path]

@@ -358,7 +358,30 @@ class GroupEntry(_Timed):
                 if name not in skip}
 
 
-class GroupHalt(GroupEntry):
+class _GroupBrake(GroupEntry):
+    """group_halt and group_stop: an axes group's take Part 4's BufferMode too."""
+
+    buffer_mode: BufferModeName = BufferMode.ABORTING
+    """Axes groups only (Part 4 §5.13, §5.14): aborting, or buffered (the blending modes act
+    as buffered), which waits for the motion issued before. A CA group has none."""
+
+    @model_validator(mode="after")
+    def _buffer_mode_of_axes_groups(self) -> _GroupBrake:
+        names = _NAMES.get()
+        if self.buffer_mode is not BufferMode.ABORTING and names is not None \
+                and self.group not in names.axes_groups:
+            raise ValueError("buffer_mode: a CA group's stop and halt have none "
+                             "(Tc3_McCoordinatedMotion §9.3.1.2); only axes groups")
+        return self
+
+    def arguments(self) -> dict[str, Any]:
+        arguments = super().arguments()
+        if self.buffer_mode is BufferMode.ABORTING:  # the CA group's methods have none
+            del arguments["buffer_mode"]
+        return arguments
+
+
+class GroupHalt(_GroupBrake):
     """MC_GroupHalt (§9.3.1.2.1): every mover brakes to rest; the group is not locked."""
 
     method = "halt"
@@ -369,7 +392,7 @@ class GroupHalt(GroupEntry):
     """[mm/s³]."""
 
 
-class GroupStop(GroupEntry):
+class GroupStop(_GroupBrake):
     """MC_GroupStop (§9.3.1.2.2): brake every mover and lock the group while Execute is TRUE.
 
     Execute falls after ``hold`` seconds or at ``release_at``; the run goes on until then.
