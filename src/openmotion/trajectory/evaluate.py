@@ -79,6 +79,21 @@ class SegmentTable:
                          np.array(rows, dtype=np.int64), time).tolist()
         return [KinematicState(p, v, a) for p, v, a in values]
 
+    def remaining(self, row: int, time: float) -> Profile:
+        """The rest of row ``row``'s profile from ``time`` on, starting with its state there
+        (where a running motion will still go: software limits written during it)."""
+        start = self.state(row, time)
+        records = self.seg[row]
+        finite = records[np.isfinite(records[:, _T])]
+        k = max(int((finite[1:, _T] <= time).sum()), 0)
+        later = finite[k + 1:]
+        jerk = 0.0 if time >= self.end[row] else float(finite[k, _J])
+        data = np.empty((5, later.shape[0] + 1))
+        data[:, 0] = (0.0, start.position, start.velocity, start.acceleration, jerk)
+        data[:, 1:] = later.T
+        data[0, 1:] -= time
+        return Profile.from_data(data)
+
     def state(self, row: int, time: float) -> KinematicState:
         """Exact kinematic state of one row at ``time`` (used when planning from it)."""
         t0 = float(self.cur[_T, row])
