@@ -126,19 +126,20 @@ def jerk_within_velocity(start: KinematicState, jerk: float, max_velocity: float
                          max_jerk: float) -> float:
     """The jerk a plan from ``start`` must use so that the speed stays within ``max_velocity``.
 
-    Taking an acceleration ``a`` away at jerk ``j`` carries the speed on by ``a²/2j``: that
-    much is gone before any planner can brake. So while ``start`` speeds up, ``jerk`` is raised
-    to the smallest value that releases ``a`` by ``max_velocity``, at most ``max_jerk``
-    (D-020, D-177). Every planner starting from a running state (stop, halt, a new move, a
-    re-plan) takes its jerk from here.
+    Taking an acceleration ``a`` away at jerk ``j`` carries the velocity on by ``a·|a|/2j``
+    before any planner can turn it: past the maximum while speeding up, or through zero and
+    on past the maximum the other way when a strong deceleration meets a soft jerk. So
+    ``jerk`` is raised to the smallest value that releases ``a`` within ``max_velocity``, at
+    most ``max_jerk`` (D-020, D-177). Every planner starting from a running state (stop,
+    halt, a new move, a re-plan) takes its jerk from here.
     """
     v, a = start.velocity, start.acceleration
-    heading = _sign(v) or _sign(a)
-    if a * heading <= 0.0:  # not speeding up: releasing the acceleration lowers the speed
+    if a == 0.0:
         return jerk
-    room = max_velocity - abs(v)
-    if abs(v) + a * a / (2.0 * jerk) <= max_velocity * (1.0 + VELOCITY_TOLERANCE):
+    ahead = v if a > 0.0 else -v  # the velocity in the direction the acceleration pushes
+    if ahead + a * a / (2.0 * jerk) <= max_velocity * (1.0 + VELOCITY_TOLERANCE):
         return jerk
+    room = max_velocity - ahead
     if room <= 0.0:
         return max(jerk, max_jerk)
     return max(jerk, min(a * a / (2.0 * room) * (1.0 + _JERK_MARGIN), max_jerk))
