@@ -244,7 +244,7 @@ def test_axis_beyond_a_soft_limit_may_not_go_further_out() -> None:
 
 
 def write(axis: om.Axis, number: int, value: float) -> None:
-    """MC_WriteParameter for one cycle (TcMC §4.6)."""
+    """MC_WriteParameter for one cycle (TcMC §4.10)."""
     block = MC_WriteParameter(axis)
     block(enable=True, parameter_number=number, value=value)
     assert block.done and not block.error, block.message

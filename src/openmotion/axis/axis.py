@@ -37,7 +37,7 @@ from openmotion.core.special_values import (
     MC_INVALID,
     InputValue,
 )
-from openmotion.trajectory.plan import Limits, plan_stop, plan_velocity
+from openmotion.trajectory.plan import Limits, jerk_within_velocity, plan_stop, plan_velocity
 from openmotion.trajectory.segments import KinematicState, Profile
 
 if TYPE_CHECKING:
@@ -1309,8 +1309,9 @@ class Axis:
                 start = self._k.state(self.row)  # the new command starts from the fed state
                 self._k.set_external(self.row, False)
                 p = self.parameters
+                jerk = jerk_within_velocity(start, p.jerk, p.max_velocity, p.max_jerk)  # D-177
                 self._install(plan_velocity(start, start.velocity, Limits(
-                    math.inf, p.max_acceleration, p.max_deceleration, p.jerk)), has_job=False)
+                    math.inf, p.max_acceleration, p.max_deceleration, jerk)), has_job=False)
             self._job = None
         for job in self._queue:
             job.command._end(CommandStatus.ABORTED, now, message=reason)
