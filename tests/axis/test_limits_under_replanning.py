@@ -321,3 +321,23 @@ def test_soft_limit_written_at_rest_beyond_the_axis_changes_nothing() -> None:
     write(axis, SOFT_MAX, 200.0)
     rt.run(0.1)
     assert axis.state is S.STANDSTILL and axis.set_position == 300.0
+
+
+def test_soft_limit_written_while_override_pauses_a_move_holds_when_it_resumes() -> None:
+    """D-179: a MoveVelocity paused by override 0 (D-007) counts with the way it resumes
+    on: a limit written during the pause stops it there once the override returns."""
+    rt = om.Runtime()
+    axis = rt.add_axis("x", max_soft_limit=400.0)
+    axis.power()
+    cruise = axis.move_velocity(200.0)
+    rt.run(0.5)
+    axis.set_override(0.0)
+    rt.run(0.5)
+    assert axis.set_velocity == 0.0 and cruise.busy
+    axis.write_parameter(ENABLE_SOFT_MAX, True, bool)
+    assert axis.state is S.CONTINUOUS_MOTION  # no error while it stands inside the range
+    axis.set_override(100.0)
+    rt.run_until(lambda: axis.state is S.ERROR_STOP and axis.set_velocity == 0.0,
+                 timeout=5.0)
+    assert cruise.aborted and axis.set_position == 400.0
+    assert axis.axis_error_id == ErrorId.SOFT_LIMIT_REACHED

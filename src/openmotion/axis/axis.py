@@ -201,7 +201,8 @@ class Axis:
         ends in ErrorStop SOFT_LIMIT_REACHED, as a velocity move towards a limit does (D-016):
         with its own dynamics, or the axis maxima where those would overshoot. Where even the
         maxima cannot stop at the limit, or another motion (stop, halt, a brake without a
-        job) would pass it, the axis error comes at once and brakes with the maxima.
+        job, a superimposed motion) would pass it, the axis error comes at once and brakes
+        with the maxima. A job paused by override 0 counts with the way it resumes on.
         """
         k, row, p = self._k, self.row, self.parameters
         lo, hi = jobs.soft_range(p)
@@ -209,20 +210,22 @@ class Axis:
                 or k.external[row] or self.state in (AxisState.ERROR_STOP, AxisState.HOMING):
             return  # geared and fed setpoints follow their source; homing takes none (§3.14)
         start = k.state(row)
-        way = _way_ahead(k, row)
-        if way is None:
-            return
-        low, high = way
+        low, high = _way_ahead(k, row)
+        job = self._job
+        if job is not None and not job.command.finished:  # a paused job resumes on its way
+            if job.kind == "velocity" and not job.soft_limit_stop:
+                low, high = (low, math.inf) if job.velocity > 0.0 else (-math.inf, high)
+            elif job.kind == "position" and job.target is not None:
+                low, high = min(low, job.target), max(high, job.target)
         tolerance = 1e-9 * max(1.0, abs(lo) if math.isfinite(lo) else 1.0,
                                abs(hi) if math.isfinite(hi) else 1.0)
         past_high = high > max(hi, start.position) + tolerance
         if not past_high and low >= min(lo, start.position) - tolerance:
             return
         limit = hi if past_high else lo
-        job = self._job
         if job is not None and job.kind in ("position", "velocity") \
                 and not job.command.finished and lo <= start.position <= hi \
-                and self._stop_job_at(job, start, limit):
+                and not k.superimposed[row] and self._stop_job_at(job, start, limit):
             return
         self._fault(ErrorId.SOFT_LIMIT_REACHED,
                     f"the motion would pass the software limit {limit} written during it")
@@ -1500,9 +1503,9 @@ class Axis:
         return Command(kind, self._rt.now)
 
 
-def _way_ahead(kernel: AxisKernel, row: int) -> tuple[float, float] | None:
-    """Lowest and highest set position the motion in progress still reaches (infinite in
-    the direction of an endless cruise); None at rest with nothing planned."""
+def _way_ahead(kernel: AxisKernel, row: int) -> tuple[float, float]:
+    """Lowest and highest set position the installed motion still reaches (infinite in the
+    direction of an endless cruise)."""
     way = kernel.segments.remaining(row, kernel.sample_time)
     low, high = way.position_extrema()
     cruise = float(way.v[-1])
@@ -1515,8 +1518,6 @@ def _way_ahead(kernel: AxisKernel, row: int) -> tuple[float, float] | None:
         high = math.inf
     elif cruise < 0.0:
         low = -math.inf
-    if low == high and not kernel.has_job[row]:
-        return None
     return low, high
 
 
