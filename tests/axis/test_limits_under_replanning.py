@@ -128,8 +128,8 @@ def running_then_brake(draw: st.DrawFn) -> dict[str, object]:
         second.update(position=v_max * draw(st.floats(-1.0, 1.0)),
                       velocity=v_max * draw(st.floats(0.05, 1.0)))
     brake_kind = draw(st.sampled_from(["stop", "halt"]))
-    given = draw(st.booleans())
-    brake = dict(deceleration=dynamics(d_max), jerk=jerk()) if given else {}
+    with_dynamics = draw(st.booleans())
+    brake = dict(deceleration=dynamics(d_max), jerk=jerk()) if with_dynamics else {}
     return dict(
         axis=dict(max_velocity=v_max, max_acceleration=a_max, max_deceleration=d_max,
                   max_jerk=j_max, acceleration=a_max / 2, deceleration=d_max / 2,
