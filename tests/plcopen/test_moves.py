@@ -595,7 +595,7 @@ def test_move_velocity_away_from_the_limit_is_not_affected() -> None:
 
 def test_buffered_behind_move_velocity_starts_at_in_velocity() -> None:
     """PLCopen Part 1 (D-008): a command buffered behind MC_MoveVelocity starts when the
-    velocity is reached (InVelocity), which ends the velocity command."""
+    velocity is reached (InVelocity); the velocity command shows CommandAborted (D-178)."""
     rt, axis = powered_axis()
     velocity, buffered = MC_MoveVelocity(axis), MC_MoveAbsolute(axis)
     velocity(execute=True, velocity=100.0)
@@ -604,7 +604,7 @@ def test_buffered_behind_move_velocity_starts_at_in_velocity() -> None:
     run(rt, axis, lambda: (velocity(execute=True), buffered(execute=True)),
         lambda: buffered.active)
     assert axis.set_velocity == pytest.approx(100.0, abs=1e-9)
-    assert not velocity.busy and not velocity.command_aborted
+    assert not velocity.busy and velocity.command_aborted and not velocity.in_velocity
     run(rt, axis, lambda: buffered(execute=True), lambda: buffered.done)
     assert axis.set_position == 50.0
 

@@ -257,6 +257,29 @@ def test_states_of_several_rows_are_state_bit_for_bit(cases, data):
         assert table.states(rows, time) == [table.state(row, time) for row in rows]
 
 
+@given(case=planned_cases(), data=st.data())
+def test_remaining_profile_continues_the_row(case, data):
+    """``SegmentTable.remaining`` (where a running motion still goes: software limits
+    written during it, D-179) starts with ``state`` at that time and follows the row from
+    there; before the row's start, in a segment, and in the open segment."""
+    profile = _plan(case)
+    table = SegmentTable()
+    row = table.add(KinematicState(0.0), 0.0)
+    offset = data.draw(st.floats(0.0, 5.0))
+    table.install(row, profile, offset)
+    time = offset + data.draw(st.floats(0.0, 1.2)) * profile.duration
+    rest = table.remaining(row, time)
+    start = table.state(row, time)
+    assert (rest.p[0], rest.v[0], rest.a[0]) == (start.position, start.velocity,
+                                                  start.acceleration)
+    scale = max(1.0, float(np.max(np.abs(profile.p))), float(np.max(np.abs(profile.v))),
+                float(np.max(np.abs(profile.a))))
+    for dt in np.linspace(0.0, max(profile.duration + offset - time, 0.0) + 0.5, 41):
+        state = table.state(row, time + float(dt))
+        ours = rest.at(float(dt))[:2]
+        assert ours == pytest.approx((state.position, state.velocity), abs=1e-9 * scale)
+
+
 def _dense(profile: Profile, points: int = 4001) -> tuple[np.ndarray, float]:
     grid = np.linspace(0.0, profile.duration, points)
     times = np.unique(np.concatenate([grid, profile.t]))

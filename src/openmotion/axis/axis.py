@@ -38,7 +38,7 @@ from openmotion.core.special_values import (
     MC_INVALID,
     InputValue,
 )
-from openmotion.trajectory.plan import Limits, plan_stop, plan_velocity
+from openmotion.trajectory.plan import Limits, jerk_within_velocity, plan_stop, plan_velocity
 from openmotion.trajectory.segments import KinematicState, Profile
 
 if TYPE_CHECKING:
@@ -195,6 +195,64 @@ class Axis:
         k.lag_filter[row] = p.position_lag_filter_time
         k.v_max[row], k.j_max[row] = p.max_velocity, p.max_jerk
         k.a_max[row] = max(p.max_acceleration, p.max_deceleration)
+        self._enforce_soft_limits()
+
+    def _enforce_soft_limits(self) -> None:
+        """A software limit enabled or moved during a motion holds for that motion (D-179).
+
+        A position or velocity move that would now pass it becomes a stop at the limit that
+        ends in ErrorStop SOFT_LIMIT_REACHED, as a velocity move towards a limit does (D-016):
+        with its own dynamics, or the axis maxima where those would overshoot. Where even the
+        maxima cannot stop at the limit, or another motion (stop, halt, a brake without a
+        job, a superimposed motion) would pass it, the axis error comes at once and brakes
+        with the maxima. A job paused by override 0 counts with the way it resumes on.
+        """
+        k, row, p = self._k, self.row, self.parameters
+        lo, hi = jobs.soft_range(p)
+        if (math.isinf(lo) and math.isinf(hi)) or not self.powered or row in k.couplings \
+                or k.external[row] or self.state in (AxisState.ERROR_STOP, AxisState.HOMING):
+            return  # geared and fed setpoints follow their source; homing takes none (§3.14)
+        start = k.state(row)
+        low, high = _way_ahead(k, row)
+        job = self._job
+        if job is not None and not job.command.finished:  # a paused job resumes on its way
+            if job.kind == "velocity" and not job.soft_limit_stop:
+                low, high = (low, math.inf) if job.velocity > 0.0 else (-math.inf, high)
+            elif job.kind == "position" and job.target is not None:
+                low, high = min(low, job.target), max(high, job.target)
+        tolerance = 1e-9 * max(1.0, abs(lo) if math.isfinite(lo) else 1.0,
+                               abs(hi) if math.isfinite(hi) else 1.0)
+        past_high = high > max(hi, start.position) + tolerance
+        if not past_high and low >= min(lo, start.position) - tolerance:
+            return
+        limit = hi if past_high else lo
+        if job is not None and job.kind in ("position", "velocity") \
+                and not job.command.finished and lo <= start.position <= hi \
+                and not k.superimposed[row] and self._stop_job_at(job, start, limit):
+            return
+        self._fault(ErrorId.SOFT_LIMIT_REACHED,
+                    f"the motion would pass the software limit {limit} written during it")
+
+    def _stop_job_at(self, job: Job, start: KinematicState, limit: float) -> bool:
+        """Turn ``job`` into a stop at ``limit`` (D-016); False when it cannot stop there."""
+        p = self.parameters
+        direction = _sign(limit - start.position)
+        hardest = Limits(max(job.limits.velocity, abs(start.velocity)), p.max_acceleration,
+                         p.max_deceleration, p.max_jerk)
+        for limits in (job.limits, hardest):
+            trial = Job("position", job.command, limits, target=limit,
+                        velocity=direction * limits.velocity, soft_limit_stop=True)
+            try:
+                profile = self._plan(trial)
+                jobs.check_soft_limits(p, profile, limit)
+            except CommandRejected:
+                continue
+            job.kind, job.target, job.limits = "position", limit, limits
+            job.velocity, job.end_velocity, job.soft_limit_stop = trial.velocity, 0.0, True
+            job.command.in_velocity = False
+            self._install(profile)
+            return True
+        return False
 
     def read_parameter(self, number: int, kind: type = float) -> float | bool:
         spec = _parameter_spec(number)
@@ -455,7 +513,7 @@ class Axis:
             return self._reject(command, rejected.error_id, rejected.message)
         limits = self._stop_limits(0.0, 0.0, command)
         start = self._k.state(self.row)
-        normal = plan_stop(start, limits.deceleration, limits.jerk)
+        normal = jobs.plan_brake(start, limits.deceleration, limits.jerk, self.parameters)
         failure: CommandRejected | None = None
         profile = normal
         if self.state is AxisState.STOPPING:
@@ -615,7 +673,8 @@ class Axis:
             resolve_limits(self.parameters, [], velocity, acceleration, deceleration, jerk)
         if mode in (DecoupleMode.NEW_POSITION, DecoupleMode.NEW_POSITION_AND_VELOCITY):
             target = require_position("position", position)
-            jobs.check_soft_limits(self.parameters, Profile.hold(KinematicState(target)), target)
+            jobs.check_soft_limits(self.parameters, Profile.hold(KinematicState(target)), target,
+                                   start=self.set_position)
 
     def _gear_cycle(self, job: Job) -> bool:
         """Per cycle while coupled: slew a dynamic ratio, watch the slave's limits."""
@@ -922,7 +981,7 @@ class Axis:
             self._job.command._end(CommandStatus.DONE, self._rt.now, message=reason)
             self._job = None
         p = self.parameters
-        self._install(plan_stop(start, p.deceleration, p.jerk), has_job=False)
+        self._install(jobs.plan_brake(start, p.deceleration, p.jerk, p), has_job=False)
         self.state = AxisState.STANDSTILL if start.velocity == 0.0 else self.state
         if start.velocity != 0.0:
             halt = self._new("external_stop")
@@ -1219,7 +1278,7 @@ class Axis:
         elif job.kind == "position":
             if job.soft_limit_stop:
                 self._fault(ErrorId.SOFT_LIMIT_REACHED,
-                            f"velocity move stopped at the software limit {job.target}",
+                            f"stopped at the software limit {job.target}",
                             time=end_time)
             elif self._queue and self._queue[0].buffer_mode in _BLEND_SPEED:
                 self._finish(job.command)
@@ -1296,8 +1355,9 @@ class Axis:
         job = self._queue.pop(0)
         time = max(time, self._k.sample_time)  # never rewrite a sample already taken
         previous = self._job
-        if previous is not None and previous.kind == "velocity":
-            self._finish(previous.command)
+        if previous is not None and previous.kind == "velocity":  # never Done by itself (D-178)
+            previous.command._end(CommandStatus.ABORTED, self._rt.now,
+                                  message=f"taken over by the buffered {job.command.kind}")
         start = self._k.segments.state(self.row, time)
         job.extra["start"] = start.position
         try:
@@ -1341,8 +1401,9 @@ class Axis:
                 start = self._k.state(self.row)  # the new command starts from the fed state
                 self._k.set_external(self.row, False)
                 p = self.parameters
+                jerk = jerk_within_velocity(start, p.jerk, p.max_velocity, p.max_jerk)  # D-177
                 self._install(plan_velocity(start, start.velocity, Limits(
-                    math.inf, p.max_acceleration, p.max_deceleration, p.jerk)), has_job=False)
+                    math.inf, p.max_acceleration, p.max_deceleration, jerk)), has_job=False)
             self._job = None
         for job in self._queue:
             job.command._end(CommandStatus.ABORTED, now, message=reason)
@@ -1363,7 +1424,7 @@ class Axis:
         p = self.parameters
         time = self._k.sample_time if time is None else time
         start = self._k.segments.state(self.row, time)
-        self._install(plan_stop(start, p.max_deceleration, p.max_jerk), has_job=False,
+        self._install(jobs.plan_brake(start, p.max_deceleration, p.max_jerk, p), has_job=False,
                       time=time)
 
     def _try_reset(self, command: Command, now: float) -> bool:
@@ -1494,7 +1555,8 @@ class Axis:
     def _stop_profile(self, limits: Limits) -> Profile:
         """Plan the stop; keep stricter dynamics in the safety cases of TcMC §3.15."""
         start = self._k.state(self.row)
-        profile = plan_stop(start, limits.deceleration, limits.jerk)
+        p = self.parameters
+        profile = jobs.plan_brake(start, limits.deceleration, limits.jerk, p)
         stricter = self._stricter_stop_limits(limits)
         if stricter is None:
             return profile
@@ -1511,7 +1573,7 @@ class Axis:
                 unsafe |= (end - job.target) * direction > 1e-9  # would overshoot the target
         if not unsafe:
             return profile
-        return plan_stop(start, stricter.deceleration, stricter.jerk)
+        return jobs.plan_brake(start, stricter.deceleration, stricter.jerk, p)
 
     def _stricter_stop_limits(self, limits: Limits) -> Limits | None:
         job = self._job
@@ -1534,6 +1596,24 @@ def _keep_room_mark(trial: Job, job: Job) -> None:
     """A trial planned beside a superposition marks the job it becomes (D-180)."""
     if trial.extra.get("beside_superposition"):
         job.extra["beside_superposition"] = True
+
+
+def _way_ahead(kernel: AxisKernel, row: int) -> tuple[float, float]:
+    """Lowest and highest set position the installed motion still reaches (infinite in the
+    direction of an endless cruise)."""
+    way = kernel.segments.remaining(row, kernel.sample_time)
+    low, high = way.position_extrema()
+    cruise = float(way.v[-1])
+    if kernel.superimposed[row]:  # the added motion may go either way: widen by its extent
+        extra = kernel.overlay.remaining(row, kernel.sample_time)
+        extra_low, extra_high = extra.position_extrema()
+        low, high = low + min(extra_low, 0.0), high + max(extra_high, 0.0)
+        cruise = cruise or float(extra.v[-1])
+    if cruise > 0.0:
+        high = math.inf
+    elif cruise < 0.0:
+        low = -math.inf
+    return low, high
 
 
 def _check_dynamics_change(job: Job, profile: Profile, start: KinematicState) -> None:

@@ -15,10 +15,11 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+from openmotion.axis import jobs
 from openmotion.axis.commands import CommandStatus
 from openmotion.core.enums import AxisState, Direction, ReferenceMode
 from openmotion.core.errors import CommandRejected, ErrorId
-from openmotion.trajectory.plan import Limits, plan_stop, plan_velocity
+from openmotion.trajectory.plan import Limits, plan_velocity
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
@@ -114,5 +115,6 @@ class HomingSequence:
         axis = self.axis
         axis.shift_coordinates(self.home_position - (raw + axis.raw_offset))
         p = axis.parameters
-        axis._install(plan_stop(axis._k.state(axis.row), p.deceleration, p.jerk), has_job=False)
+        axis._install(jobs.plan_brake(axis._k.state(axis.row), p.deceleration, p.jerk, p),
+                      has_job=False)
         axis.calibration_state = 6

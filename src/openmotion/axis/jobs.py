@@ -11,7 +11,13 @@ import math
 from openmotion.axis.commands import Job
 from openmotion.axis.parameters import AxisParameters
 from openmotion.core.errors import CommandRejected, ErrorId
-from openmotion.trajectory.plan import Limits, plan_position, plan_stop, plan_velocity
+from openmotion.trajectory.plan import (
+    Limits,
+    jerk_within_velocity,
+    plan_position,
+    plan_stop,
+    plan_velocity,
+)
 from openmotion.trajectory.segments import KinematicState, Profile
 
 BLEND_ITERATIONS = 12  #: bisection steps when a blend velocity cannot be reached
@@ -24,29 +30,28 @@ def plan_job(job: Job, start: KinematicState, override: float,
 
     With ``parameters``, the axis maximum velocity is a hard limit: a command whose jerk is too
     low to release the running acceleration before it is exceeded gets the jerk it needs, up
-    to ``max_jerk`` (D-020).
+    to ``max_jerk`` (D-020, D-177).
     """
-    profile = _plan_job(job, start, override)
-    if parameters is None or start.acceleration == 0.0:
+    profile = _plan_job(job, start, override)  # a command the planner refuses stays refused
+    if parameters is None:
         return profile
-    v_max = parameters.max_velocity
-    # velocity left before the bound the acceleration drives towards (braking through zero
-    # towards -v_max counts too: issue 19)
-    room = v_max - start.velocity * math.copysign(1.0, start.acceleration)
-    if start.acceleration**2 / (2.0 * job.limits.jerk) <= room:  # releasing it stays inside
-        return profile
-    lo, hi = profile.velocity_extrema()
-    if max(-lo, hi) <= v_max * (1.0 + 1e-9) or room <= 0.0:
-        return profile
-    needed = start.acceleration**2 / (2.0 * room)
-    jerk = min(max(job.limits.jerk, needed * (1.0 + 1e-6)), parameters.max_jerk)
-    if jerk <= job.limits.jerk:
+    jerk = jerk_within_velocity(start, job.limits.jerk, parameters.max_velocity,
+                                parameters.max_jerk)
+    if jerk == job.limits.jerk:
         return profile
     old = job.limits
-    harder = Job(job.kind, job.command,
-                 Limits(old.velocity, old.acceleration, old.deceleration, jerk),
+    harder = Job(job.kind, job.command, Limits(old.velocity, old.acceleration, old.deceleration,
+                                               jerk),
                  job.target, job.velocity, job.buffer_mode, job.end_velocity, job.soft_limit_stop)
     return _plan_job(harder, start, override)
+
+
+def plan_brake(start: KinematicState, deceleration: float, jerk: float,
+               parameters: AxisParameters) -> Profile:
+    """Brake to rest from ``start`` (MC_Stop, MC_Halt, error and end-of-mode reactions) within
+    the axis maximum velocity: the jerk is raised as ``plan_job`` raises it (D-177)."""
+    jerk = jerk_within_velocity(start, jerk, parameters.max_velocity, parameters.max_jerk)
+    return plan_stop(start, deceleration, jerk)
 
 
 def _plan_job(job: Job, start: KinematicState, override: float) -> Profile:
@@ -58,6 +63,10 @@ def _plan_job(job: Job, start: KinematicState, override: float) -> Profile:
     if job.kind == "velocity" and not job.soft_limit_stop:
         return plan_velocity(start, job.velocity * override, limits)
     assert job.target is not None
+    if job.soft_limit_stop and (job.target - start.position) * job.velocity < 0.0:
+        raise CommandRejected(ErrorId.PATH_BEYOND_SOFT_LIMIT,
+                              f"the axis at {start.position:.6g} lies beyond the software limit "
+                              f"{job.target}: it may only move back towards it (D-179)")
     end_velocity = job.end_velocity * override
     limits = limits.scaled_velocity(override)
     if abs(end_velocity) > limits.velocity:  # BlendingNext/High: speed up towards the blend
@@ -65,20 +74,34 @@ def _plan_job(job: Job, start: KinematicState, override: float) -> Profile:
     return plan_position(start, job.target, limits, end_velocity)
 
 
-def check_soft_limits(parameters: AxisParameters, profile: Profile, target: float | None) -> None:
-    """Reject targets and paths beyond an enabled software end position (TcMC §6.1)."""
-    lo_limit = parameters.min_soft_limit if parameters.enable_min_soft_limit else -math.inf
-    hi_limit = parameters.max_soft_limit if parameters.enable_max_soft_limit else math.inf
+def soft_range(parameters: AxisParameters) -> tuple[float, float]:
+    """The enabled software end positions (TcMC §6.1, 1015-1018); infinite where disabled."""
+    lo = parameters.min_soft_limit if parameters.enable_min_soft_limit else -math.inf
+    hi = parameters.max_soft_limit if parameters.enable_max_soft_limit else math.inf
+    return lo, hi
+
+
+def check_soft_limits(parameters: AxisParameters, profile: Profile, target: float | None,
+                      start: float | None = None) -> None:
+    """Reject targets and paths beyond an enabled software end position (TcMC §6.1, D-016).
+
+    An axis that stands beyond a limit (enabled there, or the limit moved) may move back
+    towards the range, never further out: the range is widened to ``start`` (default: where
+    ``profile`` starts) (D-179).
+    """
+    lo_limit, hi_limit = soft_range(parameters)
     if math.isinf(lo_limit) and math.isinf(hi_limit):
         return
-    if target is not None and not lo_limit <= target <= hi_limit:
+    origin = float(profile.p[0]) if start is None else start
+    lo_allowed, hi_allowed = min(lo_limit, origin), max(hi_limit, origin)
+    if target is not None and not lo_allowed <= target <= hi_allowed:
         raise CommandRejected(
             ErrorId.TARGET_BEYOND_SOFT_LIMIT,
             f"target {target} lies outside the software limits [{lo_limit}, {hi_limit}]",
         )
     lo, hi = profile.position_extrema()
     tolerance = 1e-9 * max(1.0, abs(lo), abs(hi))
-    if lo < lo_limit - tolerance or hi > hi_limit + tolerance:
+    if lo < lo_allowed - tolerance or hi > hi_allowed + tolerance:
         raise CommandRejected(
             ErrorId.PATH_BEYOND_SOFT_LIMIT,
             f"the motion would reach [{lo:.6g}, {hi:.6g}], beyond the software limits "

@@ -101,7 +101,7 @@ class ErrorId(IntEnum):
     INVALID_PATH_GEOMETRY = 0x7504  #: no unique circle, a zero-length segment, no blend possible
     # openmotion: axis errors raised by monitoring (0x72xx), these take the axis to ErrorStop
     FOLLOWING_ERROR = 0x7201  #: following error above 1020 for longer than 1021
-    SOFT_LIMIT_REACHED = 0x7202  #: a velocity move stopped at an enabled software limit
+    SOFT_LIMIT_REACHED = 0x7202  #: a move stopped at an enabled software limit (D-016, D-179)
     IN_TARGET_TIMEOUT = 0x7203  #: not in the target window within 1028 after the profile
     DRIVE_NOT_READY = 0x7204  #: MC_Power enabled while the drive reports not ready
     HOMING_FAILED = 0x7205  #: no reference cam to search

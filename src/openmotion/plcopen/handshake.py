@@ -162,6 +162,9 @@ class ExecuteBlock(FunctionBlock):
         assert terminal <= 1, f"{type(self).__name__}: more than one of done/aborted/error"
         assert not (self.busy and terminal), f"{type(self).__name__}: busy with a result"
         assert self.error or self.error_id == _NO_ERROR, "error_id without error"
+        command = self._command
+        assert not (self._shown and command is not None and command.finished
+                    and terminal == 0), f"{type(self).__name__}: ended without a result"
 
 
 class EnableBlock(FunctionBlock):

@@ -73,7 +73,10 @@ class MC_MoveModulo(ExecuteBlock):
 class MC_MoveVelocity(ExecuteBlock):
     """Endless motion at ``velocity`` [mm/s] in ``direction`` (TcMC §3.3).
 
-    ``in_velocity`` is TRUE while the commanded velocity is held; the block has no Done.
+    ``in_velocity`` is TRUE while the commanded velocity is held. The command never ends Done
+    by itself: a command buffered behind it takes over at InVelocity and it shows
+    CommandAborted (D-178); ``done`` rises only when MC_NewPos turned it into a positioning
+    that reached its target (D-015).
     """
 
     INPUTS: ClassVar[dict[str, Any]] = {"direction": Direction.POSITIVE, **_DYNAMICS}
@@ -91,7 +94,6 @@ class MC_MoveVelocity(ExecuteBlock):
 
     def _show_result(self, command: Command | None) -> None:
         self.in_velocity = False
-        self.done = False  # a velocity command has no Done (TcMC §3.3)
 
 
 class MC_MoveAbsoluteOrRestart(MC_MoveAbsolute):

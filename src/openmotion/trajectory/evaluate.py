@@ -62,18 +62,6 @@ class SegmentTable:
         n = int(np.isfinite(records[:, _T]).sum())
         return float(records[n - 1, _P])
 
-    def remaining(self, row: int, time: float) -> Profile:
-        """The part of row ``row``'s profile from ``time`` on, as a profile starting at 0
-        (superposition plans in the room the other part of the motion leaves, D-180)."""
-        records = self.seg[row]
-        n = int(np.isfinite(records[:, _T]).sum())
-        k = max(int((records[1:n, _T] <= time).sum()), 0)
-        data = records[k:n].T.copy()
-        start = self.state(row, time)
-        data[0] = np.maximum(data[0] - time, 0.0)
-        data[1:4, 0] = start.position, start.velocity, start.acceleration
-        return Profile.from_data(data)
-
     def shift(self, row: int, offset: float) -> None:
         """Move every position of ``row`` by ``offset`` (a coordinate shift)."""
         self.seg[row, :, _P] += offset
@@ -90,6 +78,22 @@ class SegmentTable:
         values = _states(self.seg, self.cur, self.next_start, self.end,
                          np.array(rows, dtype=np.int64), time).tolist()
         return [KinematicState(p, v, a) for p, v, a in values]
+
+    def remaining(self, row: int, time: float) -> Profile:
+        """The rest of row ``row``'s profile from ``time`` on, starting with its state there
+        (where a running motion will still go: software limits written during it, D-179; the
+        room a superposition leaves, D-180)."""
+        start = self.state(row, time)
+        records = self.seg[row]
+        finite = records[np.isfinite(records[:, _T])]
+        k = max(int((finite[1:, _T] <= time).sum()), 0)
+        later = finite[k + 1:]
+        jerk = 0.0 if time >= self.end[row] else float(finite[k, _J])
+        data = np.empty((5, later.shape[0] + 1))
+        data[:, 0] = (0.0, start.position, start.velocity, start.acceleration, jerk)
+        data[:, 1:] = later.T
+        data[0, 1:] -= time
+        return Profile.from_data(data)
 
     def state(self, row: int, time: float) -> KinematicState:
         """Exact kinematic state of one row at ``time`` (used when planning from it)."""

@@ -23,6 +23,9 @@ from openmotion.trajectory.segments import KinematicState, Profile
 
 _MIN_SEGMENT = 1e-12  #: [s] ruckig reports empty phases as ~1e-14 s: drop them
 _CLOSED_FORM_DISTANCE = 1e-6  #: shorter rest-to-rest moves are left to ruckig
+#: relative: a speed this far past the axis maximum is float residue, not a breach (D-177)
+VELOCITY_TOLERANCE = 1e-9
+_JERK_MARGIN = 1e-6  #: relative: a raised jerk is this much above the bare minimum (D-020)
 
 _otg = Ruckig(1)
 _input = InputParameter(1)
@@ -117,6 +120,29 @@ def plan_velocity(start: KinematicState, velocity: float, limits: Limits) -> Pro
             brake, _velocity_profile(KinematicState(brake.end.position), velocity, limits)
         )
     return _velocity_profile(start, velocity, limits)
+
+
+def jerk_within_velocity(start: KinematicState, jerk: float, max_velocity: float,
+                         max_jerk: float) -> float:
+    """The jerk a plan from ``start`` must use so that the speed stays within ``max_velocity``.
+
+    Taking an acceleration ``a`` away at jerk ``j`` carries the velocity on by ``a·|a|/2j``
+    before any planner can turn it: past the maximum while speeding up, or through zero and
+    on past the maximum the other way when a strong deceleration meets a soft jerk. So
+    ``jerk`` is raised to the smallest value that releases ``a`` within ``max_velocity``, at
+    most ``max_jerk`` (D-020, D-177). Every planner starting from a running state (stop,
+    halt, a new move, a re-plan) takes its jerk from here.
+    """
+    v, a = start.velocity, start.acceleration
+    if a == 0.0:
+        return jerk
+    ahead = v if a > 0.0 else -v  # the velocity in the direction the acceleration pushes
+    if ahead + a * a / (2.0 * jerk) <= max_velocity * (1.0 + VELOCITY_TOLERANCE):
+        return jerk
+    room = max_velocity - ahead
+    if room <= 0.0:
+        return max(jerk, max_jerk)
+    return max(jerk, min(a * a / (2.0 * room) * (1.0 + _JERK_MARGIN), max_jerk))
 
 
 def plan_stop(start: KinematicState, deceleration: float, jerk: float) -> Profile:
