@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from openmotion.core.compiled import compiled
+from openmotion.core.compiled import compiled, sort_in_place
 
 TOLERANCE = 1e-9  #: [mm] as gap_control.TOLERANCE
 _SLACK = 1 + 1e-12  #: relative float slack of the limit checks
@@ -186,3 +186,127 @@ def phase_table(v: np.ndarray, a: np.ndarray, dec: np.ndarray,
         durations[i, 0], durations[i, 1], durations[i, 2] = t1, t2, t3
         jerks[i, 0], jerks[i, 2] = j1, j3
     return durations, jerks
+
+
+@compiled
+def _advance(p: float, v: float, a: float, t: float, j: float) -> tuple[float, float, float]:
+    """(p, v, a) after ``t`` of constant jerk ``j``."""
+    return (p + t * (v + t * (0.5 * a + t * j / 6.0)), v + t * (a + 0.5 * t * j), a + t * j)
+
+
+@compiled
+def _brake_table(p: float, v: float, a: float, dec: float, jerk: float) -> tuple:
+    """One mover's brake as gap_control's exact FAST check reads it: the ends of its three
+    phases (cumulated), their jerks, and (p, v, a) at the four phase boundaries; the brake ends
+    at rest (the float residue of v and a dropped)."""
+    t1, t2, t3, j1, j3, _ = _phases(v, a, dec, jerk)
+    p1, v1, a1 = _advance(p, v, a, t1, j1)
+    p2, v2, a2 = _advance(p1, v1, a1, t2, 0.0)
+    p3, _, _ = _advance(p2, v2, a2, t3, j3)
+    e2 = t1 + t2
+    return ((t1, e2, e2 + t3), (j1, 0.0, j3), (p, p1, p2, p3), (v, v1, v2, 0.0),
+            (a, a1, a2, 0.0))
+
+
+@compiled
+def _brake_at(table: tuple, t: float) -> tuple[float, float, float, float]:
+    """(p, v, a, jerk of the phase that starts here) of a brake ``_brake_table`` at time t."""
+    ends, jerks, ps, vs, accs = table
+    phase = 0
+    for q in range(3):
+        if t >= ends[q] - 1e-15:
+            phase += 1
+    start = 0.0 if phase == 0 else ends[phase - 1]
+    tau = t - start
+    if tau < 0.0:  # numpy.maximum(tau, 0.0): nan stays nan
+        tau = 0.0
+    j = jerks[phase] if phase < 3 else 0.0
+    p, v, a = _advance(ps[phase], vs[phase], accs[phase], tau, j)
+    return p, v, a, j
+
+
+@compiled
+def _minimum(a: float, b: float) -> float:
+    """numpy.minimum: nan if either is nan."""
+    return a if (a <= b or a != a) else b
+
+
+@compiled
+def _min_brake_gap(pk: float, vk: float, ak: float, dk: float, jk: float, pi: float,
+                   vi: float, ai: float, di: float, ji: float, times: np.ndarray) -> float:
+    """min over t >= 0 of brake_k(t) - brake_i(t) for one pair (``times``: scratch of 7).
+
+    Between the merged phase boundaries of the two brakes the difference is one cubic; its
+    minimum lies at an end or where its derivative (a quadratic) vanishes."""
+    brake_k = _brake_table(pk, vk, ak, dk, jk)
+    brake_i = _brake_table(pi, vi, ai, di, ji)
+    times[0] = 0.0
+    for q in range(3):
+        times[1 + q] = brake_k[0][q]
+        times[4 + q] = brake_i[0][q]
+    sort_in_place(times)
+    best = math.inf
+    for c in range(7):
+        t0 = times[c]
+        xk, uk, bk, gk = _brake_at(brake_k, t0)
+        xi, ui, bi, gi = _brake_at(brake_i, t0)
+        best = _minimum(best, xk - xi)
+        if c == 6:
+            break
+        length = times[c + 1] - t0
+        # derivative of the difference on [t0, t1]: dv + da s + dj s²/2
+        dv, da, dj = uk - ui, bk - bi, gk - gi
+        square = da * da - 2.0 * dj * dv
+        if square < 0.0:  # numpy.maximum(square, 0.0): nan stays nan
+            square = 0.0
+        disc = math.sqrt(square)
+        if dj != 0.0:
+            r1, r2 = (-da - disc) / dj, (-da + disc) / dj
+        else:
+            r1, r2 = -dv / da, math.nan
+        for s in (r1, r2):
+            if math.isfinite(s) and s > 0.0 and s < length:
+                best = _minimum(best, (xk - xi) + s * (dv + s * (0.5 * da + s * dj / 6.0)))
+    return best
+
+
+@compiled
+def min_brake_gaps(pk: np.ndarray, vk: np.ndarray, ak: np.ndarray, dk: np.ndarray,
+                   jk: np.ndarray, pi: np.ndarray, vi: np.ndarray, ai: np.ndarray,
+                   di: np.ndarray, ji: np.ndarray) -> np.ndarray:
+    """gap_control.min_brake_gap: ``_min_brake_gap`` for every pair."""
+    n = pk.shape[0]
+    best = np.empty(n)
+    times = np.empty(7)
+    for m in range(n):
+        best[m] = _min_brake_gap(pk[m], vk[m], ak[m], dk[m], jk[m], pi[m], vi[m], ai[m], di[m],
+                                 ji[m], times)
+    return best
+
+
+@compiled
+def pair_safety(check: np.ndarray, succ: np.ndarray, pred: np.ndarray, offset: np.ndarray,
+                gap: np.ndarray, fast: np.ndarray, behind: np.ndarray, p: np.ndarray,
+                v: np.ndarray, a: np.ndarray, lo: np.ndarray, hi: np.ndarray, dec: np.ndarray,
+                jerk: np.ndarray) -> np.ndarray:
+    """gap_control._safe: the safety of the ``check``-ed pairs (the others report True).
+
+    STANDARD: the successor's envelope ends one gap behind the predecessor's, on the motor
+    path, or below ``behind`` (not nan: the pair measures its gap on a TCP path, D-073).
+    FAST pairs that fail it are safe when both brakes together keep the gap."""
+    ok = np.ones(succ.shape[0], dtype=np.bool_)
+    times = np.empty(7)
+    for m in range(succ.shape[0]):
+        if not check[m]:
+            continue
+        s, k = succ[m], pred[m]
+        if math.isnan(behind[m]):
+            standard = hi[s] + gap[m] <= lo[k] + offset[m] + TOLERANCE
+        else:
+            standard = hi[s] <= behind[m] + TOLERANCE
+        if not standard and fast[m]:
+            closest = _min_brake_gap(p[k] + offset[m], v[k], a[k], dec[k], jerk[k], p[s], v[s],
+                                     a[s], dec[s], jerk[s], times)
+            standard = closest >= gap[m] - TOLERANCE
+        ok[m] = standard
+    return ok
