@@ -12,9 +12,10 @@ safe when
 
 A mover that *claims* room towards a neighbour (moves its envelope end towards it) in a pair
 that is not safe brakes instead: it follows its own brake for one cycle, which never claims.
-Braking can make further pairs unsafe, so the check repeats until nothing changes; every
-round is vectorised and each round brakes at least one more mover. docs/collision-avoidance.md
-has the safety argument.
+Braking can make further pairs unsafe, so the check repeats until nothing changes; each
+round brakes at least one more mover. The pair check and each round's bookkeeping are
+compiled loops over the pairs (kernels.py, D-186); the TCP pairs' positions one gap behind
+stay numpy. docs/collision-avoidance.md has the safety argument.
 """
 
 from __future__ import annotations
@@ -24,8 +25,8 @@ from typing import Protocol
 
 import numpy as np
 
-from openmotion.transport.braking import brake_envelope, brake_state
-from openmotion.transport.kernels import min_brake_gaps, pair_safety
+from openmotion.transport.braking import brake_envelope
+from openmotion.transport.kernels import blame, brake_blamed, min_brake_gaps, pair_safety
 
 TOLERANCE = 1e-9  #: [mm] float slack of the pair checks
 
@@ -107,39 +108,25 @@ def filter_steps(cur: tuple[np.ndarray, np.ndarray, np.ndarray],
     if pairs.succ.size == 0:
         return braking, lo, hi
     lo_cur, hi_cur = envelope
+    # FAST pairs safe in the current state, asked only of pairs that are unsafe next
     fast_held = np.zeros(pairs.succ.size, dtype=bool)
-    if pairs.fast.any():
-        fast_held = _safe(cur, pairs, lo_cur, hi_cur, dec, jerk, pairs.fast)
+    asked = ~pairs.fast
     check = np.ones(pairs.succ.size, dtype=bool)
     while True:
         ok = _safe(nxt, pairs, lo, hi, dec, jerk, check)
         bad = check & ~ok
         if not bad.any():
             return braking, lo, hi
-        s, k = pairs.succ[bad], pairs.pred[bad]
-        claims = hi[s] > hi_cur[s] + TOLERANCE
-        claims |= pairs.fast[bad] & fast_held[bad]
-        blamed = s[claims & ~braking[s]]
-        if pairs.both:
-            backwards = lo[k] < lo_cur[k] - TOLERANCE
-            blamed = np.concatenate((blamed, k[backwards & ~braking[k]]))
-        # FAST: with the successor braking, only a predecessor that brakes too is sure to
-        # keep the pair (its brake then moves on exactly as before)
-        fast_pred = pairs.fast[bad] & braking[s] & ~braking[k]
-        blamed = np.concatenate((blamed, k[fast_pred]))
-        flag = np.zeros(n, dtype=bool)
-        flag[blamed] = True
-        blamed = np.flatnonzero(flag)  # sorted, once each
+        ask = bad & ~asked
+        if ask.any():
+            fast_held[ask] = _safe(cur, pairs, lo_cur, hi_cur, dec, jerk, ask)[ask]
+            asked |= ask
+        blamed, check = blame(bad, pairs.succ, pairs.pred, pairs.fast, pairs.both, fast_held,
+                              braking, lo, hi, lo_cur, hi_cur)
         if blamed.size == 0:
             return braking, lo, hi  # only pairs that were unsafe before and do not get worse
-        braking[blamed] = True
-        step = brake_state(cur[0][blamed], cur[1][blamed], cur[2][blamed], dec[blamed],
-                           jerk[blamed], cycle_time)
-        for field, source in zip(nxt, step, strict=True):
-            field[blamed] = source
-        lo[blamed], hi[blamed] = brake_envelope(
-            nxt[0][blamed], nxt[1][blamed], nxt[2][blamed], dec[blamed], jerk[blamed])
-        check = flag[pairs.succ] | flag[pairs.pred]
+        brake_blamed(blamed, cur[0], cur[1], cur[2], dec, jerk, cycle_time, *nxt, lo, hi,
+                     braking)
 
 
 def _safe(state: tuple[np.ndarray, ...] | list[np.ndarray], pairs: Pairs, lo: np.ndarray,
@@ -147,14 +134,13 @@ def _safe(state: tuple[np.ndarray, ...] | list[np.ndarray], pairs: Pairs, lo: np
     """Pair safety of the ``check``-ed pairs (unchecked ones report True): one compiled loop
     (kernels.pair_safety, D-186) after the TCP pairs' positions one gap behind."""
     behind = np.full(pairs.succ.size, np.nan)
-    m = np.flatnonzero(check)
-    tcp = pairs.on_tcp(m)
-    if tcp.any():  # the gap on the TCP path: the monotone map keeps the argument (D-073)
-        t = m[tcp]
-        behind[t] = pairs.behind(t, lo[pairs.pred[t]] + pairs.offset[t])
+    if pairs.y is not None:  # gaps on a TCP path: the monotone map keeps the argument (D-073)
+        m = np.flatnonzero(check)
+        t = m[pairs.on_tcp(m)]
+        if t.size:
+            behind[t] = pairs.behind(t, lo[pairs.pred[t]] + pairs.offset[t])
     return pair_safety(check, pairs.succ, pairs.pred, pairs.offset, pairs.gap, pairs.fast,
-                       behind, *(np.ascontiguousarray(x, dtype=float)
-                                 for x in (state[0], state[1], state[2], lo, hi, dec, jerk)))
+                       behind, state[0], state[1], state[2], lo, hi, dec, jerk)
 
 
 def min_brake_gap(pk: np.ndarray, vk: np.ndarray, ak: np.ndarray, dk: np.ndarray,

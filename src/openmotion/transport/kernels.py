@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from openmotion.core.compiled import compiled, sort_in_place
+from openmotion.core.compiled import compiled, sort_in_place, true_indices
 
 TOLERANCE = 1e-9  #: [mm] as gap_control.TOLERANCE
 _SLACK = 1 + 1e-12  #: relative float slack of the limit checks
@@ -141,37 +141,42 @@ def candidates(rows: np.ndarray, dt: float, p: np.ndarray, v: np.ndarray, a: np.
 
 
 @compiled
+def _brake_state(p: float, v: float, a: float, dec: float, jerk: float,
+                 t: float) -> tuple[float, float, float, float]:
+    """(p, v, a, j) a time ``t`` into one mover's brake; at rest after its end."""
+    t1, t2, t3, j1, j3, _ = _phases(v, a, dec, jerk)
+    durations = (t1, t2, t3)
+    jerks = (j1, 0.0, j3)
+    pk, vk, ak = p, v, a
+    start = 0.0
+    end = 0.0
+    j = 0.0
+    rest = True
+    for k in range(3):
+        end = end + durations[k] if k else durations[k]
+        if t < end:  # inside phase k
+            j = jerks[k]
+            rest = False
+            break
+        tk, jk = durations[k], jerks[k]
+        pk, vk, ak = (pk + tk * (vk + tk * (0.5 * ak + tk * jk / 6.0)),
+                      vk + tk * (ak + 0.5 * tk * jk), ak + tk * jk)
+        start = end
+    if rest:  # the brake has ended: at rest where it stopped
+        vk, ak, j = 0.0, 0.0, 0.0
+    tau = t - start
+    return (pk + tau * (vk + tau * (0.5 * ak + tau * j / 6.0)),
+            vk + tau * (ak + 0.5 * tau * j), ak + tau * j, j)
+
+
+@compiled
 def brake_states(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
                  jerk: np.ndarray, t: float) -> tuple[np.ndarray, ...]:
     """braking.brake_state: (p, v, a, j) a time ``t`` into each mover's brake."""
     n = p.shape[0]
     po, vo, ao, jo = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     for i in range(n):
-        t1, t2, t3, j1, j3, _ = _phases(v[i], a[i], dec[i], jerk[i])
-        durations = (t1, t2, t3)
-        jerks = (j1, 0.0, j3)
-        pk, vk, ak = p[i], v[i], a[i]
-        start = 0.0
-        end = 0.0
-        j = 0.0
-        rest = True
-        for k in range(3):
-            end = end + durations[k] if k else durations[k]
-            if t < end:  # inside phase k
-                j = jerks[k]
-                rest = False
-                break
-            tk, jk = durations[k], jerks[k]
-            pk, vk, ak = (pk + tk * (vk + tk * (0.5 * ak + tk * jk / 6.0)),
-                          vk + tk * (ak + 0.5 * tk * jk), ak + tk * jk)
-            start = end
-        if rest:  # the brake has ended: at rest where it stopped
-            vk, ak, j = 0.0, 0.0, 0.0
-        tau = t - start
-        po[i] = pk + tau * (vk + tau * (0.5 * ak + tau * j / 6.0))
-        vo[i] = vk + tau * (ak + 0.5 * tau * j)
-        ao[i] = ak + tau * j
-        jo[i] = j
+        po[i], vo[i], ao[i], jo[i] = _brake_state(p[i], v[i], a[i], dec[i], jerk[i], t)
     return po, vo, ao, jo
 
 
@@ -310,3 +315,46 @@ def pair_safety(check: np.ndarray, succ: np.ndarray, pred: np.ndarray, offset: n
             standard = closest >= gap[m] - TOLERANCE
         ok[m] = standard
     return ok
+
+
+@compiled
+def blame(bad: np.ndarray, succ: np.ndarray, pred: np.ndarray, fast: np.ndarray, both: bool,
+          fast_held: np.ndarray, braking: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+          lo_cur: np.ndarray, hi_cur: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """One round of gap_control.filter_steps: which movers of the ``bad`` pairs brake now
+    (ascending, once each) and which pairs to check again (those with a mover among them).
+
+    A successor that claims room (its envelope end moves on, or a FAST pair was safe before)
+    is blamed, with Both a predecessor that moves backwards too, and in a FAST pair whose
+    successor already brakes the predecessor as well (then its brake moves on as before)."""
+    flag = np.zeros(braking.shape[0], dtype=np.bool_)
+    for m in range(succ.shape[0]):
+        if not bad[m]:
+            continue
+        s, k = succ[m], pred[m]
+        claims = hi[s] > hi_cur[s] + TOLERANCE or (fast[m] and fast_held[m])
+        if claims and not braking[s]:
+            flag[s] = True
+        if both and lo[k] < lo_cur[k] - TOLERANCE and not braking[k]:
+            flag[k] = True
+        if fast[m] and braking[s] and not braking[k]:
+            flag[k] = True
+    check = np.empty(succ.shape[0], dtype=np.bool_)
+    for m in range(succ.shape[0]):
+        check[m] = flag[succ[m]] or flag[pred[m]]
+    return true_indices(flag), check
+
+
+@compiled
+def brake_blamed(blamed: np.ndarray, p: np.ndarray, v: np.ndarray, a: np.ndarray,
+                 dec: np.ndarray, jerk: np.ndarray, t: float, nxt_p: np.ndarray,
+                 nxt_v: np.ndarray, nxt_a: np.ndarray, nxt_j: np.ndarray, lo: np.ndarray,
+                 hi: np.ndarray, braking: np.ndarray) -> None:
+    """The ``blamed`` movers follow their brake from (p, v, a) for a time ``t`` instead of
+    their proposal in ``nxt_*``: their step, its envelope (lo, hi) and ``braking``, in place."""
+    for r in range(blamed.shape[0]):
+        k = blamed[r]
+        braking[k] = True
+        nxt_p[k], nxt_v[k], nxt_a[k], nxt_j[k] = _brake_state(p[k], v[k], a[k], dec[k],
+                                                              jerk[k], t)
+        lo[k], hi[k] = envelope(nxt_p[k], nxt_v[k], nxt_a[k], dec[k], jerk[k])
