@@ -133,14 +133,16 @@ def _safe(state: tuple[np.ndarray, ...] | list[np.ndarray], pairs: Pairs, lo: np
           hi: np.ndarray, dec: np.ndarray, jerk: np.ndarray, check: np.ndarray) -> np.ndarray:
     """Pair safety of the ``check``-ed pairs (unchecked ones report True): one compiled loop
     (kernels.pair_safety, D-186) after the TCP pairs' positions one gap behind."""
-    behind = np.full(pairs.succ.size, np.nan)
+    tcp = np.zeros(pairs.succ.size, dtype=bool)
+    behind = np.zeros(pairs.succ.size)
     if pairs.y is not None:  # gaps on a TCP path: the monotone map keeps the argument (D-073)
         m = np.flatnonzero(check)
         t = m[pairs.on_tcp(m)]
         if t.size:
+            tcp[t] = True
             behind[t] = pairs.behind(t, lo[pairs.pred[t]] + pairs.offset[t])
     return pair_safety(check, pairs.succ, pairs.pred, pairs.offset, pairs.gap, pairs.fast,
-                       behind, state[0], state[1], state[2], lo, hi, dec, jerk)
+                       tcp, behind, state[0], state[1], state[2], lo, hi, dec, jerk)
 
 
 def min_brake_gap(pk: np.ndarray, vk: np.ndarray, ak: np.ndarray, dk: np.ndarray,

@@ -1,12 +1,14 @@
-"""Compiled loops of gap control (numba): the brake envelope and the held movers' steps.
+"""Compiled loops of gap control (numba): the brake envelope, the held movers' steps, and
+the gap filter's pair checks and rounds.
 
 Gap control asks the same few dozen arithmetic questions of every mover in every cycle.
 As numpy passes each question is an array operation with its own overhead; at 1000 movers
 that overhead, not the arithmetic, set the cycle time (docs/collision-avoidance.md,
 Performance). These loops do the same arithmetic per mover in one compiled pass. Every
 expression keeps the operation order of the numpy formulation they replaced, so the results
-were the same bit for bit (D-105); tests/transport/test_braking.py checks the brake against
-the planner's own stop (trajectory.plan.plan_stop).
+were the same bit for bit (D-105, D-186); tests/transport/test_braking.py checks the brake
+against the planner's own stop (trajectory.plan.plan_stop), tests/transport/test_gap_control.py
+the Fast pair check against its numpy formulation.
 """
 
 from __future__ import annotations
@@ -291,24 +293,24 @@ def min_brake_gaps(pk: np.ndarray, vk: np.ndarray, ak: np.ndarray, dk: np.ndarra
 
 @compiled
 def pair_safety(check: np.ndarray, succ: np.ndarray, pred: np.ndarray, offset: np.ndarray,
-                gap: np.ndarray, fast: np.ndarray, behind: np.ndarray, p: np.ndarray,
-                v: np.ndarray, a: np.ndarray, lo: np.ndarray, hi: np.ndarray, dec: np.ndarray,
-                jerk: np.ndarray) -> np.ndarray:
+                gap: np.ndarray, fast: np.ndarray, tcp: np.ndarray, behind: np.ndarray,
+                p: np.ndarray, v: np.ndarray, a: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+                dec: np.ndarray, jerk: np.ndarray) -> np.ndarray:
     """gap_control._safe: the safety of the ``check``-ed pairs (the others report True).
 
     STANDARD: the successor's envelope ends one gap behind the predecessor's, on the motor
-    path, or below ``behind`` (not nan: the pair measures its gap on a TCP path, D-073).
-    FAST pairs that fail it are safe when both brakes together keep the gap."""
+    path, or for a pair that measures its gap on a TCP path (``tcp``, D-073) below
+    ``behind``. FAST pairs that fail it are safe when both brakes together keep the gap."""
     ok = np.ones(succ.shape[0], dtype=np.bool_)
     times = np.empty(7)
     for m in range(succ.shape[0]):
         if not check[m]:
             continue
         s, k = succ[m], pred[m]
-        if math.isnan(behind[m]):
-            standard = hi[s] + gap[m] <= lo[k] + offset[m] + TOLERANCE
-        else:
+        if tcp[m]:
             standard = hi[s] <= behind[m] + TOLERANCE
+        else:
+            standard = hi[s] + gap[m] <= lo[k] + offset[m] + TOLERANCE
         if not standard and fast[m]:
             closest = _min_brake_gap(p[k] + offset[m], v[k], a[k], dec[k], jerk[k], p[s], v[s],
                                      a[s], dec[s], jerk[s], times)
