@@ -7,9 +7,10 @@ import math
 
 import pytest
 
-from openmotion.bench import axes, otg
+from openmotion.bench import axes, ca, otg
 from openmotion.bench.peers import StreamCommand
 from openmotion.bench.runner import BENCHMARKS, render, run_benchmark
+from openmotion.transport import GapControlMode
 
 MACHINE_KEYS = {"cpu_count", "python", "platform", "numpy", "ruckig", "pyplcopen"}
 
@@ -122,11 +123,45 @@ def test_fbcall_measures_a_busy_block(results: dict[str, dict]) -> None:
 
 
 def test_ca_keeps_every_gap_and_limit(results: dict[str, dict]) -> None:
-    ca = results["ca"]["results"]["by_n"]
-    assert set(ca) == {"10", "30"}
-    for row in ca.values():
-        assert row["commands"] >= row["movers"]  # every mover was commanded at least once
-        assert row["gap_violations"] == 0 and row["min_gap"] >= 100.0 - 1e-9
-        assert row["limit_violations"] == 0
-        assert 0.0 < row["cycle_us_p50"] <= row["cycle_us_p99"]
+    ca = results["ca"]["results"]
+    assert set(ca["by_n"]) == {"10", "50"}
+    assert ca["modes"] == ["standard", "fast", "mixed"]
+    for by_mode in ca["by_n"].values():
+        for mode in ca["modes"]:
+            row = by_mode[mode]
+            assert row["commands"] >= row["movers"]  # every mover was commanded at least once
+            assert row["gap_violations"] == 0 and row["min_gap"] >= 100.0 - 1e-9
+            assert row["limit_violations"] == 0
+            assert 0.0 < row["cycle_us_p50"] <= row["cycle_us_p99"]
+            assert 0.0 <= row["cpu_us_p50"] <= row["cpu_us_p99"]
     assert results["ca"]["goals"]["gap_violations"]["passed"] is True
+
+
+def test_ca_measures_fast_and_mixed_beside_standard(results: dict[str, dict]) -> None:
+    """Issue 19, point 9: Fast and mixed gap control (TF5410 §8.1.2) in the same run as
+    Standard, with the ratios of their cycle times to Standard's and Fast's own goal."""
+    ca = results["ca"]["results"]["by_n"]["50"]
+    for mode in ("fast", "mixed"):
+        ratio = ca[f"{mode}_over_standard"]
+        for key in ("p50", "p99"):
+            assert ratio[key] == ca[mode][f"cycle_us_{key}"] / ca["standard"][f"cycle_us_{key}"]
+    goal = results["ca"]["goals"]["cycle_p99_fast_small"]
+    assert goal["value"] == ca["fast"]["cycle_us_p99"] and "N=50, fast" in goal["goal"]
+    text = render(results["ca"])
+    assert "fast" in text and "mixed" in text and "p99 / std" in text
+
+
+def test_ca_modes_are_what_their_names_say() -> None:
+    """Mixed: the mode is per command (§9.1.2.5), so every second mover runs Fast."""
+    assert {ca.mode_of("standard", i) for i in range(4)} == {GapControlMode.STANDARD}
+    assert {ca.mode_of("fast", i) for i in range(4)} == {GapControlMode.FAST}
+    assert [ca.mode_of("mixed", i) for i in range(4)] == [
+        GapControlMode.STANDARD, GapControlMode.FAST] * 2
+
+
+def test_ca_fast_keeps_gaps_closer_than_standard() -> None:
+    """Fast lets a successor follow at the gap at any speed where Standard's gaps grow with
+    speed (§8.1.2): the modes really differ in the benchmark's runs."""
+    run = ca.run_one(10, 400, seed=1)
+    assert run["fast"]["min_gap"] < run["standard"]["min_gap"]
+    assert run["fast"]["gap_violations"] == run["mixed"]["gap_violations"] == 0

@@ -5,6 +5,12 @@ Each mover gets a MoveAbsoluteCA to a random modulo position (direction positive
 velocity) whenever its last command ended, and at random times in between (aborting), so
 queues form and dissolve all the time. Every cycle is timed (``Runtime.step``, gap control
 included) and checked: no setpoint gap below the gap, no mover beyond its own limits.
+
+Each N runs in three gap control modes (TF5410 §8.1.2): every command Standard, every
+command Fast, and mixed (the mode is chosen per command, so per mover: every second mover
+Fast, the others Standard, and both kinds of pair occur). The three groups run side by side
+in one process, one cycle of each in turn, with the same random draws: a load on the machine
+slows all three alike, so their ratios hold where the absolute times drift (D-187).
 """
 
 from __future__ import annotations
@@ -16,14 +22,29 @@ from typing import Any
 import numpy as np
 
 import openmotion as om
-from openmotion.transport import UDINT_TO_IDENTINGROUP, CaGroup, ModuloDirection
+from openmotion.transport import (
+    UDINT_TO_IDENTINGROUP,
+    CaGroup,
+    GapControlMode,
+    ModuloDirection,
+)
 
-DEFAULT_COUNTS = (10, 100, 1000)
+DEFAULT_COUNTS = (10, 50, 100, 1000)
+MODES = ("standard", "fast", "mixed")  #: gap control of the commands, see ``mode_of``
 GAP = 100.0
 SPACING = 300.0  #: rail length per mover [mm]
 LIMITS = {"max_velocity": 4000.0, "acceleration": 10000.0, "deceleration": 10000.0,
           "jerk": 100000.0, "max_acceleration": 10000.0, "max_deceleration": 10000.0,
           "max_jerk": 100000.0}
+LIMIT_SLACK = 1e-9  #: relative float slack of the limit check
+WARM_UP = 10  #: the first 1/WARM_UP of the cycles is not timed
+
+
+def mode_of(mode: str, mover: int) -> GapControlMode:
+    """The gap control mode of every command of ``mover`` in a run of ``mode``."""
+    if mode == "standard" or (mode == "mixed" and mover % 2 == 0):
+        return GapControlMode.STANDARD
+    return GapControlMode.FAST
 
 
 def build(n: int) -> tuple[om.Runtime, CaGroup, list[om.Axis]]:
@@ -39,47 +60,79 @@ def build(n: int) -> tuple[om.Runtime, CaGroup, list[om.Axis]]:
     return rt, group, axes
 
 
-def run_one(n: int, cycles: int, seed: int = 0) -> dict[str, Any]:
-    rng = np.random.default_rng(seed)
-    rt, group, axes = build(n)
-    length = group.parameters.rail_length
-    commands: list[om.Command | None] = [None] * n
-    renew = rng.integers(1, 2000, n)  # cycle of the next aborting command per mover
-    issued = done = 0
-    rows = np.array([a.row for a in axes])
-    k = rt._kernel
-    vmax = np.array([a.parameters.max_velocity for a in axes])
-    amax = np.array([a.parameters.max_acceleration for a in axes])
-    dmax = np.array([a.parameters.max_deceleration for a in axes])
-    jmax = np.array([a.parameters.max_jerk for a in axes])
-    min_gap, limit_violations = np.inf, 0
-    times = np.zeros(cycles)
-    for cycle in range(cycles):
-        for i, axis in enumerate(axes):
-            command = commands[i]
-            if command is None or command.finished or cycle >= renew[i]:
-                done += command is not None and command.done
-                commands[i] = group.move_absolute(
-                    axis, float(rng.uniform(0.0, length)), float(rng.uniform(500.0, 3000.0)),
-                    direction=ModuloDirection.POSITIVE)
-                issued += 1
-                renew[i] = cycle + rng.integers(200, 2000)
-        start = time.perf_counter()
-        rt.step()
-        times[cycle] = time.perf_counter() - start
-        min_gap = min(min_gap, float(group.gaps().min()))
-        v, a, j = k.set_v[rows], k.set_a[rows], k.set_j[rows]
+class _Run:
+    """One group of N movers whose commands all use one mode: its commands, timings and
+    checks, advanced one cycle at a time."""
+
+    def __init__(self, n: int, cycles: int, seed: int, mode: str) -> None:
+        self.rng = np.random.default_rng(seed)
+        self.rt, self.group, self.axes = build(n)
+        self.modes = [mode_of(mode, i) for i in range(n)]
+        self.commands: list[om.Command | None] = [None] * n
+        self.renew = self.rng.integers(1, 2000, n)  # cycle of the next aborting command
+        self.issued = self.done = 0
+        self.rows = np.array([a.row for a in self.axes])
+        self.vmax, self.amax, self.dmax, self.jmax = (
+            np.array([getattr(a.parameters, name) for a in self.axes])
+            for name in ("max_velocity", "max_acceleration", "max_deceleration", "max_jerk"))
+        self.min_gap, self.limit_violations = np.inf, 0
+        self.wall, self.cpu = np.zeros(cycles), np.zeros(cycles)
+
+    def cycle(self, cycle: int) -> None:
+        length = self.group.parameters.rail_length
+        for i, axis in enumerate(self.axes):
+            command = self.commands[i]
+            if command is None or command.finished or cycle >= self.renew[i]:
+                self.done += command is not None and command.done
+                self.commands[i] = self.group.move_absolute(
+                    axis, float(self.rng.uniform(0.0, length)),
+                    float(self.rng.uniform(500.0, 3000.0)), direction=ModuloDirection.POSITIVE,
+                    gap_control_mode=self.modes[i])
+                self.issued += 1
+                self.renew[i] = cycle + self.rng.integers(200, 2000)
+        cpu, start = time.thread_time(), time.perf_counter()
+        self.rt.step()
+        self.wall[cycle] = time.perf_counter() - start
+        self.cpu[cycle] = time.thread_time() - cpu
+        self.min_gap = min(self.min_gap, float(self.group.gaps().min()))
+        k, slack = self.rt._kernel, 1 + LIMIT_SLACK
+        v, a, j = k.set_v[self.rows], k.set_a[self.rows], k.set_j[self.rows]
         braking = a * v < 0.0
-        limit_violations += int(np.count_nonzero(
-            (np.abs(v) > vmax * (1 + 1e-9)) | (np.abs(j) > jmax * (1 + 1e-9))
-            | (~braking & (np.abs(a) > amax * (1 + 1e-9)))
-            | (braking & (np.abs(a) > dmax * (1 + 1e-9)))))
-    us = times[cycles // 10:] * 1e6  # after a warm-up tenth
-    return {"movers": n, "cycles": cycles, "commands": issued, "done": done,
-            "cycle_us_p50": float(np.percentile(us, 50)),
-            "cycle_us_p99": float(np.percentile(us, 99)),
-            "min_gap": min_gap, "gap_violations": int(min_gap < GAP - 1e-9),
-            "limit_violations": limit_violations}
+        self.limit_violations += int(np.count_nonzero(
+            (np.abs(v) > self.vmax * slack) | (np.abs(j) > self.jmax * slack)
+            | (~braking & (np.abs(a) > self.amax * slack))
+            | (braking & (np.abs(a) > self.dmax * slack))))
+
+    def result(self) -> dict[str, Any]:
+        cycles = self.wall.size
+        wall, cpu = self.wall[cycles // WARM_UP:] * 1e6, self.cpu[cycles // WARM_UP:] * 1e6
+        return {"movers": len(self.axes), "cycles": cycles, "commands": self.issued,
+                "done": self.done,
+                "cycle_us_p50": float(np.percentile(wall, 50)),
+                "cycle_us_p99": float(np.percentile(wall, 99)),
+                "cpu_us_p50": float(np.percentile(cpu, 50)),
+                "cpu_us_p99": float(np.percentile(cpu, 99)),
+                "min_gap": self.min_gap, "gap_violations": int(self.min_gap < GAP - 1e-9),
+                "limit_violations": self.limit_violations}
+
+
+def run_one(n: int, cycles: int, seed: int = 0,
+            modes: Sequence[str] = MODES) -> dict[str, Any]:
+    """Every mode of ``modes`` with N movers, one cycle of each in turn; per mode its figures
+    and, beside Standard, the ratios of its cycle times to Standard's."""
+    runs = {mode: _Run(n, cycles, seed, mode) for mode in modes}
+    for cycle in range(cycles):
+        for run in runs.values():
+            run.cycle(cycle)
+    out: dict[str, Any] = {mode: run.result() for mode, run in runs.items()}
+    if "standard" in out:
+        base = out["standard"]
+        for mode in modes:
+            if mode != "standard":
+                out[f"{mode}_over_standard"] = {
+                    key: out[mode][f"cycle_us_{key}"] / base[f"cycle_us_{key}"]
+                    for key in ("p50", "p99")}
+    return out
 
 
 def run_ca(counts: Sequence[int] = DEFAULT_COUNTS, cycles: int = 3000, seed: int = 0,
@@ -87,6 +140,6 @@ def run_ca(counts: Sequence[int] = DEFAULT_COUNTS, cycles: int = 3000, seed: int
     by_n = {}
     for n in counts:
         if progress is not None:
-            progress(f"ca: {n} movers, {cycles} cycles")
+            progress(f"ca: {n} movers, {cycles} cycles, gap control {'/'.join(MODES)}")
         by_n[str(n)] = run_one(n, cycles, seed)
-    return {"by_n": by_n, "gap": GAP, "spacing": SPACING}
+    return {"by_n": by_n, "modes": list(MODES), "gap": GAP, "spacing": SPACING}

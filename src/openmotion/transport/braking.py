@@ -31,23 +31,6 @@ def brake_phases(v: np.ndarray, a: np.ndarray, dec: np.ndarray,
     return phase_table(*(np.ascontiguousarray(x, dtype=float) for x in (v, a, dec, jerk)))
 
 
-def _boundaries(p: np.ndarray, v: np.ndarray, a: np.ndarray, durations: np.ndarray,
-                jerks: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Positions, velocities, accelerations at the four phase boundaries, each (N, 4)."""
-    n = p.shape[0]
-    P, V, A = np.empty((n, 4)), np.empty((n, 4)), np.empty((n, 4))  # noqa: N806 - maths
-    P[:, 0], V[:, 0], A[:, 0] = p, v, a
-    for k in range(3):
-        t, j = durations[:, k], jerks[:, k]
-        p0, v0, a0 = P[:, k], V[:, k], A[:, k]
-        P[:, k + 1] = p0 + t * (v0 + t * (0.5 * a0 + t * j / 6.0))
-        V[:, k + 1] = v0 + t * (a0 + 0.5 * t * j)
-        A[:, k + 1] = a0 + t * j
-    V[:, 3] = 0.0  # the brake ends at rest: drop the float residue
-    A[:, 3] = 0.0
-    return P, V, A
-
-
 def brake_state(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
                 jerk: np.ndarray, t: float) -> Arrays:
     """(p, v, a, j) a time ``t`` [s] into the brake of each mover; at rest after its end

@@ -12,9 +12,10 @@ safe when
 
 A mover that *claims* room towards a neighbour (moves its envelope end towards it) in a pair
 that is not safe brakes instead: it follows its own brake for one cycle, which never claims.
-Braking can make further pairs unsafe, so the check repeats until nothing changes; every
-round is vectorised and each round brakes at least one more mover. docs/collision-avoidance.md
-has the safety argument.
+Braking can make further pairs unsafe, so the check repeats until nothing changes; each
+round brakes at least one more mover. The pair check and each round's bookkeeping are
+compiled loops over the pairs (kernels.py, D-186); the TCP pairs' positions one gap behind
+stay numpy. docs/collision-avoidance.md has the safety argument.
 """
 
 from __future__ import annotations
@@ -24,12 +25,8 @@ from typing import Protocol
 
 import numpy as np
 
-from openmotion.transport.braking import (
-    _boundaries,
-    brake_envelope,
-    brake_phases,
-    brake_state,
-)
+from openmotion.transport.braking import brake_envelope
+from openmotion.transport.kernels import blame, brake_blamed, min_brake_gaps, pair_safety
 
 TOLERANCE = 1e-9  #: [mm] float slack of the pair checks
 
@@ -111,62 +108,41 @@ def filter_steps(cur: tuple[np.ndarray, np.ndarray, np.ndarray],
     if pairs.succ.size == 0:
         return braking, lo, hi
     lo_cur, hi_cur = envelope
+    # FAST pairs safe in the current state, asked only of pairs that are unsafe next
     fast_held = np.zeros(pairs.succ.size, dtype=bool)
-    if pairs.fast.any():
-        fast_held = _safe(cur, pairs, lo_cur, hi_cur, dec, jerk, pairs.fast)
+    asked = ~pairs.fast
     check = np.ones(pairs.succ.size, dtype=bool)
     while True:
         ok = _safe(nxt, pairs, lo, hi, dec, jerk, check)
         bad = check & ~ok
         if not bad.any():
             return braking, lo, hi
-        s, k = pairs.succ[bad], pairs.pred[bad]
-        claims = hi[s] > hi_cur[s] + TOLERANCE
-        claims |= pairs.fast[bad] & fast_held[bad]
-        blamed = s[claims & ~braking[s]]
-        if pairs.both:
-            backwards = lo[k] < lo_cur[k] - TOLERANCE
-            blamed = np.concatenate((blamed, k[backwards & ~braking[k]]))
-        # FAST: with the successor braking, only a predecessor that brakes too is sure to
-        # keep the pair (its brake then moves on exactly as before)
-        fast_pred = pairs.fast[bad] & braking[s] & ~braking[k]
-        blamed = np.concatenate((blamed, k[fast_pred]))
-        flag = np.zeros(n, dtype=bool)
-        flag[blamed] = True
-        blamed = np.flatnonzero(flag)  # sorted, once each
+        ask = bad & ~asked
+        if ask.any():
+            fast_held[ask] = _safe(cur, pairs, lo_cur, hi_cur, dec, jerk, ask)[ask]
+            asked |= ask
+        blamed, check = blame(bad, pairs.succ, pairs.pred, pairs.fast, pairs.both, fast_held,
+                              braking, lo, hi, lo_cur, hi_cur)
         if blamed.size == 0:
             return braking, lo, hi  # only pairs that were unsafe before and do not get worse
-        braking[blamed] = True
-        step = brake_state(cur[0][blamed], cur[1][blamed], cur[2][blamed], dec[blamed],
-                           jerk[blamed], cycle_time)
-        for field, source in zip(nxt, step, strict=True):
-            field[blamed] = source
-        lo[blamed], hi[blamed] = brake_envelope(
-            nxt[0][blamed], nxt[1][blamed], nxt[2][blamed], dec[blamed], jerk[blamed])
-        check = flag[pairs.succ] | flag[pairs.pred]
+        brake_blamed(blamed, cur[0], cur[1], cur[2], dec, jerk, cycle_time, *nxt, lo, hi,
+                     braking)
 
 
 def _safe(state: tuple[np.ndarray, ...] | list[np.ndarray], pairs: Pairs, lo: np.ndarray,
           hi: np.ndarray, dec: np.ndarray, jerk: np.ndarray, check: np.ndarray) -> np.ndarray:
-    """Pair safety of the ``check``-ed pairs (unchecked ones report True)."""
-    ok = np.ones(pairs.succ.size, dtype=bool)
-    m = np.flatnonzero(check)
-    s, k = pairs.succ[m], pairs.pred[m]
-    standard = hi[s] + pairs.gap[m] <= lo[k] + pairs.offset[m] + TOLERANCE
-    tcp = pairs.on_tcp(m)
-    if tcp.any():  # the gap on the TCP path: the monotone map keeps the argument (D-073)
-        t = m[tcp]
-        standard[tcp] = hi[pairs.succ[t]] <= pairs.behind(
-            t, lo[pairs.pred[t]] + pairs.offset[t]) + TOLERANCE
-    ok[m] = standard
-    fast = m[pairs.fast[m] & ~standard]
-    if fast.size:
-        s, k = pairs.succ[fast], pairs.pred[fast]
-        p, v, a = state[0], state[1], state[2]
-        gap = min_brake_gap(p[k] + pairs.offset[fast], v[k], a[k], dec[k], jerk[k],
-                            p[s], v[s], a[s], dec[s], jerk[s])
-        ok[fast] = gap >= pairs.gap[fast] - TOLERANCE
-    return ok
+    """Pair safety of the ``check``-ed pairs (unchecked ones report True): one compiled loop
+    (kernels.pair_safety, D-186) after the TCP pairs' positions one gap behind."""
+    tcp = np.zeros(pairs.succ.size, dtype=bool)
+    behind = np.zeros(pairs.succ.size)
+    if pairs.y is not None:  # gaps on a TCP path: the monotone map keeps the argument (D-073)
+        m = np.flatnonzero(check)
+        t = m[pairs.on_tcp(m)]
+        if t.size:
+            tcp[t] = True
+            behind[t] = pairs.behind(t, lo[pairs.pred[t]] + pairs.offset[t])
+    return pair_safety(check, pairs.succ, pairs.pred, pairs.offset, pairs.gap, pairs.fast,
+                       tcp, behind, state[0], state[1], state[2], lo, hi, dec, jerk)
 
 
 def min_brake_gap(pk: np.ndarray, vk: np.ndarray, ak: np.ndarray, dk: np.ndarray,
@@ -176,47 +152,7 @@ def min_brake_gap(pk: np.ndarray, vk: np.ndarray, ak: np.ndarray, dk: np.ndarray
 
     Both brakes are piecewise cubic; between the merged phase boundaries the difference is
     one cubic whose minimum lies at an end or where its derivative (a quadratic) vanishes.
+    One compiled loop over the pairs (kernels.min_brake_gaps, D-186).
     """
-    n = pk.shape[0]
-    dur_k, jer_k = brake_phases(vk, ak, dk, jk)
-    dur_i, jer_i = brake_phases(vi, ai, di, ji)
-    Pk, Vk, Ak = _boundaries(pk, vk, ak, dur_k, jer_k)  # noqa: N806 - maths
-    Pi, Vi, Ai = _boundaries(pi, vi, ai, dur_i, jer_i)  # noqa: N806
-    end_k, end_i = np.cumsum(dur_k, axis=1), np.cumsum(dur_i, axis=1)
-    times = np.sort(np.concatenate((np.zeros((n, 1)), end_k, end_i), axis=1), axis=1)
-    best = np.full(n, np.inf)
-    for c in range(times.shape[1]):
-        t0 = times[:, c]
-        xk, uk, bk, gk = _at(Pk, Vk, Ak, end_k, jer_k, t0)
-        xi, ui, bi, gi = _at(Pi, Vi, Ai, end_i, jer_i, t0)
-        best = np.minimum(best, xk - xi)
-        if c == times.shape[1] - 1:
-            break
-        length = times[:, c + 1] - t0
-        # derivative of the difference on [t0, t1]: dv + da s + dj s²/2
-        dv, da, dj = uk - ui, bk - bi, gk - gi
-        with np.errstate(divide="ignore", invalid="ignore"):
-            disc = np.sqrt(np.maximum(da * da - 2.0 * dj * dv, 0.0))
-            roots = (np.where(dj != 0.0, (-da - disc) / dj, -dv / da),
-                     np.where(dj != 0.0, (-da + disc) / dj, np.nan))
-        for s in roots:
-            inside = np.isfinite(s) & (s > 0.0) & (s < length)
-            if not inside.any():
-                continue
-            s = np.where(inside, s, 0.0)
-            diff = (xk - xi) + s * (dv + s * (0.5 * da + s * dj / 6.0))
-            best = np.minimum(best, np.where(inside, diff, np.inf))
-    return best
-
-
-def _at(P: np.ndarray, V: np.ndarray, A: np.ndarray, ends: np.ndarray, jerks: np.ndarray,  # noqa: N803
-        t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(p, v, a, jerk of the phase that starts here) of a brake at times ``t`` (N,)."""
-    rows = np.arange(P.shape[0])
-    phase = (t[:, None] >= ends - 1e-15).sum(axis=1)
-    start = np.where(phase == 0, 0.0, ends[rows, np.maximum(phase - 1, 0)])
-    tau = np.maximum(t - start, 0.0)
-    j = np.where(phase < 3, jerks[rows, np.minimum(phase, 2)], 0.0)
-    p0, v0, a0 = P[rows, phase], V[rows, phase], A[rows, phase]
-    return (p0 + tau * (v0 + tau * (0.5 * a0 + tau * j / 6.0)),
-            v0 + tau * (a0 + 0.5 * tau * j), a0 + tau * j, j)
+    return min_brake_gaps(*(np.ascontiguousarray(x, dtype=float)
+                            for x in (pk, vk, ak, dk, jk, pi, vi, ai, di, ji)))

@@ -1,12 +1,14 @@
-"""Compiled loops of gap control (numba): the brake envelope and the held movers' steps.
+"""Compiled loops of gap control (numba): the brake envelope, the held movers' steps, and
+the gap filter's pair checks and rounds.
 
 Gap control asks the same few dozen arithmetic questions of every mover in every cycle.
 As numpy passes each question is an array operation with its own overhead; at 1000 movers
 that overhead, not the arithmetic, set the cycle time (docs/collision-avoidance.md,
 Performance). These loops do the same arithmetic per mover in one compiled pass. Every
 expression keeps the operation order of the numpy formulation they replaced, so the results
-were the same bit for bit (D-105); tests/transport/test_braking.py checks the brake against
-the planner's own stop (trajectory.plan.plan_stop).
+were the same bit for bit (D-105, D-186); tests/transport/test_braking.py checks the brake
+against the planner's own stop (trajectory.plan.plan_stop), tests/transport/test_gap_control.py
+the Fast pair check against its numpy formulation.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ import math
 
 import numpy as np
 
-from openmotion.core.compiled import compiled
+from openmotion.core.compiled import compiled, sort_in_place, true_indices
 
 TOLERANCE = 1e-9  #: [mm] as gap_control.TOLERANCE
 _SLACK = 1 + 1e-12  #: relative float slack of the limit checks
@@ -141,37 +143,42 @@ def candidates(rows: np.ndarray, dt: float, p: np.ndarray, v: np.ndarray, a: np.
 
 
 @compiled
+def _brake_state(p: float, v: float, a: float, dec: float, jerk: float,
+                 t: float) -> tuple[float, float, float, float]:
+    """(p, v, a, j) a time ``t`` into one mover's brake; at rest after its end."""
+    t1, t2, t3, j1, j3, _ = _phases(v, a, dec, jerk)
+    durations = (t1, t2, t3)
+    jerks = (j1, 0.0, j3)
+    pk, vk, ak = p, v, a
+    start = 0.0
+    end = 0.0
+    j = 0.0
+    rest = True
+    for k in range(3):
+        end = end + durations[k] if k else durations[k]
+        if t < end:  # inside phase k
+            j = jerks[k]
+            rest = False
+            break
+        tk, jk = durations[k], jerks[k]
+        pk, vk, ak = (pk + tk * (vk + tk * (0.5 * ak + tk * jk / 6.0)),
+                      vk + tk * (ak + 0.5 * tk * jk), ak + tk * jk)
+        start = end
+    if rest:  # the brake has ended: at rest where it stopped
+        vk, ak, j = 0.0, 0.0, 0.0
+    tau = t - start
+    return (pk + tau * (vk + tau * (0.5 * ak + tau * j / 6.0)),
+            vk + tau * (ak + 0.5 * tau * j), ak + tau * j, j)
+
+
+@compiled
 def brake_states(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
                  jerk: np.ndarray, t: float) -> tuple[np.ndarray, ...]:
     """braking.brake_state: (p, v, a, j) a time ``t`` into each mover's brake."""
     n = p.shape[0]
     po, vo, ao, jo = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     for i in range(n):
-        t1, t2, t3, j1, j3, _ = _phases(v[i], a[i], dec[i], jerk[i])
-        durations = (t1, t2, t3)
-        jerks = (j1, 0.0, j3)
-        pk, vk, ak = p[i], v[i], a[i]
-        start = 0.0
-        end = 0.0
-        j = 0.0
-        rest = True
-        for k in range(3):
-            end = end + durations[k] if k else durations[k]
-            if t < end:  # inside phase k
-                j = jerks[k]
-                rest = False
-                break
-            tk, jk = durations[k], jerks[k]
-            pk, vk, ak = (pk + tk * (vk + tk * (0.5 * ak + tk * jk / 6.0)),
-                          vk + tk * (ak + 0.5 * tk * jk), ak + tk * jk)
-            start = end
-        if rest:  # the brake has ended: at rest where it stopped
-            vk, ak, j = 0.0, 0.0, 0.0
-        tau = t - start
-        po[i] = pk + tau * (vk + tau * (0.5 * ak + tau * j / 6.0))
-        vo[i] = vk + tau * (ak + 0.5 * tau * j)
-        ao[i] = ak + tau * j
-        jo[i] = j
+        po[i], vo[i], ao[i], jo[i] = _brake_state(p[i], v[i], a[i], dec[i], jerk[i], t)
     return po, vo, ao, jo
 
 
@@ -186,3 +193,170 @@ def phase_table(v: np.ndarray, a: np.ndarray, dec: np.ndarray,
         durations[i, 0], durations[i, 1], durations[i, 2] = t1, t2, t3
         jerks[i, 0], jerks[i, 2] = j1, j3
     return durations, jerks
+
+
+@compiled
+def _advance(p: float, v: float, a: float, t: float, j: float) -> tuple[float, float, float]:
+    """(p, v, a) after ``t`` of constant jerk ``j``."""
+    return (p + t * (v + t * (0.5 * a + t * j / 6.0)), v + t * (a + 0.5 * t * j), a + t * j)
+
+
+@compiled
+def _brake_table(p: float, v: float, a: float, dec: float, jerk: float) -> tuple:
+    """One mover's brake as gap_control's exact FAST check reads it: the ends of its three
+    phases (cumulated), their jerks, and (p, v, a) at the four phase boundaries; the brake ends
+    at rest (the float residue of v and a dropped)."""
+    t1, t2, t3, j1, j3, _ = _phases(v, a, dec, jerk)
+    p1, v1, a1 = _advance(p, v, a, t1, j1)
+    p2, v2, a2 = _advance(p1, v1, a1, t2, 0.0)
+    p3, _, _ = _advance(p2, v2, a2, t3, j3)
+    e2 = t1 + t2
+    return ((t1, e2, e2 + t3), (j1, 0.0, j3), (p, p1, p2, p3), (v, v1, v2, 0.0),
+            (a, a1, a2, 0.0))
+
+
+@compiled
+def _brake_at(table: tuple, t: float) -> tuple[float, float, float, float]:
+    """(p, v, a, jerk of the phase that starts here) of a brake ``_brake_table`` at time t."""
+    ends, jerks, ps, vs, accs = table
+    phase = 0
+    for q in range(3):
+        if t >= ends[q] - 1e-15:
+            phase += 1
+    start = 0.0 if phase == 0 else ends[phase - 1]
+    tau = t - start
+    if tau < 0.0:  # numpy.maximum(tau, 0.0): nan stays nan
+        tau = 0.0
+    j = jerks[phase] if phase < 3 else 0.0
+    p, v, a = _advance(ps[phase], vs[phase], accs[phase], tau, j)
+    return p, v, a, j
+
+
+@compiled
+def _minimum(a: float, b: float) -> float:
+    """numpy.minimum: nan if either is nan."""
+    return a if (a <= b or a != a) else b
+
+
+@compiled
+def _min_brake_gap(pk: float, vk: float, ak: float, dk: float, jk: float, pi: float,
+                   vi: float, ai: float, di: float, ji: float, times: np.ndarray) -> float:
+    """min over t >= 0 of brake_k(t) - brake_i(t) for one pair (``times``: scratch of 7).
+
+    Between the merged phase boundaries of the two brakes the difference is one cubic; its
+    minimum lies at an end or where its derivative (a quadratic) vanishes."""
+    brake_k = _brake_table(pk, vk, ak, dk, jk)
+    brake_i = _brake_table(pi, vi, ai, di, ji)
+    times[0] = 0.0
+    for q in range(3):
+        times[1 + q] = brake_k[0][q]
+        times[4 + q] = brake_i[0][q]
+    sort_in_place(times)
+    best = math.inf
+    for c in range(7):
+        t0 = times[c]
+        xk, uk, bk, gk = _brake_at(brake_k, t0)
+        xi, ui, bi, gi = _brake_at(brake_i, t0)
+        best = _minimum(best, xk - xi)
+        if c == 6:
+            break
+        length = times[c + 1] - t0
+        # derivative of the difference on [t0, t1]: dv + da s + dj s²/2
+        dv, da, dj = uk - ui, bk - bi, gk - gi
+        square = da * da - 2.0 * dj * dv
+        if square < 0.0:  # numpy.maximum(square, 0.0): nan stays nan
+            square = 0.0
+        disc = math.sqrt(square)
+        if dj != 0.0:
+            r1, r2 = (-da - disc) / dj, (-da + disc) / dj
+        else:
+            r1, r2 = -dv / da, math.nan
+        for s in (r1, r2):
+            if math.isfinite(s) and s > 0.0 and s < length:
+                best = _minimum(best, (xk - xi) + s * (dv + s * (0.5 * da + s * dj / 6.0)))
+    return best
+
+
+@compiled
+def min_brake_gaps(pk: np.ndarray, vk: np.ndarray, ak: np.ndarray, dk: np.ndarray,
+                   jk: np.ndarray, pi: np.ndarray, vi: np.ndarray, ai: np.ndarray,
+                   di: np.ndarray, ji: np.ndarray) -> np.ndarray:
+    """gap_control.min_brake_gap: ``_min_brake_gap`` for every pair."""
+    n = pk.shape[0]
+    best = np.empty(n)
+    times = np.empty(7)
+    for m in range(n):
+        best[m] = _min_brake_gap(pk[m], vk[m], ak[m], dk[m], jk[m], pi[m], vi[m], ai[m], di[m],
+                                 ji[m], times)
+    return best
+
+
+@compiled
+def pair_safety(check: np.ndarray, succ: np.ndarray, pred: np.ndarray, offset: np.ndarray,
+                gap: np.ndarray, fast: np.ndarray, tcp: np.ndarray, behind: np.ndarray,
+                p: np.ndarray, v: np.ndarray, a: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+                dec: np.ndarray, jerk: np.ndarray) -> np.ndarray:
+    """gap_control._safe: the safety of the ``check``-ed pairs (the others report True).
+
+    STANDARD: the successor's envelope ends one gap behind the predecessor's, on the motor
+    path, or for a pair that measures its gap on a TCP path (``tcp``, D-073) below
+    ``behind``. FAST pairs that fail it are safe when both brakes together keep the gap."""
+    ok = np.ones(succ.shape[0], dtype=np.bool_)
+    times = np.empty(7)
+    for m in range(succ.shape[0]):
+        if not check[m]:
+            continue
+        s, k = succ[m], pred[m]
+        if tcp[m]:
+            standard = hi[s] <= behind[m] + TOLERANCE
+        else:
+            standard = hi[s] + gap[m] <= lo[k] + offset[m] + TOLERANCE
+        if not standard and fast[m]:
+            closest = _min_brake_gap(p[k] + offset[m], v[k], a[k], dec[k], jerk[k], p[s], v[s],
+                                     a[s], dec[s], jerk[s], times)
+            standard = closest >= gap[m] - TOLERANCE
+        ok[m] = standard
+    return ok
+
+
+@compiled
+def blame(bad: np.ndarray, succ: np.ndarray, pred: np.ndarray, fast: np.ndarray, both: bool,
+          fast_held: np.ndarray, braking: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+          lo_cur: np.ndarray, hi_cur: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """One round of gap_control.filter_steps: which movers of the ``bad`` pairs brake now
+    (ascending, once each) and which pairs to check again (those with a mover among them).
+
+    A successor that claims room (its envelope end moves on, or a FAST pair was safe before)
+    is blamed, with Both a predecessor that moves backwards too, and in a FAST pair whose
+    successor already brakes the predecessor as well (then its brake moves on as before)."""
+    flag = np.zeros(braking.shape[0], dtype=np.bool_)
+    for m in range(succ.shape[0]):
+        if not bad[m]:
+            continue
+        s, k = succ[m], pred[m]
+        claims = hi[s] > hi_cur[s] + TOLERANCE or (fast[m] and fast_held[m])
+        if claims and not braking[s]:
+            flag[s] = True
+        if both and lo[k] < lo_cur[k] - TOLERANCE and not braking[k]:
+            flag[k] = True
+        if fast[m] and braking[s] and not braking[k]:
+            flag[k] = True
+    check = np.empty(succ.shape[0], dtype=np.bool_)
+    for m in range(succ.shape[0]):
+        check[m] = flag[succ[m]] or flag[pred[m]]
+    return true_indices(flag), check
+
+
+@compiled
+def brake_blamed(blamed: np.ndarray, p: np.ndarray, v: np.ndarray, a: np.ndarray,
+                 dec: np.ndarray, jerk: np.ndarray, t: float, nxt_p: np.ndarray,
+                 nxt_v: np.ndarray, nxt_a: np.ndarray, nxt_j: np.ndarray, lo: np.ndarray,
+                 hi: np.ndarray, braking: np.ndarray) -> None:
+    """The ``blamed`` movers follow their brake from (p, v, a) for a time ``t`` instead of
+    their proposal in ``nxt_*``: their step, its envelope (lo, hi) and ``braking``, in place."""
+    for r in range(blamed.shape[0]):
+        k = blamed[r]
+        braking[k] = True
+        nxt_p[k], nxt_v[k], nxt_a[k], nxt_j[k] = _brake_state(p[k], v[k], a[k], dec[k],
+                                                              jerk[k], t)
+        lo[k], hi[k] = envelope(nxt_p[k], nxt_v[k], nxt_a[k], dec[k], jerk[k])
