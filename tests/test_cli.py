@@ -128,13 +128,14 @@ def fake_runner(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, bool]]:
     """A stand-in for openmotion.bench.runner: the CLI must only call its public functions."""
     calls: list[tuple[str, bool]] = []
 
-    def run_benchmark(name: str, quick: bool = False, progress=None) -> dict:
-        calls.append((name, quick))
+    def run_benchmark(name: str, quick: bool = False, progress=None, cycles=None) -> dict:
+        calls.append((name, quick) if cycles is None else (name, quick, cycles))
         progress(f"{name}: step 1")
         return {"benchmark": name, "passed": True}
 
     module = types.ModuleType("openmotion.bench.runner")
     module.run_benchmark = run_benchmark  # type: ignore[attr-defined]
+    module.LONG_RUNS = ("trace",)  # type: ignore[attr-defined]
     module.render = lambda result: f"bench {result['benchmark']}: passed"  # type: ignore
     monkeypatch.setitem(sys.modules, "openmotion.bench.runner", module)
     import openmotion.bench
@@ -152,6 +153,16 @@ def test_bench_calls_the_runner_and_prints_its_table_or_json(fake_runner) -> Non
     result = runner.invoke(app, ["bench", "nope"])
     assert result.exit_code == 2 and "choose one of: axes, otg" in result.stderr
     assert len(fake_runner) == 2
+
+
+def test_bench_cycles_goes_to_the_long_runs_only(fake_runner) -> None:
+    """D-188: ``--cycles`` sets the length of the trace memory run; any other benchmark
+    would ignore it, so it is a usage error there (exit 2, nothing run)."""
+    result = runner.invoke(app, ["bench", "otg", "--cycles", "5"])
+    assert result.exit_code == 2 and "--cycles: only for trace, not otg" in result.stderr
+    assert runner.invoke(app, ["bench", "trace", "--cycles", "0"]).exit_code == 2
+    assert runner.invoke(app, ["bench", "trace", "--quick", "--cycles", "300"]).exit_code == 0
+    assert fake_runner == [("trace", True, 300)]
 
 
 def test_help_comes_from_the_declarations() -> None:

@@ -265,6 +265,9 @@ def bench(
     json_output: JsonFlag = False,
     quick: Annotated[bool, typer.Option("--quick", help="Small sizes: a smoke run, not a "
                                                         "measurement.")] = False,
+    cycles: Annotated[int | None, typer.Option(
+        min=1, help="Length of the long run (trace: samples of the memory part; default "
+        "1000000, 20000 with --quick).", show_default=False)] = None,
 ) -> None:
     """Run one benchmark and print its figures and goals (docs/benchmarks.md)."""
     from openmotion.bench import BENCHMARK_NAMES
@@ -276,10 +279,12 @@ def bench(
         from openmotion.bench import runner
     except ImportError as exc:
         raise _fail(f"error: the benchmarks are not available ({exc})") from None
+    if cycles is not None and name not in runner.LONG_RUNS:
+        raise _fail(f"error: --cycles: only for {', '.join(runner.LONG_RUNS)}, not {name}")
     _started()
     bar = _ProgressBar(enabled=not json_output)
     try:
-        result = runner.run_benchmark(name, quick=quick, progress=bar.message)
+        result = runner.run_benchmark(name, quick=quick, progress=bar.message, cycles=cycles)
     finally:
         bar.close()
     typer.echo(json.dumps(result, indent=2, default=str) if json_output
