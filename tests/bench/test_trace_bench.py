@@ -58,7 +58,7 @@ def test_memory_part_holds_keep_rows_and_one_chunk_while_unbounded_grows(result:
     assert bounded["allocated_rows"] == bounded["keep"] == samples // 10
     assert streaming["allocated_rows"] == streaming["chunk"] == samples // 10
     assert unbounded["allocated_rows"] >= samples and bounded["disk_mb"] == 0.0
-    assert streaming["disk_mb"] * trace.MIB >= samples * (trace.GOAL_SIGNALS + 1) * 8
+    assert streaming["disk_mb"] * trace.MIB >= samples * (trace.MEMORY_SIGNALS + 1) * 8
     assert len(bounded["checkpoints"]) == trace.CHECKPOINTS
     assert [point["samples"] for point in bounded["checkpoints"]][-1] == samples
 

@@ -18,9 +18,10 @@ variant goes first once); the real-time factor is the cycle time over the wall t
 cycle. The recorder's own time in the every-cycle runs (``sample_us``) is timed around each
 call, so its per-signal figure does not drown in the noise of two whole runs.
 
-Part 3, memory over a long run (issue 19 point 10, D-188): the goal's 100 signals of 100
-axes sampled ``memory_cycles`` times by calling ``TraceRecorder.sample`` directly (no
-motion: the recorder's memory is the question, and that keeps 10**7 samples to minutes), in
+Part 3, memory over a long run (issue 19 point 10, D-189): 100 signals (set position and
+set velocity of 50 axes: the recorder's memory depends on the number of signals, not their
+kind, and these are the cheapest to read) sampled ``memory_cycles`` times by calling
+``TraceRecorder.sample`` directly (no motion, so that 10**7 samples take minutes), in
 the bounded mode (``keep``: the last minute at 1 kHz, at most a tenth of the run), in the
 streaming mode (chunks into a temporary directory, removed afterwards; a chunk is at most a
 tenth of the run) and, for contrast, unbounded (at most UNBOUNDED_CYCLES samples). The
@@ -55,6 +56,7 @@ GOAL_SIGNALS = 100
 DECIMATION = 10  #: the third variant records every 10th cycle
 REPEATS = 3
 SAMPLE_VALUES = 4_000_000  #: values one sampling run writes at most
+MEMORY_SIGNALS = 100  #: signals of the memory part
 MEMORY_CYCLES = 1_000_000  #: samples of the memory part by default (``--cycles``)
 KEEP_ROWS = 60_000  #: the bounded mode keeps the last minute at 1 kHz
 UNBOUNDED_CYCLES = 200_000  #: the unbounded contrast stops here (it grows with the run)
@@ -177,14 +179,16 @@ def rss_bytes() -> int:
 
 def _memory(mode: str, cycles: int, directory: Path) -> dict[str, Any]:
     """RSS over ``cycles`` samples of the goal's signals in one mode (the module docstring)."""
-    rt, axes = build_runtime(GOAL_AXES)
+    rt, axes = build_runtime(MEMORY_SIGNALS // 2)
+    signals = [f"{axis.name}.{prop}" for axis in axes for prop in ("set_position",
+                                                                   "set_velocity")]
     rows = max(1, int(cycles * WARM_FRACTION))
     options: dict[str, Any] = {"keep": min(KEEP_ROWS, rows)} if mode == "bounded" else \
-        {"stream": directory / "trace", "chunk": min(rows, default_chunk(GOAL_SIGNALS + 1))} \
+        {"stream": directory / "trace", "chunk": min(rows, default_chunk(len(signals) + 1))} \
         if mode == "streaming" else {}
     gc.collect()
     base = rss_bytes()
-    recorder = TraceRecorder(rt, goal_signals([axis.name for axis in axes]), **options)
+    recorder = TraceRecorder(rt, signals, **options)
     sample, every = recorder.sample, max(1, cycles // CHECKPOINTS)
     checkpoints: list[dict[str, float]] = []
     done, start = 0, time.perf_counter()
@@ -200,7 +204,7 @@ def _memory(mode: str, cycles: int, directory: Path) -> dict[str, Any]:
     warm = [point["rss_mb"] for point in checkpoints if point["samples"] >= rows] or \
         [checkpoints[-1]["rss_mb"]]
     options.pop("stream", None)  # a temporary directory: not a figure
-    return {"mode": mode, "samples": cycles, "signals": GOAL_SIGNALS, **options,
+    return {"mode": mode, "samples": cycles, "signals": len(signals), **options,
             "sample_us": seconds / cycles * 1e6, "rss_mb_warm": warm[0],
             "rss_mb_end": checkpoints[-1]["rss_mb"], "growth_mb": max(warm) - warm[0],
             "allocated_rows": recorder.allocated, "disk_mb": disk / MIB,
@@ -213,7 +217,7 @@ def run_memory(cycles: int = MEMORY_CYCLES, progress: Progress = None) -> list[d
     for mode, count in (("bounded", cycles), ("streaming", cycles),
                         ("unbounded", min(cycles, UNBOUNDED_CYCLES))):
         if progress is not None:
-            progress(f"trace: memory, {mode}, {count} samples of {GOAL_SIGNALS} signals")
+            progress(f"trace: memory, {mode}, {count} samples of {MEMORY_SIGNALS} signals")
         directory = Path(tempfile.mkdtemp(prefix="openmotion-trace-"))
         try:
             row = _memory(mode, count, directory)
