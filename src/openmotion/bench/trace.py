@@ -24,8 +24,9 @@ kind, and these are the cheapest to read) sampled ``memory_cycles`` times by cal
 ``TraceRecorder.sample`` directly (no motion, so that 10**7 samples take minutes), in
 the bounded mode (``keep``: the last minute at 1 kHz, at most a tenth of the run), in the
 streaming mode (chunks into a temporary directory, removed afterwards; a chunk is at most a
-tenth of the run) and, for contrast, unbounded (at most UNBOUNDED_CYCLES samples). The
-process's resident memory (RSS) is read at CHECKPOINTS even intervals; memory is flat when
+tenth of the run) and, for contrast, unbounded (at most UNBOUNDED_CYCLES samples), each in
+a process of its own. That process's resident memory (RSS) above what it held before the
+recorder was built is read at CHECKPOINTS even intervals; memory is flat when
 it grows by less than FLAT_MB after the first tenth of the run (the ring or the first chunk
 has filled by then).
 """
@@ -33,6 +34,7 @@ has filled by then).
 from __future__ import annotations
 
 import gc
+import multiprocessing
 import shutil
 import statistics
 import sys
@@ -218,14 +220,22 @@ def run_memory(cycles: int = MEMORY_CYCLES, progress: Progress = None) -> list[d
                         ("unbounded", min(cycles, UNBOUNDED_CYCLES))):
         if progress is not None:
             progress(f"trace: memory, {mode}, {count} samples of {MEMORY_SIGNALS} signals")
-        directory = Path(tempfile.mkdtemp(prefix="openmotion-trace-"))
-        try:
-            row = _memory(mode, count, directory)
-        finally:
-            shutil.rmtree(directory, ignore_errors=True)
+        with multiprocessing.get_context("spawn").Pool(1) as pool:
+            row = pool.apply(_memory_alone, (mode, count))
         row["flat"] = row["growth_mb"] < FLAT_MB
         runs.append(row)
     return runs
+
+
+def _memory_alone(mode: str, cycles: int) -> dict[str, Any]:
+    """``_memory`` in a process of its own (``run_memory`` spawns one per mode): what the
+    modes before it or the other parts freed stays out of its RSS, and what it allocates
+    cannot hide in memory they left to the allocator."""
+    directory = Path(tempfile.mkdtemp(prefix="openmotion-trace-"))
+    try:
+        return _memory(mode, cycles, directory)
+    finally:
+        shutil.rmtree(directory, ignore_errors=True)
 
 
 def run_trace(samples: int = 20_000, counts: Sequence[int] = (10, 100, 1000),
