@@ -160,3 +160,16 @@ def test_a_streamed_trace_exports_and_plots_as_any_trace(tmp_path: Path) -> None
         assert again.equals(full) and again.events == full.events
     save_plot(read_trace(tmp_path / "s"), tmp_path / "t.png")
     assert (tmp_path / "t.png").read_bytes().startswith(b"\x89PNG")
+
+
+def test_read_trace_takes_a_directory_for_a_stream(tmp_path: Path) -> None:
+    """A directory without a manifest says what is missing; one named like a trace file
+    keeps the file's message."""
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(om.ConfigError, match="empty: not a streamed trace: no trace.json"):
+        read_trace(tmp_path / "empty")
+    (tmp_path / "folder.csv").mkdir()
+    with pytest.raises(om.ConfigError, match="folder.csv: cannot read the trace"):
+        read_trace(tmp_path / "folder.csv")
+    run(20, stream=tmp_path / "s.csv", chunk=8).flush()
+    assert len(read_trace(tmp_path / "s.csv")) == 21

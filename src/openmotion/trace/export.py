@@ -30,7 +30,7 @@ import numpy as np
 
 from openmotion.core.errors import ConfigError
 from openmotion.trace.record import TIME, Event, Trace
-from openmotion.trace.stream import read_stream
+from openmotion.trace.stream import MANIFEST, read_stream
 
 TRACE_FORMATS = ("csv", "npz")  #: by the file's suffix
 NPZ_FORMAT = 1  #: the ``format`` number of the NPZ files written here
@@ -220,10 +220,13 @@ def write_trace(trace: Trace, path: str | Path) -> Path:
 
 
 def read_trace(path: str | Path) -> Trace:
-    """``read_stream`` for a directory (a streamed trace); ``read_npz`` for a ``.npz`` path;
-    ``read_csv`` and ``read_sidecar`` for a ``.csv`` path (a ``TraceWarning`` when the
-    sidecar is missing); ConfigError for any other."""
-    if Path(path).is_dir():
+    """``read_stream`` for a directory (a streamed trace; unless it is named like a trace
+    file and holds no manifest); ``read_npz`` for a ``.npz`` path; ``read_csv`` and
+    ``read_sidecar`` for a ``.csv`` path (a ``TraceWarning`` when the sidecar is missing);
+    ConfigError for any other."""
+    path = Path(path)
+    if path.is_dir() and ((path / MANIFEST).exists()
+                          or path.suffix.lower().lstrip(".") not in TRACE_FORMATS):
         return read_stream(path)
     if trace_format(path) == "npz":
         return read_npz(path)
