@@ -128,13 +128,14 @@ def fake_runner(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, bool]]:
     """A stand-in for openmotion.bench.runner: the CLI must only call its public functions."""
     calls: list[tuple[str, bool]] = []
 
-    def run_benchmark(name: str, quick: bool = False, progress=None) -> dict:
-        calls.append((name, quick))
+    def run_benchmark(name: str, quick: bool = False, progress=None, cycles=None) -> dict:
+        calls.append((name, quick) if cycles is None else (name, quick, cycles))
         progress(f"{name}: step 1")
         return {"benchmark": name, "passed": True}
 
     module = types.ModuleType("openmotion.bench.runner")
     module.run_benchmark = run_benchmark  # type: ignore[attr-defined]
+    module.LONG_RUNS = ("trace",)  # type: ignore[attr-defined]
     module.render = lambda result: f"bench {result['benchmark']}: passed"  # type: ignore
     monkeypatch.setitem(sys.modules, "openmotion.bench.runner", module)
     import openmotion.bench
@@ -154,6 +155,16 @@ def test_bench_calls_the_runner_and_prints_its_table_or_json(fake_runner) -> Non
     assert len(fake_runner) == 2
 
 
+def test_bench_cycles_goes_to_the_long_runs_only(fake_runner) -> None:
+    """D-188: ``--cycles`` sets the length of the trace memory run; any other benchmark
+    would ignore it, so it is a usage error there (exit 2, nothing run)."""
+    result = runner.invoke(app, ["bench", "otg", "--cycles", "5"])
+    assert result.exit_code == 2 and "--cycles: only for trace, not otg" in result.stderr
+    assert runner.invoke(app, ["bench", "trace", "--cycles", "0"]).exit_code == 2
+    assert runner.invoke(app, ["bench", "trace", "--quick", "--cycles", "300"]).exit_code == 0
+    assert fake_runner == [("trace", True, 300)]
+
+
 def test_help_comes_from_the_declarations() -> None:
     result = runner.invoke(app, ["--help"])
     assert result.exit_code == 0
@@ -166,3 +177,44 @@ def test_help_comes_from_the_declarations() -> None:
 def test_usage_error_exits_2() -> None:
     assert runner.invoke(app, ["run", "--no-such-option"]).exit_code == 2
     assert runner.invoke(app, ["check"]).exit_code == 2
+
+
+def test_run_trace_stream_writes_chunks_and_plot_reads_them(in_tmp) -> None:
+    """D-188: --trace-stream puts the trace into a directory of chunks (no trace.csv unless
+    --trace asks for one); 'openmotion plot' reads the directory."""
+    result = runner.invoke(app, ["run", "--trace-stream", "st", "--trace-chunk", "500"])
+    assert result.exit_code == 0, result.stderr
+    assert "columns streamed to st" in result.stderr and not (in_tmp / "trace.csv").exists()
+    assert sorted(p.name for p in (in_tmp / "st").iterdir())[:2] == ["chunk-000000.npz",
+                                                                     "chunk-000001.npz"]
+    shown = runner.invoke(app, ["plot", "st", "-o", "st.png"])
+    assert shown.exit_code == 0 and (in_tmp / "st.png").read_bytes().startswith(PNG)
+    both = runner.invoke(app, ["run", "--trace-stream", "st", "--trace", "t.csv", "--json"])
+    assert both.exit_code == 0 and json.loads(both.stdout)["trace"]["path"] == "t.csv"
+    assert runner.invoke(app, ["run", "--trace", "plain.csv"]).exit_code == 0
+    assert (in_tmp / "t.csv").read_text() == (in_tmp / "plain.csv").read_text()
+
+
+def test_run_trace_keep_writes_the_last_rows(in_tmp) -> None:
+    result = runner.invoke(app, ["run", "--trace-keep", "50", "--json"])
+    assert result.exit_code == 0 and json.loads(result.stdout)["trace"]["rows"] == 50
+    assert len((in_tmp / "trace.csv").read_text().splitlines()) == 51
+
+
+@pytest.mark.parametrize(("arguments", "message"), [
+    (["--trace-keep", "0"], "Invalid value for '--trace-keep'"),
+    (["--trace-chunk", "0", "--trace-stream", "s"], "Invalid value for '--trace-chunk'"),
+    (["--trace-keep", "5", "--trace-stream", "s"], "ConfigError: keep and stream: give one"),
+    (["--trace-chunk", "5"], "ConfigError: chunk: only with stream"),
+    (["--trace-stream", "file/s"], "ConfigError: stream: file/s: cannot write the trace "
+                                   "there: Not a directory"),
+])
+def test_run_bad_trace_options_exit_2_and_write_nothing(in_tmp, arguments: list[str],
+                                                        message: str) -> None:
+    """D-188: a bound that keeps nothing, both modes, or an unwritable directory: exit 2
+    with the reason on stderr, nothing written; the same command without them runs."""
+    (in_tmp / "file").write_text("x")
+    result = runner.invoke(app, ["run", *arguments])
+    assert result.exit_code == 2 and message in result.stderr
+    assert not (in_tmp / "trace.csv").exists() and not (in_tmp / "s").exists()
+    assert runner.invoke(app, ["run", "-q"]).exit_code == 0

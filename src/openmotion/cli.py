@@ -85,10 +85,20 @@ class _ProgressBar:
 @app.command()
 def run(
     scenario: ScenarioArgument = None,
-    trace: Annotated[Path, typer.Option(help="Where to write the trace: .csv (the command "
-                                             "events and the layout go to a .events.json "
-                                             "beside it) or .npz (all in one file).")]
-    = Path("trace.csv"),
+    trace: Annotated[Path | None, typer.Option(
+        help="Where to write the trace: .csv (the command events and the layout go to a "
+             ".events.json beside it) or .npz (all in one file). Default: trace.csv, none "
+             "when the trace is streamed.", show_default=False)] = None,
+    trace_keep: Annotated[int | None, typer.Option(
+        min=1, metavar="ROWS", help="Keep only the last ROWS rows of the trace in memory "
+        "(replaces the scenario's record keep/stream).", show_default=False)] = None,
+    trace_stream: Annotated[Path | None, typer.Option(
+        metavar="DIRECTORY", help="Stream the trace to this directory in NPZ chunks as the "
+        "run goes (replaces the scenario's record keep/stream); 'openmotion plot DIRECTORY' "
+        "reads it.", show_default=False)] = None,
+    trace_chunk: Annotated[int | None, typer.Option(
+        min=1, metavar="ROWS", help="Rows per chunk of a streamed trace. Default: about a "
+        "million values per chunk.", show_default=False)] = None,
     plot: Annotated[Path | None, typer.Option(help="Also draw the scenario's figure into this "
                                                     "image file (.png, .svg, .pdf): the planar "
                                                     "plot with planar movers, the path plot "
@@ -100,39 +110,56 @@ def run(
                                                               "exit code tells the result.")]
     = False,
 ) -> None:
-    """Run a scenario in virtual time: summary table on stdout, trace to a CSV or NPZ file."""
+    """Run a scenario in virtual time: summary table on stdout, trace to a CSV or NPZ file
+    (or streamed to a directory)."""
     from openmotion.scenario import run_scenario
-    from openmotion.trace import image_format, save_plot, trace_format, write_trace
+    from openmotion.trace import (
+        StreamedTrace,
+        image_format,
+        save_plot,
+        trace_format,
+        write_trace,
+    )
 
     _started()
 
     path = _scenario_path(scenario)
     bar = _ProgressBar(enabled=not (json_output or quiet))
     try:
-        trace_format(trace)  # before the run, not after it
+        if trace is not None:
+            trace_format(trace)  # before the run, not after it
         if plot is not None:
             image_format(plot)
-        result = run_scenario(path, progress=bar, figure=plot is not None)
+        result = run_scenario(path, progress=bar, figure=plot is not None, keep=trace_keep,
+                              stream=trace_stream, chunk=trace_chunk)
     except ConfigError as exc:
         raise _fail(f"ConfigError: {exc}") from None
+    except OSError as exc:  # a streamed trace's chunk could not be written
+        raise _fail(f"error: cannot write {exc.filename}: {exc.strerror}") from None
     finally:
         bar.close()
+    streamed = isinstance(result.trace, StreamedTrace)
+    if trace is None and not streamed:
+        trace = Path("trace.csv")
     try:
-        write_trace(result.trace, trace)
+        if trace is not None:  # a streamed trace is read back only when asked for
+            write_trace(result.trace, trace)
         if plot is not None:
             save_plot(result.trace, plot, title=result.scenario.name)
     except OSError as exc:
         raise _fail(f"error: cannot write {exc.filename}: {exc.strerror}") from None
+    where = trace if trace is not None else result.trace.directory  # type: ignore[attr-defined]
     if json_output:
         data = result.to_dict()
         data["file"] = str(path)
-        data["trace"]["path"] = str(trace)
+        data["trace"]["path"] = str(where)
         data["plot"] = None if plot is None else str(plot)
         typer.echo(json.dumps(data, indent=2))
     elif not quiet:
         _print_summary(result)
         rows, columns = len(result.trace), len(result.trace.columns)
-        typer.echo(f"trace: {rows} rows x {columns} columns written to {trace}", err=True)
+        verb = "written to" if trace is not None else "streamed to"
+        typer.echo(f"trace: {rows} rows x {columns} columns {verb} {where}", err=True)
         if plot is not None:
             typer.echo(f"plot: written to {plot}", err=True)
     if not result.passed:
@@ -238,6 +265,9 @@ def bench(
     json_output: JsonFlag = False,
     quick: Annotated[bool, typer.Option("--quick", help="Small sizes: a smoke run, not a "
                                                         "measurement.")] = False,
+    cycles: Annotated[int | None, typer.Option(
+        min=1, help="Length of the long run (trace: samples of the memory part; default "
+        "1000000, 20000 with --quick).", show_default=False)] = None,
 ) -> None:
     """Run one benchmark and print its figures and goals (docs/benchmarks.md)."""
     from openmotion.bench import BENCHMARK_NAMES
@@ -249,10 +279,12 @@ def bench(
         from openmotion.bench import runner
     except ImportError as exc:
         raise _fail(f"error: the benchmarks are not available ({exc})") from None
+    if cycles is not None and name not in runner.LONG_RUNS:
+        raise _fail(f"error: --cycles: only for {', '.join(runner.LONG_RUNS)}, not {name}")
     _started()
     bar = _ProgressBar(enabled=not json_output)
     try:
-        result = runner.run_benchmark(name, quick=quick, progress=bar.message)
+        result = runner.run_benchmark(name, quick=quick, progress=bar.message, cycles=cycles)
     finally:
         bar.close()
     typer.echo(json.dumps(result, indent=2, default=str) if json_output

@@ -7,7 +7,7 @@ import json
 
 import pytest
 
-from openmotion.bench import trace
+from openmotion.bench import runner, trace
 from openmotion.bench.runner import BENCHMARKS, render, run_benchmark
 
 
@@ -40,10 +40,36 @@ def test_result_shape_is_json_and_renders(result: dict) -> None:
     goal = figures["goal"]
     assert set(goal["cycle_us"]) == {"off", "every_cycle", "every_10"}
     assert goal["signal_sample_us"] > 0.0 and isinstance(goal["faster_than_real_time"], bool)
-    assert set(result["goals"]) == {"real_time"}
+    assert set(result["goals"]) == {"real_time", "memory_bounded", "memory_streaming"}
     json.loads(json.dumps(result, allow_nan=False))
     text = render(result)
     assert "bench trace" in text and "per signal-sample" in text and "passed:" in text
+    assert "memory of a long run" in text
+
+
+def test_memory_part_holds_keep_rows_and_one_chunk_while_unbounded_grows(result: dict) -> None:
+    """Issue 19 point 10 (D-188): the bounded and streaming runs end with the rows they are
+    allowed (counted in allocated rows, not time); the unbounded one with all of them."""
+    memory = {row["mode"]: row for row in result["results"]["memory"]}
+    assert list(memory) == ["bounded", "streaming", "unbounded"]
+    samples = runner.QUICK_MEMORY_CYCLES
+    bounded, streaming, unbounded = memory["bounded"], memory["streaming"], memory["unbounded"]
+    assert bounded["samples"] == streaming["samples"] == unbounded["samples"] == samples
+    assert bounded["allocated_rows"] == bounded["keep"] == samples // 10
+    assert streaming["allocated_rows"] == streaming["chunk"] == samples // 10
+    assert unbounded["allocated_rows"] >= samples and bounded["disk_mb"] == 0.0
+    assert streaming["disk_mb"] * trace.MIB >= samples * (trace.MEMORY_SIGNALS + 1) * 8
+    assert len(bounded["checkpoints"]) == trace.CHECKPOINTS
+    assert [point["samples"] for point in bounded["checkpoints"]][-1] == samples
+
+
+def test_cycles_is_for_the_long_runs_only() -> None:
+    """A cycle count the benchmark would ignore is an error, not a silent default."""
+    with pytest.raises(ValueError, match="cycles: only for trace, not 'otg'"):
+        run_benchmark("otg", quick=True, cycles=10)
+    short = trace.run_memory(cycles=200)
+    assert [row["samples"] for row in short] == [200, 200, 200]
+    assert all(row["checkpoints"][-1]["allocated_rows"] <= 20 for row in short[:2])
 
 
 def test_wide_traces_take_fewer_samples() -> None:

@@ -179,6 +179,21 @@ def test_default_signals_are_set_position_velocity_acceleration_and_position() -
     pytest.param("""\
         name: t
         axes: [{name: x}]
+        record: {keep: 0}
+        """, 3, "record.keep", "greater than or equal to 1", id="keep-zero"),
+    pytest.param("""\
+        name: t
+        axes: [{name: x}]
+        record: {keep: 10, stream: out}
+        """, 3, "record", "give 'keep' or 'stream', not both", id="keep-and-stream"),
+    pytest.param("""\
+        name: t
+        axes: [{name: x}]
+        record: {chunk: 100}
+        """, 3, "record", "'chunk' needs 'stream'", id="chunk-without-stream"),
+    pytest.param("""\
+        name: t
+        axes: [{name: x}]
         checks:
           - {command: m9, result: done}
         """, 4, "checks[0].command", "'m9' is not the id", id="check-unknown-id"),

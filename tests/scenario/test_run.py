@@ -9,7 +9,7 @@ import pytest
 
 import openmotion as om
 from openmotion.scenario import parse_scenario, run_scenario
-from openmotion.trace import read_csv, write_csv
+from openmotion.trace import StreamedTrace, read_csv, read_trace, write_csv
 
 CYCLE = 0.001
 
@@ -181,3 +181,20 @@ checks:
   - {signal: x.set_velocity, expect: 500, tolerance: 1, when: fast.done}
 """))
     assert result.passed, result.checks
+
+
+def test_record_keep_and_stream_give_the_end_of_the_run_and_all_of_it(tmp_path: Path,
+                                                                      move_result) -> None:
+    """D-188: the record section's keep holds the last rows, its stream every row on disk;
+    run_scenario's keep/stream replace the section's mode; both read back bit for bit."""
+    full = move_result.trace
+    kept = run_scenario(parse_scenario(MOVE + "  keep: 25\n"))
+    assert kept.trace.data.tobytes() == full.data[-25:].tobytes()
+    assert [e.result for e in kept.trace.events] == []  # all commands ended before
+    stream = tmp_path / "streamed"
+    streamed = run_scenario(parse_scenario(MOVE + "  keep: 25\n"), stream=stream, chunk=100)
+    assert isinstance(streamed.trace, StreamedTrace)
+    assert streamed.to_dict()["trace"] == {"rows": len(full), "columns": list(full.columns)}
+    assert read_trace(stream).equals(full) and read_trace(stream).events == full.events
+    again = run_scenario(parse_scenario(MOVE), keep=10)
+    assert again.trace.data.tobytes() == full.data[-10:].tobytes()

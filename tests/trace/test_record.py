@@ -168,3 +168,88 @@ def test_trace_equals_compares_bits() -> None:
     signed[1, 1] = 1.0
     signed[0, 0] = -0.0
     assert not Trace(("time", "x.gap"), signed).equals(same)
+
+
+# -- bounded mode: a ring of the last ``keep`` rows (issue 19 point 10, D-188) ---------------
+
+
+@pytest.mark.parametrize("keep", [1, 3, 4, 50, 199, 201, 202, 5000])
+def test_keep_holds_exactly_the_last_rows_in_time_order_across_wrap_around(keep: int) -> None:
+    """D-188: a ring keeps the last ``keep`` rows, oldest first, bit for bit what an unbounded
+    recorder holds at its end, read at any time (here before the first wrap, after one and
+    after several; 201 rows recorded: keep 201 is exactly full, 202 never full)."""
+    signals = ["x.set_position", "x.set_velocity", "x.state"]
+    full = record(moving_runtime()[0], signals, 200).trace
+    rt = moving_runtime()[0]
+    ring = TraceRecorder(rt, signals, capacity=2, keep=keep)
+    ring.sample(rt)
+    rt.add_observer(ring)
+    for cycles in (3, 60, 137):
+        for _ in range(cycles):
+            rt.step()
+        rows = 1 + rt.cycle
+        trace = ring.trace
+        assert len(trace) == min(keep, rows)
+        assert trace.data.tobytes() == full.data[max(0, rows - keep):rows].tobytes()
+    assert ring.allocated <= keep
+
+
+def test_keep_forgets_the_events_before_its_oldest_row() -> None:
+    """D-188: the trace of a ring holds the events from its first row on, in time order."""
+    rt, x, move = moving_runtime()
+    recorder = TraceRecorder(rt, ["x.set_position"], keep=100)
+    recorder.follow(move, "x", "out")
+    rt.add_observer(recorder)
+    rt.run_until(lambda: move.done, timeout=5.0)
+    rt.run(0.2)
+    back = x.move_absolute(0.0, velocity=200.0)
+    recorder.follow(back, "x", "back")
+    rt.run(0.05)  # the window of 100 cycles starts after the first move ended
+    trace = recorder.trace
+    assert move.ended_at < trace.time[0] < back.issued_at and len(trace) == 100
+    assert [(e.label, e.result) for e in trace.events] == [("back", "ISSUED")]
+    rt.run_until(lambda: back.done, timeout=5.0)
+    assert [(e.label, e.result) for e in recorder.trace.events][-1] == ("back", "DONE")
+
+
+def test_memory_of_a_bounded_recorder_stops_growing_at_keep_rows() -> None:
+    """Issue 19 point 10: memory flat over a long run. Measured in allocated rows (the
+    buffer's samples), not in time: 20 000 samples into keep=500 allocate 500 rows; the
+    unbounded recorder allocates at least every row; the events stay within the window."""
+    rt, x, _ = moving_runtime()
+    bounded = TraceRecorder(rt, ["x.set_position", "y.set_position"], capacity=16, keep=500)
+    unbounded = TraceRecorder(rt, ["x.set_position", "y.set_position"], capacity=16)
+    for cycle in range(20_000):
+        if cycle % 100 == 0:
+            bounded.add_event(Event(rt.now, "x", "note", "DONE"))
+        bounded.sample(rt)
+        unbounded.sample(rt)
+        rt.step()
+        assert bounded.allocated <= 500
+    assert bounded.allocated == 500 and unbounded.allocated >= 20_000
+    assert len(bounded._events) <= 2 * 500 // 100 + 1  # the window and the one before it
+    assert len(bounded.trace.events) == 5
+
+
+@pytest.mark.parametrize(("options", "message"), [
+    ({"keep": 0}, "keep: must be an integer >= 1 (rows), got 0"),
+    ({"keep": -5}, "keep: must be an integer >= 1 (rows), got -5"),
+    ({"keep": 2.5}, "keep: must be an integer >= 1 (rows), got 2.5"),
+    ({"keep": True}, "keep: must be an integer >= 1 (rows), got True"),
+    ({"stream": "s", "chunk": 0}, "chunk: must be an integer >= 1 (rows), got 0"),
+    ({"keep": 10, "stream": "s"}, "keep and stream: give one of them"),
+    ({"chunk": 10}, "chunk: only with stream"),
+])
+def test_bad_keep_stream_and_chunk_are_config_errors(tmp_path, options: dict[str, object],
+                                                     message: str) -> None:
+    """D-188: a bound that keeps nothing, both modes at once, or a chunk size without
+    streaming: a ConfigError before anything is recorded or written; a valid recorder on
+    the same runtime works next."""
+    rt, _, _ = moving_runtime()
+    options = {name: tmp_path / value if name == "stream" else value
+               for name, value in options.items()}
+    with pytest.raises(om.ConfigError) as caught:
+        TraceRecorder(rt, ["x.set_position"], **options)  # type: ignore[arg-type]
+    assert str(caught.value).startswith(message)
+    assert not (tmp_path / "s").exists()
+    assert len(record(rt, ["x.set_position"], 5, keep=3).trace) == 3

@@ -25,7 +25,7 @@ from openmotion.bench.otg import run_otg
 from openmotion.bench.path import run_path
 from openmotion.bench.planar import run_planar
 from openmotion.bench.startup import run_startup
-from openmotion.bench.trace import run_trace
+from openmotion.bench.trace import FLAT_MB, MEMORY_CYCLES, run_trace
 from openmotion.bench.tracks import run_tracks
 
 Progress = Callable[[str], None] | None
@@ -45,6 +45,7 @@ PATH_GOAL_SEGMENTS = 10_000
 PATH_GOAL_P99_US = 200.0  #: issue #7: planner work per cycle on a 10 000-segment path
 TRACKS_GOAL_N = 100
 TRACKS_GOAL_P99_US = 500.0  #: issue #8: 100 movers on a network with 4 switches
+QUICK_MEMORY_CYCLES = 20_000  #: samples of the trace memory part with --quick
 TRACE_GOAL_US = 1000.0  #: 100 axes, 100 signals recorded every 1 ms cycle: faster than real time
 STARTUP_CHECK_GOAL_S = 1.0  #: issue #18: warm `openmotion check` of the default example
 STARTUP_RUN_GOAL_S = 1.5  #: warm `openmotion run` of the default example
@@ -91,10 +92,12 @@ def _tracks(quick: bool, progress: Progress) -> dict[str, Any]:
     return run_tracks(movers=TRACKS_GOAL_N, progress=progress)
 
 
-def _trace(quick: bool, progress: Progress) -> dict[str, Any]:
+def _trace(quick: bool, progress: Progress, cycles: int | None = None) -> dict[str, Any]:
+    """``cycles``: samples of the memory part (default MEMORY_CYCLES, quick 20 000)."""
     if quick:
-        return run_trace(samples=200, counts=(10, 100), cycles=200, progress=progress)
-    return run_trace(progress=progress)
+        return run_trace(samples=200, counts=(10, 100), cycles=200, progress=progress,
+                         memory_cycles=cycles or QUICK_MEMORY_CYCLES)
+    return run_trace(progress=progress, memory_cycles=cycles or MEMORY_CYCLES)
 
 
 def _startup(quick: bool, progress: Progress) -> dict[str, Any]:
@@ -103,7 +106,9 @@ def _startup(quick: bool, progress: Progress) -> dict[str, Any]:
     return run_startup(progress=progress)
 
 
-BENCHMARKS: dict[str, Callable[[bool, Progress], dict[str, Any]]] = {
+#: the benchmarks that take ``cycles`` (the length of their long run)
+LONG_RUNS = ("trace",)
+BENCHMARKS: dict[str, Callable[..., dict[str, Any]]] = {
     "axes": _axes,
     "otg": _otg,
     "fbcall": _fbcall,
@@ -271,7 +276,12 @@ def goals_trace(results: dict[str, Any]) -> dict[str, Any]:
     cycle = goal["cycle_us"]["every_cycle"]
     return {"real_time": _goal(f"{goal['axes']} axes + {goal['signals']} signals recorded "
                                f"every cycle: cycle < {TRACE_GOAL_US:g} us (faster than real "
-                               "time)", cycle, cycle < TRACE_GOAL_US)}
+                               "time)", cycle, cycle < TRACE_GOAL_US),
+            **{f"memory_{row['mode']}": _goal(
+                f"{row['mode']}: RSS grows < {FLAT_MB:g} MiB after the first tenth of "
+                f"{row['samples']} samples of {row['signals']} signals (memory flat)",
+                row["growth_mb"], row["flat"])
+               for row in results["memory"] if row["mode"] != "unbounded"}}
 
 
 def goals_startup(results: dict[str, Any]) -> dict[str, Any]:
@@ -307,11 +317,16 @@ GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
 }
 
 
-def run_benchmark(name: str, quick: bool = False, progress: Progress = None) -> dict[str, Any]:
-    """Run benchmark ``name``; ``quick`` uses tiny sizes (a smoke test of a few seconds)."""
+def run_benchmark(name: str, quick: bool = False, progress: Progress = None,
+                  cycles: int | None = None) -> dict[str, Any]:
+    """Run benchmark ``name``; ``quick`` uses tiny sizes (a smoke test of a few seconds);
+    ``cycles`` sets the length of the long run of the benchmarks in LONG_RUNS."""
     if name not in BENCHMARKS:
         raise KeyError(f"unknown benchmark {name!r}; choose one of {sorted(BENCHMARKS)}")
-    results = BENCHMARKS[name](quick, progress)
+    if cycles is not None and name not in LONG_RUNS:
+        raise ValueError(f"cycles: only for {', '.join(LONG_RUNS)}, not {name!r}")
+    options = {} if cycles is None else {"cycles": cycles}
+    results = BENCHMARKS[name](quick, progress, **options)
     goals = GOALS[name](results)
     return {
         "benchmark": name,
@@ -515,6 +530,14 @@ def _render_trace(results: dict[str, Any]) -> list[str]:
         *_table(["recording", "cycle", "real-time factor"], variants),
         f"recorder in that run: {_fmt(goal['sample_us'])} us per sample, "
         f"{_fmt(goal['signal_sample_us'])} us per signal-sample",
+        "",
+        "memory of a long run: TraceRecorder.sample called directly; RSS in MiB above the "
+        "start, after the first tenth and at the end",
+        *_table(["mode", "samples", "rows held", "RSS warm", "RSS end", "growth", "disk MiB",
+                 "us per sample"],
+                [[r["mode"], r["samples"], r["allocated_rows"], r["rss_mb_warm"],
+                  r["rss_mb_end"], r["growth_mb"], r["disk_mb"], r["sample_us"]]
+                 for r in results["memory"]]),
     ]
 
 

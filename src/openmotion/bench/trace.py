@@ -17,13 +17,31 @@ scope of a busy machine shows: set position and set velocity of 40 axes, followi
 variant goes first once); the real-time factor is the cycle time over the wall time of one
 cycle. The recorder's own time in the every-cycle runs (``sample_us``) is timed around each
 call, so its per-signal figure does not drown in the noise of two whole runs.
+
+Part 3, memory over a long run (issue 19 point 10, D-189): 100 signals (set position and
+set velocity of 50 axes: the recorder's memory depends on the number of signals, not their
+kind, and these are the cheapest to read) sampled ``memory_cycles`` times by calling
+``TraceRecorder.sample`` directly (no motion, so that 10**7 samples take minutes), in
+the bounded mode (``keep``: the last minute at 1 kHz, at most a tenth of the run), in the
+streaming mode (chunks into a temporary directory, removed afterwards; a chunk is at most a
+tenth of the run) and, for contrast, unbounded (at most UNBOUNDED_CYCLES samples), each in
+a process of its own. That process's resident memory (RSS) above what it held before the
+recorder was built is read at CHECKPOINTS even intervals; memory is flat when
+it grows by less than FLAT_MB after the first tenth of the run (the ring or the first chunk
+has filled by then).
 """
 
 from __future__ import annotations
 
+import gc
+import multiprocessing
+import shutil
 import statistics
+import sys
+import tempfile
 import time
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 import openmotion as om
@@ -31,6 +49,7 @@ from openmotion.bench import peers
 from openmotion.bench.axes import build_runtime, issue_plan
 from openmotion.planar import MC_PlanarMover, MoverVector, PlanarMoverParameters
 from openmotion.trace import TraceRecorder
+from openmotion.trace.stream import default_chunk
 
 Progress = Callable[[str], None] | None
 CYCLE_TIME = 0.001
@@ -39,6 +58,14 @@ GOAL_SIGNALS = 100
 DECIMATION = 10  #: the third variant records every 10th cycle
 REPEATS = 3
 SAMPLE_VALUES = 4_000_000  #: values one sampling run writes at most
+MEMORY_SIGNALS = 100  #: signals of the memory part
+MEMORY_CYCLES = 1_000_000  #: samples of the memory part by default (``--cycles``)
+KEEP_ROWS = 60_000  #: the bounded mode keeps the last minute at 1 kHz
+UNBOUNDED_CYCLES = 200_000  #: the unbounded contrast stops here (it grows with the run)
+CHECKPOINTS = 20  #: RSS readings per run
+WARM_FRACTION = 0.1  #: memory must be flat after this part of the run
+FLAT_MB = 16.0  #: growth after the warm part that still counts as flat [MiB]
+MIB = 1 << 20
 
 
 def goal_signals(axes: Sequence[str]) -> list[str]:
@@ -140,13 +167,86 @@ def _goal(cycles: int, seed: int, progress: Progress) -> dict[str, Any]:
             "faster_than_real_time": on < CYCLE_TIME * 1e6}
 
 
+def rss_bytes() -> int:
+    """The process's resident memory now (Linux: /proc/self/statm), else its peak so far."""
+    import resource  # Unix only, as are the figures of this benchmark
+
+    try:
+        with open("/proc/self/statm", encoding="ascii") as file:
+            return int(file.read().split()[1]) * resource.getpagesize()
+    except (OSError, ValueError, IndexError):
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+        return peak if sys.platform == "darwin" else peak * 1024
+
+
+def _memory(mode: str, cycles: int, directory: Path) -> dict[str, Any]:
+    """RSS over ``cycles`` samples of the goal's signals in one mode (the module docstring)."""
+    rt, axes = build_runtime(MEMORY_SIGNALS // 2)
+    signals = [f"{axis.name}.{prop}" for axis in axes for prop in ("set_position",
+                                                                   "set_velocity")]
+    rows = max(1, int(cycles * WARM_FRACTION))
+    options: dict[str, Any] = {"keep": min(KEEP_ROWS, rows)} if mode == "bounded" else \
+        {"stream": directory / "trace", "chunk": min(rows, default_chunk(len(signals) + 1))} \
+        if mode == "streaming" else {}
+    gc.collect()
+    base = rss_bytes()
+    recorder = TraceRecorder(rt, signals, **options)
+    sample, every = recorder.sample, max(1, cycles // CHECKPOINTS)
+    checkpoints: list[dict[str, float]] = []
+    done, start = 0, time.perf_counter()
+    while done < cycles:
+        for _ in range(min(every, cycles - done)):
+            sample(rt)
+        done = min(cycles, done + every)
+        checkpoints.append({"samples": done, "rss_mb": (rss_bytes() - base) / MIB,
+                            "allocated_rows": recorder.allocated})
+    seconds = time.perf_counter() - start
+    recorder.flush()
+    disk = sum(path.stat().st_size for path in directory.rglob("*") if path.is_file())
+    warm = [point["rss_mb"] for point in checkpoints if point["samples"] >= rows] or \
+        [checkpoints[-1]["rss_mb"]]
+    options.pop("stream", None)  # a temporary directory: not a figure
+    return {"mode": mode, "samples": cycles, "signals": len(signals), **options,
+            "sample_us": seconds / cycles * 1e6, "rss_mb_warm": warm[0],
+            "rss_mb_end": checkpoints[-1]["rss_mb"], "growth_mb": max(warm) - warm[0],
+            "allocated_rows": recorder.allocated, "disk_mb": disk / MIB,
+            "checkpoints": checkpoints}
+
+
+def run_memory(cycles: int = MEMORY_CYCLES, progress: Progress = None) -> list[dict[str, Any]]:
+    """Part 3: bounded, streaming and (at most UNBOUNDED_CYCLES) unbounded."""
+    runs = []
+    for mode, count in (("bounded", cycles), ("streaming", cycles),
+                        ("unbounded", min(cycles, UNBOUNDED_CYCLES))):
+        if progress is not None:
+            progress(f"trace: memory, {mode}, {count} samples of {MEMORY_SIGNALS} signals")
+        with multiprocessing.get_context("spawn").Pool(1) as pool:
+            row = pool.apply(_memory_alone, (mode, count))
+        row["flat"] = row["growth_mb"] < FLAT_MB
+        runs.append(row)
+    return runs
+
+
+def _memory_alone(mode: str, cycles: int) -> dict[str, Any]:
+    """``_memory`` in a process of its own (``run_memory`` spawns one per mode): what the
+    modes before it or the other parts freed stays out of its RSS, and what it allocates
+    cannot hide in memory they left to the allocator."""
+    directory = Path(tempfile.mkdtemp(prefix="openmotion-trace-"))
+    try:
+        return _memory(mode, cycles, directory)
+    finally:
+        shutil.rmtree(directory, ignore_errors=True)
+
+
 def run_trace(samples: int = 20_000, counts: Sequence[int] = (10, 100, 1000),
-              cycles: int = 3000, seed: int = 0, progress: Progress = None) -> dict[str, Any]:
-    """Part 1 for each kind (kernel signals for each of ``counts``), then the goal run."""
+              cycles: int = 3000, seed: int = 0, progress: Progress = None,
+              memory_cycles: int = MEMORY_CYCLES) -> dict[str, Any]:
+    """Part 1 for each kind (kernel signals for each of ``counts``), the goal run, then the
+    memory of a long run (``memory_cycles`` samples)."""
     sampling = []
     for kind, count in [*(("kernel", n) for n in counts), ("axis state", 100), ("planar", 30)]:
         if progress is not None:
             progress(f"trace: sampling {count} {kind} signals")
         sampling.append(_sampling(kind, count, samples))
     return {"sampling": sampling, "goal": _goal(cycles, seed, progress), "seed": seed,
-            "repeats": REPEATS}
+            "repeats": REPEATS, "memory": run_memory(memory_cycles, progress)}

@@ -233,13 +233,29 @@ class ScenarioResult:
 
 
 def run_scenario(source: str | Path | Scenario, progress: Progress | None = None,
-                 figure: bool = False) -> ScenarioResult:
+                 figure: bool = False, *, keep: int | None = None,
+                 stream: str | Path | None = None, chunk: int | None = None) -> ScenarioResult:
     """Run a scenario file (or model) to its end; ``progress`` is called now and then. With
     ``figure`` the trace also records what the scenario's default figure needs (x, y, c of
     every planar mover, else set position and gap of every CA mover: ``figure_signals``),
-    after the scenario's own signals."""
+    after the scenario's own signals. ``keep`` or ``stream`` replace the ``record`` section's
+    way of keeping the trace, ``chunk`` its chunk size (``TraceRecorder``, D-188); a
+    streamed run's ``trace`` reads its columns from the directory when first used."""
     scenario = source if isinstance(source, Scenario) else load_scenario(source)
-    return _Run(scenario, figure).run(progress)
+    return _Run(scenario, figure, _trace_mode(scenario, keep, stream, chunk)).run(progress)
+
+
+def _trace_mode(scenario: Scenario, keep: int | None, stream: str | Path | None,
+                chunk: int | None) -> dict[str, Any]:
+    """The recorder's keep, stream and chunk: the scenario's, or the caller's."""
+    record = scenario.record
+    mode: dict[str, Any] = {"keep": record.keep, "stream": record.stream,
+                            "chunk": record.chunk}
+    if keep is not None or stream is not None:
+        mode = {"keep": keep, "stream": stream, "chunk": None}
+    if chunk is not None:
+        mode["chunk"] = chunk
+    return mode
 
 
 def _time_digits(cycle_time: float) -> int:
@@ -289,7 +305,8 @@ def _result_of(command: Command | None) -> str:
 
 
 class _Run:
-    def __init__(self, scenario: Scenario, figure: bool = False) -> None:
+    def __init__(self, scenario: Scenario, figure: bool = False,
+                 trace_mode: dict[str, Any] | None = None) -> None:
         self.scenario = scenario
         self.rt = rt = Runtime(scenario.cycle_time)
         #: the planar objects, set up before t = 0: first, while nothing else is on the runtime
@@ -327,7 +344,7 @@ class _Run:
             needed = figure_signals(describe([*rt.axes.values(), *objects]))
             signals += [name for name in needed if name not in signals]
         self.recorder = TraceRecorder(rt, signals, scenario.record.every, objects=objects,
-                                      title=scenario.name)
+                                      title=scenario.name, **(trace_mode or {}))
         self.checks = [_CheckState(check, self) for check in scenario.checks]
         self.quiet_since: int | None = None  #: first cycle of the current rest
 

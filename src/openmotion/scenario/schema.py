@@ -931,6 +931,21 @@ class RecordSpec(_Model):
     position of every axis."""
     every: Annotated[StrictInt, Field(ge=1)] = 1
     """Record every N-th cycle."""
+    keep: Annotated[StrictInt, Field(ge=1)] | None = None
+    """Keep only the last N rows in memory (a ring; D-188). Default: every row."""
+    stream: Annotated[StrictStr, Field(min_length=1)] | None = None
+    """Write the trace to this directory in chunks as the run goes (relative to the working
+    directory; D-188). Default: in memory."""
+    chunk: Annotated[StrictInt, Field(ge=1)] | None = None
+    """Rows per chunk with ``stream``. Default: about a million values per chunk."""
+
+    @model_validator(mode="after")
+    def _one_mode(self) -> RecordSpec:
+        if self.keep is not None and self.stream is not None:
+            raise ValueError("give 'keep' or 'stream', not both")
+        if self.chunk is not None and self.stream is None:
+            raise ValueError("'chunk' needs 'stream'")
+        return self
 
 
 def _check_time(value: object) -> float | str:

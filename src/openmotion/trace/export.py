@@ -12,7 +12,7 @@ events as one array per field (``events_time``, ``events_object``, ...), the lay
 text, the title and a ``format`` number. Everything reads back bit-identical.
 
 Any other suffix is a ConfigError naming these two (``trace_format``), before anything is
-written or read.
+written or read. A directory is read as a streamed trace (stream.py, D-188).
 """
 
 from __future__ import annotations
@@ -30,6 +30,7 @@ import numpy as np
 
 from openmotion.core.errors import ConfigError
 from openmotion.trace.record import TIME, Event, Trace
+from openmotion.trace.stream import MANIFEST, read_stream
 
 TRACE_FORMATS = ("csv", "npz")  #: by the file's suffix
 NPZ_FORMAT = 1  #: the ``format`` number of the NPZ files written here
@@ -219,8 +220,14 @@ def write_trace(trace: Trace, path: str | Path) -> Path:
 
 
 def read_trace(path: str | Path) -> Trace:
-    """``read_npz`` for a ``.npz`` path; ``read_csv`` and ``read_sidecar`` for a ``.csv`` path
-    (a ``TraceWarning`` when the sidecar is missing); ConfigError for any other."""
+    """``read_stream`` for a directory (a streamed trace; unless it is named like a trace
+    file and holds no manifest); ``read_npz`` for a ``.npz`` path; ``read_csv`` and
+    ``read_sidecar`` for a ``.csv`` path (a ``TraceWarning`` when the sidecar is missing);
+    ConfigError for any other."""
+    path = Path(path)
+    if path.is_dir() and ((path / MANIFEST).exists()
+                          or path.suffix.lower().lstrip(".") not in TRACE_FORMATS):
+        return read_stream(path)
     if trace_format(path) == "npz":
         return read_npz(path)
     return read_sidecar(read_csv(path), path)

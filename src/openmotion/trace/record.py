@@ -10,12 +10,19 @@ all axes in one numpy gather per signal kind.
 Beside the columns a trace holds the command events, (time, object, command, result), of the
 commands the recorder follows, and a ``layout``: what its figures need to know of the objects
 (stators, footprints, CA rails and gaps; ``signals.describe``).
+
+Where the rows go (D-188): by default into one buffer that doubles when full, every row kept
+(a short run's trace, as it always was). ``keep=N``: a ring of N rows, the last N kept,
+memory fixed once it is full. ``stream=directory``: chunks of ``chunk`` rows written to disk
+as they fill (stream.py), memory fixed at one chunk. Each mode is a policy of ``_make_room``,
+called only when the buffer is full, so sampling itself is the same code in all three.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
@@ -38,6 +45,7 @@ from openmotion.trace.signals import (
 if TYPE_CHECKING:
     from openmotion.axis.commands import Command
     from openmotion.runtime.runtime import Runtime
+    from openmotion.trace.stream import ChunkWriter
 
 #: with the axis signals of signals.py, which scenario/schema.py and tests import from here
 __all__ = ["AXIS_SIGNALS", "MOVER_SIGNALS", "RESULTS", "TIME", "Event", "Trace",
@@ -128,12 +136,26 @@ class TraceRecorder:
     signal source, signals.py). Construct it, then ``runtime.add_observer(recorder)``; call
     ``sample(runtime)`` once more before the first cycle for a row at t = 0. ``follow`` a
     command to record its events. ``title`` goes with the trace (its figures' title).
+
+    Long runs (D-188): ``keep=N`` keeps only the last N rows (and the events from the first
+    of them on); ``stream=directory`` writes every ``chunk`` rows to disk (default: about a
+    million values per chunk) and keeps one chunk in memory; ``flush()`` or reading
+    ``trace`` writes the rest. Without either, every row stays in memory.
     """
 
     def __init__(self, runtime: Runtime, signals: Sequence[str], every: int = 1,
-                 capacity: int = 1024, objects: Iterable[Any] = (), title: str = "") -> None:
+                 capacity: int = 1024, objects: Iterable[Any] = (), title: str = "", *,
+                 keep: int | None = None, stream: str | Path | None = None,
+                 chunk: int | None = None) -> None:
         if isinstance(every, bool) or not isinstance(every, int) or every < 1:
             raise ConfigError(f"every: must be an integer >= 1, got {every!r}")
+        _check_rows("keep", keep)
+        _check_rows("chunk", chunk)
+        if keep is not None and stream is not None:
+            raise ConfigError("keep and stream: give one of them (keep the last rows in "
+                              "memory, or stream every row to disk)")
+        if chunk is not None and stream is None:
+            raise ConfigError("chunk: only with stream (the rows per chunk written to disk)")
         named: dict[str, Any] = dict(runtime.axes)
         named.update((obj.name, obj) for obj in objects)
         self._objects = list(named.values())
@@ -141,8 +163,18 @@ class TraceRecorder:
         self.columns = (TIME, *signals)
         self.every = every
         self.title = title
+        self.keep = keep  #: rows a bounded recorder keeps; None: all of them
+        self._writer: ChunkWriter | None = None
+        if stream is not None:
+            from openmotion.trace.stream import ChunkWriter, default_chunk
+
+            capacity = chunk if chunk is not None else default_chunk(len(self.columns))
+            self._writer = ChunkWriter(stream, self.columns)
+        elif keep is not None:
+            capacity = min(capacity, keep)
         self._buffer = np.empty((len(self.columns), max(capacity, 1)))
-        self._rows = 0
+        self._rows = 0  #: where the next row goes (the oldest row, once a ring has wrapped)
+        self._wrapped = False  #: a full ring: every slot holds a row
         self._events: list[tuple[int, Event]] = []  #: (sequence, event)
         self._open: list[tuple[int, Command, str, str]] = []  #: followed, not yet ended
         self._sequence = 0  #: counts follow and add_event calls
@@ -155,9 +187,7 @@ class TraceRecorder:
         """Append one row with the values now."""
         row = self._rows
         if row == self._buffer.shape[1]:
-            grown = np.empty((len(self.columns), 2 * row))
-            grown[:, :row] = self._buffer
-            self._buffer = grown
+            row = self._make_room()
         buffer = self._buffer
         buffer[0, row] = runtime.now
         for columns, read_all in self._bulk:
@@ -167,6 +197,48 @@ class TraceRecorder:
         self._rows = row + 1
         if self._open:
             self._poll()
+
+    def _make_room(self) -> int:
+        """The buffer is full: where the next row goes. Grow it (unbounded, or a ring not yet
+        at ``keep``), wrap the ring to its oldest row, or write the rows out as a chunk."""
+        row = self._rows
+        if self._writer is not None:
+            self._write_chunk()
+            return 0
+        size = 2 * row if self.keep is None else min(2 * row, self.keep)
+        if size == row:
+            self._wrapped = True
+            self._drop_events(self._buffer[0, 0])
+            return 0
+        grown = np.empty((len(self.columns), size))
+        grown[:, :row] = self._buffer
+        self._buffer = grown
+        return row
+
+    @property
+    def allocated(self) -> int:
+        """Rows the in-memory buffer has room for: at most ``keep`` or one chunk when bounded
+        or streaming, whatever has been recorded otherwise."""
+        return self._buffer.shape[1]
+
+    def _drop_events(self, oldest: float) -> None:
+        """A ring forgets the events before its oldest row (a NaN time is kept)."""
+        self._events = [item for item in self._events if not item[1].time < oldest]
+
+    def _write_chunk(self) -> None:
+        assert self._writer is not None
+        self._poll()
+        self._writer.write_chunk(self._buffer[:, :self._rows].T, self._events)
+        self._writer.write_manifest(describe(self._objects), self.title)
+        self._events = []
+        self._rows = 0
+
+    def flush(self) -> None:
+        """Streaming: write the rows and events not yet on disk, and the manifest, so that the
+        directory holds the whole trace so far. Nothing to do in memory."""
+        if self._writer is not None and (self._rows or self._events or not
+                                         self._writer.chunks):
+            self._write_chunk()
 
     # -- events --------------------------------------------------------------------------------
 
@@ -200,13 +272,43 @@ class TraceRecorder:
 
     @property
     def trace(self) -> Trace:
-        """A copy of what has been recorded so far. Events are in time order, and at one time
+        """A copy of what has been recorded so far (with ``keep``: the last rows and the
+        events from the first of them on; with ``stream``: flushed, then read back from the
+        directory, the columns when first used). Events are in time order, and at one time
         in the order the commands were followed (ISSUED before the end): the same whatever
         the decimation, since an end is looked for only now and then."""
         self._poll()
-        events = sorted(self._events, key=lambda item: (item[1].time, item[0]))
-        return Trace(self.columns, self._buffer[:, :self._rows].T.copy(),
-                     [event for _, event in events], describe(self._objects), self.title)
+        if self._writer is not None:
+            from openmotion.trace.stream import read_stream
+
+            self.flush()
+            return read_stream(self._writer.directory)
+        data = self._rows_in_order()
+        events = self._events
+        if self._wrapped:
+            oldest = data[0, 0]
+            events = [item for item in events if not item[1].time < oldest]
+        events = sorted(events, key=lambda item: (item[1].time, item[0]))
+        return Trace(self.columns, data, [event for _, event in events],
+                     describe(self._objects), self.title)
+
+    def _rows_in_order(self) -> np.ndarray:
+        """The rows held, oldest first (rows x columns): one copy, in two parts once a ring
+        has wrapped."""
+        buffer, row = self._buffer, self._rows
+        if not self._wrapped:
+            return buffer[:, :row].T.copy()
+        data = np.empty((buffer.shape[1], len(self.columns)))
+        older = buffer.shape[1] - row
+        data[:older] = buffer[:, row:].T
+        data[older:] = buffer[:, :row].T
+        return data
+
+
+def _check_rows(name: str, value: int | None) -> None:
+    if value is not None and (isinstance(value, bool) or not isinstance(value, int)
+                              or value < 1):
+        raise ConfigError(f"{name}: must be an integer >= 1 (rows), got {value!r}")
 
 
 def _readers(runtime: Runtime, named: dict[str, Any], signals: Sequence[str]) \
