@@ -99,6 +99,7 @@ _CREEP = 0.01  #: [mm] a geared rider at rest with less room than this waits (``
 _CLEAR_STEP = 2.0  #: [mm] footprints of riders holding one switch together are sampled so
 _CLEAR_SAMPLES = 32  #: ... this many steps on each side of an envelope (the horizon)
 _SAME = 1e-6  #: [mm] legs of a master and its follower that start this close are one place
+_REACH_SAMPLES = 4096  #: states of a sync plan checked at most (``_sync_reach``)
 
 
 class Rail(Protocol):
@@ -1040,14 +1041,15 @@ class Traffic:
         velocity = sync.coupled(*master)[1]
         if velocity == 0.0:
             return False
-        k = rider.slot
-        lowest, highest = _sync_reach(sync, now, master, self.dt, float(self.bdec[k]),
-                                      float(self.bjerk[k]))
-        if velocity > 0.0:
-            return lowest < max(coupling.low, rider.route[0].base) - TOLERANCE
-        if highest > coupling.high + TOLERANCE:
-            self._extend_loop(rider, coupling, highest)  # a loop has no end forwards
-        return highest > coupling.high + TOLERANCE
+        k, low = rider.slot, max(coupling.low, rider.route[0].base)
+        dec, jerk = float(self.bdec[k]), float(self.bjerk[k])
+        if velocity > 0.0:  # only the start counts
+            return _sync_reach(sync, now, master, self.dt, dec, jerk, low, math.inf)[0] < \
+                low - TOLERANCE
+        if self._loops_on(rider, coupling):  # a loop has no end forwards
+            return False
+        return _sync_reach(sync, now, master, self.dt, dec, jerk, -math.inf,
+                           coupling.high)[1] > coupling.high + TOLERANCE
 
     @staticmethod
     def _waits(coupling: Any, state: tuple[float, float, float],
@@ -1159,10 +1161,7 @@ class Traffic:
         last = rider.route[-1]
         loop = last.track
         end = last.base + loop.length
-        if end >= reach + loop.length or not self._track_info(loop)[2]:
-            return
-        if coupling.follow and (coupling.master is None
-                                or coupling.master.route[-1].track is not loop):
+        if end >= reach + loop.length or not self._loops_on(rider, coupling):
             return
         single = len(rider.route) == 1
         while end < reach + loop.length:
@@ -1173,6 +1172,14 @@ class Traffic:
         self._pairs = None
         if single:
             self._geo = None
+
+    def _loops_on(self, rider: Rider, coupling: Any) -> bool:
+        """Whether the geared path goes on round a closed loop at its end (``_extend_loop``)."""
+        loop = rider.route[-1].track
+        if not self._track_info(loop)[2]:
+            return False
+        return not coupling.follow or (coupling.master is not None
+                                       and coupling.master.route[-1].track is loop)
 
     def _admit(self, rider: Rider, coupling: Any, track: Rail) -> bool:
         """Whether the slave may go on onto ``track``: one of its route is held already;
@@ -1692,26 +1699,45 @@ def _turns_against(coupling: Any, proposal: tuple[float, ...], jerk: float) -> b
 
 
 def _sync_reach(sync: GearSync, now: float, master: tuple[float, float, float, float],
-                dt: float, dec: float, jerk: float) -> tuple[float, float]:
+                dt: float, dec: float, jerk: float, low: float, high: float
+                ) -> tuple[float, float]:
     """Lowest and highest position the rest of ``sync``'s plan (from ``now``) could take the
     slave to, in sync at its end included: the slave's state each cycle of the plan (the
     sync error's profile plus the coupled position, with the master going on at its present
     velocity) and where it could come to rest from there braking with ``dec`` and ``jerk``,
-    as the path-end check in ``_gear_steps`` asks each cycle."""
+    as the path-end check in ``_gear_steps`` asks each cycle (a plan longer than
+    ``_REACH_SAMPLES`` cycles is sampled that often). Far from ``low`` and ``high`` a cheaper
+    bound that lies within them does (no state is sampled)."""
     assert sync.profile is not None
-    profile = sync.profile
-    t, p, v, a, j = profile.data
-    elapsed = now - sync.started
-    times = elapsed + dt * np.arange(int(max(t[-1] - elapsed, 0.0) / dt) + 2)
-    k = np.maximum(np.searchsorted(t, times, side="right") - 1, 0)
-    h = times - t[k]
+    profile, elapsed = sync.profile, now - sync.started
+    k = max(int(np.searchsorted(profile.t, elapsed, side="right")) - 1, 0)
+    rest = profile.data[:, k:].copy()
+    rest[1:, 0] = profile.at(elapsed)
+    rest[0] = np.maximum(rest[0] - elapsed, 0.0)
     cp, cv, _, _ = sync.coupled(*master)
-    ps = p[k] + h * (v[k] + h * (a[k] / 2.0 + h * j[k] / 6.0)) + cp + cv * (times - elapsed)
-    vs = v[k] + h * (a[k] + h * j[k] / 2.0) + cv
-    accelerations = a[k] + h * j[k]
+    rest[1] += cp + cv * rest[0]
+    rest[2] += cv
+    plan = Profile.from_data(rest)
+    lowest, highest = plan.position_extrema()
+    speed = max(abs(x) for x in plan.velocity_extrema())
+    push = float(np.abs(rest[3]).max())  # |a| peaks at segment ends (constant jerk)
+    # a brake from any state of the plan: at most ``faster`` fast, ramping to -dec and back
+    faster = speed + push * push / (2.0 * jerk)
+    travel = faster * ((push + 2.0 * dec) / jerk + faster / dec)
+    if lowest - travel >= low and highest + travel <= high:
+        return lowest - travel, highest + travel
+    t, p, v, a, j = profile.data
+    count = int(max(t[-1] - elapsed, 0.0) / dt) + 2
+    step = dt if count <= _REACH_SAMPLES else (t[-1] - elapsed) / (_REACH_SAMPLES - 2)
+    times = elapsed + step * np.arange(min(count, _REACH_SAMPLES))
+    k_ = np.maximum(np.searchsorted(t, times, side="right") - 1, 0)
+    h = times - t[k_]
+    ps = p[k_] + h * (v[k_] + h * (a[k_] / 2.0 + h * j[k_] / 6.0)) + cp + cv * (times - elapsed)
+    vs = v[k_] + h * (a[k_] + h * j[k_] / 2.0) + cv
+    accelerations = a[k_] + h * j[k_]
     n = times.size
     lo, hi = brake_envelope(ps, vs, accelerations, np.full(n, dec), np.full(n, jerk))
-    return float(lo.min()), float(hi.max())
+    return min(lowest, float(lo.min())), max(highest, float(hi.max()))
 
 
 def _released(proposal: tuple[float, ...], jerk: float) -> float:
