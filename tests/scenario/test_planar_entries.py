@@ -4,6 +4,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from openmotion.core.special_values import MC_DEFAULT
@@ -144,3 +146,46 @@ def test_the_part_entries_name_a_known_part(command: str, model: type) -> None:
                         f"part: 16#01010099, command: {command}")
     with pytest.raises(ScenarioError, match="16#01010099 is no part of"):
         parse_scenario(bad)
+
+
+#: §6.2.11: part 1 (8 stators), part 2 (2 stators) beside it, lower (1) or upper (2); track
+#: three makes a U-turn on part 2, tracks two and one on part 1 start from and end at it with
+#: the Advanced links (tests/planar/test_tracks.py builds the same in Python)
+ADVANCED = Path(__file__).with_name("planar_6_2_11.yaml")
+
+
+def _advanced(position: int) -> ScenarioResult:
+    return run_scenario(parse_scenario(ADVANCED.read_text().replace(
+        "\n        position_index: 1\n", f"\n        position_index: {position}\n")))
+
+
+def test_6_2_11_tracks_on_parts_with_advanced_links_from_a_scenario() -> None:
+    """§6.2.3, §6.2.11, §6.2.13: with part 2 lower the links run two -> three -> one, so the
+    mover joined on two reaches one over three; with part 2 upper they run one -> three ->
+    two and the same move is refused (no way from two to one)."""
+    lower = _advanced(1)
+    commands = rows(lower)
+    assert commands["go"].result == "DONE", commands["go"].message
+    assert (lower.planar_movers[0].track, lower.planar_movers[0].s) == ("one", 100.0)
+    two, three = lower.planar_tracks[1], lower.planar_tracks[0]
+    assert two.length == pytest.approx(three.length, abs=1e-9)  # as §6.2.11 says
+    upper = _advanced(2)
+    go = rows(upper)["go"]
+    assert (go.result, go.error) == ("ERROR", "PLANAR_INVALID_INPUT")
+    assert "one cannot be reached from two" in go.message
+    assert upper.planar_movers[0].track == "two"
+
+
+def test_the_advanced_link_options_are_passed_and_need_their_link() -> None:
+    scenario = parse_scenario(ADVANCED.read_text())
+    three, two, _ = scenario.planar.tracks
+    assert three.part == 0x01010030 and two.part == 0x01010020
+    assert two.starts_from_options.values() == (1, 2, False)
+    assert two.ends_at_options.values() == (1, 1, False)
+    bad = ADVANCED.read_text().replace("      starts_from: three\n", "", 1)
+    with pytest.raises(ScenarioError, match="starts_from_options: options of a link that is "
+                                            "not there"):
+        parse_scenario(bad)
+    with pytest.raises(ScenarioError, match="16#01010099 is no part of"):
+        parse_scenario(ADVANCED.read_text().replace("part: 16#01010030\n",
+                                                    "part: 16#01010099\n"))
