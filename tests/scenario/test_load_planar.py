@@ -25,7 +25,7 @@ from openmotion.planar import (
 )
 from openmotion.scenario import ScenarioError, parse_scenario
 from openmotion.scenario.planar import PLANAR_COMMANDS, PlanarGroupEntry
-from openmotion.scenario.planar_parts import ActivatePartPosition
+from openmotion.scenario.planar_parts import PartEntry
 from openmotion.scenario.schema import COMMANDS, TIMELINE_COMMANDS
 from openmotion.trajectory.plan import Limits
 
@@ -214,14 +214,25 @@ timeline:
 """
 
 
+#: the part commands besides ActivatePosition, and AdoptTrackOrientation
+MORE = (PARTS.split("timeline:")[0] + """\
+timeline:
+  - {at: 0, part: 16#01010080, command: part_allow_enable}
+  - {at: 0, part: 16#01010080, command: part_force_disable}
+  - {at: 0, part: 16#01010080, command: part_reset}
+""", TRACKS + """\
+  - {at: 5, mover: a, command: adopt_track_orientation, direction: positive, velocity: 90}
+""")
+
+
 @pytest.mark.parametrize("command", sorted(PLANAR_COMMANDS))
 def test_planar_entry_arguments_fit_the_method(command: str) -> None:
     """Each entry's arguments bind to the MC_PlanarMover (MC_PlanarGroup, MC_PlanarPart)
     method."""
-    entry = next(e for text in (VALID, PARTS, TRACKS) for e in parse_scenario(text).timeline
-                 if e.command == command)
+    entry = next(e for text in (VALID, PARTS, TRACKS, *MORE)
+                 for e in parse_scenario(text).timeline if e.command == command)
     owner = MC_PlanarGroup if isinstance(entry, PlanarGroupEntry) else MC_PlanarPart \
-        if isinstance(entry, ActivatePartPosition) else MC_PlanarMover
+        if isinstance(entry, PartEntry) else MC_PlanarMover
     signature = inspect.signature(getattr(owner, entry.method))
     signature.bind(None, *entry.arguments())  # self, then the inputs after the feedback
 

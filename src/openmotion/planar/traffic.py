@@ -82,7 +82,7 @@ from openmotion.trajectory.plan import Limits, plan_position, plan_stop, plan_ve
 from openmotion.trajectory.segments import KinematicState, Profile
 from openmotion.transport.braking import brake_envelope, brake_state
 from openmotion.transport.gap_control import TOLERANCE, Pairs
-from openmotion.transport.gear import SYNCING
+from openmotion.transport.gear import SYNCING, GearSync
 
 if TYPE_CHECKING:
     from openmotion.planar.feedback import PlanarCommand
@@ -99,6 +99,7 @@ _CREEP = 0.01  #: [mm] a geared rider at rest with less room than this waits (``
 _CLEAR_STEP = 2.0  #: [mm] footprints of riders holding one switch together are sampled so
 _CLEAR_SAMPLES = 32  #: ... this many steps on each side of an envelope (the horizon)
 _SAME = 1e-6  #: [mm] legs of a master and its follower that start this close are one place
+_REACH_SAMPLES = 4096  #: states of a sync plan checked at most (``_sync_reach``)
 
 
 class Rail(Protocol):
@@ -912,10 +913,12 @@ class Traffic:
                 assert rider.limits is not None
                 self._stop_following(rider, self._stop_profile(rider, rider.limits), nxt)
                 continue
+            astray = proposal is not None and self._astray(rider, coupling, now, master)
             if proposal is not None and state[1] != 0.0 and \
-                    _turns_against(coupling, proposal, rider.limits.jerk):
-                # before the first sync it comes to rest rather than turn (§6.1.9), and
-                # synchronises again from each step of that (its sync's own plan went on)
+                    (astray or _turns_against(coupling, proposal, rider.limits.jerk)):
+                # before the first sync it comes to rest rather than turn (§6.1.9) or run
+                # off its path (D-197), and synchronises again from each step of that (its
+                # sync's own plan went on)
                 proposal = plan_velocity(KinematicState(*state), 0.0, rider.limits).at(self.dt)
                 coupling.sync.held(now, tuple(proposal[:3]), master)
             limit = rider.limits.velocity
@@ -942,7 +945,7 @@ class Traffic:
             # never back over the start of the track it is on: the legs behind are gone
             low = max(coupling.low, rider.route[0].base)
             behind = lo[0] < low - TOLERANCE
-            if self._waits(coupling, state, proposal, behind):
+            if self._waits(coupling, state, proposal, behind or astray):
                 nxt[0][k], nxt[1][k], nxt[2][k], nxt[3][k] = state[0], 0.0, 0.0, 0.0
                 coupling.sync.held(now, state, master)
                 self._show_in_sync(rider, coupling, state, master)
@@ -1022,13 +1025,40 @@ class Traffic:
             out[k] = self.riders[k].gear.resync
         return out
 
+    def _astray(self, rider: Rider, coupling: Any, now: float,
+                master: tuple[float, float, float, float]) -> bool:
+        """Whether the sync plan of a slave not yet in sync would take it off its path at
+        the end its sync point comes from: below the start of its path while the coupled
+        position moves forwards, or past the end while it moves backwards (with the master
+        going on at its present velocity). A later plan meets the sync point further inside
+        the path, so the slave waits for it (D-197): with allowedSlaveSyncDirections Both
+        that is the way it goes whenever Positive or Negative alone would sync (§6.2.8,
+        §7.2.1.2.7). Off the other end waiting does not help, and the plan is followed to
+        the path end, where the command fails as before."""
+        sync = coupling.sync
+        if sync.synced_once or sync.phase != SYNCING or sync.profile is None:
+            return False
+        velocity = sync.coupled(*master)[1]
+        if velocity == 0.0:
+            return False
+        k, low = rider.slot, max(coupling.low, rider.route[0].base)
+        dec, jerk = float(self.bdec[k]), float(self.bjerk[k])
+        if velocity > 0.0:  # only the start counts
+            return _sync_reach(sync, now, master, self.dt, dec, jerk, low, math.inf)[0] < \
+                low - TOLERANCE
+        if self._loops_on(rider, coupling):  # a loop has no end forwards
+            return False
+        return _sync_reach(sync, now, master, self.dt, dec, jerk, -math.inf,
+                           coupling.high)[1] > coupling.high + TOLERANCE
+
     @staticmethod
     def _waits(coupling: Any, state: tuple[float, float, float],
                proposal: tuple[float, ...], behind: bool) -> bool:
         """A slave at rest that has not been in sync yet stays where it is when the sync
         would start it in a direction ``allowedSlaveSyncDirections`` forbids, or behind the
-        start of its path (§6.2.8, §7.2.1.2.7): it synchronises again from there next cycle,
-        with the master further on."""
+        start of its path, or would take it off its path where waiting lets it sync further
+        inside (``_astray``, D-197) (§6.2.8, §7.2.1.2.7): it synchronises again from there
+        next cycle, with the master further on."""
         if coupling.sync.synced_once or state[1] != 0.0 or state[2] != 0.0:
             return False
         return _against(coupling, proposal[1]) or behind
@@ -1131,10 +1161,7 @@ class Traffic:
         last = rider.route[-1]
         loop = last.track
         end = last.base + loop.length
-        if end >= reach + loop.length or not self._track_info(loop)[2]:
-            return
-        if coupling.follow and (coupling.master is None
-                                or coupling.master.route[-1].track is not loop):
+        if end >= reach + loop.length or not self._loops_on(rider, coupling):
             return
         single = len(rider.route) == 1
         while end < reach + loop.length:
@@ -1145,6 +1172,14 @@ class Traffic:
         self._pairs = None
         if single:
             self._geo = None
+
+    def _loops_on(self, rider: Rider, coupling: Any) -> bool:
+        """Whether the geared path goes on round a closed loop at its end (``_extend_loop``)."""
+        loop = rider.route[-1].track
+        if not self._track_info(loop)[2]:
+            return False
+        return not coupling.follow or (coupling.master is not None
+                                       and coupling.master.route[-1].track is loop)
 
     def _admit(self, rider: Rider, coupling: Any, track: Rail) -> bool:
         """Whether the slave may go on onto ``track``: one of its route is held already;
@@ -1661,6 +1696,48 @@ def _turns_against(coupling: Any, proposal: tuple[float, ...], jerk: float) -> b
     a), end up moving against its allowed sync direction: already, or because its
     acceleration can no longer be taken away (at ``jerk``) before the velocity crosses 0."""
     return _against(coupling, proposal[1]) or _against(coupling, _released(proposal, jerk))
+
+
+def _sync_reach(sync: GearSync, now: float, master: tuple[float, float, float, float],
+                dt: float, dec: float, jerk: float, low: float, high: float
+                ) -> tuple[float, float]:
+    """Lowest and highest position the rest of ``sync``'s plan (from ``now``) could take the
+    slave to, in sync at its end included: the slave's state each cycle of the plan (the
+    sync error's profile plus the coupled position, with the master going on at its present
+    velocity) and where it could come to rest from there braking with ``dec`` and ``jerk``,
+    as the path-end check in ``_gear_steps`` asks each cycle (a plan longer than
+    ``_REACH_SAMPLES`` cycles is sampled that often). Far from ``low`` and ``high`` a cheaper
+    bound that lies within them does (no state is sampled)."""
+    assert sync.profile is not None
+    profile, elapsed = sync.profile, now - sync.started
+    k = max(int(np.searchsorted(profile.t, elapsed, side="right")) - 1, 0)
+    rest = profile.data[:, k:].copy()
+    rest[1:, 0] = profile.at(elapsed)
+    rest[0] = np.maximum(rest[0] - elapsed, 0.0)
+    cp, cv, _, _ = sync.coupled(*master)
+    rest[1] += cp + cv * rest[0]
+    rest[2] += cv
+    plan = Profile.from_data(rest)
+    lowest, highest = plan.position_extrema()
+    speed = max(abs(x) for x in plan.velocity_extrema())
+    push = float(np.abs(rest[3]).max())  # |a| peaks at segment ends (constant jerk)
+    # a brake from any state of the plan: at most ``faster`` fast, ramping to -dec and back
+    faster = speed + push * push / (2.0 * jerk)
+    travel = faster * ((push + 2.0 * dec) / jerk + faster / dec)
+    if lowest - travel >= low and highest + travel <= high:
+        return lowest - travel, highest + travel
+    t, p, v, a, j = profile.data
+    count = int(max(t[-1] - elapsed, 0.0) / dt) + 2
+    step = dt if count <= _REACH_SAMPLES else (t[-1] - elapsed) / (_REACH_SAMPLES - 2)
+    times = elapsed + step * np.arange(min(count, _REACH_SAMPLES))
+    k_ = np.maximum(np.searchsorted(t, times, side="right") - 1, 0)
+    h = times - t[k_]
+    ps = p[k_] + h * (v[k_] + h * (a[k_] / 2.0 + h * j[k_] / 6.0)) + cp + cv * (times - elapsed)
+    vs = v[k_] + h * (a[k_] + h * j[k_] / 2.0) + cv
+    accelerations = a[k_] + h * j[k_]
+    n = times.size
+    lo, hi = brake_envelope(ps, vs, accelerations, np.full(n, dec), np.full(n, jerk))
+    return min(lowest, float(lo.min())), max(highest, float(hi.max()))
 
 
 def _released(proposal: tuple[float, ...], jerk: float) -> float:

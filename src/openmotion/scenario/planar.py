@@ -50,6 +50,7 @@ from openmotion.planar import (
     ST_MoveCOptions,
     ST_MoveToPositionOptions,
 )
+from openmotion.planar.options import ST_AdoptTrackOrientationOptions
 from openmotion.planar.stators import STATOR_SIZE, StatorField
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.planar_parts import (
@@ -629,6 +630,22 @@ class MoverHalt(_Constrained):
         return (self.constraint(),)
 
 
+class AdoptTrackOrientation(_Constrained):
+    """AdoptTrackOrientation (§6.2.7, §7.2.1.2.4): a standing mover on a track turns to the
+    track's heading; C then follows the track again."""
+
+    method = "adopt_track_orientation"
+    command: Literal["adopt_track_orientation"]
+    direction: ModuloDirectionName = ModuloDirection.SHORTEST_WAY  # type: ignore[valid-type]
+    """ST_AdoptTrackOrientationOptions: shortest_way (its default), positive or negative."""
+    additional_turns: StrictInt = 0
+    """Whole extra turns of a positive or negative turn."""
+
+    def arguments(self) -> tuple[Any, ...]:
+        return (self.constraint(),
+                ST_AdoptTrackOrientationOptions(self.additional_turns, self.direction))
+
+
 class MoverEnable(PlanarEntry):
     """Enable (§7.2.2.8.13): Disabled -> Enabling -> Enabled."""
 
@@ -729,7 +746,7 @@ from openmotion.scenario.planar_gearing import (  # noqa: E402
     GearInPosOnTrack,
     GearInPosOnTrackWithMasterMover,
 )
-from openmotion.scenario.planar_parts import ActivatePartPosition  # noqa: E402
+from openmotion.scenario.planar_parts import PART_ENTRIES  # noqa: E402
 from openmotion.scenario.planar_riding import JoinTrack, LeaveTrack, MoveOnTrack  # noqa: E402
 from openmotion.scenario.planar_setpoints import (  # noqa: E402
     StartExternalSetpointGeneration,
@@ -740,8 +757,8 @@ PLANAR_ENTRIES: tuple[type, ...] = (
     MoveToPosition, MoveC, MoveZ, MoveA, MoveB, MoverHalt, MoverEnable, MoverDisable,
     MoverReset, SetPosition, AddToGroup, RemoveFromGroup, StartExternalSetpointGeneration,
     StopExternalSetpointGeneration, PlanarGroupEnable, PlanarGroupDisable, PlanarGroupReset,
-    ActivatePartPosition, JoinTrack, LeaveTrack, MoveOnTrack, GearInPosOnTrack,
-    GearInPosOnTrackWithMasterMover)
+    *PART_ENTRIES, JoinTrack, LeaveTrack, MoveOnTrack, GearInPosOnTrack,
+    GearInPosOnTrackWithMasterMover, AdoptTrackOrientation)
 #: the planar entries by their ``command`` (schema.TIMELINE_COMMANDS holds them all)
 PLANAR_COMMANDS: dict[str, type] = {
     get_args(model.model_fields["command"].annotation)[0]: model for model in PLANAR_ENTRIES}

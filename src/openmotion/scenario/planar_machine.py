@@ -62,7 +62,7 @@ from openmotion.scenario.planar import (
     PlanarSpec,
 )
 from openmotion.scenario.planar_gearing import AxisRef, MoverRef, TrailRef, _GearIn
-from openmotion.scenario.planar_parts import ActivatePartPosition, oid_text
+from openmotion.scenario.planar_parts import PartEntry, oid_text
 from openmotion.scenario.planar_riding import MoveOnTrack
 from openmotion.scenario.planar_setpoints import COORDINATES, StartExternalSetpointGeneration
 from openmotion.scenario.planar_tracks import PlanarTrackRow, TrackRef, build_order
@@ -230,14 +230,14 @@ class PlanarMachine:
 
     # -- the timeline ------------------------------------------------------------------------
 
-    def issue(self, entry: PlanarEntry | PlanarGroupEntry | ActivatePartPosition) -> Command:
+    def issue(self, entry: PlanarEntry | PlanarGroupEntry | PartEntry) -> Command:
         """Call the entry's method now; the row follows its PlanarCommand (``watch``)."""
         if isinstance(entry, StartExternalSetpointGeneration):
             feed = SetpointFeed(self, entry)
             self._feeds.append(feed)
             return feed.row
         target: Any = self.groups[entry.group] if isinstance(entry, PlanarGroupEntry) \
-            else self.parts[entry.part] if isinstance(entry, ActivatePartPosition) \
+            else self.parts[entry.part] if isinstance(entry, PartEntry) \
             else self.movers[entry.mover]
         command = Command(entry.command, self.rt.now)
         try:

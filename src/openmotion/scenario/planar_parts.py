@@ -1,5 +1,6 @@
 """Parts and coordinate systems in scenario files (TF5430 §5, §6.6): ``planar.environment``'s
-``coordinate_systems`` and ``parts``, and the ``activate_part_position`` entry.
+``coordinate_systems`` and ``parts``, and the part entries (``activate_part_position``,
+``part_allow_enable``, ``part_force_disable``, ``part_reset``).
 
 A part lists its stators by their lower-left corners in the part frame and its possible
 positions, each the part frame's placement (x, y, c) in a coordinate system; the first is
@@ -221,19 +222,14 @@ def is_static(coordinate_systems: Sequence[int], parts: Sequence[PartSpec]) -> b
 # -- the timeline ------------------------------------------------------------------------------
 
 
-class ActivatePartPosition(_Timed):
-    """MC_PlanarPart.ActivatePosition (§7.2.2.9.2, §6.6.1): the part goes to another of its
-    positions; movers standing on it ride along, into its coordinate system there.
+class PartEntry(_Timed):
+    """A command for one part: the run calls the MC_PlanarPart method ``method``.
 
     The run initialises one MC_PlanarPart per part before t = 0 (Initialize).
     """
 
-    method = "activate_position"
-    command: Literal["activate_part_position"]
     part: Annotated[ObjectId, AfterValidator(_check_planar_part)]
     """OID of the part (one of planar.environment.parts)."""
-    position_index: StrictInt
-    """1-based; one that names no position fails with PLANAR_INVALID_INPUT."""
 
     @property
     def axis(self) -> str:
@@ -241,4 +237,45 @@ class ActivatePartPosition(_Timed):
         return oid_text(self.part)
 
     def arguments(self) -> tuple[Any, ...]:
+        return ()
+
+
+class ActivatePartPosition(PartEntry):
+    """MC_PlanarPart.ActivatePosition (§7.2.2.9.2, §6.6.1): the part goes to another of its
+    positions; movers standing on it ride along, into its coordinate system there."""
+
+    method = "activate_position"
+    command: Literal["activate_part_position"]
+    position_index: StrictInt
+    """1-based; one that names no position fails with PLANAR_INVALID_INPUT."""
+
+    def arguments(self) -> tuple[Any, ...]:
         return (self.position_index,)
+
+
+class PartAllowEnable(PartEntry):
+    """MC_PlanarPart.AllowEnable (§7.2.2.9.3, §6.6): a part that was force-disabled may
+    switch on again with the movers of its coordinate system."""
+
+    method = "allow_enable"
+    command: Literal["part_allow_enable"]
+
+
+class PartForceDisable(PartEntry):
+    """MC_PlanarPart.ForceDisable (§7.2.2.9.4, §6.6): the part switches off and stays off
+    until AllowEnable."""
+
+    method = "force_disable"
+    command: Literal["part_force_disable"]
+
+
+class PartReset(PartEntry):
+    """MC_PlanarPart.Reset (§7.2.2.9.5): clear the part's error (PLANAR_WRONG_STATE
+    outside Error)."""
+
+    method = "reset"
+    command: Literal["part_reset"]
+
+
+PART_ENTRIES: tuple[type, ...] = (ActivatePartPosition, PartAllowEnable, PartForceDisable,
+                                  PartReset)

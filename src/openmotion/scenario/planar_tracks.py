@@ -25,10 +25,15 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Annotated, Any, Literal, NamedTuple
 
-from pydantic import AfterValidator, Field, StrictBool, StrictStr, model_validator
+from pydantic import AfterValidator, Field, StrictBool, StrictInt, StrictStr, model_validator
 
 from openmotion.planar import PositionXYC
+from openmotion.planar.options import (
+    ST_EndAtTrackAdvancedOptions,
+    ST_StartFromTrackAdvancedOptions,
+)
 from openmotion.planar.track import MAX_MOVER_SIZE, MC_PlanarTrack
+from openmotion.scenario.planar_parts import ObjectId, _check_planar_part
 from openmotion.scenario.schema import _NAMES, Identifier, Number, _Model, _unique
 
 if TYPE_CHECKING:
@@ -145,16 +150,38 @@ class TrackElementSpec(_Model):
         return "line" if self.line is not None else "circle" if self.circle is not None \
             else "position"
 
-    def send(self, track: MC_PlanarTrack) -> PlanarCommand:
-        """Call the append method of this element on ``track``."""
+    def send(self, track: MC_PlanarTrack, reference_id: int = 0) -> PlanarCommand:
+        """Call the append method of this element on ``track``, its points in the frame of
+        ``reference_id`` (the track's part, or 0)."""
+
+        def at(point: Point) -> PositionXYC:
+            return PositionXYC(point[0], point[1], 0.0, reference_id)
+
         if self.line is not None:
-            return track.append_line(*(PositionXYC(*point) for point in self.line))
+            return track.append_line(*(at(point) for point in self.line))
         if self.circle is not None:
             circle = self.circle
-            return track.append_circle(PositionXYC(*circle.start), PositionXYC(*circle.end),
-                                       PositionXYC(*circle.center), circle.clockwise)
+            return track.append_circle(at(circle.start), at(circle.end), at(circle.center),
+                                       circle.clockwise)
         assert self.position is not None  # one element each (_one_element)
-        return track.append_position(PositionXYC(*self.position))
+        return track.append_position(at(self.position))
+
+
+class TrackLinkSpec(_Model):
+    """The options of StartFromTrackAdvanced / EndAtTrackAdvanced (§7.2.1.2.14,
+    §7.2.1.2.5, §6.2.13): for which part positions a link across parts is built."""
+
+    this_track_part_position_index: Annotated[StrictInt, Field(ge=0)] = 0
+    """The position of this track's part the link is built for (1-based; 0: the active
+    one)."""
+    other_track_part_position_index: Annotated[StrictInt, Field(ge=0)] = 0
+    """The same for the other track's part."""
+    link_only_in_specified_part_positions: StrictBool = False
+    """The link holds only in those positions, not wherever the two ends meet."""
+
+    def values(self) -> tuple[int, int, bool]:
+        return (self.this_track_part_position_index, self.other_track_part_position_index,
+                self.link_only_in_specified_part_positions)
 
 
 class TrackSpec(_Model):
@@ -170,6 +197,13 @@ class TrackSpec(_Model):
     """CloseLoop: join the end back to the start; s counts modulo the length."""
     ends_at: TrackName | None = None
     """EndAtTrack: the track ends smoothly where this one starts."""
+    starts_from_options: TrackLinkSpec | None = None
+    """StartFromTrackAdvanced instead of StartFromTrack, with these options."""
+    ends_at_options: TrackLinkSpec | None = None
+    """EndAtTrackAdvanced instead of EndAtTrack, with these options."""
+    part: Annotated[ObjectId, AfterValidator(_check_planar_part)] | None = None
+    """The part the track lies on (§6.2.3; MC_PlanarTrack's part_oid): its geometry is
+    then given in the part frame and moves with the part."""
     collision_ranges: tuple[Annotated[Number, Field(ge=0.0)],
                             Annotated[Number, Field(ge=0.0)]] | None = None
     """[start, end] [mm] (collision range mode Manual, §6.2.2); default: computed from the
@@ -185,6 +219,11 @@ class TrackSpec(_Model):
             if other == self.name:
                 raise ValueError(f"{field}: a track cannot link to itself; a loop is "
                                  "closed_loop: true")
+        for field, other in (("starts_from_options", self.starts_from),
+                             ("ends_at_options", self.ends_at)):
+            if getattr(self, field) is not None and other is None:
+                raise ValueError(f"{field}: options of a link that is not there (give "
+                                 f"{field.removesuffix('_options')})")
         if self.closed_loop and (self.starts_from or self.ends_at):
             raise ValueError("closed_loop: a closed loop neither starts from nor ends at "
                              "another track")
@@ -198,20 +237,29 @@ class TrackSpec(_Model):
         ranges = None if self.collision_ranges is None else \
             (float(self.collision_ranges[0]), float(self.collision_ranges[1]))
         return MC_PlanarTrack(rt, self.name, max_mover_width=self.max_mover_width,
-                              max_mover_height=self.max_mover_height, collision_ranges=ranges)
+                              max_mover_height=self.max_mover_height, collision_ranges=ranges,
+                              part_oid=self.part or 0)
 
     def stage(self, stage: Stage, tracks: dict[str, MC_PlanarTrack]
               ) -> Iterator[tuple[Loc, PlanarCommand]]:
         """Send the commands of one stage to the track; each with its field path."""
         track = tracks[self.name]
         if stage == "end":
-            if self.ends_at is not None:
+            if self.ends_at is not None and self.ends_at_options is not None:
+                yield ("ends_at",), track.end_at_track_advanced(
+                    tracks[self.ends_at],
+                    ST_EndAtTrackAdvancedOptions(*self.ends_at_options.values()))
+            elif self.ends_at is not None:
                 yield ("ends_at",), track.end_at_track(tracks[self.ends_at])
             return
-        if self.starts_from is not None:
+        if self.starts_from is not None and self.starts_from_options is not None:
+            yield ("starts_from",), track.start_from_track_advanced(
+                tracks[self.starts_from],
+                ST_StartFromTrackAdvancedOptions(*self.starts_from_options.values()))
+        elif self.starts_from is not None:
             yield ("starts_from",), track.start_from_track(tracks[self.starts_from])
         for index, element in enumerate(self.geometry):
-            yield ("geometry", index), element.send(track)
+            yield ("geometry", index), element.send(track, self.part or 0)
         if self.closed_loop:
             yield ("closed_loop",), track.close_loop()
 
