@@ -4,8 +4,10 @@ envelope that holds every position the brake passes, turning states included."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from openmotion.trajectory.plan import plan_stop
@@ -21,8 +23,13 @@ states = st.tuples(
 )
 
 
+#: a velocity the stop planner (ruckig) ends on as rest [mm/s]
+RESIDUAL_VELOCITY = 1e-12
+
+
 @settings(deadline=None, max_examples=300)
 @given(state=states, fraction=st.floats(0.0, 1.2))
+@example(state=(0.0, 0.0, 1e-05, 1000.0, 50000.0), fraction=1.125)
 def test_brake_state_is_the_planned_stop(state, fraction) -> None:
     p, v, a, dec, jerk = state
     stop = plan_stop(KinematicState(p, v, a), dec, jerk)
@@ -32,9 +39,14 @@ def test_brake_state_is_the_planned_stop(state, fraction) -> None:
     scale = max(1.0, abs(p), abs(v), abs(a) * 1e-3)
     # the planner drops phases under 1e-12 s: an acceleration a jerk takes away within one
     # (a <= jerk x 1e-12) is left out of its profile, so a is compared to the deceleration
-    for g, w, name, size in zip(got, want, ("p", "v", "a"), (scale, scale, max(scale, dec)),
-                                strict=True):
-        assert abs(float(g[0]) - w) <= 1e-9 * size, (name, float(g[0]), w)
+    sizes = (scale, scale, max(scale, dec))
+    # a velocity of femtometres per second left once the acceleration is taken away is rest
+    # to the planner, while the closed form brakes it, with a peak of sqrt(jerk x velocity)
+    release = v + a * abs(a) / (2.0 * jerk)
+    residual = math.sqrt(2.0 * jerk * abs(release)) if abs(release) <= RESIDUAL_VELOCITY else 0.0
+    for g, w, name, size, extra in zip(got, want, ("p", "v", "a"), sizes, (0.0, 0.0, residual),
+                                       strict=True):
+        assert abs(float(g[0]) - w) <= 1e-9 * size + extra, (name, float(g[0]), w)
 
 
 @settings(deadline=None, max_examples=300)
