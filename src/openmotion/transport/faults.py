@@ -20,6 +20,8 @@ MC_GroupReset ends, only once every brake has ended.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from openmotion.axis.commands import CommandStatus
 from openmotion.core.enums import AxisState
 from openmotion.core.errors import ErrorId
@@ -27,6 +29,9 @@ from openmotion.trajectory.plan import plan_stop
 from openmotion.trajectory.segments import KinematicState
 from openmotion.transport.enums import GroupState
 from openmotion.transport.movers import IDLE, FaultBrake, Mover
+
+if TYPE_CHECKING:
+    from openmotion.axis.axis import Axis
 
 FAULT_STATES = (GroupState.NOT_READY, GroupState.ERROR_STOP)  #: the only states with brakes
 #: states a braking mover reports as Stopping: the motion states and those of a mover at rest
@@ -87,6 +92,24 @@ class GroupFaults:
         self._pairs_dirty = True
         self._room_of = None
         self._env = None
+
+    def _member_power(self, axis: Axis) -> None:
+        """MC_Power switched a member (Runtime phase 1, or between cycles), and the axis froze
+        its setpoint. A mover that brakes goes on braking; a mover that moves and lost power
+        starts its brake from its last state at once (D-183). The others follow in phase 2."""
+        if self.state is GroupState.DISABLED:
+            return
+        self._fresh()
+        mover, now = self.mover_of(axis), self._k.sample_time  # the time of the last state
+        if mover.brake is None and not axis.powered:
+            slot = mover.slot
+            if self.v[slot] == 0.0 and self.a[slot] == 0.0:
+                return  # at rest: nothing to run out
+            start = KinematicState(float(self.p[slot]), float(self.v[slot]), float(self.a[slot]))
+            mover.brake = FaultBrake(now, plan_stop(start, float(self.bdec[slot]),
+                                                    float(self.bjerk[slot])))
+        if mover.brake is not None:
+            self._install_brake(mover, mover.brake, now)
 
     def _install_brake(self, mover: Mover, brake: FaultBrake, now: float) -> None:
         """Let the mover follow ``brake``; its setpoint of this cycle is the brake's."""

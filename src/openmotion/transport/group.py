@@ -680,7 +680,8 @@ class CaGroup(GroupCycle, GroupFaults):
 
     def _moving(self, mover: Mover) -> bool:
         row = mover.axis.row
-        return bool(self._k.set_v[row] != 0.0 or self._k.set_a[row] != 0.0)
+        return mover.brake is not None or bool(self._k.set_v[row] != 0.0
+                                               or self._k.set_a[row] != 0.0)
 
     def _drop(self, mover: Mover) -> None:
         self._abort(mover, "removed from the group")
