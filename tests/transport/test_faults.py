@@ -214,3 +214,20 @@ def test_a_braking_mover_is_removed_only_at_rest_and_then_stands() -> None:
     assert leader.state is AxisState.DISABLED
     rt.step()
     assert group.state is GroupState.STANDBY and follower.state is AxisState.STANDSTILL
+
+
+def test_power_off_and_on_within_one_cycle_still_stops_the_group() -> None:
+    """A power blip (MC_Power off and on again before the next cycle) is a power loss: the
+    group goes NotReady and every mover brakes (D-065, D-183); it moves again afterwards."""
+    rt, group, (follower, leader) = convoy(GapControlMode.FAST)
+    watch = Watch(rt, group, [follower, leader])
+    leader.power(False)
+    assert leader.power()
+    watch.run(cycles=1)
+    assert group.state is GroupState.NOT_READY
+    assert (follower.state, leader.state) == (AxisState.STOPPING, AxisState.STOPPING)
+    watch.run()
+    assert watch.min_gap >= GAP - TOLERANCE and watch.false_rest == []
+    assert group.state is GroupState.STANDBY and leader.state is AxisState.STANDSTILL
+    move = group.move_relative(leader, 200.0, 500.0)
+    rt.run_until(lambda: move.done, timeout=5.0)

@@ -44,9 +44,10 @@ class GroupFaults:
 
     def _watch_members(self) -> None:
         """Member errors stop the group; a member losing power makes it NotReady (§7)."""
+        lost, self._power_lost = self._power_lost, None  # also if MC_Power came back since
         if self.state in (GroupState.DISABLED, GroupState.ERROR_STOP):
             return
-        if self._k.monitored[self.rows].all():  # every member powered and free of errors
+        if lost is None and self._k.monitored[self.rows].all():  # all powered, no errors
             if self.state is GroupState.NOT_READY:
                 self._check_ready()
             return
@@ -57,9 +58,9 @@ class GroupFaults:
             return
         if self.state is GroupState.NOT_READY:
             self._check_ready()
-        elif any(not m.axis.powered for m in self.movers):
-            off = next(m for m in self.movers if not m.axis.powered)
-            self._brake_all(CommandStatus.ABORTED, f"{off.axis.name} was disabled")
+        elif lost is not None or any(not m.axis.powered for m in self.movers):
+            off = lost or next(m.axis.name for m in self.movers if not m.axis.powered)
+            self._brake_all(CommandStatus.ABORTED, f"{off} was disabled")
             self.state = GroupState.NOT_READY
 
     def _error(self, error_id: ErrorId, message: str) -> None:
@@ -101,6 +102,8 @@ class GroupFaults:
             return
         self._fresh()
         mover, now = self.mover_of(axis), self._k.sample_time  # the time of the last state
+        if not axis.powered:
+            self._power_lost = axis.name  # the group reacts in phase 2 (_watch_members)
         if mover.brake is None and not axis.powered:
             slot = mover.slot
             if self.v[slot] == 0.0 and self.a[slot] == 0.0:

@@ -92,6 +92,7 @@ class CaGroup(GroupCycle, GroupFaults):
         self.state = GroupState.DISABLED
         self.error_disabled = False  #: internal GroupErrorDisabled (not visible, §7.2)
         self.error_id = ErrorId.NO_ERROR  #: GroupErrorId of the cyclic interface
+        self._power_lost: str | None = None  #: a member lost power since the last cycle
         self.movers: list[Mover] = []  #: in CA order once enabled
         self._serial = 0
         self._stop: Command | None = None  #: MC_GroupStop holding the group
