@@ -294,6 +294,7 @@ class Axis:
         """MC_Power: returns the power status (enable AND drive ready)."""
         self.enable_positive, self.enable_negative = enable_positive, enable_negative
         status = enable and self.drive_ready
+        was_powered = self.powered
         if status and not self.powered:
             self.powered = True
             self._k.reset_setpoint_to_actual(self.row)
@@ -310,6 +311,9 @@ class Axis:
             self._hold = None
             if self.state is not AxisState.ERROR_STOP:
                 self.state = AxisState.DISABLED
+        member_power = getattr(self.group, "_member_power", None)
+        if member_power is not None and self.powered != was_powered:
+            member_power(self)  # a moving CA mover stays on its brake (D-183)
         self._update_override()
         return status
 

@@ -12,13 +12,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from openmotion.axis.commands import CommandStatus
-from openmotion.core.enums import AxisState
-from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.core.errors import CommandRejected
 from openmotion.core.special_values import MC_DEFAULT
-from openmotion.trajectory.plan import Limits, plan_position, plan_stop
+from openmotion.trajectory.plan import Limits, plan_position
 from openmotion.trajectory.segments import KinematicState
 from openmotion.transport.braking import brake_envelope, brake_state
 from openmotion.transport.enums import GapControlDirection, GapControlMode, GroupState
+from openmotion.transport.faults import FAULT_STATES
 from openmotion.transport.gap_control import TOLERANCE, Pairs, filter_steps
 from openmotion.transport.gear import GearSync
 from openmotion.transport.kernels import candidates
@@ -45,12 +45,18 @@ class GroupCycle:
 
     def _advance(self, now: float) -> None:
         """Phase 2, after the profiles: gap control and the movers' command events."""
+        if self.state in FAULT_STATES:  # brakes run only there (faults.py)
+            self._follow_brakes(now)  # first, so that a reset sees where they are
         if self._reset is not None:
             self._end_reset()
         if not self.movers:
             return
         self._watch_members()
         if self.state not in MOVING_STATES:
+            if self.state is not GroupState.DISABLED:  # the brakes' states, for the next fault
+                k, rows = self._k, self.rows
+                self.p, self.v, self.a = k.set_p[rows], k.set_v[rows], k.set_a[rows]
+                self._env = None
             return
         k, rows, dt = self._k, self.rows, self._rt.cycle_time
         nxt = [k.set_p[rows].copy(), k.set_v[rows].copy(), k.set_a[rows].copy(),
@@ -402,55 +408,3 @@ class GroupCycle:
         self._k.segments.install(mover.axis.row, profile, self._rt.now)
         self.mode[slot] = FOLLOW
         self.goal[slot] = goal
-
-    def _watch_members(self) -> None:
-        """Member errors stop the group; a member losing power makes it NotReady (§7)."""
-        if self.state in (GroupState.DISABLED, GroupState.ERROR_STOP):
-            return
-        if self._k.monitored[self.rows].all():  # every member powered and free of errors
-            if self.state is GroupState.NOT_READY:
-                self._check_ready()
-            return
-        failed = [m for m in self.movers if m.axis.state is AxisState.ERROR_STOP]
-        if failed:
-            self._error(failed[0].axis.axis_error_id, f"{failed[0].axis.name}: "
-                        f"{failed[0].axis.axis_error_message}")
-            return
-        if self.state is GroupState.NOT_READY:
-            self._check_ready()
-        elif any(not m.axis.powered for m in self.movers):
-            off = next(m for m in self.movers if not m.axis.powered)
-            self._brake_all(CommandStatus.ABORTED, f"{off.axis.name} was disabled")
-            self.state = GroupState.NOT_READY
-
-    def _error(self, error_id: ErrorId, message: str) -> None:
-        """GroupErrorStop: every command ends in error, every mover brakes at its maximum."""
-        self.error_id = ErrorId.GROUP_ERROR if error_id is ErrorId.NO_ERROR else error_id
-        self._brake_all(CommandStatus.ERROR, f"group error: {message}")
-        self.state = GroupState.ERROR_STOP
-
-    def _brake_all(self, status: CommandStatus, message: str) -> None:
-        """End every command and brake every powered mover with its maximum dynamics.
-
-        All movers brake together from states that keep the gap invariant, so no gap is
-        undershot although gap control pauses (docs/collision-avoidance.md)."""
-        now = self._rt.now
-        error_id = ErrorId.GROUP_ERROR if status is CommandStatus.ERROR else ErrorId.NO_ERROR
-        for mover in self.movers:
-            for job in ([mover.job] if mover.job else []) + mover.queue:
-                job.command._end(status, now, error_id, message)
-            mover.job = None
-            mover.queue.clear()
-            slot = mover.slot
-            self.mode[slot] = IDLE
-            if not mover.axis.powered:
-                continue
-            start = KinematicState(float(self.p[slot]), float(self.v[slot]), float(self.a[slot]))
-            profile = plan_stop(start, float(self.bdec[slot]), float(self.bjerk[slot]))
-            self._k.segments.install(mover.axis.row, profile, self._k.sample_time)
-            if mover.axis.state is AxisState.DISCRETE_MOTION:
-                mover.axis.state = AxisState.STANDSTILL
-        for command in (self._stop, self._halt):
-            if command is not None:
-                command._end(status, now, error_id, message)
-        self._stop = self._halt = None

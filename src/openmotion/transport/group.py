@@ -36,6 +36,7 @@ from openmotion.transport.enums import (
     SyncMode,
     SyncStrategy,
 )
+from openmotion.transport.faults import GroupFaults
 from openmotion.transport.gear import GearSync
 from openmotion.transport.inputs import ca_gap, ca_limits, ca_value, halt_limits
 from openmotion.transport.movers import (
@@ -64,7 +65,7 @@ if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
     from openmotion.runtime.runtime import Runtime
 
-class CaGroup(GroupCycle):
+class CaGroup(GroupCycle, GroupFaults):
     """A CA group on a rail; create with ``CaGroup(runtime, "ca", rail_length=...)``."""
 
     def __init__(self, runtime: Runtime, name: str = "ca",
@@ -91,6 +92,7 @@ class CaGroup(GroupCycle):
         self.state = GroupState.DISABLED
         self.error_disabled = False  #: internal GroupErrorDisabled (not visible, §7.2)
         self.error_id = ErrorId.NO_ERROR  #: GroupErrorId of the cyclic interface
+        self._power_lost: str | None = None  #: a member lost power since the last cycle
         self.movers: list[Mover] = []  #: in CA order once enabled
         self._serial = 0
         self._stop: Command | None = None  #: MC_GroupStop holding the group
@@ -252,8 +254,8 @@ class CaGroup(GroupCycle):
 
     def _end_reset(self) -> None:
         command = self._reset
-        if command is None or any(part.busy for part in self._reset_parts):
-            return
+        if command is None or any(part.busy for part in self._reset_parts) or self._braking:
+            return  # MC_Reset of a member waits for rest; so does the group (D-184)
         self._reset = None
         failed = next((part for part in self._reset_parts if part.error), None)
         if failed is not None:
@@ -679,10 +681,13 @@ class CaGroup(GroupCycle):
 
     def _moving(self, mover: Mover) -> bool:
         row = mover.axis.row
-        return bool(self._k.set_v[row] != 0.0 or self._k.set_a[row] != 0.0)
+        return mover.brake is not None or bool(self._k.set_v[row] != 0.0
+                                               or self._k.set_a[row] != 0.0)
 
     def _drop(self, mover: Mover) -> None:
         self._abort(mover, "removed from the group")
+        if mover.brake is not None:  # it rests (removal waits for that): its brake is over
+            self._stand(mover)
         mover.axis.group = None
         row = mover.axis.row
         self._k.segments.install(row, hold(float(self._k.set_p[row])), self._k.sample_time)
@@ -698,8 +703,7 @@ class CaGroup(GroupCycle):
             k = self._k
             k.set_v[row] = k.set_a[row] = k.set_j[row] = 0.0
             k.segments.install(row, hold(float(k.set_p[row])), k.sample_time)
-            if mover.axis.state is AxisState.DISCRETE_MOTION:
-                mover.axis.state = AxisState.STANDSTILL
+            self._stand(mover)
         for command in (self._stop, self._halt):
             if command is not None:
                 command._end(CommandStatus.ABORTED, self._rt.now, message="the group was disabled")
@@ -791,7 +795,9 @@ class CaGroup(GroupCycle):
         self._env = None
 
     def _check_ready(self) -> None:
-        if self.state is GroupState.NOT_READY and all(m.axis.powered for m in self.movers):
+        """NotReady ends once every member is powered and no mover brakes after a fault."""
+        if self.state is GroupState.NOT_READY and all(m.axis.powered for m in self.movers) \
+                and not self._braking:
             self._sync_states()
             self.state = GroupState.MOVING if any(m.job for m in self.movers) \
                 else GroupState.STANDBY

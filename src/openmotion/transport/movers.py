@@ -67,6 +67,15 @@ class CaJob:
 
 
 @dataclass
+class FaultBrake:
+    """A mover's brake to rest after a group error or a power loss (faults.py, D-183)."""
+
+    start: float  #: absolute time of the state the brake starts from [s]
+    profile: Profile  #: the brake with the mover's maximum deceleration and jerk
+    end: float = math.nan  #: the segment table's end time of the row once installed [s]
+
+
+@dataclass
 class Mover:
     """A member of the group: its axis, identity and commands."""
 
@@ -77,6 +86,7 @@ class Mover:
     queue: list[CaJob] = field(default_factory=list)
     gap: float = 0.0  #: the last valid gap (§9.1.2.5: kept after a None command)
     slot: int = -1  #: index in the group's arrays (CA order)
+    brake: FaultBrake | None = None  #: running brake after a fault, until the mover rests
 
 
 def hold(position: float) -> Profile:
