@@ -467,6 +467,8 @@ class Storm:
     def _context(self, name: str) -> frozenset[str]:
         axis = self.axes[name]
         tags = {f"state:{axis.state.name}"}
+        if axis.state is AxisState.ERROR_STOP:
+            tags.add(f"axis error:{axis.axis_error_id.name}")
         tags |= {f"busy:{w.key}" for w in self.blocks[name].values() if w.busy}
         if self._superimposed[name] or axis._k.superimposed[axis.row]:
             tags.add("superimposed")
@@ -752,8 +754,11 @@ class Generator:
         for name, axis in s.axes.items():
             s.give(name, "gear_out", execute=False)
             s.give(name, "set_override", execute=False)
-            s.give(name, "halt" if axis.state is not AxisState.ERROR_STOP else "reset",
-                   execute=True)
+            if axis.state is AxisState.ERROR_STOP:
+                s.give(name, "reset", execute=True)
+            else:
+                s.give(name, "halt", execute=True, deceleration=MC_DEFAULT, jerk=MC_DEFAULT,
+                       buffer_mode=BufferMode.ABORTING)
         s.run(1)
         for name in s.axes:
             s.give(name, "halt", execute=False)
