@@ -68,6 +68,7 @@ SETTLE_EVERY = 250  #: operations between two settle phases (everything released
 SETTLE_CYCLES = 4000  #: the longest a settle phase waits for every axis to come to rest
 MAX_SHOWN = 40  #: calls listed for a violation that does not reproduce alone
 SHRINK_REPLAYS = 300  #: the most replays one shrink may use
+SUPERPOSITION_MEMORY = 2  #: cycles an ended overlay stays in a violation's context
 REPLAY_MARGIN = 5  #: cycles a replay may run past the violation's cycle
 DEFAULT_OPERATIONS = 4000  #: the suite's size (about 20 s here); OPENMOTION_STORM_OPS scales it
 
@@ -296,7 +297,7 @@ class Storm:
         self._powered = {name: False for name in self.axes}
         self._state = {name: axis.state for name, axis in self.axes.items()}
         self._quiet = dict.fromkeys(self.axes, 0)
-        self._superimposed = dict.fromkeys(self.axes, False)  #: in the cycle before
+        self._superimposed = dict.fromkeys(self.axes, 0)  #: cycles since an overlay, counted down
         #: log index and cycle of each axis' last standstill (all its blocks idle)
         self._rest_mark = dict.fromkeys(self.axes, (0, 0))
         self._rest_snap: dict[str, dict[str, Snapshot]] = {}
@@ -432,8 +433,11 @@ class Storm:
             self._violate("state", name, f"{state.name} at v={v1!r}, a={a1!r}")
         self._check_hang(name, axis, v1, a1)
         # a peek, for the context only: no FB shows an overlay that still brakes after its
-        # block ended, nor one a fault ended in this cycle
-        self._superimposed[name] = bool(axis._k.superimposed[axis.row])
+        # block ended, nor one that a fault ended (its reaction starts in the next cycle)
+        if axis._k.superimposed[axis.row]:
+            self._superimposed[name] = SUPERPOSITION_MEMORY
+        elif self._superimposed[name]:
+            self._superimposed[name] -= 1
 
     def _check_hang(self, name: str, axis: om.Axis, v: float, a: float) -> None:
         table = self.blocks[name]
@@ -470,7 +474,7 @@ class Storm:
         if axis.state is AxisState.ERROR_STOP:
             tags.add(f"axis error:{axis.axis_error_id.name}")
         tags |= {f"busy:{w.key}" for w in self.blocks[name].values() if w.busy}
-        if self._superimposed[name] or axis._k.superimposed[axis.row]:
+        if self._superimposed[name] or axis._k.superimposed[axis.row]:  # now or just before
             tags.add("superimposed")
         if axis.override < 1.0:
             tags.add("override<100")
