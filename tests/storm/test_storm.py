@@ -61,9 +61,10 @@ KNOWN_OPEN: tuple[tuple[str, str, Callable[[storm.Violation], bool]], ...] = (
     ("4", "StandStill reported while moving", lambda v: v.invariant == "state"),
     ("1", "MC_Stop / MC_Halt overshoot the maximum velocity (the stop planner's jerk)",
      lambda v: _kinematic(v) and _tagged(v, *_STOPPING)),
-    ("1 (root), what to build: feed enable", "a missing feed enable pauses the job with its "
-     "nominal jerk, overshooting the maximum velocity (found by this storm)",
-     lambda v: v.invariant == "limit.velocity" and _tagged(v, "feed disabled")),
+    ("1 (its root, D-020)", "any other plan from a running state that keeps a jerk too low to "
+     "take its acceleration away before the maximum velocity: a feed-enable pause, a move "
+     "braking through zero towards the opposite maximum",
+     lambda v: v.invariant == "limit.velocity"),
 )
 
 
