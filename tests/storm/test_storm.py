@@ -34,7 +34,7 @@ _spec.loader.exec_module(storm)
 SEED = int(os.environ.get("OPENMOTION_STORM_SEED", "19"))
 OPERATIONS = int(os.environ.get("OPENMOTION_STORM_OPS", str(storm.DEFAULT_OPERATIONS)))
 SLOW_OPERATIONS = int(os.environ.get("OPENMOTION_STORM_SLOW_OPS", "100000"))
-SHOWN = 3  #: new violations shrunk and printed in a failure message
+SHOWN = 2  #: new violations shrunk and printed in a failure message
 
 _KINEMATIC = ("limit.", "jump.")
 _STOPPING = ("busy:stop", "busy:halt", "busy:jog", "state:STOPPING")
