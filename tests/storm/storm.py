@@ -297,6 +297,7 @@ class Storm:
         self._powered = {name: False for name in self.axes}
         self._state = {name: axis.state for name, axis in self.axes.items()}
         self._quiet = dict.fromkeys(self.axes, 0)
+        self._master: dict[str, om.Axis] = {}  #: the master of each axis' latest coupling
         self._superimposed = dict.fromkeys(self.axes, 0)  #: cycles since an overlay, counted down
         #: log index and cycle of each axis' last standstill (all its blocks idle)
         self._rest_mark = dict.fromkeys(self.axes, (0, 0))
@@ -394,6 +395,8 @@ class Storm:
                               "FALSE")
         if busy and not w.busy:
             w.busy_since = cycle
+            if isinstance(b, MC_GearIn | MC_GearInFloat):  # the coupling this edge made
+                self._master[name] = b.master
         w.level, w.busy, w.result = level, busy, result
 
     # -- axis invariants ---------------------------------------------------------------------
@@ -476,6 +479,10 @@ class Storm:
         tags |= {f"busy:{w.key}" for w in self.blocks[name].values() if w.busy}
         if self._superimposed[name] or axis._k.superimposed[axis.row]:  # now or just before
             tags.add("superimposed")
+        master = self._master.get(name)
+        if axis.state is AxisState.SYNCHRONIZED_MOTION and master is not None \
+                and not master.powered:
+            tags.add("master disabled")
         if axis.override < 1.0:
             tags.add("override<100")
         if not (axis.enable_positive and axis.enable_negative):
@@ -485,6 +492,7 @@ class Storm:
                 w = table[key]
                 if w.busy and getattr(w.block, "master", None) is axis:
                     tags.add(f"master of {other}")
+
         return frozenset(tags)
 
     def _violate(self, invariant: str, name: str, detail: str) -> None:

@@ -55,6 +55,9 @@ KNOWN_OPEN: tuple[tuple[str, str, Callable[[storm.Violation], bool]], ...] = (
      lambda v: v.invariant == "handshake.silent_end" and "MC_MoveVelocity" in v.detail),
     ("2, 3", "superposition ignores the axis limits; re-planning under it jumps",
      lambda v: _kinematic(v) and _tagged(v, "superimposed", "busy:superimposed")),
+    ("NEW (storm)", "a master powered off under a coupled slave: the slave's setpoint stops "
+     "dead in one cycle (not in issue 19's text; reported)",
+     lambda v: v.invariant.startswith("jump.") and _tagged(v, "master disabled")),
     ("7", "geared slave: jerk unmonitored, acceleration past its maximum when the fault fires",
      lambda v: _kinematic(v) and _tagged(v, "state:SYNCHRONIZED_MOTION",
                                          "axis error:GEAR_LIMIT_EXCEEDED")),
