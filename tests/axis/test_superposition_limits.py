@@ -254,6 +254,33 @@ def test_halt_under_a_superposition_ends_with_it() -> None:
     assert axis.move_relative(10.0, 100.0).active  # usable afterwards
 
 
+def test_gear_out_at_rest_under_a_superposition_is_not_standstill() -> None:
+    """Issue 19 point 4 (found by the command storm), D-181: a slave geared to a standing
+    master gets a superimposed motion, then MC_GearOut. The decoupled base is at rest, but the
+    superposition still moves the axis: DiscreteMotion until it ends, then StandStill."""
+    rt = om.Runtime()
+    master = rt.add_axis("x")
+    slave = rt.add_axis("z", acceleration=10000.0, deceleration=10000.0, jerk=10000.0)
+    master.power()
+    slave.power()
+    assert slave.gear_in(master, 2.0).busy
+    rt.run(0.1)
+    superposition = slave.move_superimposed(-200.0, 880.0, 315.0, 1100.0,
+                                            acceleration=4000.0, deceleration=4000.0)
+    assert superposition.busy
+    rt.run(0.058)
+    slave.gear_out()
+    samples = Samples()
+    for _ in range(3000):
+        rt.step()
+        samples.take(slave)
+        if not superposition.busy:
+            break
+    samples.assert_state_matches_motion()
+    assert not superposition.busy and slave.state is AxisState.STANDSTILL
+    assert slave.move_relative(10.0, 100.0).active  # usable afterwards
+
+
 def test_position_move_is_done_only_after_the_superposition() -> None:
     """D-181: a positioning whose base profile ends just after a superposition starts
     settles only when the superimposed motion is over too, at its target shifted by the
@@ -298,6 +325,34 @@ def test_slave_jerk_beyond_its_maximum_is_a_gear_fault_before_it_is_output() -> 
     reset = slave.reset()
     rt.run_until(reset, timeout=1.0)
     assert reset.done and slave.state is AxisState.STANDSTILL
+
+
+def test_slave_of_a_master_powered_off_brakes_on_its_own() -> None:
+    """Found by the command storm (issue 19: a state change never moves the setpoint by more
+    than the limits allow), D-199: the master's setpoint freezes when it is powered off
+    (D-019); its geared slave used to follow it, stopping dead from 667 mm/s in one cycle.
+    It goes to ErrorStop MASTER_DISABLED and brakes with its own maxima."""
+    rt = om.Runtime()
+    master, slave = rt.add_axis("x", **LIMITS), rt.add_axis("z", **LIMITS)
+    master.power()
+    slave.power()
+    gear = slave.gear_in(master, -2.0 / 3.0)
+    rt.run(0.1)
+    master.move_velocity(450.0)
+    rt.run(1.0)
+    assert slave.set_velocity == pytest.approx(-300.0)
+    samples = Samples()
+    samples.take(slave)
+    master.power(False)
+    run(rt, slave, 200, samples)
+    samples.assert_within(500.0, 20000.0, 1.0e6)
+    assert gear.aborted and slave.state is AxisState.ERROR_STOP
+    assert slave.axis_error_id == E.MASTER_DISABLED
+    assert slave.set_velocity == 0.0
+    reset = slave.reset()
+    rt.step()
+    assert reset.done and slave.state is AxisState.STANDSTILL
+    assert slave.move_relative(10.0, 100.0).active  # usable afterwards
 
 
 def test_slave_velocity_fault_comes_in_time_to_brake_within_the_maxima() -> None:

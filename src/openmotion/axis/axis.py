@@ -304,6 +304,9 @@ class Axis:
                 self.state = AxisState.STANDSTILL
         elif not status and self.powered:
             self.powered = False
+            for slave in self._slaves():  # they must not follow the frozen setpoint (D-199)
+                slave._fault(ErrorId.MASTER_DISABLED,
+                             f"its master {self.name} was disabled while coupled")
             self._abort_all("the axis was disabled")
             self._k.reset_setpoint_to_actual(self.row)
             self._install(Profile.hold(KinematicState(self.position)), has_job=False)
@@ -316,6 +319,12 @@ class Axis:
             member_power(self)  # a moving CA mover stays on its brake (D-183)
         self._update_override()
         return status
+
+    def _slaves(self) -> list[Axis]:
+        """The axes geared to this one."""
+        couplings = self._k.couplings
+        rows = set(couplings.slaves[couplings.masters == self.row].tolist())
+        return [axis for axis in self._rt.axes.values() if axis.row in rows]
 
     def reset(self) -> Command:
         """MC_Reset: leave ErrorStop once the error reaction has stopped the axis."""
@@ -732,6 +741,8 @@ class Axis:
             motion.in_velocity = profile.duration == 0.0
             self._k.has_job[self.row] = profile.duration > 0.0
             self.state = AxisState.CONTINUOUS_MOTION
+        elif k.superimposed[self.row]:  # the superposition still moves it (D-181)
+            self.state = AxisState.DISCRETE_MOTION
         else:
             self.state = AxisState.STANDSTILL
 
@@ -868,6 +879,9 @@ class Axis:
         """The superposition has ended: a base planned in the room beside it gets its own
         limits back, and a base that came to rest meanwhile ends now (D-180, D-181)."""
         job = self._job
+        if job is None and self.state is AxisState.DISCRETE_MOTION and not self.has_job:
+            self.state = AxisState.STANDSTILL  # decoupled at rest beneath it (D-181)
+            return
         if job is None or job.command.finished:
             return
         if job.extra.pop("beside_superposition", False) and job.kind in (

@@ -108,6 +108,7 @@ class ErrorId(IntEnum):
     GEAR_LIMIT_EXCEEDED = 0x7206  #: a geared slave would exceed its velocity or acceleration
     EXT_SETPOINT_MISSING = 0x7207  #: external setpoints enabled, but none fed this cycle
     EXT_SETPOINT_LIMIT = 0x7208  #: a fed setpoint beyond the axis' velocity or acceleration
+    MASTER_DISABLED = 0x7209  #: the master of a geared slave was powered off (D-199)
 
 
 class ConfigError(ValueError):
