@@ -17,7 +17,13 @@ from hypothesis import strategies as st
 
 import openmotion as om
 from openmotion.core.enums import AxisState, BufferMode, Direction, NewPosAndVeloMode
-from openmotion.plcopen import MC_Power
+from openmotion.plcopen import (
+    MC_MoveAbsolute,
+    MC_MoveSuperImposed,
+    MC_MoveVelocity,
+    MC_Power,
+    MC_SetOverride,
+)
 from openmotion.plcopen.jog import JogMode, MC_Jog
 
 E = om.ErrorId
@@ -353,6 +359,68 @@ def test_slave_of_a_master_powered_off_brakes_on_its_own() -> None:
     rt.step()
     assert reset.done and slave.state is AxisState.STANDSTILL
     assert slave.move_relative(10.0, 100.0).active  # usable afterwards
+
+
+def test_chained_slave_follows_its_master_in_the_same_cycle() -> None:
+    """Found by the command storm (issue 19: a state change never moves the setpoint by more
+    than the limits allow): y geared to u before u was geared to x followed u's previous
+    sample (the couplings were applied in the order they were made), and jumped by that
+    cycle's lag (200 mm/s here) when u was stopped. Masters are applied before slaves."""
+    rt = om.Runtime()
+    x, u, y = (rt.add_axis(name, **LIMITS) for name in "xuy")
+    for axis in (x, u, y):
+        axis.power()
+    y.gear_in(u, 1.0)
+    rt.step()
+    u.gear_in(x, 2.0)
+    rt.run(0.1)
+    x.move_velocity(100.0)
+    samples = Samples()
+    for _ in range(300):
+        rt.step()
+        samples.take(y)
+        assert y.set_position == u.set_position
+    u.stop()
+    run(rt, y, 300, samples)
+    samples.assert_within(500.0, 20000.0, 1.0e6)
+    assert u.set_velocity == y.set_velocity == 0.0
+
+
+def test_error_reaction_under_a_superposition_keeps_the_acceleration() -> None:
+    """Found by the command storm (seed 19, operation 39070): a following error while a
+    superposition ran handed the error reaction the combined state without its acceleration,
+    so the acceleration stepped by 1015 mm/s² in one cycle where the maximum jerk allows
+    1000. The base now takes the whole state over, acceleration included."""
+    rt = om.Runtime(0.001)
+    u = rt.add_axis("u", position=-163.26055674083227, max_velocity=800.0,
+                    max_position_lag=2.0,
+                    drive=om.DriveModel(model="lag", time_constant=0.002, dead_time=0.001))
+    power = MC_Power(u, enable=True)
+    move, velocity = MC_MoveAbsolute(u), MC_MoveVelocity(u)
+    override, superimposed = MC_SetOverride(u), MC_MoveSuperImposed(u)
+    calls = {
+        3: (move, dict(execute=True, position=-1176.3515524080658, velocity=1e-06,
+                       jerk=5763.562890497276, buffer_mode=BufferMode.BUFFERED)),
+        185: (override, dict(execute=True, override=60.84471613563194)),
+        506: (velocity, dict(execute=True, velocity=929.0789183491115,
+                             direction=Direction.CURRENT, jerk=85431.41930169753)),
+        681: (superimposed, dict(execute=True, distance=-278.65480561343384,
+                                 velocity_diff=462.2269630730124,
+                                 velocity_process=486.75772908505553,
+                                 max_distance=848.0900889736932,
+                                 acceleration=16683.980157336486,
+                                 deceleration=12971.95074673476)),
+    }
+    samples = Samples()
+    for cycle in range(1, 900):
+        power()
+        for block in (move, velocity, override, superimposed):
+            block(**(calls[cycle][1] if calls.get(cycle, (None,))[0] is block else {}))
+        rt.step()
+        samples.take(u)
+    assert u.axis_error_id == E.FOLLOWING_ERROR  # the fault this case is about
+    a = samples.column(2)
+    assert np.abs(np.diff(a)).max() <= u.parameters.max_jerk * CYCLE * (1.0 + TOLERANCE)
 
 
 def test_slave_velocity_fault_comes_in_time_to_brake_within_the_maxima() -> None:

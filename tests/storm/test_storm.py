@@ -4,10 +4,9 @@
 ``storm.DEFAULT_OPERATIONS``, about 20 s) from ``OPENMOTION_STORM_SEED``; the ``slow`` variants
 run ``OPENMOTION_STORM_SLOW_OPS`` (default 10⁵) with ``pytest -m slow tests/storm``.
 
-Two assertions per size: no violation outside the classes issue 19 already lists
-(``KNOWN_OPEN``, strict), and no violation at all (expected to fail until the fixes of those
-points are merged). A failure prints each new violation with the seed, the operation index
-and a minimal reproduction that uses the public API only.
+Each asserts no violation at all; the exceptions the rules allow are documented once, in
+``storm.EXCEPTIONS``. A failure prints the first violations with the seed, the operation
+index and a minimal reproduction that uses the public API only.
 """
 
 from __future__ import annotations
@@ -16,7 +15,6 @@ import importlib.util
 import math
 import os
 import sys
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -36,46 +34,6 @@ OPERATIONS = int(os.environ.get("OPENMOTION_STORM_OPS", str(storm.DEFAULT_OPERAT
 SLOW_OPERATIONS = int(os.environ.get("OPENMOTION_STORM_SLOW_OPS", "100000"))
 SHOWN = 2  #: new violations shrunk and printed in a failure message
 
-_KINEMATIC = ("limit.", "jump.")
-_STOPPING = ("busy:stop", "busy:halt", "busy:jog", "state:STOPPING")
-
-
-def _kinematic(v: storm.Violation) -> bool:
-    return v.invariant.startswith(_KINEMATIC)
-
-
-def _tagged(v: storm.Violation, *tags: str) -> bool:
-    return any(tag in v.context for tag in tags)
-
-
-#: Violation classes issue 19 lists, being fixed on other branches, and one the storm found
-#: (point, what, predicate; the first that applies names the class). The strict test accepts
-#: only these; remove an entry once its fix is merged.
-KNOWN_OPEN: tuple[tuple[str, str, Callable[[storm.Violation], bool]], ...] = (
-    ("NEW (storm)", "a master powered off under a coupled slave: the slave's setpoint stops "
-     "dead in one cycle (not in issue 19's text; reported)",
-     lambda v: v.invariant.startswith("jump.") and _tagged(v, "master disabled")),
-    ("5", "MC_MoveVelocity ends silently when a buffered command takes over",
-     lambda v: v.invariant == "handshake.silent_end" and "MC_MoveVelocity" in v.detail),
-    ("2, 3", "superposition ignores the axis limits; re-planning under it jumps",
-     lambda v: _kinematic(v) and _tagged(v, "superimposed", "busy:superimposed")),
-    ("7", "geared slave: jerk unmonitored, acceleration past its maximum when the fault fires",
-     lambda v: _kinematic(v) and _tagged(v, "state:SYNCHRONIZED_MOTION",
-                                         "axis error:GEAR_LIMIT_EXCEEDED")),
-    ("4", "StandStill reported while moving", lambda v: v.invariant == "state"),
-    ("1", "MC_Stop / MC_Halt overshoot the maximum velocity (the stop planner's jerk)",
-     lambda v: _kinematic(v) and _tagged(v, *_STOPPING)),
-    ("1 (its root, D-020)", "any other plan from a running state that keeps a jerk too low to "
-     "take its acceleration away before the maximum velocity: a feed-enable pause, a move "
-     "braking through zero towards the opposite maximum",
-     lambda v: v.invariant == "limit.velocity"),
-)
-
-
-def known_point(v: storm.Violation) -> str | None:
-    return next((point for point, _, applies in KNOWN_OPEN if applies(v)), None)
-
-
 def _describe(report: storm.Report, violations: list[storm.Violation]) -> str:
     for violation in violations[:SHOWN]:
         violation.minimal = storm.shrink(violation)
@@ -85,11 +43,6 @@ def _describe(report: storm.Report, violations: list[storm.Violation]) -> str:
     return (f"{len(violations)} violation(s) in {report.operations} operations "
             f"(seed {report.seed}): {counts}\n\n"
             + "\n\n".join(v.report(report.seed) for v in violations[:SHOWN]))
-
-
-def _assert_only_known(report: storm.Report) -> None:
-    new = [v for v in report.violations if known_point(v) is None]
-    assert not new, _describe(report, new)
 
 
 @pytest.fixture(scope="module")
@@ -102,24 +55,13 @@ def slow_report() -> storm.Report:
     return storm.run_storm(SEED, SLOW_OPERATIONS)
 
 
-def test_storm_breaks_no_invariant_beyond_the_open_points(report):
-    """Limits, continuity, state, handshake and liveness (storm.py's docstring cites each
-    rule) hold in every cycle, apart from the classes issue 19 lists (KNOWN_OPEN)."""
-    _assert_only_known(report)
-
-
-@pytest.mark.xfail(strict=False, reason="issue 19 points 1-5,7 being fixed on other branches")
 def test_storm_breaks_no_invariant(report):
+    """Limits, continuity, state, handshake and liveness (storm.py's docstring cites each
+    rule) hold in every cycle, with only the exceptions EXCEPTIONS documents."""
     assert not report.violations, _describe(report, report.violations)
 
 
 @pytest.mark.slow
-def test_slow_storm_breaks_no_invariant_beyond_the_open_points(slow_report):
-    _assert_only_known(slow_report)
-
-
-@pytest.mark.slow
-@pytest.mark.xfail(strict=False, reason="issue 19 points 1-5,7 being fixed on other branches")
 def test_slow_storm_breaks_no_invariant(slow_report):
     """Issue 19's goal: 0 violations over >= 10⁵ operations."""
     assert slow_report.operations >= 100_000 or "OPENMOTION_STORM_SLOW_OPS" in os.environ
@@ -146,10 +88,9 @@ def _quiet_storm() -> storm.Storm:
 
 
 @pytest.fixture
-def lenient():
+def lenient(monkeypatch):
     """The storm checks the block outputs itself instead of asserting in them."""
-    FunctionBlock.strict = False
-    yield
+    monkeypatch.setattr(FunctionBlock, "strict", False)
 
 
 def test_a_setpoint_jump_is_a_violation_with_a_reproduction(lenient, monkeypatch):

@@ -866,14 +866,24 @@ class Axis:
                 if job.target is not None:
                     job.target += offset
         else:  # still moving: the base takes over the combined state (a new plan follows)
-            combined = k.state(row)
-            self._install(Profile.hold(combined), has_job=False)
+            self._install(self._carry_on(k.state(row)), has_job=False)
         k.set_superimposed(row, False)
         if self._superposition is not None:
             self._superposition._end(status, self._rt.now, error_id, message)
             self._superposition = None
         if ended:
             self._after_superposition()
+
+    def _carry_on(self, state: KinematicState) -> Profile:
+        """Go on from ``state`` with its acceleration released at the maximum jerk: the next
+        plan starts from the whole state, acceleration included, so nothing jumps."""
+        a = state.acceleration
+        if a == 0.0:
+            return Profile.hold(state)
+        p = self.parameters
+        cruise = state.velocity + a * abs(a) / (2.0 * p.max_jerk)
+        return plan_velocity(state, cruise, Limits(math.inf, max(p.max_acceleration, abs(a)),
+                                                   max(p.max_deceleration, abs(a)), p.max_jerk))
 
     def _after_superposition(self) -> None:
         """The superposition has ended: a base planned in the room beside it gets its own

@@ -1,8 +1,9 @@
 """Linear gear couplings: slave setpoint = ratio * master setpoint + offset (TcMC §3.17-3.21).
 
 The couplings of all axes are applied in one vectorised pass right after the setpoints are
-evaluated, in the order they were made (a master that is itself a slave must have been
-coupled first). A dynamic ratio (MC_GearInDyn) re-anchors the offset whenever it changes, so
+evaluated; when a master is itself a slave, one coupling at a time, masters before their
+slaves whatever order they were made in (otherwise the slave would follow its master's
+previous sample, and jump when the master is released). A dynamic ratio (MC_GearInDyn) re-anchors the offset whenever it changes, so
 the slave position stays continuous: p_s = p_s(previous) + ratio * (p_m - p_m(previous)).
 """
 
@@ -20,7 +21,8 @@ class Couplings:
         self.ratio = np.zeros(0)
         self.offset = np.zeros(0)
         self.ratio_rate = np.zeros(0)  #: d(ratio)/dt during a dynamic ratio change [1/s]
-        self._chained = False  #: a master is itself a slave: apply one coupling at a time
+        #: a master is itself a slave: the couplings one at a time, masters first
+        self._order: list[int] | None = None
 
     def __contains__(self, row: int) -> bool:
         return bool(np.any(self.slaves == row))
@@ -33,7 +35,7 @@ class Couplings:
         self.ratio = np.append(self.ratio, ratio)
         self.offset = np.append(self.offset, slave_position - ratio * master_position)
         self.ratio_rate = np.append(self.ratio_rate, 0.0)
-        self._chained = bool(np.isin(self.masters, self.slaves).any())
+        self._order = self._masters_first()
 
     def decouple(self, slave: int) -> None:
         keep = self.slaves != slave
@@ -42,7 +44,21 @@ class Couplings:
         self.slaves, self.masters = self.slaves[keep], self.masters[keep]
         self.ratio, self.offset = self.ratio[keep], self.offset[keep]
         self.ratio_rate = self.ratio_rate[keep]
-        self._chained = bool(np.isin(self.masters, self.slaves).any())
+        self._order = self._masters_first()
+
+    def _masters_first(self) -> list[int] | None:
+        """Coupling indices ordered by how deep their master is in a chain (None: no chain)."""
+        if not np.isin(self.masters, self.slaves).any():
+            return None
+        coupling_of = {int(s): i for i, s in enumerate(self.slaves)}
+
+        def depth(i: int) -> int:
+            level, master = 0, int(self.masters[i])
+            while master in coupling_of and level <= len(coupling_of):
+                level, master = level + 1, int(self.masters[coupling_of[master]])
+            return level
+
+        return sorted(range(self.slaves.size), key=depth)
 
     def set_ratio(self, slave: int, ratio: float, master_position: float, rate: float) -> None:
         """Change the ratio of ``slave`` keeping its position: re-anchor the offset."""
@@ -62,7 +78,7 @@ class Couplings:
         """Overwrite the slave setpoints from their masters' (one pass per coupling level)."""
         if not self.slaves.size:
             return
-        for i in range(self.slaves.size) if self._chained else (slice(None),):
+        for i in self._order if self._order is not None else (slice(None),):
             s, m, r = self.slaves[i], self.masters[i], self.ratio[i]
             p[s] = r * p[m] + self.offset[i]
             v[s] = r * v[m]
