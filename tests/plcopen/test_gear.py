@@ -187,6 +187,69 @@ def test_gear_in_dyn_acceleration_limit_scales_with_the_master_velocity(
     assert gear.in_gear
 
 
+def test_gear_in_dyn_finishes_on_the_falling_edge_and_the_coupling_stays() -> None:
+    """Issue 20 point 2, TcMC §3.19 ("the command finishes its execution after a falling
+    edge"; Busy falls when the block has finished), D-196: Busy and InGear fall with Execute;
+    the slave stays coupled at the last ratio and follows the master."""
+    rt, master, slave = pair(max_velocity=5000.0)
+    gear = MC_GearInDyn(slave)
+    gear(execute=True, master=master, gear_ratio=1.5)
+    assert gear.busy and gear.in_gear
+    master.move_velocity(400.0)
+    rt.run(0.5)
+    gear(execute=False)
+    assert not gear.busy and not gear.in_gear and not gear.error and not gear.command_aborted
+    for _ in range(3000):
+        rt.step()
+        gear(execute=False)
+        assert not gear.busy and not gear.in_gear
+    assert slave.state is om.AxisState.SYNCHRONIZED_MOTION
+    assert slave.set_velocity == pytest.approx(1.5 * master.set_velocity)
+
+
+def test_gear_in_dyn_new_edge_takes_the_running_coupling_over() -> None:
+    """Issue 20 point 2, TcMC §3.19, D-196: a rising edge on a slave still coupled to the same
+    master (both moving) used to fail with AXIS_NOT_STANDSTILL and drop InGear. It takes the
+    coupling over: InGear again and the ratio follows the input; a bad ratio on that edge is
+    an error that leaves the coupling as it was, and the next edge works."""
+    rt, master, slave = pair(max_velocity=5000.0)
+    gear = MC_GearInDyn(slave)
+    gear(execute=True, master=master, gear_ratio=1.0, acceleration=2000.0)
+    master.move_velocity(400.0)
+    rt.run(0.5)
+    gear(execute=False)
+    gear(execute=True, gear_ratio=float("nan"))
+    assert gear.error and gear.error_id == om.ErrorId.INVALID_GEAR_RATIO
+    rt.step()
+    assert slave.state is om.AxisState.SYNCHRONIZED_MOTION
+    assert slave.set_velocity == pytest.approx(400.0)
+    gear(execute=False)
+    gear(execute=True, gear_ratio=2.0)
+    assert gear.busy and gear.in_gear and not gear.error
+    for _ in range(2000):
+        rt.step()
+        gear(execute=True, gear_ratio=2.0)
+    assert gear.in_gear and slave.set_velocity == pytest.approx(800.0)
+
+
+def test_gear_in_dyn_new_edge_with_another_master_needs_standstill() -> None:
+    """TcMC §3.19 note: coupling (to another master) only at standstill; the running coupling
+    is not touched by the refused edge (D-196)."""
+    rt, master, slave = pair(max_velocity=5000.0)
+    other = rt.add_axis("o")
+    other.power()
+    gear = MC_GearInDyn(slave)
+    gear(execute=True, master=master, gear_ratio=1.0)
+    master.move_velocity(400.0)
+    rt.run(0.5)
+    gear(execute=False)
+    gear(execute=True, master=other, gear_ratio=1.0)
+    assert gear.error and gear.error_id == om.ErrorId.AXIS_NOT_STANDSTILL
+    rt.step()
+    assert slave.state is om.AxisState.SYNCHRONIZED_MOTION
+    assert slave.set_velocity == pytest.approx(master.set_velocity)
+
+
 def test_decoupling_a_dynamic_coupling_while_execute_is_true_aborts_it() -> None:
     """Rule 91."""
     rt, master, slave = pair()

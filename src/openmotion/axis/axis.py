@@ -603,6 +603,30 @@ class Axis:
         self._rt._watch(self, lambda now: self._gear_cycle(job))
         return command
 
+    def dynamic_coupling(self, master: Axis) -> Command | None:
+        """The running coupling of this slave to ``master``, if there is one: a new edge of
+        MC_GearInDyn takes it over instead of coupling again (TcMC §3.19, D-196)."""
+        job = self._job
+        if job is None or job.kind != "gear" or job.command.finished \
+                or job.extra.get("master") is not master:
+            return None
+        return job.command
+
+    def set_gear_acceleration(self, acceleration: InputValue) -> Command:
+        """MC_GearInDyn's Acceleration for the running coupling: the ratio slews at most at
+        ``acceleration / master max_velocity`` per second (§3.19)."""
+        command = self._new("gear_acceleration")
+        job = self._job
+        try:
+            if job is None or job.kind != "gear":
+                raise CommandRejected(ErrorId.NOT_COUPLED, "the axis is not a geared slave")
+            dyn = resolve("acceleration", acceleration, self.parameters, command.warnings)
+            job.extra["ratio_rate"] = dyn / job.extra["master"].parameters.max_velocity
+        except CommandRejected as rejected:
+            return self._reject(command, rejected.error_id, rejected.message)
+        self._finish(command)
+        return command
+
     def set_gear_ratio(self, ratio: float) -> Command:
         """A new target ratio for a dynamic coupling (MC_GearInDyn, re-read every cycle)."""
         command = self._new("gear_ratio")

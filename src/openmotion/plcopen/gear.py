@@ -68,15 +68,34 @@ class MC_GearInFloat(_Coupling):
 
 class MC_GearInDyn(_Coupling):
     """Couple at standstill; ``gear_ratio`` is re-read every call while ``execute`` is TRUE,
-    its changes limited by ``acceleration`` (TcMC §3.19). The falling edge stops the updates;
-    the coupling keeps its last ratio (D-039)."""
+    its changes limited by ``acceleration`` (TcMC §3.19).
+
+    The falling edge finishes the block: Busy and InGear fall, the updates stop and the
+    coupling keeps its last ratio. A new rising edge on a slave still coupled to the same
+    master takes that coupling over and goes on updating the ratio (D-196).
+    """
 
     INPUTS: ClassVar[dict[str, Any]] = {
         "gear_ratio": 1.0, "acceleration": MC_DEFAULT, "deceleration": 0.0, "jerk": 0.0,
     }
 
     def _issue(self, axis: Axis) -> Command:
-        return axis.gear_in(self._master(), self.gear_ratio, self.acceleration)
+        master = self._master()
+        running = axis.dynamic_coupling(master)
+        if running is None:
+            return axis.gear_in(master, self.gear_ratio, self.acceleration)
+        for change in (axis.set_gear_acceleration(self.acceleration),
+                       axis.set_gear_ratio(self.gear_ratio)):
+            if change.error:  # a bad input refuses the edge; the coupling goes on as it was
+                raise CommandRejected(change.error_id, change.message)
+        return running
+
+    def _falling_edge(self) -> None:
+        command = self._command
+        if command is not None and not command.finished:  # finished; the coupling stays
+            self._clear()
+            self._show_result(None)
+            self._command = None
 
     def _show_progress(self, command: Command) -> None:
         super()._show_progress(command)
