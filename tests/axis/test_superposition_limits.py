@@ -365,7 +365,7 @@ def test_chained_slave_follows_its_master_in_the_same_cycle() -> None:
     """Found by the command storm (issue 19: a state change never moves the setpoint by more
     than the limits allow): y geared to u before u was geared to x followed u's previous
     sample (the couplings were applied in the order they were made), and jumped by that
-    cycle's lag (200 mm/s here) when u was stopped. Masters are applied before slaves."""
+    cycle's lag (200 mm/s here) when u was stopped. Masters are applied before slaves (D-185)."""
     rt = om.Runtime()
     x, u, y = (rt.add_axis(name, **LIMITS) for name in "xuy")
     for axis in (x, u, y):

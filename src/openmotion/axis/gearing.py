@@ -2,7 +2,7 @@
 
 The couplings of all axes are applied in one vectorised pass right after the setpoints are
 evaluated; when a master is itself a slave, one coupling at a time, masters before their
-slaves whatever order they were made in (otherwise the slave would follow its master's
+slaves whatever order they were made in (D-185; otherwise the slave would follow its master's
 previous sample, and jump when the master is released). A dynamic ratio (MC_GearInDyn)
 re-anchors the offset whenever it changes, so the slave position stays continuous:
 p_s = p_s(previous) + ratio * (p_m - p_m(previous)).
