@@ -250,6 +250,33 @@ def test_gear_in_dyn_new_edge_with_another_master_needs_standstill() -> None:
     assert slave.set_velocity == pytest.approx(master.set_velocity)
 
 
+@pytest.mark.parametrize("block, inputs", COUPLINGS, ids=COUPLING_IDS)
+def test_a_coupling_loop_is_refused(block: type, inputs: dict) -> None:
+    """D-191 (found by the command storm): a master that follows the slave, directly or
+    through another coupling, is refused with COUPLING_LOOP; the couplings in force stay and
+    the slave can still be coupled to another master."""
+    rt, master, slave = pair()
+    third = rt.add_axis("t")
+    third.power()
+    MC_GearInFloat(slave)(execute=True, master=master, gear_ratio=2.0)
+    MC_GearInFloat(third)(execute=True, master=slave, gear_ratio=1.0)
+    for looping_master in (slave, third):
+        gear = block(master)
+        gear(execute=True, master=looping_master, **inputs)
+        assert gear.error and gear.error_id == om.ErrorId.COUPLING_LOOP, gear.message
+    assert master.state is om.AxisState.STANDSTILL
+    master.move_velocity(100.0)
+    rt.run(0.5)
+    assert third.set_velocity == slave.set_velocity == pytest.approx(2.0 * master.set_velocity)
+    free = rt.add_axis("f")
+    free.power()
+    other = rt.add_axis("o")
+    other.power()
+    gear = block(free)
+    gear(execute=True, master=other, **inputs)
+    assert gear.busy and gear.in_gear  # usable afterwards
+
+
 def test_decoupling_a_dynamic_coupling_while_execute_is_true_aborts_it() -> None:
     """Rule 91."""
     rt, master, slave = pair()

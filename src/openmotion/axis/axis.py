@@ -583,6 +583,9 @@ class Axis:
             if master.set_velocity != 0.0 or master.set_acceleration != 0.0:
                 raise CommandRejected(ErrorId.AXIS_NOT_STANDSTILL,
                                       "the master moves: coupling only at standstill")
+            if self.row in self._k.couplings.masters_of(master.row):
+                raise CommandRejected(ErrorId.COUPLING_LOOP,
+                                      f"{master.name} follows {self.name} already (D-191)")
             ratio = _gear_ratio(ratio)
             rate = math.inf
             if acceleration is not None:
@@ -751,9 +754,10 @@ class Axis:
         start = k.base_state(self.row)  # a superposition keeps riding on top (D-180)
         k.couplings.decouple(self.row)
         p = self.parameters
-        cruise = start.velocity + start.acceleration * abs(start.acceleration) / (2.0 * p.jerk)
+        jerk = jerk_within_velocity(start, p.jerk, p.max_velocity, p.max_jerk)  # D-177
+        cruise = start.velocity + start.acceleration * abs(start.acceleration) / (2.0 * jerk)
         profile = plan_velocity(start, cruise, Limits(p.max_velocity, p.max_acceleration,
-                                                      p.max_deceleration, p.jerk))
+                                                      p.max_deceleration, jerk))
         self._install(profile, has_job=False)
         if cruise != 0.0:  # keeps moving like after MC_MoveVelocity
             p = self.parameters

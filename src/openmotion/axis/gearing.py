@@ -47,19 +47,21 @@ class Couplings:
         self.ratio_rate = self.ratio_rate[keep]
         self._order = self._masters_first()
 
+    def masters_of(self, row: int) -> list[int]:
+        """The rows ``row`` follows, its master first, then that master's master, ..."""
+        coupling_of = {int(s): i for i, s in enumerate(self.slaves)}
+        chain: list[int] = []
+        while row in coupling_of and len(chain) <= len(coupling_of):
+            row = int(self.masters[coupling_of[row]])
+            chain.append(row)
+        return chain
+
     def _masters_first(self) -> list[int] | None:
         """Coupling indices ordered by how deep their master is in a chain (None: no chain)."""
         if not np.isin(self.masters, self.slaves).any():
             return None
-        coupling_of = {int(s): i for i, s in enumerate(self.slaves)}
-
-        def depth(i: int) -> int:
-            level, master = 0, int(self.masters[i])
-            while master in coupling_of and level <= len(coupling_of):
-                level, master = level + 1, int(self.masters[coupling_of[master]])
-            return level
-
-        return sorted(range(self.slaves.size), key=depth)
+        return sorted(range(self.slaves.size),
+                      key=lambda i: len(self.masters_of(int(self.slaves[i]))))
 
     def set_ratio(self, slave: int, ratio: float, master_position: float, rate: float) -> None:
         """Change the ratio of ``slave`` keeping its position: re-anchor the offset."""

@@ -61,6 +61,7 @@ class ErrorId(IntEnum):
     NOT_COUPLED = 0x710E  #: MC_GearOut on an axis that is not a geared slave
     SUPERPOSITION_ACTIVE = 0x710F  #: a superposition runs (or brakes) already
     AXIS_IN_GROUP = 0x7110  #: a CA group member only moves through the CA blocks
+    COUPLING_LOOP = 0x7111  #: the master follows this axis through its own couplings
     # openmotion: group rejections (0x73xx)
     GROUP_EMPTY = 0x7301  #: MC_GroupEnable on a group without axes (TF5410 §7 note 9)
     GROUP_NOT_ENABLED = 0x7302  #: a motion command while the group is Disabled or NotReady
