@@ -386,6 +386,30 @@ def test_chained_slave_follows_its_master_in_the_same_cycle() -> None:
     assert u.set_velocity == y.set_velocity == 0.0
 
 
+def test_slave_of_a_superimposed_slave_follows_its_whole_setpoint() -> None:
+    """Found by the command storm (seed 1, operation 84630), D-185: u geared to m carries a
+    superimposed motion and x is geared to u. x followed u without the superimposed part and
+    jumped by it when the superposition was folded into u's base (a position step of 0.02 mm
+    and 900 mm/s² in one cycle). Each slave in a chain now gets its superimposed motion before
+    its own slaves are set."""
+    rt = om.Runtime()
+    m, u, x = (rt.add_axis(name, **LIMITS) for name in "mux")
+    for axis in (m, u, x):
+        axis.power()
+    u.gear_in(m, 1.0)
+    x.gear_in(u, 2.0)
+    rt.step()
+    assert u.move_superimposed(-14.6, 600.0, 1.0, 1500.0).busy
+    samples = Samples()
+    for _ in range(10):
+        rt.step()
+        samples.take(x)
+        assert x.set_velocity == 2.0 * u.set_velocity and x.set_velocity != 0.0
+    u.move_velocity(250.0, direction=Direction.NEGATIVE)  # folds the superposition
+    run(rt, x, 300, samples)
+    samples.assert_within(500.0, 20000.0, 1.0e6)
+
+
 def test_error_reaction_under_a_superposition_keeps_the_acceleration() -> None:
     """Found by the command storm (seed 19, operation 39070): a following error while a
     superposition ran handed the error reaction the combined state without its acceleration,

@@ -77,8 +77,19 @@ class Couplings:
     def ratio_of(self, slave: int) -> float:
         return float(self.ratio[np.flatnonzero(self.slaves == slave)[0]])
 
-    def apply(self, p: np.ndarray, v: np.ndarray, a: np.ndarray, j: np.ndarray) -> None:
-        """Overwrite the slave setpoints from their masters' (one pass per coupling level)."""
+    @property
+    def chained(self) -> bool:
+        """A master is itself a slave: the couplings are applied one at a time."""
+        return self._order is not None
+
+    def apply(self, p: np.ndarray, v: np.ndarray, a: np.ndarray, j: np.ndarray,
+              overlays: tuple[np.ndarray, ...] | None = None) -> None:
+        """Overwrite the slave setpoints from their masters' (one pass per coupling level).
+
+        ``overlays`` (position, velocity, acceleration, jerk and the superimposed mask), with
+        a chain only: a slave's superimposed motion is added as soon as it is set, so that
+        its own slaves follow its whole setpoint.
+        """
         if not self.slaves.size:
             return
         for i in self._order if self._order is not None else (slice(None),):
@@ -87,3 +98,8 @@ class Couplings:
             v[s] = r * v[m]
             a[s] = r * a[m] + self.ratio_rate[i] * v[m]
             j[s] = r * j[m]
+            if overlays is not None and overlays[4][s]:
+                p[s] += overlays[0][s]
+                v[s] += overlays[1][s]
+                a[s] += overlays[2][s]
+                j[s] += overlays[3][s]

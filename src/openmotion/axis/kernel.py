@@ -92,8 +92,12 @@ class AxisKernel:
         self.segments.evaluate(now, self.set_p, self.set_v, self.set_a, self.set_j)
         if self._overlays:  # MC_MoveSuperImposed, free axes first: their slaves follow them
             self._add_overlays(now, slaves=False)
-        self.couplings.apply(self.set_p, self.set_v, self.set_a, self.set_j)
-        if self._overlays and self.couplings.slaves.size:  # then geared slaves (flying saw)
+        # then geared slaves (flying saw); in a chain each as it is set, for its own slaves
+        chained = bool(self._overlays) and self.couplings.chained
+        overlays = (self._op, self._ov, self._oa, self._oj, self.superimposed) if chained \
+            else None
+        self.couplings.apply(self.set_p, self.set_v, self.set_a, self.set_j, overlays)
+        if self._overlays and self.couplings.slaves.size and not chained:
             self._add_overlays(now, slaves=True)
         if self._externals:  # MC_ExtSetPointGen: the fed values are the setpoint
             rows = np.flatnonzero(self.external[: self.size])
