@@ -133,6 +133,32 @@ def test_partial_compensation_reports_0x4243_and_moves_what_it_can() -> None:
     assert drill.set_position - start == pytest.approx(base + fb.actual_distance, abs=1e-6)
 
 
+@pytest.mark.parametrize("mode", [M.LENGTHREDUCTION_LIMITEDMOTION,
+                                  M.VELOREDUCTION_LIMITEDMOTION])
+def test_limited_partial_compensation_uses_the_whole_length(mode: M) -> None:
+    """Issue 20 point 1, TcMC §3.9/§3.10, §6.5: in the LIMITED modes the axis itself travels
+    Length, so a smaller distance leaves more time for itself. At 500 mm/s, distance 250,
+    Length 400, VelocityDiff 500, acc/dec 5000: 150 mm fit, the axis travels exactly 400 mm
+    and 0x4243 says the rest is missing (D-200; the time budget used to stay that of the full
+    250 mm: 42.19 mm in 192.19 mm)."""
+    rt = om.Runtime()
+    axis = rt.add_axis("x", max_velocity=2000.0)  # the default dynamics otherwise
+    axis.power()
+    axis.move_velocity(500.0)
+    rt.run(1.0)
+    start = axis.set_position
+    fb = MC_MoveSuperImposedExt(axis)
+    fb(execute=True, mode=mode, distance=250.0, length=400.0, velocity_diff=500.0,
+       velocity_process=500.0, acceleration=5000.0, deceleration=5000.0)
+    assert fb.actual_distance == pytest.approx(150.0, rel=1e-6)
+    assert fb.actual_length == pytest.approx(400.0, rel=1e-6)
+    run(rt, fb)
+    assert fb.error and fb.error_id == E.SUPERPOSITION_INCOMPLETE
+    base = 500.0 * (rt.now - 1.0)
+    assert axis.set_position - start == pytest.approx(base + fb.actual_distance, abs=1e-6)
+    assert base + fb.actual_distance == pytest.approx(400.0, abs=0.5)  # within a cycle
+
+
 @pytest.mark.parametrize("inputs", [
     {"distance": 0.0}, {"velocity_diff": 0.0}, {"velocity_process": 0.0}, {"length": 0.0},
 ], ids=["distance", "velocity_diff", "velocity_process", "length"])

@@ -16,6 +16,7 @@ while it runs in the room the rest of the superimposed profile leaves (``room_be
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -48,7 +49,12 @@ def plan_superposition(mode: SuperpositionMode, distance: float, velocity_diff: 
                         SuperpositionMode.LENGTHREDUCTION_ADDITIVEMOTION)
     velo = mode in (SuperpositionMode.VELOREDUCTION_ADDITIVEMOTION,
                     SuperpositionMode.VELOREDUCTION_LIMITEDMOTION)
-    budget = abs(length) / v0 if additive else (abs(length) - distance) / v0
+    def budget_for(d: float) -> float:
+        """Time the superposition may take: Length at the process velocity, less (LIMITED)
+        what the superimposed distance itself covers of it (§3.9)."""
+        return abs(length) / v0 if additive else (abs(length) - d) / v0
+
+    budget = budget_for(distance)
     if budget <= 0.0:
         raise CommandRejected(ErrorId.SUPERPOSITION_INCOMPLETE,
                               f"length {length} leaves no time for distance {distance}")
@@ -58,8 +64,9 @@ def plan_superposition(mode: SuperpositionMode, distance: float, velocity_diff: 
     limits = Limits(dv, acceleration, deceleration, jerk)
     fastest = plan_in_time(distance, limits, None)
     complete = fastest.duration <= budget * (1 + 1e-12)
-    if not complete:
-        distance = _reachable(distance, limits, budget)
+    if not complete:  # the largest distance that fits the time its own Length leaves
+        distance = _reachable(distance, limits, budget_for)
+        budget = budget_for(distance)
         fastest = plan_in_time(distance, limits, None)
     profile = plan_in_time(distance, limits, budget) if velo and complete else fastest
     lo, hi = profile.velocity_extrema()
@@ -69,13 +76,15 @@ def plan_superposition(mode: SuperpositionMode, distance: float, velocity_diff: 
                              travelled, complete)
 
 
-def _reachable(distance: float, limits: Limits, budget: float) -> float:
-    """The largest part of ``distance`` whose fastest profile fits the budget."""
+def _reachable(distance: float, limits: Limits, budget_for: Callable[[float], float]
+               ) -> float:
+    """The largest part of ``distance`` whose fastest profile fits the time budget that
+    part leaves (LIMITED modes: a shorter distance leaves more of Length)."""
     lo, hi = 0.0, abs(distance)
     for _ in range(BISECTION_STEPS):
         mid = 0.5 * (lo + hi)
-        if mid == 0.0 or plan_in_time(math.copysign(mid, distance), limits,
-                                      None).duration <= budget:
+        part = math.copysign(mid, distance)
+        if mid == 0.0 or plan_in_time(part, limits, None).duration <= budget_for(part):
             lo = mid
         else:
             hi = mid
