@@ -314,7 +314,7 @@ class Axis:
             self._hold = None
             if self.state is not AxisState.ERROR_STOP:
                 self.state = AxisState.DISABLED
-        member_power = getattr(self.group, "_member_power", None)
+        member_power = getattr(self.group, "member_power_changed", None)  # CA groups
         if member_power is not None and self.powered != was_powered:
             member_power(self)  # a moving CA mover stays on its brake (D-183)
         self._update_override()

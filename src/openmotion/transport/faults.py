@@ -94,7 +94,7 @@ class GroupFaults:
         self._room_of = None
         self._env = None
 
-    def _member_power(self, axis: Axis) -> None:
+    def member_power_changed(self, axis: Axis) -> None:
         """MC_Power switched a member (Runtime phase 1, or between cycles), and the axis froze
         its setpoint. A mover that brakes goes on braking; a mover that moves and lost power
         starts its brake from its last state at once (D-183). The others follow in phase 2."""
