@@ -215,7 +215,7 @@ class AxisSignals(SignalSource):
 
     def bulk(self, runtime: Runtime, objects: Sequence[Axis], prop: str) -> BulkReader | None:
         """The kernel's arrays hold the kinematic signals of every axis: one gather each."""
-        kernel = runtime._kernel  # the observer phase reads the kernel, as the cycle does
+        kernel = runtime.axis_system.kernel  # the observer phase reads it, as the cycle does
         rows = compact_index([axis.row for axis in objects])
         if prop == "following_error":
             return lambda: kernel.set_p[rows] - kernel.act_p[rows]

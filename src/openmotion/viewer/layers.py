@@ -71,15 +71,6 @@ def registered_layers() -> tuple[LayerFactory, ...]:
     return tuple(_FACTORIES)
 
 
-def attached_systems(runtime: Runtime) -> list[object]:
-    """The motion systems on ``runtime`` (CA groups, the planar system) in creation order.
-
-    The runtime keeps them as the bound ``advance`` methods it calls every cycle; this is
-    the one place where the viewer reads that list.
-    """
-    return [getattr(advance, "__self__", None) for advance in runtime._systems]
-
-
 def finite(value: float) -> float | None:
     """``value`` as JSON allows it: None for NaN and infinities."""
     value = float(value)

@@ -10,7 +10,6 @@ from openmotion.viewer.layers import (
     Layer,
     Reader,
     Row,
-    attached_systems,
     error_text,
     finite,
     number,
@@ -69,5 +68,5 @@ class RailLayer(Layer):
 
 def rail_layers(runtime: Runtime) -> list[Layer]:
     """One layer per CA group on the runtime."""
-    return [RailLayer(system) for system in attached_systems(runtime)
+    return [RailLayer(system) for system in runtime.systems
             if isinstance(system, CaGroup)]
