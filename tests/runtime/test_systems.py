@@ -92,3 +92,29 @@ def test_a_ca_group_number_does_not_depend_on_the_systems_made_before_it():
 def test_serial_counts_each_kind_on_its_own():
     rt = CyclicRuntime()
     assert [rt.serial("a"), rt.serial("b"), rt.serial("a")] == [1, 1, 2]
+
+
+def test_rewind_after_set_up_cycles_starts_the_first_axis_plan_at_zero():
+    """Set-up cycles (a scenario enabling planar objects) run before t = 0. After the clock
+    goes back, an axis made then starts moving in cycle 1 and never backwards: the first
+    sample was -1.7e-6 mm before, a plan placed at the end of the set-up (D-231)."""
+    rt = om.Runtime()
+    rt.run(0.002)
+    rt.rewind()
+    assert (rt.cycle, rt.now) == (0, 0.0)
+    belt = rt.add_axis("belt")
+    belt.power()
+    belt.move_velocity(400.0, acceleration=1000.0, deceleration=1000.0, jerk=10000.0)
+    rt.step()
+    assert belt.set_position == pytest.approx(10000.0 * 0.001**3 / 6, rel=1e-9)
+
+
+def test_rewind_is_refused_once_an_axis_exists_and_the_clock_stays():
+    rt = om.Runtime()
+    rt.add_axis("x")
+    rt.run(0.003)
+    with pytest.raises(ConfigError, match="before the first axis is made; there are x"):
+        rt.rewind()
+    assert rt.cycle == 3
+    rt.step()
+    assert rt.cycle == 4

@@ -77,6 +77,15 @@ class AxisSystem:
         self._watch_serial += 1
         self._watchers.append((axis.row, self._watch_serial, watcher))
 
+    def rewind(self) -> None:
+        """The runtime's clock goes back to 0: so does the instant of the last sample, where
+        the first plan of an axis starts. Axes made before would keep profiles placed in the
+        old time: refused (D-231)."""
+        if self.kernel.size:
+            raise ConfigError(f"rewind: the clock goes back only before the first axis is "
+                              f"made; there are {', '.join(self.axes)}")
+        self.kernel.sample_time = 0.0
+
     # -- the cycle -----------------------------------------------------------------------------
 
     def advance(self, now: float) -> None:

@@ -70,6 +70,16 @@ class CyclicRuntime:
         self._serials[kind] += 1
         return self._serials[kind]
 
+    def rewind(self) -> None:
+        """Set the clock back to t = 0 after set-up cycles (a scenario enables its planar
+        objects before its timeline starts); each system with ``rewind()`` is told first and
+        may refuse with a ``ConfigError``, leaving the clock as it was."""
+        for system in self._systems:
+            rewind = getattr(system, "rewind", None)
+            if callable(rewind):
+                rewind()
+        self.cycle, self.now = 0, 0.0
+
     # -- running -------------------------------------------------------------------------------
 
     def step(self) -> None:
