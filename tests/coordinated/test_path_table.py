@@ -465,6 +465,33 @@ def test_9_3_1_2_6_group_halt_or_stop_ends_the_path_and_releases_the_blocker(blo
     assert group.release_blocker(5).error_id == ErrorId.UNKNOWN_BLOCKER
 
 
+def test_disable_while_the_path_dwells_ends_the_table_and_a_group_error_makes_it_an_error():
+    """D-213: MC_GroupDisable ends a table that holds (CommandAborted); a member in
+    ErrorStop ends it with the group's error (Part 4 §3.1: GroupErrorStop)."""
+    rt, group = group_of(0.0, 0.0, 0.0)
+    path = MC_PATH_DATA_REF()
+    line(path, [50.0, 0.0, 0.0])
+    MC_DwellTimePreparation()(path, dwell_time=10.0)
+    line(path, [50.0, 50.0, 0.0])
+    move = MC_MovePath(group)
+    run(rt, group, lambda **_: move(execute=True, path_data=path),
+        lambda: group.motion.finished and move.active)
+    assert group.disable().done
+    move(execute=True)
+    assert outputs(move) == (False, False, False, True, False)
+    assert group.state is G.DISABLED
+    assert group.enable().done
+    move(execute=False)
+    run(rt, group, lambda **_: move(execute=True),
+        lambda: group.motion.finished and move.active and tcp(group)[0] == 50.0
+        and tcp(group)[1] == 0.0 and group.state is G.MOVING)
+    group.axes[1]._fault(ErrorId.FOLLOWING_ERROR, "injected")  # a member fails
+    rt.step()
+    move(execute=True)
+    assert move.error and move.error_id == ErrorId.GROUP_ERROR
+    assert group.state is G.ERROR_STOP
+
+
 def test_9_3_1_2_6_an_aborting_move_aborts_the_blocked_path_and_runs():
     """§9.3.1.2.6: a new job with BufferMode Aborting while the blocker waits aborts it."""
     rt, group = group_of(0.0, 0.0, 0.0)

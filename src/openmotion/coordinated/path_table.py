@@ -531,11 +531,6 @@ class PathTableRun:
 
     # -- reading -------------------------------------------------------------------------------
 
-    @property
-    def holding(self) -> bool:
-        """The table is not over: the group stays GroupMoving even where the path stands."""
-        return self.command.busy
-
     def blocker_status(self) -> tuple[bool, int]:
         blocker = self.blocked_at
         return (blocker is not None, 0 if blocker is None else blocker.blocker_id)
