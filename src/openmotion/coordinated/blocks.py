@@ -26,6 +26,16 @@ from openmotion.coordinated.cam import PathMode
 from openmotion.coordinated.frames import CartesianTransform, Frame
 from openmotion.coordinated.group import AxesGroup
 from openmotion.coordinated.inputs import CoordSystem, TransitionMode, enum_value
+from openmotion.coordinated.path_table import (
+    MC_PATH_DATA_REF,
+    MC_BlockerPreparation,
+    MC_DwellTimePreparation,
+    MC_GroupReadBlockerStatus,
+    MC_MoveCircularAbsolutePreparation,
+    MC_MoveLinearAbsolutePreparation,
+    MC_ReleaseBlocker,
+    MC_SetCoordinateTransformPreparation,
+)
 from openmotion.coordinated.paths import PathData, select_path
 from openmotion.coordinated.states import ExecutionMode
 from openmotion.core.enums import BufferMode
@@ -59,7 +69,13 @@ __all__ = [
     "MC_SetDynCoordTransform", "MC_SyncAxisToGroup", "MC_SyncGroupToAxis",
     "MC_TrackConveyorBelt",
     "MC_TrackRotaryTable", "MC_UngroupAllAxes",
+    # TF5410 §9.3's path tables on the same group (path_table.py)
+    "MC_BlockerPreparation", "MC_DwellTimePreparation", "MC_GroupReadBlockerStatus",
+    "MC_MoveCircularAbsolutePreparation", "MC_MoveLinearAbsolutePreparation",
+    "MC_ReleaseBlocker", "MC_SetCoordinateTransformPreparation",
 ]
+#: the blocks of TF5410 §9.3 that Part 4 does not have (MC_MovePath is both)
+TF5410_PATH_TABLE_BLOCKS = frozenset(__all__[-7:])
 
 _DYNAMICS: dict[str, Any] = {"velocity": MC_DEFAULT, "acceleration": MC_DEFAULT,
                              "deceleration": MC_DEFAULT, "jerk": MC_DEFAULT}
@@ -177,11 +193,15 @@ class MC_PathSelect(_GroupCommand):
 
 
 class MC_MovePath(_Move):
-    """Run ``path_data`` from MC_PathSelect (§5.27): Done at the end of the path."""
+    """Run ``path_data`` from MC_PathSelect (§5.27): Done at the end of the path. With an
+    ``MC_PATH_DATA_REF`` it is TF5410's MC_MovePath (§9.3.1.2.5): the table's rows carry
+    their own dynamics and modes, so the other inputs are not read (path_table.py)."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"path_data": None}
 
     def _issue(self, group: Any) -> Command:  # type: ignore[override]
+        if isinstance(self.path_data, MC_PATH_DATA_REF):
+            return _group(group).move_path_table(self.path_data)
         common = self._common()
         return _group(group).move_path(self.path_data, **common)
 

@@ -61,6 +61,7 @@ from openmotion.trajectory.segments import KinematicState, Profile
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
+    from openmotion.coordinated.path_table import PathTableRun
     from openmotion.runtime.runtime import Runtime
 
 G = AxesGroupState
@@ -112,6 +113,8 @@ class AxesGroup:
         #: commands buffered behind the motion: a Buffered MC_GroupHome or MC_GroupSetPosition
         #: (§5.7, §5.9), and the motions buffered behind those; (command, is_motion, start)
         self._queued: list[tuple[Command, bool, Callable[[], None]]] = []
+        self.table: PathTableRun | None = None  #: TF5410 MC_MovePath over a path table
+        self._feeding = False  #: the table run hands its own segments in (no self-abort)
         runtime.add_system(self)
 
     # -- reading -------------------------------------------------------------------------------
@@ -445,7 +448,7 @@ class AxesGroup:
             if self._home_command is not None or self.state not in (G.STANDBY, G.MOVING):
                 return
             if not is_motion:
-                if not self.motion.finished or self._solo_running():
+                if not self.motion.finished or self._solo_running() or self.table is not None:
                     return
                 if self.state is G.MOVING:
                     self.machine.fire(GroupEvent.MOTION_END)
@@ -493,6 +496,7 @@ class AxesGroup:
 
         def start() -> None:
             self.motion.brake(dec, jerk_value, "aborted by MC_GroupStop")
+            self._end_table("aborted by MC_GroupStop")
             self._home_abort("aborted by MC_GroupStop")
             self.machine.fire(GroupEvent.STOP)
             self._couple()
@@ -517,6 +521,7 @@ class AxesGroup:
             self.machine.fire(GroupEvent.HALT)
             self._couple()
             self.motion.halt(command, dec, jerk_value)
+            self._end_table("aborted by MC_GroupHalt")  # a blocker is released (§9.3.1.2.6)
             if mode is BufferMode.ABORTING:  # a buffered halt keeps what was issued after it
                 self._abort_queued("aborted by MC_GroupHalt")
         return self._after_motion(command, mode, start)
@@ -711,6 +716,85 @@ class AxesGroup:
                           deceleration, jerk, coord_system, buffer_mode, transition_mode,
                           transition_parameter, relative=False)
 
+    def move_path_table(self, path_data: Any) -> Command:
+        """MC_MovePath of TF5410 §9.3.1.2.5: run the rows of an ``MC_PATH_DATA_REF``
+        (coordinated/path_table.py). The first row's BufferMode says whether it aborts what
+        runs (a table that runs included) or follows it; Done when the last row is over."""
+        from openmotion.coordinated.path_table import (
+            MC_PATH_DATA_REF,
+            PathTableRun,
+            Segment,
+            check_rows,
+        )
+        command = self._command("MC_MovePath")
+        try:
+            if not isinstance(path_data, MC_PATH_DATA_REF):
+                raise CommandRejected(ErrorId.INVALID_PATH_GEOMETRY,
+                                      "MC_MovePath needs an MC_PATH_DATA_REF or the PathData "
+                                      "of a Done MC_PathSelect")
+            rows = path_data.rows  # a copy: the table may be cleared while this runs
+            check_rows(self, rows)
+            self.machine.accept("MC_MovePath")
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        first = getattr(rows[0], "buffer_mode", BufferMode.BUFFERED)
+        run = PathTableRun(self, rows, command)
+
+        def start() -> None:
+            self.table = run
+            if self.state is G.STANDBY:
+                self.machine.start("MC_MovePath")
+                self._couple()
+            if first is BufferMode.ABORTING and not isinstance(rows[0], Segment):
+                self._abort_queued("aborted by MC_MovePath")
+                if self.motion.running:  # a blocker or dwell first: brake to it
+                    self.motion.brake(self.dynamics.deceleration, self.dynamics.jerk,
+                                      "aborted by MC_MovePath")
+            run.start()
+        if self.table is not None:
+            if first is not BufferMode.ABORTING:
+                self.table.defer(command, start)
+                return command
+            self._end_table("aborted by MC_MovePath")
+        start()
+        return command
+
+    def release_blocker(self, blocker_id: Any) -> Command:
+        """MC_ReleaseBlocker (TF5410 §9.3.1.2.7): Done at once; UNKNOWN_BLOCKER when the
+        running table has no such blocker ahead."""
+        from openmotion.coordinated.path_table import _blocker_id
+        command = self._command("MC_ReleaseBlocker")
+        try:
+            number = _blocker_id(blocker_id)
+            if self.table is None:
+                raise CommandRejected(ErrorId.UNKNOWN_BLOCKER,
+                                      f"no path table runs: blocker {number} is unknown "
+                                      "(§9.3.1.2.7)")
+            self.table.release(number)
+        except CommandRejected as rejected:
+            return self._reject(command, rejected)
+        return self._finish(command)
+
+    def blocker_status(self) -> tuple[bool, int]:
+        """MC_GroupReadBlockerStatus (TF5410 §9.3.1.2.8): (blocked, blocker id or 0)."""
+        return (False, 0) if self.table is None else self.table.blocker_status()
+
+    @contextmanager
+    def feeding_table(self) -> Iterator[None]:
+        """The path table run hands in its own segments: they do not end it."""
+        self._feeding = True
+        try:
+            yield
+        finally:
+            self._feeding = False
+
+    def _end_table(self, reason: str, error: tuple[ErrorId, str] | None = None) -> None:
+        """A halt, stop, disable, group error or an Aborting motion ends a running path
+        table: MC_MovePath CommandAborted (Error for a group error), blockers released."""
+        table, self.table = self.table, None
+        if table is not None and table.command.busy:
+            table.end(reason, error)
+
     def _path(self, block: str, kind: str, target: Any, circle: Any, velocity: InputValue,
               acceleration: InputValue, deceleration: InputValue, jerk: InputValue,
               coord_system: Any, buffer_mode: Any, transition_mode: Any,
@@ -722,6 +806,11 @@ class AxesGroup:
             request = build_request(self, command, kind, target, circle, velocity,
                                     acceleration, deceleration, jerk, coord_system, buffer_mode,
                                     transition_mode, transition_parameter, relative)
+            if self.table is not None and not self._feeding:  # a path table runs (D-213)
+                if buffer_mode is not BufferMode.ABORTING:
+                    self.table.defer(command, lambda: self._submit(block, request))
+                    return command
+                self._end_table(f"aborted by {block}")
             if self._queued and buffer_mode is not BufferMode.ABORTING:  # behind them
                 self._queued.append((command, True, lambda: self._submit(block, request)))
                 return command
@@ -929,6 +1018,11 @@ class AxesGroup:
         self._check_members()
         if self.state in (G.MOVING, G.STOPPING) or self.motion.running:
             self.motion.advance(now)
+        table = self.table
+        if table is not None:
+            table.step(now)
+            if self.table is table and not table.command.busy:
+                self.table = None
         if self._waiting_syncs:
             self._start_waiting_syncs()
         if self._syncs:
@@ -942,7 +1036,7 @@ class AxesGroup:
         self._run_queued()
         solo = self._solo_running()
         if self.state is G.MOVING and self.motion.finished and self._home_command is None \
-                and not solo:
+                and not solo and self.table is None:
             self.machine.fire(GroupEvent.MOTION_END)
             self._couple()
         elif self.state is G.STANDBY and solo:  # a member's MC_Stop outlasted MC_GroupStop
@@ -1001,6 +1095,8 @@ class AxesGroup:
             return
         keep = []
         for command, wait, apply in self._pending:
+            if not command.busy:  # aborted while it waited (a path table that ended)
+                continue
             if self.motion.all_ended(wait):
                 apply()
                 command._end(CommandStatus.DONE, self._rt.now)

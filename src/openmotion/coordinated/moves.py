@@ -330,6 +330,7 @@ class PathMotion:
     def abort_all(self, reason: str, error: tuple[ErrorId, str] | None = None) -> None:
         """Everything ends now: disable, ungroup, power loss, group error."""
         now = self.group._rt.now
+        self.group._end_table(reason, error)  # a path table ends with it (path_table.py)
         ended = [c.command for c in self.commands]
         if self.waiting is not None:
             ended.append(self.waiting.command)

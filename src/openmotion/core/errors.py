@@ -100,6 +100,13 @@ class ErrorId(IntEnum):
     KINEMATICS_SINGULAR = 0x7502  #: a velocity asked for at a singular pose
     INVALID_CONFIGURATION = 0x7503  #: a kinematic configuration the model does not offer
     INVALID_PATH_GEOMETRY = 0x7504  #: no unique circle, a zero-length segment, no blend possible
+    # TF5410 §9.3 path tables (MC_PATH_DATA_REF and its blocks; ours)
+    PATH_TABLE_FULL = 0x7510  #: the table holds 30 rows, or its buffer is full (§9.3.2.4)
+    PATH_TABLE_EMPTY = 0x7511  #: MC_MovePath over a table without rows
+    INVALID_BLOCKER_ID = 0x7512  #: BlockerId is not a UDINT > 0 (§9.3.1.2.6)
+    UNKNOWN_BLOCKER = 0x7513  #: MC_ReleaseBlocker: no such blocker ahead on the running path
+    INVALID_DWELL_TIME = 0x7514  #: DwellTime is not a time >= 0 (§9.3.1.2.9)
+    INVALID_TRANSITION_PARAMETER = 0x7515  #: too few TransitionParameter values, or not > 0
     # openmotion: axis errors raised by monitoring (0x72xx), these take the axis to ErrorStop
     FOLLOWING_ERROR = 0x7201  #: following error above 1020 for longer than 1021
     SOFT_LIMIT_REACHED = 0x7202  #: a move stopped at an enabled software limit (D-016, D-179)

@@ -26,6 +26,8 @@ from pydantic import (
     AfterValidator,
     Field,
     StrictBool,
+    StrictFloat,
+    StrictInt,
     StrictStr,
     ValidationError,
     model_validator,
@@ -42,6 +44,12 @@ from openmotion.coordinated.kinematics import (
     Kinematics,
     Scara,
 )
+from openmotion.coordinated.path_table import (
+    MAX_ROWS,
+    McCircMode,
+    McCircPathChoice,
+    McTransitionMode,
+)
 from openmotion.coordinated.states import AxesGroupState, ExecutionMode
 from openmotion.core.enums import BufferMode
 from openmotion.core.errors import ConfigError
@@ -54,6 +62,7 @@ from openmotion.scenario.schema import (
     Identifier,
     InputValue,
     Number,
+    Seconds,
     _check_axis,
     _enum_by_name,
     _Model,
@@ -723,12 +732,138 @@ class SyncGroupToAxis(AxesGroupEntry):
         return arguments
 
 
+# -- TF5410 §9.3 path tables (coordinated/path_table.py) -----------------------------------
+
+McTransitionModeName = _enum_by_name(McTransitionMode)
+McCircModeName = _enum_by_name(McCircMode)
+McCircPathChoiceName = _enum_by_name(McCircPathChoice)
+
+
+class _RowDynamics(_Model):
+    velocity: Annotated[StrictFloat, Field(gt=0.0, allow_inf_nan=False)]
+    """[mm/s], > 0 (no default, §9.3.1.2.3)."""
+    acceleration: InputValue = MC_DEFAULT
+    """[mm/s²], >= 1, or MC_DEFAULT / MC_MAXIMUM."""
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³], >= 100, or MC_DEFAULT / MC_MAXIMUM (100 x the default)."""
+    buffer_mode: BufferModeName = BufferMode.BUFFERED
+    """buffered (with transition_mode none), blending_previous (with a corner mode), or
+    aborting (the first row only)."""
+    transition_mode: McTransitionModeName = McTransitionMode.NONE  # type: ignore[valid-type]
+    """none, corner_distance (one parameter) or corner_distance_advanced (r_in, r_out)."""
+    transition_parameter: list[Number] | None = None
+    """[mm]."""
+    invoke_id: Annotated[StrictInt, Field(ge=0)] = 0
+    """Segment id, for analysis."""
+
+
+class LinearRowSpec(_RowDynamics):
+    """MC_MoveLinearAbsolutePreparation's inputs (§9.3.1.2.3)."""
+
+    position: Position
+    """One value per MCS coordinate, in the frame in force at this row."""
+
+
+class CircularRowSpec(_RowDynamics):
+    """MC_MoveCircularAbsolutePreparation's inputs (§9.3.1.2.4)."""
+
+    circ_mode: McCircModeName  # type: ignore[valid-type]
+    """border, center or radius."""
+    aux_point: Annotated[list[Number], Field(min_length=3, max_length=3)]
+    """x, y, z: a point on the arc, the centre, or the plane normal (its length the radius)."""
+    end_point: Position
+    """The arc's end."""
+    path_choice: McCircPathChoiceName = (  # type: ignore[valid-type]
+        McCircPathChoice.COUNTERCLOCKWISE)
+    """clockwise, counterclockwise, short_segment, long_segment."""
+
+
+class BlockerRowSpec(_Model):
+    """MC_BlockerPreparation's inputs (§9.3.1.2.6)."""
+
+    blocker_id: Annotated[StrictInt, Field(gt=0)]
+    """> 0; release_blocker with this id lets the path go on."""
+    buffer_mode: BufferModeName = BufferMode.BUFFERED
+    """buffered, or aborting (the first row only)."""
+    invoke_id: Annotated[StrictInt, Field(ge=0)] = 0
+
+
+class DwellRowSpec(_Model):
+    """MC_DwellTimePreparation's inputs (§9.3.1.2.9)."""
+
+    dwell_time: Seconds
+    """[s] >= 0; 0 still stops the path exactly."""
+    buffer_mode: BufferModeName = BufferMode.BUFFERED
+    """buffered, or aborting (the first row only)."""
+    invoke_id: Annotated[StrictInt, Field(ge=0)] = 0
+
+
+class PathRowSpec(_Model):
+    """One row of a path table: exactly one of its kinds."""
+
+    linear: LinearRowSpec | None = None
+    circular: CircularRowSpec | None = None
+    blocker: BlockerRowSpec | None = None
+    dwell: DwellRowSpec | None = None
+    coord_transform: Annotated[list[Number], Field(min_length=6, max_length=6)] | None = None
+    """MC_SetCoordinateTransformPreparation (§9.3.1.1.10): the frame of the rows after it,
+    six values (trans_x, trans_y, trans_z [mm], rot_x, rot_y, rot_z [°]); zeros: the MCS."""
+
+    @model_validator(mode="after")
+    def _one_kind(self) -> PathRowSpec:
+        given = [name for name in ROW_KINDS if getattr(self, name) is not None]
+        if len(given) != 1:
+            raise ValueError(f"give exactly one of {', '.join(ROW_KINDS)}")
+        return self
+
+    @property
+    def kind(self) -> str:
+        return next(name for name in ROW_KINDS if getattr(self, name) is not None)
+
+    def inputs(self) -> dict[str, Any]:
+        """The preparation block's inputs (enums as members)."""
+        value = getattr(self, self.kind)
+        if self.kind == "coord_transform":
+            return {"coord_transform": list(value)}
+        return {name: getattr(value, name) for name in type(value).model_fields}
+
+
+ROW_KINDS = ("linear", "circular", "blocker", "dwell", "coord_transform")
+
+
+class MovePathTable(AxesGroupEntry):
+    """TF5410 §9.3: the *Preparation blocks append ``rows`` to a fresh MC_PATH_DATA_REF (as
+    after ClearPath), then MC_MovePath runs it, all in one cycle. A row a block refuses
+    fails the entry with its error (the command column names the block)."""
+
+    method = "move_path_table"
+    command: Literal["move_path_table"]
+    rows: Annotated[list[PathRowSpec], Field(min_length=1, max_length=MAX_ROWS)]
+    """The table: ``{linear: {...}}``, ``{circular: {...}}``, ``{blocker: {blocker_id}}``,
+    ``{dwell: {dwell_time}}``, ``{coord_transform: [six values]}``."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {}
+
+
+class ReleaseBlocker(AxesGroupEntry):
+    """MC_ReleaseBlocker (TF5410 §9.3.1.2.7): the blocker the path stands at, or the next
+    one ahead with this id; Done at once, UNKNOWN_BLOCKER if there is none."""
+
+    method = "release_blocker"
+    command: Literal["release_blocker"]
+    blocker_id: Annotated[StrictInt, Field(gt=0)]
+    """The blocker's id."""
+
+
 COORDINATED_ENTRIES: tuple[type, ...] = (
     MoveLinearAbsolute, MoveLinearRelative, MoveCircularAbsolute, MoveCircularRelative,
     MoveDirectAbsolute, MoveDirectRelative, MovePath, GroupInterrupt, GroupContinue,
     GroupSetOverride, GroupHome, GroupSetPosition, SetKinematics, SetCartesianTransform,
     TrackConveyorBelt, TrackRotaryTable, SetDynCoordTransform, SyncAxisToGroup,
-    SyncGroupToAxis)
+    SyncGroupToAxis, MovePathTable, ReleaseBlocker)
 #: the axes-group entries by their ``command`` (schema.TIMELINE_COMMANDS holds them all)
 COORDINATED_COMMANDS: dict[str, type] = {
     get_args(model.model_fields["command"].annotation)[0]: model

@@ -4,8 +4,9 @@ The run builds each group of ``axes_groups``, adds its axes in the listed order 
 1..n), gives it its kinematics and first Cartesian transform and, with ``enable``, powers the
 members and enables it before the first cycle. Entries call the ``AxesGroup`` methods; a
 ``move_path`` entry calls ``select_path`` first (MC_PathSelect) and hands its PathData to
-``move_path``. A ``group_stop`` keeps the group Stopping until its ``hold`` is over, as for
-CA groups.
+``move_path``; a ``move_path_table`` entry fills a path table with the TF5410 preparation
+blocks and runs it with MC_MovePath. A ``group_stop`` keeps the group Stopping until its
+``hold`` is over, as for CA groups.
 """
 
 from __future__ import annotations
@@ -16,6 +17,14 @@ from typing import TYPE_CHECKING
 
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.coordinated.group import AxesGroup
+from openmotion.coordinated.path_table import (
+    MC_PATH_DATA_REF,
+    MC_BlockerPreparation,
+    MC_DwellTimePreparation,
+    MC_MoveCircularAbsolutePreparation,
+    MC_MoveLinearAbsolutePreparation,
+    MC_SetCoordinateTransformPreparation,
+)
 from openmotion.coordinated.paths import select_path
 from openmotion.coordinated.states import AxesGroupState
 from openmotion.core.errors import CommandRejected, ConfigError
@@ -25,6 +34,7 @@ from openmotion.scenario.coordinated import (
     AxesGroupEntry,
     AxesGroupSpec,
     MovePath,
+    MovePathTable,
     SyncGroupToAxis,
     frame_of,
 )
@@ -98,6 +108,8 @@ class AxesGroups:
             arguments[name] = rt.axes[arguments[name]]
         for name in entry.group_fields:
             arguments[name] = self.groups[arguments[name]]
+        if isinstance(entry, MovePathTable):
+            return _move_path_table(group, entry)
         if isinstance(entry, MovePath | SyncGroupToAxis):
             select = entry.select
             try:
@@ -155,6 +167,27 @@ class AxesGroups:
                              *(read_group_signal(group, prop) for prop in "xyz"),
                              tuple((axis.name, axis.set_position) for axis in group.axes))
                 for name, group in self.groups.items()]
+
+
+#: the TF5410 §9.3 block that appends each kind of path-table row
+_PREPARATIONS: dict[str, type] = {
+    "linear": MC_MoveLinearAbsolutePreparation, "circular": MC_MoveCircularAbsolutePreparation,
+    "blocker": MC_BlockerPreparation, "dwell": MC_DwellTimePreparation,
+    "coord_transform": MC_SetCoordinateTransformPreparation}
+
+
+def _move_path_table(group: AxesGroup, entry: MovePathTable) -> Command:
+    """The preparation blocks fill a fresh table, MC_MovePath runs it (TF5410 §9.3)."""
+    table = MC_PATH_DATA_REF()
+    for number, row in enumerate(entry.rows, start=1):
+        block = _PREPARATIONS[row.kind]()
+        block(table, **row.inputs())
+        if block.error:
+            command = Command(type(block).__name__, group._rt.now)
+            command._end(CommandStatus.ERROR, group._rt.now, block.error_id,
+                         f"row {number}: {block.message}")
+            return command
+    return group.move_path_table(table)
 
 
 def _set_up(spec: AxesGroupSpec, command: Command) -> None:

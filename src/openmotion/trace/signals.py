@@ -55,7 +55,7 @@ PLANAR_MOVER_SIGNALS = ("x", "y", "z", "a", "b", "c", "velocity", "state", "coor
                         "track", "s")
 #: An axes group's signals (Part 4): its TCP's set position x, y, z in the MCS [mm], the path
 #: velocity and acceleration of its time law [mm/s, mm/s²] and its AxesGroupState number.
-GROUP_SIGNALS = ("x", "y", "z", "path_velocity", "path_acceleration", "state")
+GROUP_SIGNALS = ("x", "y", "z", "path_velocity", "path_acceleration", "state", "blocker_id")
 #: What a scenario records of each axes group when it names no signals.
 DEFAULT_GROUP_SIGNALS = ("x", "y", "z", "path_velocity")
 _WHOLE_SIGNALS = frozenset({"state", "homed", "axis_error_id"})
@@ -147,9 +147,12 @@ def read_group_signal(group: AxesGroup, prop: str) -> float:
     """One signal of an axes group: ``x``, ``y``, ``z`` (the TCP's set position in the MCS;
     0 for a coordinate its kinematics lacks, NaN without members), ``path_velocity`` and
     ``path_acceleration`` (of its time law, along the path in the frame the path runs in:
-    0 while the TCP only rides on a moving PCS), ``state`` (the AxesGroupState number)."""
+    0 while the TCP only rides on a moving PCS), ``state`` (the AxesGroupState number),
+    ``blocker_id`` (MC_GroupReadBlockerStatus: the blocker the path stands at, 0: none)."""
     if prop == "state":
         return float(group.state)
+    if prop == "blocker_id":
+        return float(group.blocker_status()[1])
     if prop in ("path_velocity", "path_acceleration"):
         return float(getattr(group.motion, prop))
     if not group.members:
