@@ -26,12 +26,23 @@ from pydantic import (
     AfterValidator,
     Field,
     StrictBool,
+    StrictInt,
     StrictStr,
     ValidationError,
     model_validator,
 )
 from pydantic_core import InitErrorDetails, PydanticCustomError
 
+from openmotion.axis.commands import Command
+from openmotion.coordinated.blocks import (
+    MC_GroupReadActualAcceleration,
+    MC_GroupReadActualPosition,
+    MC_GroupReadActualVelocity,
+    MC_GroupReadConfiguration,
+    MC_ReadCartesianTransform,
+    MC_ReadCoordinateTransform,
+    MC_ReadKinTransform,
+)
 from openmotion.coordinated.cam import PathMode
 from openmotion.coordinated.frames import CartesianTransform, Frame
 from openmotion.coordinated.inputs import CoordSystem, PathDynamics, TransitionMode
@@ -47,6 +58,7 @@ from openmotion.core.enums import BufferMode
 from openmotion.core.errors import ConfigError
 from openmotion.core.special_values import MC_DEFAULT
 from openmotion.geometry.path import CircMode, PathChoice
+from openmotion.scenario.queries import Query, block_query, query_command
 from openmotion.scenario.schema import (
     _NAMES,
     BufferModeName,
@@ -723,12 +735,153 @@ class SyncGroupToAxis(AxesGroupEntry):
         return arguments
 
 
+class SetCoordinateTransform(AxesGroupEntry):
+    """MC_SetCoordinateTransform (§5.8.3): place the PCS in the MCS, replacing the transforms
+    active before (set_cartesian_transform composes with them)."""
+
+    method = "set_coordinate_transform"
+    command: Literal["set_coordinate_transform"]
+    frame: Transform
+    """Six values: trans_x, trans_y, trans_z [mm], rot_angle1, rot_angle2, rot_angle3 [°]."""
+    mode: ExecutionModeName = ExecutionMode.IMMEDIATELY  # type: ignore[valid-type]
+    """immediately, delayed or queued."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"frame": frame_of(self.frame), "mode": self.mode}
+
+
+# -- reads: the Part 4 read blocks called once (scenario/queries.py) ----------------------------
+
+
+class _GroupRead(AxesGroupEntry, Query):
+    """A Part 4 read block called once with Enable TRUE on the group."""
+
+    method = ""
+    block_type: ClassVar[Any]  #: the block class
+
+    def inputs(self) -> dict[str, Any]:
+        return {}
+
+    def call(self, target: Any, now: float) -> Command:
+        group, _ = target
+        block = self.block_type(group)
+        block(enable=True, **self.inputs())
+        return block_query(self.command, now, block, self.names())
+
+    def names(self) -> tuple[str, ...]:
+        """The block outputs the row keeps."""
+        return tuple(name.rstrip("_") for name in self.outputs)
+
+
+class _ReadIn(_GroupRead):
+    coord_system: CoordSystemName = CoordSystem.ACS  # type: ignore[valid-type]
+    """acs (one value per member, IdentInGroup order), mcs or pcs (x, y, z, a, b, c as the
+    kinematics has them)."""
+
+    def inputs(self) -> dict[str, Any]:
+        return {"coord_system": self.coord_system}
+
+
+class GroupReadActualPosition(_ReadIn):
+    """MC_GroupReadActualPosition (§5.10): outputs position_1, position_2 ..."""
+
+    block_type = MC_GroupReadActualPosition
+    command: Literal["group_read_actual_position"]
+    outputs = ("position_",)
+
+
+class GroupReadActualVelocity(_ReadIn):
+    """MC_GroupReadActualVelocity (§5.11): velocity_1 ... and path_velocity [mm/s]."""
+
+    block_type = MC_GroupReadActualVelocity
+    command: Literal["group_read_actual_velocity"]
+    outputs = ("velocity_", "path_velocity")
+
+
+class GroupReadActualAcceleration(_ReadIn):
+    """MC_GroupReadActualAcceleration (§5.12): acceleration_1 ... and path_acceleration."""
+
+    block_type = MC_GroupReadActualAcceleration
+    command: Literal["group_read_actual_acceleration"]
+    outputs = ("acceleration_", "path_acceleration")
+
+
+class GroupReadConfiguration(_ReadIn):
+    """MC_GroupReadConfiguration (§5.4): output ``axis`` (the member's name, or the MCS/PCS
+    coordinate as ``<group>.MCS.x``) and its ``position`` now."""
+
+    block_type = MC_GroupReadConfiguration
+    command: Literal["group_read_configuration"]
+    outputs = ("axis", "position")
+    ident_in_group: Annotated[StrictInt, Field(ge=0)]
+    """acs: the member's IdentInGroup; mcs, pcs: the coordinate, 1-based (x = 1)."""
+
+    def inputs(self) -> dict[str, Any]:
+        return {"coord_system": self.coord_system, "ident_in_group": self.ident_in_group}
+
+    def call(self, target: Any, now: float) -> Command:
+        group, _ = target
+        block = self.block_type(group)
+        block(enable=True, **self.inputs())
+        if block.error:
+            return block_query(self.command, now, block)
+        ref = block.axis_ref  # an Axis, or a CoordinateView named <group>.MCS.x
+        return query_command(self.command, now, {"axis": ref.name, "position": ref.position})
+
+
+class ReadKinTransform(_GroupRead):
+    """MC_ReadKinTransform (§5.8.4): output ``kin_transform``, the model in force (a text)."""
+
+    block_type = MC_ReadKinTransform
+    command: Literal["read_kin_transform"]
+    outputs = ("kin_transform",)
+
+    def call(self, target: Any, now: float) -> Command:
+        group, _ = target
+        block = self.block_type(group)
+        block(enable=True)
+        if block.error:
+            return block_query(self.command, now, block)
+        return query_command(self.command, now,
+                             {"kin_transform": type(block.kin_transform).__name__})
+
+
+class ReadCartesianTransform(_GroupRead):
+    """MC_ReadCartesianTransform (§5.8.5): trans_x, trans_y, trans_z [mm], rot_x, rot_y,
+    rot_z [°] of the PCS in force."""
+
+    block_type = MC_ReadCartesianTransform
+    command: Literal["read_cartesian_transform"]
+    outputs = ("trans_x", "trans_y", "trans_z", "rot_x", "rot_y", "rot_z")
+
+
+class ReadCoordinateTransform(_GroupRead):
+    """MC_ReadCoordinateTransform (§5.8.6): the Frame in force (the moving one while
+    tracking) as its six values trans_x ... rot_z."""
+
+    block_type = MC_ReadCoordinateTransform
+    command: Literal["read_coordinate_transform"]
+    outputs = ("trans_x", "trans_y", "trans_z", "rot_x", "rot_y", "rot_z")
+
+    def call(self, target: Any, now: float) -> Command:
+        group, _ = target
+        block = self.block_type(group)
+        block(enable=True)
+        if block.error:
+            return block_query(self.command, now, block)
+        return query_command(self.command, now,
+                             dict(zip(self.outputs, block.coord_transform.cartesian(),
+                                      strict=True)))
+
+
 COORDINATED_ENTRIES: tuple[type, ...] = (
     MoveLinearAbsolute, MoveLinearRelative, MoveCircularAbsolute, MoveCircularRelative,
     MoveDirectAbsolute, MoveDirectRelative, MovePath, GroupInterrupt, GroupContinue,
     GroupSetOverride, GroupHome, GroupSetPosition, SetKinematics, SetCartesianTransform,
     TrackConveyorBelt, TrackRotaryTable, SetDynCoordTransform, SyncAxisToGroup,
-    SyncGroupToAxis)
+    SyncGroupToAxis, SetCoordinateTransform, GroupReadActualPosition, GroupReadActualVelocity,
+    GroupReadActualAcceleration, GroupReadConfiguration, ReadKinTransform,
+    ReadCartesianTransform, ReadCoordinateTransform)
 #: the axes-group entries by their ``command`` (schema.TIMELINE_COMMANDS holds them all)
 COORDINATED_COMMANDS: dict[str, type] = {
     get_args(model.model_fields["command"].annotation)[0]: model

@@ -30,6 +30,7 @@ from openmotion.scenario.planar import PLANAR_ENTRIES
 from openmotion.scenario.planar_machine import PlanarMachine, PlanarMoverRow, planar_table
 from openmotion.scenario.planar_tracks import PlanarTrackRow, riders_table, track_table
 from openmotion.scenario.programs import BlockPrograms, cycle_of
+from openmotion.scenario.queries import outputs_text, pick
 from openmotion.scenario.schema import (
     AbortTrigger,
     CommandCheck,
@@ -276,6 +277,8 @@ def _value_of(command: Command | None) -> float | None:
     """The command's numeric result value, if any: a touch_probe's recorded position, the
     actual distance of a move_superimposed (whose value is (velocity diff, distance, length))."""
     value = None if command is None else command.value
+    if isinstance(value, dict):  # a query's outputs: a check names one (``output``)
+        return None
     if isinstance(value, tuple) and len(value) == _SUPERPOSITION_VALUES:
         value = value[1]
     if isinstance(value, int | float) and not isinstance(value, bool):
@@ -292,6 +295,8 @@ def _value_detail(command: Command | None) -> str:
     value = None if command is None else command.value
     if isinstance(value, str):
         return value
+    if isinstance(value, dict):
+        return outputs_text(value, _number)
     if isinstance(value, tuple) and len(value) == _SUPERPOSITION_VALUES:
         velocity_diff, distance, length = (_number(float(part)) for part in value)
         return f"distance {distance}, velocity diff {velocity_diff}, length {length}"
@@ -378,7 +383,7 @@ class _Run:
         if isinstance(entry, PLANAR_ENTRIES):
             self._issued(index, entry, self.planar.issue(entry))
             return
-        axis = self.rt.axes[entry.axis]
+        axis = self.rt.axes.get(entry.axis)  # none for get_version
         arguments = entry.arguments()
         for name in entry.axis_fields:
             arguments[name] = self.rt.axes[arguments[name]]
@@ -599,7 +604,10 @@ class _CheckState:
         if ok and check.error_id is not None:
             ok = command is not None and command.error_id == check.error_id
         if check.value is not None:
-            value = _value_of(command)
+            value = _value_of(command) if check.output is None else \
+                pick(command.value if command is not None else None, check.output)
+            if value is None and check.output is not None:
+                return False, f"{detail}, no output {check.output}"
             if value is None:
                 return False, f"{detail}, no value"
             detail += f" {_number(value)}"
@@ -619,7 +627,8 @@ class _CheckState:
                 {"end": "at end", "always": "always"}[check.at]
         if isinstance(check, CommandCheck):
             error = f" {check.error_id.name}" if check.error_id is not None else ""
-            value = "" if check.value is None else f" value {check.value:.15g}" + (
+            output = "" if check.output is None else f" {check.output}"
+            value = "" if check.value is None else f"{output} value {check.value:.15g}" + (
                 f" ± {check.tolerance:.15g}" if check.tolerance else "")
             return f"{check.command} {check.result}{error}{value} {when}"
         parts = []

@@ -72,6 +72,7 @@ from openmotion.core.special_values import (
     SPECIAL_VALUES,
     SpecialValue,
 )
+from openmotion.scenario.queries import Query
 from openmotion.trace.record import AXIS_SIGNALS, MOVER_SIGNALS, default_signals, split_signal
 from openmotion.transport.enums import GroupState
 
@@ -390,6 +391,9 @@ class _Model(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True,
                               arbitrary_types_allowed=True)
+    blocks: ClassVar[tuple[str, ...]] = ()  #: the blocks (``MC_Power``) and methods
+    #: (``MC_PlanarTrack.append_line``) this part of a file reaches (scenario/coverage.py)
+    outputs: ClassVar[tuple[str, ...]] = ()  #: a query entry's outputs (queries.py)
 
 
 class _ParametersBase(_Model):
@@ -817,6 +821,7 @@ class MoveSuperimposed(Entry):
     """
 
     method = "move_superimposed"
+    blocks = ("MC_MoveSuperImposed", "MC_MoveSuperImposedExt")  #: Ext: the mode input
     command: Literal["move_superimposed"]
     distance: InputValue
     """Additional distance [mm or °], != 0; its sign gives the direction."""
@@ -857,6 +862,7 @@ from openmotion.scenario.coordinated import (  # noqa: E402 - needs Entry and th
 # The entries that a function block carries out (jog, external setpoints, override filter,
 # stepper, reference flag) build on Entry above; they live in their own module.
 from openmotion.scenario.cyclic import (  # noqa: E402 - needs Entry and the types above
+    CALL_ENTRIES,
     DisableExternalSetpoints,
     EnableExternalSetpoints,
     InjectStall,
@@ -882,6 +888,7 @@ from openmotion.scenario.planar_parts import part_oids  # noqa: E402 - as planar
 
 # CA groups (TF5410): the ca_groups list and the entries on movers and groups.
 from openmotion.scenario.transport import (  # noqa: E402 - needs Entry and the types above
+    GROUP_CALL_ENTRIES,
     ActivateTrack,
     CaGroupSpec,
     GearInPosCa,
@@ -908,7 +915,7 @@ COMMANDS: dict[str, type[Entry]] = {
                   ReleaseStall, SetReferenceFlag, ReadAxisComponents, MoveAbsoluteCa,
                   MoveRelativeCa, GearInPosCa, HaltCa, ActivateTrack, RegisterCompensation,
                   SetGap, GroupHalt, GroupStop, GroupEnable, GroupDisable,
-                  GroupReset)  # type: ignore[misc]
+                  GroupReset, *CALL_ENTRIES, *GROUP_CALL_ENTRIES)  # type: ignore[misc]
 }
 #: every timeline entry's model by its ``command``: COMMANDS (on axes, CA movers and groups),
 #: the planar ones (on planar movers and groups) and the axes-group ones
@@ -1029,11 +1036,29 @@ class CommandCheck(_Check):
     move_superimposed's actual distance."""
     tolerance: Annotated[StrictFloat, Field(ge=0.0)] = 1e-9
     """Allowed |value - expected value|."""
+    output: StrictStr | None = None
+    """With ``value``: the output of a query entry to compare (read_status: standstill,
+    group_read_actual_position: position_1 ...; scenario/queries.py, D-218)."""
 
     @model_validator(mode="after")
     def _tolerance_with_value(self) -> CommandCheck:
         if self.value is None and "tolerance" in self.model_fields_set:
             raise ValueError("'tolerance' needs 'value'")
+        if self.output is not None and self.value is None:
+            raise ValueError("'output' needs 'value'")
+        names = _NAMES.get()
+        model = TIMELINE_COMMANDS.get(names.commands.get(self.command)) \
+            if names is not None and isinstance(names.commands.get(self.command), str) else None
+        if model is not None and self.output is not None:
+            if not issubclass(model, Query):
+                raise ValueError(f"output: {self.command!r} is no query entry (read_status, "
+                                 "get_length ...), it has no outputs")
+            if not model.has_output(self.output):
+                raise ValueError(f"output: {self.command!r} has no output {self.output!r} "
+                                 f"(outputs: {', '.join(model.outputs) or 'none'})")
+        elif model is not None and issubclass(model, Query) and self.value is not None:
+            raise ValueError(f"value: {self.command!r} is a query; name the output to "
+                             f"compare in 'output' (outputs: {', '.join(model.outputs)})")
         return self
 
 
