@@ -100,6 +100,8 @@ class _Names:
     #: track -> its raw (starts_from, ends_at, closed_loop): the links a trail must follow
     track_links: dict[str, tuple[object, object, object]] = dataclasses.field(
         default_factory=dict)
+    #: the axes that add_axis_to_group entries add to a CA group (movers from then on)
+    added: set[str] = dataclasses.field(default_factory=set)
 
     @classmethod
     def of(cls, data: object) -> _Names:
@@ -134,7 +136,11 @@ class _Names:
                    names("axes_groups", "name"), group_axes, names("tracks", "name", planar),
                    {item["name"]: (item.get("starts_from"), item.get("ends_at"),
                                    item.get("closed_loop")) for item in items("tracks", planar)
-                    if isinstance(item.get("name"), str)})
+                    if isinstance(item.get("name"), str)},
+                   {item["axis"] for item in items("timeline")
+                    if item.get("command") == "add_axis_to_group"
+                    and isinstance(item.get("axis"), str)
+                    and item.get("group") in names("ca_groups", "name")})
 
 
 _NAMES: ContextVar[_Names | None] = ContextVar("openmotion_scenario_names", default=None)
@@ -149,10 +155,11 @@ def _check_axis(name: str) -> str:
 
 
 def _check_mover(name: str) -> str:
-    """An axis that one of the ``ca_groups`` lists."""
+    """An axis that one of the ``ca_groups`` lists, or that an add_axis_to_group entry adds
+    to one."""
     _check_axis(name)
     names = _NAMES.get()
-    if names is not None and name not in names.members:
+    if names is not None and name not in names.members and name not in names.added:
         raise ValueError(f"{name!r} is in no CA group (ca_groups[].axes)")
     return name
 
