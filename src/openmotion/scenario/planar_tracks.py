@@ -175,8 +175,6 @@ class TrackLinkSpec(_Model):
     """The options of StartFromTrackAdvanced / EndAtTrackAdvanced (§7.2.1.2.14,
     §7.2.1.2.5, §6.2.13): for which part positions a link across parts is built."""
 
-    blocks = ("MC_PlanarTrack.start_from_track_advanced", "MC_PlanarTrack.end_at_track_advanced")
-
     this_track_part_position_index: Annotated[StrictInt, Field(ge=0)] = 0
     """The position of this track's part the link is built for (1-based; 0: the active
     one)."""
@@ -194,6 +192,7 @@ class TrackSpec(_Model):
     """One MC_PlanarTrack (§6.2): its links and geometry, and its init parameters."""
 
     blocks = ("MC_PlanarTrack.start_from_track", "MC_PlanarTrack.end_at_track",
+              "MC_PlanarTrack.start_from_track_advanced", "MC_PlanarTrack.end_at_track_advanced",
               "MC_PlanarTrack.close_loop", "MC_PlanarTrack.enable", "MC_PlanarTrack.update")
 
     name: Annotated[Identifier, _unique("planar_tracks"), AfterValidator(_own_track_name)]
