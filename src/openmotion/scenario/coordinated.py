@@ -574,6 +574,9 @@ class GroupSetPosition(AxesGroupEntry):
     """Add ``position`` to the present coordinates."""
     coord_system: CoordSystemName = CoordSystem.ACS  # type: ignore[valid-type]
     """acs, mcs or pcs."""
+    buffer_mode: BufferModeName = BufferMode.ABORTING
+    """aborting (at rest only) or buffered (the blending modes act as buffered): after the
+    motion issued before (D-130)."""
 
 
 class SetKinematics(AxesGroupEntry):

@@ -39,7 +39,7 @@ from openmotion.scenario.cyclic import (
     SetReferenceFlag,
     _Call,
 )
-from openmotion.scenario.schema import Condition
+from openmotion.scenario.schema import Condition, ProbeSpec
 
 Holds = Callable[[Condition], bool]  #: the run's condition test
 
@@ -239,6 +239,31 @@ def components_text(components: dict[str, dict]) -> str:
             f" {lag}")
 
 
+class CamProgram(Program):
+    """MC_Home's bCalibrationCam driven by the PLC (TcMC §3.14): the axis' ``cam_input`` is
+    the level of ``spec`` every cycle until the homing command ends, then None again."""
+
+    keeps_running: ClassVar[bool] = False  #: the homing command keeps the run going
+
+    def __init__(self, rt: Runtime, axis: Axis, spec: ProbeSpec) -> None:
+        super().__init__(Command("calibration_cam", rt.now))
+        self.rt, self.axis, self.spec = rt, axis, spec
+        self.homing: Command | None = None
+        self()
+
+    def follow(self, homing: Command) -> None:
+        self.homing = homing
+
+    def __call__(self) -> bool:
+        if self.homing is not None and self.homing.finished:
+            self.axis.cam_input = None
+            return False
+        p, t = self.axis.position - self.axis.raw_offset, self.rt.now
+        spans, at = (self.spec.times, t) if self.spec.times else (self.spec.positions, p)
+        self.axis.cam_input = any(lo <= at < hi for lo, hi in spans)
+        return True
+
+
 class BlockPrograms:
     """The running programs of one run, and the stepper terminals of its axes (one per axis).
 
@@ -317,6 +342,12 @@ class BlockPrograms:
         if entry.id is not None:
             self.restartable[entry.id] = block
         return block.command  # type: ignore[return-value] - an edge always leaves one
+
+    def cam(self, axis: Axis, spec: ProbeSpec) -> CamProgram:
+        """Drive the axis' calibration cam input from ``spec`` while a homing runs."""
+        program = CamProgram(self.rt, axis, spec)
+        self.running.append(program)
+        return program
 
     def terminal(self, axis: Axis) -> StepperTerminal:
         """The axis' simulated stepper terminal, attached at its first use."""

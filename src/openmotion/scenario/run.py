@@ -36,6 +36,8 @@ from openmotion.scenario.schema import (
     CommandCheck,
     Condition,
     Entry,
+    Home,
+    PlcEvent,
     Power,
     PowerOff,
     Scenario,
@@ -392,6 +394,10 @@ class _Run:
         elif isinstance(entry, TouchProbe):
             label = self.entries[index][0]
             command = arm_probe(axis, self.trigger_inputs[label], **arguments)
+        elif isinstance(entry, PlcEvent):  # the PLC writes TriggerInput.PlcEvent
+            command = Command(entry.command, self.rt.now)
+            self.trigger_inputs[entry.probe].plc_event = entry.value
+            command._end(CommandStatus.DONE, self.rt.now)
         elif isinstance(entry, AbortTrigger):  # as MC_AbortTrigger: Done, armed or not
             command = Command(entry.command, self.rt.now)
             abort_probe(self.trigger_inputs[entry.probe], self.rt.now)
@@ -400,12 +406,21 @@ class _Run:
         elif isinstance(entry, Power | PowerOff):
             command = Command(entry.command, self.rt.now)
             on = axis.power(**arguments)
-            if on == arguments.get("enable", True):
+            override = axis.set_override(entry.override) \
+                if isinstance(entry, Power) and entry.override is not None else None
+            if override is not None and override.error:
+                command.status, command.error_id = CommandStatus.ERROR, override.error_id
+                command.message = override.message
+            elif on == arguments.get("enable", True):
                 command.status = CommandStatus.DONE
             else:
                 command.status, command.error_id = CommandStatus.ERROR, ErrorId.DRIVE_NOT_READY
                 command.message = "the drive is not ready"
             command.ended_at = self.rt.now
+        elif isinstance(entry, Home) and entry.calibration_cam is not None:
+            cam = self.blocks.cam(axis, entry.calibration_cam)  # wired before the edge
+            command = axis.home(**arguments)
+            cam.follow(command)
         else:
             command = getattr(axis, entry.method)(**arguments)
         self._issued(index, entry, command)

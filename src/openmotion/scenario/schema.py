@@ -54,7 +54,7 @@ from pydantic_core import InitErrorDetails, PydanticCustomError
 
 from openmotion.axis.drive import DriveModel
 from openmotion.axis.parameters import AxisParameters
-from openmotion.axis.probe import InputRef, ProbeSignal, SignalEdge
+from openmotion.axis.probe import InputRef, ProbeSignal, SignalEdge, TouchProbeSource
 from openmotion.axis.probe import _intervals as _probe_intervals
 from openmotion.core.enums import (
     AxisState,
@@ -546,6 +546,12 @@ class Power(Entry):
     """Feed enable in positive direction."""
     enable_negative: StrictBool = True
     """Feed enable in negative direction."""
+    override: Number | None = None
+    """MC_Power's Override [%], 0-100, written as MC_SetOverride does; default: left as it
+    is (100 at the start). A value outside 0-100 ends the entry with INVALID_OVERRIDE."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"enable_positive": self.enable_positive, "enable_negative": self.enable_negative}
 
 
 class PowerOff(Entry):
@@ -700,6 +706,13 @@ class Home(Entry):
     command: Literal["home"]
     position: InputValue = DEFAULT_HOME_POSITION
     """Reference position; default: the axis' calibration_value."""
+    calibration_cam: ProbeSpec | None = None
+    """MC_Home's bCalibrationCam as the PLC wires it: TRUE inside ``positions`` (of the
+    machine position) or ``times``, every cycle while the homing runs; default: the axis'
+    simulated cam (its reference_cam parameter)."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"position": self.position}
 
 
 class GearIn(Entry):
@@ -787,6 +800,10 @@ class TouchProbe(Entry):
 
     method = "arm_probe"
     command: Literal["touch_probe"]
+    touch_probe: _enum_by_name(TouchProbeSource) = (  # type: ignore[valid-type]
+        TouchProbeSource.TOUCH_PROBE_1)
+    """The trigger: touch_probe_1 (the axis' ``probe`` input) or plc_event (a plc_event
+    entry's rising edge); touch_probe_2 to 4 fail (unsupported, §6.3)."""
     edge: _enum_by_name(SignalEdge) = SignalEdge.RISING  # type: ignore[valid-type]
     """rising or falling."""
     window_only: StrictBool = False
@@ -804,7 +821,25 @@ class TouchProbe(Entry):
 
     def trigger_input(self) -> InputRef:
         """A fresh MC_InputRef for this entry (TouchProbe1, the entry's edge)."""
-        return InputRef(edge=self.edge, modulo_positions=self.modulo_positions)
+        return InputRef(touch_probe=self.touch_probe, edge=self.edge,
+                        modulo_positions=self.modulo_positions)
+
+
+class PlcEvent(Entry):
+    """MC_TouchProbe's TriggerInput.PlcEvent (TcMC §4.21, §6.3): the PLC program sets it to
+    ``value``. A touch_probe entry with touch_probe: plc_event records the position of the
+    cycle in which it rises. Done at once."""
+
+    method = "plc_event"
+    blocks = ("MC_TouchProbe",)
+    command: Literal["plc_event"]
+    probe: Annotated[StrictStr, _check_id_of("touch_probe", "probe")]
+    """The id of the touch_probe entry whose TriggerInput it sets."""
+    value: StrictBool = True
+    """The new level of PlcEvent."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {}  # the run sets the touch_probe entry's InputRef
 
 
 class AbortTrigger(Entry):
@@ -916,7 +951,7 @@ COMMANDS: dict[str, type[Entry]] = {
     for model in (Power, PowerOff, Reset, SetOverride, MoveAbsolute, MoveRelative, MoveModulo,
                   MoveVelocity, Halt, Stop, ChangeDynamics, NewPosition, NewPositionAndVelocity,
                   SetActualPosition, Home, GearIn, SetGearRatio, GearOut, GearOutExt,
-                  OrientedStop, SetActualPositionOnTheFly, TouchProbe, AbortTrigger,
+                  OrientedStop, SetActualPositionOnTheFly, TouchProbe, AbortTrigger, PlcEvent,
                   MoveSuperimposed, AbortSuperposition, Jog, EnableExternalSetpoints,
                   DisableExternalSetpoints, OverrideFilter, PowerStepper, InjectStall,
                   ReleaseStall, SetReferenceFlag, ReadAxisComponents, MoveAbsoluteCa,
