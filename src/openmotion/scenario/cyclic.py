@@ -3,7 +3,9 @@
 Most of them start a block that the run then calls every cycle, as a PLC program would
 (scenario/programs.py): MC_Jog while its key is held, the feed of external setpoints, the
 override filter and MC_PowerStepper with its simulated terminal. The others call a block once
-(MC_SetReferenceFlag, MC_ReadAxisComponents) or act on the stepper terminal (a stall).
+(MC_SetReferenceFlag, MC_ReadAxisComponents, MC_MoveAbsoluteOrRestart, and the reads and
+parameter blocks, whose outputs the row keeps: scenario/queries.py) or act on the stepper
+terminal (a stall).
 
 schema.py puts these models into its ``COMMANDS`` and ``TimelineEntry``; they share its value
 types, conditions and name checks.

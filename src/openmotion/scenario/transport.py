@@ -6,7 +6,9 @@ mover in ``axis`` (the run finds its group), ``set_gap`` changes the gap of a ru
 with ``continuous_update``, ``activate_track`` and ``register_compensation`` pick the frame
 of a mover's later moves (the group's parts, tracks and templates: scenario/tracks.py), and
 the group commands (``group_halt``, ``group_stop``, ``group_enable``, ``group_disable``,
-``group_reset``) name the group in ``group`` instead of an axis.
+``group_reset``) name the group in ``group`` instead of an axis. The membership blocks
+(``add_axis_to_group`` ...), the group reads and MC_TransformPosition are called once as
+blocks on either kind of group, MC_ReadTrackPositions on a mover (scenario/queries.py).
 
 schema.py puts these models into its ``COMMANDS``, ``TimelineEntry`` and ``Scenario``; they
 share its value types, conditions and name checks.
