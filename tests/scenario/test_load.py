@@ -275,7 +275,10 @@ def test_entry_arguments_are_the_axis_method_parameters(command: str) -> None:
                      "probe": "p"})
     entry = model(at=0.0, axis="x", command=command,
                   **{name: value for name, value in required.items() if name in fields})
-    function = getattr(om.Axis, model.method, None) or getattr(probe, model.method)
+    function = getattr(om.Axis, model.method, None) or getattr(probe, model.method, None)
+    if function is None:  # plc_event writes the touch probe's InputRef field (D-219)
+        assert entry.arguments() == {} and hasattr(probe.InputRef(), model.method)
+        return
     parameters = inspect.signature(function).parameters
     assert set(entry.arguments()) <= set(parameters) - {"self", "axis", "ref", "now"}
 

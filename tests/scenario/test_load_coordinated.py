@@ -26,6 +26,7 @@ from openmotion.scenario.coordinated import (
     SetCartesianTransform,
     TrackConveyorBelt,
 )
+from openmotion.scenario.queries import Called
 from openmotion.scenario.schema import TIMELINE_COMMANDS
 
 VALID = """\
@@ -114,9 +115,13 @@ def test_without_record_the_trace_holds_each_groups_tcp_and_path_velocity() -> N
 
 @pytest.mark.parametrize("command", sorted(COORDINATED_COMMANDS))
 def test_entry_arguments_are_the_group_method_parameters(command: str) -> None:
+    """(The reads call their block: their fields are its inputs, D-218.)"""
     model = COORDINATED_COMMANDS[command]
-    parameters = set(inspect.signature(getattr(AxesGroup, model.method)).parameters)
     fields = set(model.model_fields) - {"id", "at", "when", "group", "command", "select"}
+    if issubclass(model, Called):
+        assert fields <= set(model.block_type.INPUTS)
+        return
+    parameters = set(inspect.signature(getattr(AxesGroup, model.method)).parameters)
     assert fields - {"path", "rows"} <= parameters, fields - parameters  # rows: D-213
     assert TIMELINE_COMMANDS[command] is model
 

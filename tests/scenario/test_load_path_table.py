@@ -33,11 +33,14 @@ timeline:
       - {coord_transform: [0, 0, 10, 0, 0, 0]}
       - {linear: {position: [0, 50, 0], velocity: 200, buffer_mode: buffered}}
   - {id: early, at: 0.05, group: g, command: release_blocker, blocker_id: 4}
-  - {id: go, when: g.blocker_id == 3, group: g, command: release_blocker, blocker_id: 3}
+  - {id: status, when: g.blocker_id == 3, group: g, command: group_read_blocker_status}
+  - {id: go, when: status.done, group: g, command: release_blocker, blocker_id: 3}
 checks:
   - {command: run, result: done}
   - {command: early, result: error, error_id: UNKNOWN_BLOCKER}
   - {command: go, result: done}
+  - {command: status, result: done, output: blocked, value: 1}
+  - {command: status, result: done, output: blocker_id, value: 3}
   - {name: at the blocker, signal: g.x, expect: 50.0, tolerance: 1e-6,
      when: g.blocker_id == 3}
   # the long arc about (25, 25) swings left to x = -10.36; the short one would pass 60.36

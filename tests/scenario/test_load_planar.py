@@ -11,9 +11,11 @@ from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE
 from openmotion.planar import (
     DynamicConstraint_PathXY,
     ExternalSetPositionMode,
+    MC_PlanarEnvironment,
     MC_PlanarGroup,
     MC_PlanarMover,
     MC_PlanarPart,
+    MC_PlanarTrack,
     ModuloDirection,
     PartPosition,
     PlanarState,
@@ -25,6 +27,7 @@ from openmotion.planar import (
 )
 from openmotion.scenario import ScenarioError, parse_scenario
 from openmotion.scenario.planar import PLANAR_COMMANDS, PlanarGroupEntry
+from openmotion.scenario.planar_objects import EnvironmentEntry, TrackEntry
 from openmotion.scenario.planar_parts import PartEntry
 from openmotion.scenario.schema import COMMANDS, TIMELINE_COMMANDS
 from openmotion.trajectory.plan import Limits
@@ -214,15 +217,34 @@ timeline:
 """
 
 
-#: the part commands besides ActivatePosition, and AdoptTrackOrientation
+#: the part commands besides ActivatePosition, AdoptTrackOrientation, the track and
+#: environment entries and the Get queries (test_planar_objects.py runs them)
 MORE = (PARTS.split("timeline:")[0] + """\
 timeline:
   - {at: 0, part: 16#01010080, command: part_allow_enable}
   - {at: 0, part: 16#01010080, command: part_force_disable}
   - {at: 0, part: 16#01010080, command: part_reset}
-""", TRACKS + """\
+  - {at: 0, part: 16#01010080, command: part_get_position}
+  - {at: 0, mover: m, command: get_position_on_current_part}
+""", (TRACKS + """\
   - {at: 5, mover: a, command: adopt_track_orientation, direction: positive, velocity: 90}
-""")
+  - {at: 5, mover: a, command: mover_get_planar_object_info}
+  - {at: 5, track: t, command: track_enable}
+  - {at: 5, track: t, command: track_disable}
+  - {at: 5, track: t, command: track_reset}
+  - {at: 5, track: t, command: track_clear}
+  - {at: 5, track: t, command: track_add_to_group, group: g}
+  - {at: 5, track: t, command: track_remove_from_group}
+  - {at: 5, track: t, command: track_get_length}
+  - {at: 5, track: t, command: track_get_position_at, arc_length: 10}
+  - {at: 5, track: t, command: track_get_arc_length_closest_to, x: 10, y: 5}
+  - {at: 5, track: t, command: track_get_planar_object_info}
+  - {at: 5, command: environment_add_to_group, group: g}
+  - {at: 5, command: environment_remove_from_group}
+  - {at: 5, command: environment_clear}
+  - {at: 5, command: environment_get_planar_object_info}
+""").replace("planar:\n", "planar:\n  environment: {columns: 4, rows: 3, origin: [-240, -240]}"
+                          "\n  groups: [{name: g, enable: false}]\n"))
 
 
 @pytest.mark.parametrize("command", sorted(PLANAR_COMMANDS))
@@ -232,7 +254,8 @@ def test_planar_entry_arguments_fit_the_method(command: str) -> None:
     entry = next(e for text in (VALID, PARTS, TRACKS, *MORE)
                  for e in parse_scenario(text).timeline if e.command == command)
     owner = MC_PlanarGroup if isinstance(entry, PlanarGroupEntry) else MC_PlanarPart \
-        if isinstance(entry, PartEntry) else MC_PlanarMover
+        if isinstance(entry, PartEntry) else MC_PlanarTrack if isinstance(entry, TrackEntry) \
+        else MC_PlanarEnvironment if isinstance(entry, EnvironmentEntry) else MC_PlanarMover
     signature = inspect.signature(getattr(owner, entry.method))
     signature.bind(None, *entry.arguments())  # self, then the inputs after the feedback
 

@@ -34,6 +34,17 @@ from pydantic import (
 )
 from pydantic_core import InitErrorDetails, PydanticCustomError
 
+from openmotion.axis.commands import Command
+from openmotion.coordinated.blocks import (
+    MC_GroupReadActualAcceleration,
+    MC_GroupReadActualPosition,
+    MC_GroupReadActualVelocity,
+    MC_GroupReadBlockerStatus,
+    MC_GroupReadConfiguration,
+    MC_ReadCartesianTransform,
+    MC_ReadCoordinateTransform,
+    MC_ReadKinTransform,
+)
 from openmotion.coordinated.cam import PathMode
 from openmotion.coordinated.frames import CartesianTransform, Frame
 from openmotion.coordinated.inputs import CoordSystem, PathDynamics, TransitionMode
@@ -55,6 +66,7 @@ from openmotion.core.enums import BufferMode
 from openmotion.core.errors import ConfigError
 from openmotion.core.special_values import MC_DEFAULT
 from openmotion.geometry.path import CircMode, PathChoice
+from openmotion.scenario.queries import Query, block_query, query_command
 from openmotion.scenario.schema import (
     _NAMES,
     BufferModeName,
@@ -571,6 +583,9 @@ class GroupSetPosition(AxesGroupEntry):
     """Add ``position`` to the present coordinates."""
     coord_system: CoordSystemName = CoordSystem.ACS  # type: ignore[valid-type]
     """acs, mcs or pcs."""
+    buffer_mode: BufferModeName = BufferMode.ABORTING
+    """aborting (at rest only) or buffered (the blending modes act as buffered): after the
+    motion issued before (D-130)."""
 
 
 class SetKinematics(AxesGroupEntry):
@@ -762,12 +777,16 @@ class _RowDynamics(_Model):
 class LinearRowSpec(_RowDynamics):
     """MC_MoveLinearAbsolutePreparation's inputs (§9.3.1.2.3)."""
 
+    blocks = ("MC_MoveLinearAbsolutePreparation",)  #: called for the row by the entry
+
     position: Position
     """One value per MCS coordinate, in the frame in force at this row."""
 
 
 class CircularRowSpec(_RowDynamics):
     """MC_MoveCircularAbsolutePreparation's inputs (§9.3.1.2.4)."""
+
+    blocks = ("MC_MoveCircularAbsolutePreparation",)
 
     circ_mode: McCircModeName  # type: ignore[valid-type]
     """border, center or radius."""
@@ -783,6 +802,8 @@ class CircularRowSpec(_RowDynamics):
 class BlockerRowSpec(_Model):
     """MC_BlockerPreparation's inputs (§9.3.1.2.6)."""
 
+    blocks = ("MC_BlockerPreparation",)
+
     blocker_id: Annotated[StrictInt, Field(gt=0)]
     """> 0; release_blocker with this id lets the path go on."""
     buffer_mode: BufferModeName = BufferMode.BUFFERED
@@ -793,6 +814,8 @@ class BlockerRowSpec(_Model):
 class DwellRowSpec(_Model):
     """MC_DwellTimePreparation's inputs (§9.3.1.2.9)."""
 
+    blocks = ("MC_DwellTimePreparation",)
+
     dwell_time: Seconds
     """[s] >= 0; 0 still stops the path exactly."""
     buffer_mode: BufferModeName = BufferMode.BUFFERED
@@ -802,6 +825,8 @@ class DwellRowSpec(_Model):
 
 class PathRowSpec(_Model):
     """One row of a path table: exactly one of its kinds."""
+
+    blocks = ("MC_SetCoordinateTransformPreparation",)  #: for ``coord_transform``
 
     linear: LinearRowSpec | None = None
     circular: CircularRowSpec | None = None
@@ -856,6 +881,152 @@ class ReleaseBlocker(AxesGroupEntry):
     command: Literal["release_blocker"]
     blocker_id: Annotated[StrictInt, Field(gt=0)]
     """The blocker's id."""
+class SetCoordinateTransform(AxesGroupEntry):
+    """MC_SetCoordinateTransform (§5.8.3): place the PCS in the MCS, replacing the transforms
+    active before (set_cartesian_transform composes with them)."""
+
+    method = "set_coordinate_transform"
+    command: Literal["set_coordinate_transform"]
+    frame: Transform
+    """Six values: trans_x, trans_y, trans_z [mm], rot_angle1, rot_angle2, rot_angle3 [°]."""
+    mode: ExecutionModeName = ExecutionMode.IMMEDIATELY  # type: ignore[valid-type]
+    """immediately, delayed or queued."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"frame": frame_of(self.frame), "mode": self.mode}
+
+
+# -- reads: the Part 4 read blocks called once (scenario/queries.py) ----------------------------
+
+
+class _GroupRead(AxesGroupEntry, Query):
+    """A Part 4 read block called once with Enable TRUE on the group."""
+
+    method = ""
+    block_type: ClassVar[Any]  #: the block class
+
+    def inputs(self) -> dict[str, Any]:
+        return {}
+
+    def call(self, target: Any, now: float) -> Command:
+        group, _ = target
+        block = self.block_type(group)
+        block(enable=True, **self.inputs())
+        return block_query(self.command, now, block, self.names())
+
+    def names(self) -> tuple[str, ...]:
+        """The block outputs the row keeps."""
+        return tuple(name.rstrip("_") for name in self.outputs)
+
+
+class _ReadIn(_GroupRead):
+    coord_system: CoordSystemName = CoordSystem.ACS  # type: ignore[valid-type]
+    """acs (one value per member, IdentInGroup order), mcs or pcs (x, y, z, a, b, c as the
+    kinematics has them)."""
+
+    def inputs(self) -> dict[str, Any]:
+        return {"coord_system": self.coord_system}
+
+
+class GroupReadActualPosition(_ReadIn):
+    """MC_GroupReadActualPosition (§5.10): outputs position_1, position_2 ..."""
+
+    block_type = MC_GroupReadActualPosition
+    command: Literal["group_read_actual_position"]
+    outputs = ("position_",)
+
+
+class GroupReadActualVelocity(_ReadIn):
+    """MC_GroupReadActualVelocity (§5.11): velocity_1 ... and path_velocity [mm/s]."""
+
+    block_type = MC_GroupReadActualVelocity
+    command: Literal["group_read_actual_velocity"]
+    outputs = ("velocity_", "path_velocity")
+
+
+class GroupReadActualAcceleration(_ReadIn):
+    """MC_GroupReadActualAcceleration (§5.12): acceleration_1 ... and path_acceleration."""
+
+    block_type = MC_GroupReadActualAcceleration
+    command: Literal["group_read_actual_acceleration"]
+    outputs = ("acceleration_", "path_acceleration")
+
+
+class GroupReadBlockerStatus(_GroupRead):
+    """MC_GroupReadBlockerStatus (TF5410 §9.3.1.2.8): ``blocked`` (the path stands at a
+    blocker) and its ``blocker_id`` (0: none)."""
+
+    block_type = MC_GroupReadBlockerStatus
+    command: Literal["group_read_blocker_status"]
+    outputs = ("blocked", "blocker_id")
+
+
+class GroupReadConfiguration(_ReadIn):
+    """MC_GroupReadConfiguration (§5.4): output ``axis`` (the member's name, or the MCS/PCS
+    coordinate as ``<group>.MCS.x``) and its ``position`` now."""
+
+    block_type = MC_GroupReadConfiguration
+    command: Literal["group_read_configuration"]
+    outputs = ("axis", "position")
+    ident_in_group: Annotated[StrictInt, Field(ge=0)]
+    """acs: the member's IdentInGroup; mcs, pcs: the coordinate, 1-based (x = 1)."""
+
+    def inputs(self) -> dict[str, Any]:
+        return {"coord_system": self.coord_system, "ident_in_group": self.ident_in_group}
+
+    def call(self, target: Any, now: float) -> Command:
+        group, _ = target
+        block = self.block_type(group)
+        block(enable=True, **self.inputs())
+        if block.error:
+            return block_query(self.command, now, block)
+        ref = block.axis_ref  # an Axis, or a CoordinateView named <group>.MCS.x
+        return query_command(self.command, now, {"axis": ref.name, "position": ref.position})
+
+
+class ReadKinTransform(_GroupRead):
+    """MC_ReadKinTransform (§5.8.4): output ``kin_transform``, the model in force (a text)."""
+
+    block_type = MC_ReadKinTransform
+    command: Literal["read_kin_transform"]
+    outputs = ("kin_transform",)
+
+    def call(self, target: Any, now: float) -> Command:
+        group, _ = target
+        block = self.block_type(group)
+        block(enable=True)
+        if block.error:
+            return block_query(self.command, now, block)
+        return query_command(self.command, now,
+                             {"kin_transform": type(block.kin_transform).__name__})
+
+
+class ReadCartesianTransform(_GroupRead):
+    """MC_ReadCartesianTransform (§5.8.5): trans_x, trans_y, trans_z [mm], rot_x, rot_y,
+    rot_z [°] of the PCS in force."""
+
+    block_type = MC_ReadCartesianTransform
+    command: Literal["read_cartesian_transform"]
+    outputs = ("trans_x", "trans_y", "trans_z", "rot_x", "rot_y", "rot_z")
+
+
+class ReadCoordinateTransform(_GroupRead):
+    """MC_ReadCoordinateTransform (§5.8.6): the Frame in force (the moving one while
+    tracking) as its six values trans_x ... rot_z."""
+
+    block_type = MC_ReadCoordinateTransform
+    command: Literal["read_coordinate_transform"]
+    outputs = ("trans_x", "trans_y", "trans_z", "rot_x", "rot_y", "rot_z")
+
+    def call(self, target: Any, now: float) -> Command:
+        group, _ = target
+        block = self.block_type(group)
+        block(enable=True)
+        if block.error:
+            return block_query(self.command, now, block)
+        return query_command(self.command, now,
+                             dict(zip(self.outputs, block.coord_transform.cartesian(),
+                                      strict=True)))
 
 
 COORDINATED_ENTRIES: tuple[type, ...] = (
@@ -863,7 +1034,10 @@ COORDINATED_ENTRIES: tuple[type, ...] = (
     MoveDirectAbsolute, MoveDirectRelative, MovePath, GroupInterrupt, GroupContinue,
     GroupSetOverride, GroupHome, GroupSetPosition, SetKinematics, SetCartesianTransform,
     TrackConveyorBelt, TrackRotaryTable, SetDynCoordTransform, SyncAxisToGroup,
-    SyncGroupToAxis, MovePathTable, ReleaseBlocker)
+    SyncGroupToAxis, MovePathTable, ReleaseBlocker, SetCoordinateTransform,
+    GroupReadActualPosition, GroupReadActualVelocity, GroupReadActualAcceleration,
+    GroupReadConfiguration, ReadKinTransform, ReadCartesianTransform, ReadCoordinateTransform,
+    GroupReadBlockerStatus)
 #: the axes-group entries by their ``command`` (schema.TIMELINE_COMMANDS holds them all)
 COORDINATED_COMMANDS: dict[str, type] = {
     get_args(model.model_fields["command"].annotation)[0]: model

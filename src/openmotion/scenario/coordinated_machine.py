@@ -39,6 +39,7 @@ from openmotion.scenario.coordinated import (
     frame_of,
 )
 from openmotion.scenario.programs import cycle_of
+from openmotion.scenario.queries import Called
 from openmotion.scenario.transport import GroupEntry, GroupStop
 from openmotion.trace.signals import read_group_signal
 
@@ -102,6 +103,8 @@ class AxesGroups:
                     is not None else rt.cycle + max(1, cycle_of(entry.hold, rt.cycle_time))
                 self.releases.append((cycle, command))
             return command
+        if isinstance(entry, Called):  # a block called once (queries.py)
+            return entry.call((group, rt), rt.now)
         if isinstance(entry, GroupEntry):
             return getattr(group, entry.method)(**arguments)
         for name in entry.axis_fields:

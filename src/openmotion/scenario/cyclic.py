@@ -3,7 +3,9 @@
 Most of them start a block that the run then calls every cycle, as a PLC program would
 (scenario/programs.py): MC_Jog while its key is held, the feed of external setpoints, the
 override filter and MC_PowerStepper with its simulated terminal. The others call a block once
-(MC_SetReferenceFlag, MC_ReadAxisComponents) or act on the stepper terminal (a stall).
+(MC_SetReferenceFlag, MC_ReadAxisComponents, MC_MoveAbsoluteOrRestart, and the reads and
+parameter blocks, whose outputs the row keeps: scenario/queries.py) or act on the stepper
+terminal (a stall).
 
 schema.py puts these models into its ``COMMANDS`` and ``TimelineEntry``; they share its value
 types, conditions and name checks.
@@ -11,15 +13,30 @@ types, conditions and name checks.
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Annotated, Any, ClassVar, Literal
 
-from pydantic import AfterValidator, Field, StrictBool, StrictStr, model_validator
+from pydantic import AfterValidator, Field, StrictBool, StrictInt, StrictStr, model_validator
 
-from openmotion.core.enums import TargetPositionType
+from openmotion.axis.axis import Axis
+from openmotion.axis.commands import Command
+from openmotion.axis.parameters import AxisParameters
+from openmotion.core.enums import BufferMode, ReadMode, TargetPositionType
 from openmotion.core.special_values import MC_DEFAULT, MC_INVALID
 from openmotion.plcopen.jog import JogMode
+from openmotion.plcopen.parameters import (
+    MC_ReadBoolParameter,
+    MC_ReadParameter,
+    MC_ReadParameterSet,
+    MC_WriteBoolParameter,
+    MC_WriteParameter,
+)
+from openmotion.plcopen.read import MC_ReadActualPosition, MC_ReadAxisError, MC_ReadStatus
 from openmotion.plcopen.stepper import DestallDetectMode, DestallMode, PowerStepperParams
+from openmotion.plcopen.version import F_GetVersionTcMC
+from openmotion.scenario.queries import Query, block_query, query_command
 from openmotion.scenario.schema import (
+    BufferModeName,
     ConditionText,
     Entry,
     InputValue,
@@ -27,6 +44,7 @@ from openmotion.scenario.schema import (
     PositiveSeconds,
     Seconds,
     _check_axis,
+    _check_id_of,
     _enum_by_name,
     _Model,
 )
@@ -139,6 +157,7 @@ class EnableExternalSetpoints(BlockEntry):
     """
 
     block = "MC_ExtSetPointGenEnable"
+    blocks = ("MC_ExtSetPointGenFeed",)  #: every cycle while it feeds
     command: Literal["enable_external_setpoints"]
     position: InputValue = MC_INVALID
     """Watched target [mm or °] (``in_external_target``); the axis does not go there itself."""
@@ -294,6 +313,181 @@ class ReadAxisComponents(BlockEntry):
     command: Literal["read_axis_components"]
 
 
+# -- MC_MoveAbsoluteOrRestart -------------------------------------------------------------
+
+
+class MoveAbsoluteOrRestart(BlockEntry):
+    """MC_MoveAbsoluteOrRestart (TcMC §3.6): a move_absolute whose block a later entry may
+    trigger again (``restart``), retargeting the running move with its start dynamics.
+
+    The run keeps the block of each entry with an id; an entry with ``restart`` gives that
+    block a new rising edge with its own position and velocity (the rest of its inputs are
+    the block's, as on a PLC). While the move runs the restart is the same command, so both
+    rows end with it; once it has ended the edge starts a new move.
+    """
+
+    block = "MC_MoveAbsoluteOrRestart"
+    command: Literal["move_absolute_or_restart"]
+    position: InputValue
+    """Target position [mm or °]."""
+    velocity: InputValue
+    """[mm/s]; MC_MAXIMUM = axis maximum."""
+    acceleration: InputValue = MC_DEFAULT
+    """[mm/s²]; 0 or MC_DEFAULT = axis default."""
+    deceleration: InputValue = MC_DEFAULT
+    """[mm/s²]."""
+    jerk: InputValue = MC_DEFAULT
+    """[mm/s³]."""
+    buffer_mode: BufferModeName = BufferMode.ABORTING
+    """As for moves."""
+    restart: Annotated[StrictStr, _check_id_of("move_absolute_or_restart", "restart")] | None \
+        = None
+    """The id of an earlier move_absolute_or_restart entry on the same axis whose block
+    this entry triggers again; default: a block of its own."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {name: getattr(self, name) for name in ("position", "velocity", "acceleration",
+                                                       "deceleration", "jerk", "buffer_mode")}
+
+
+# -- read and parameter blocks (TcMC §4.3-§4.11, §5.1): called once --------------------------
+
+
+class _Call(BlockEntry):
+    """A block called once with ``trigger`` TRUE: its row records its error or outputs."""
+
+    block_type: ClassVar[Any]  #: the block class
+    trigger: ClassVar[str] = "enable"
+
+    def call(self, axis: Axis | None, now: float) -> Command:
+        block = self.block_type(axis)
+        block(**{self.trigger: True}, **self.arguments())
+        return block_query(self.command, now, block, self.outputs)
+
+
+class ReadActualPosition(_Call, Query):
+    """MC_ReadActualPosition (TcMC §4.3): output ``position``, the actual position."""
+
+    block = "MC_ReadActualPosition"
+    block_type = MC_ReadActualPosition
+    command: Literal["read_actual_position"]
+    outputs = ("position",)
+
+
+class ReadStatus(_Call, Query):
+    """MC_ReadStatus (TcMC §4.4): the state flags, 1 or 0 (``homing``: referenced, D-192)."""
+
+    block = "MC_ReadStatus"
+    block_type = MC_ReadStatus
+    command: Literal["read_status"]
+    outputs = MC_ReadStatus._FLAGS
+
+
+class ReadAxisError(_Call, Query):
+    """MC_ReadAxisError (TcMC §4.5): ``axis_error_id`` (its number) and its message."""
+
+    block = "MC_ReadAxisError"
+    block_type = MC_ReadAxisError
+    command: Literal["read_axis_error"]
+    outputs = ("axis_error_id", "axis_error_message")
+
+
+class ReadParameter(_Call, Query):
+    """MC_ReadParameter (TcMC §4.6): output ``value`` of an LREAL parameter (MC_AxisPara)."""
+
+    block = "MC_ReadParameter"
+    block_type = MC_ReadParameter
+    command: Literal["read_parameter"]
+    outputs = ("value",)
+    parameter_number: StrictInt
+    """The MC_AxisPara number, e.g. 1004 (acceleration)."""
+    read_mode: _enum_by_name(ReadMode) = ReadMode.CYCLIC  # type: ignore[valid-type]
+    """once or cyclic; one call reads the same in both."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"parameter_number": self.parameter_number, "read_mode": self.read_mode}
+
+
+class ReadBoolParameter(ReadParameter):
+    """MC_ReadBoolParameter (TcMC §4.7): output ``value`` of a BOOL parameter, 1 or 0."""
+
+    block = "MC_ReadBoolParameter"
+    block_type = MC_ReadBoolParameter
+    command: Literal["read_bool_parameter"]  # type: ignore[assignment]
+
+
+class WriteParameter(_Call):
+    """MC_WriteParameter (TcMC §4.9): write ``value`` to an LREAL parameter; Done, or an
+    error for an unknown or read-only number."""
+
+    block = "MC_WriteParameter"
+    block_type = MC_WriteParameter
+    command: Literal["write_parameter"]
+    parameter_number: StrictInt
+    """The MC_AxisPara number."""
+    value: Number
+    """The new value."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"parameter_number": self.parameter_number, "value": self.value}
+
+
+class WriteBoolParameter(_Call):
+    """MC_WriteBoolParameter (TcMC §4.10): write a BOOL parameter."""
+
+    block = "MC_WriteBoolParameter"
+    block_type = MC_WriteBoolParameter
+    command: Literal["write_bool_parameter"]
+    parameter_number: StrictInt
+    """The MC_AxisPara number, e.g. 1015."""
+    value: StrictBool
+    """The new value."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"parameter_number": self.parameter_number, "value": self.value}
+
+
+class ReadParameterSet(_Call, Query):
+    """MC_ReadParameterSet (TcMC §4.11): every AxisParameters field as an output."""
+
+    block = "MC_ReadParameterSet"
+    block_type = MC_ReadParameterSet
+    trigger = "execute"
+    command: Literal["read_parameter_set"]
+    outputs = tuple(field.name for field in dataclasses.fields(AxisParameters))
+
+    def call(self, axis: Axis | None, now: float) -> Command:
+        block = self.block_type(axis)
+        block(execute=True)
+        if block.error:
+            return block_query(self.command, now, block)
+        return query_command(self.command, now, block.parameter)
+
+
+class GetVersion(_Call, Query):
+    """F_GetVersionTcMC (TcMC §5.1): output ``version``, one element of the library version.
+
+    The function reads no axis: the entry names none.
+    """
+
+    block = "F_GetVersionTcMC"
+    command: Literal["get_version"]
+    axis: Literal[""] = ""  # type: ignore[assignment]
+    outputs = ("version",)
+    version_element: StrictInt
+    """1: major, 2: minor, 3: revision; any other number reads 0."""
+
+    def call(self, axis: Axis | None, now: float) -> Command:
+        return query_command(self.command, now,
+                             {"version": F_GetVersionTcMC(self.version_element)})
+
+
 BLOCK_ENTRIES: tuple[type[BlockEntry], ...] = (
     Jog, EnableExternalSetpoints, DisableExternalSetpoints, OverrideFilter, PowerStepper,
-    InjectStall, ReleaseStall, SetReferenceFlag, ReadAxisComponents)
+    InjectStall, ReleaseStall, SetReferenceFlag, ReadAxisComponents, MoveAbsoluteOrRestart,
+    ReadActualPosition, ReadStatus, ReadAxisError, ReadParameter, ReadBoolParameter,
+    WriteParameter, WriteBoolParameter, ReadParameterSet, GetVersion)
+#: the entries that call a block once (MC_MoveAbsoluteOrRestart, the reads, the parameters)
+CALL_ENTRIES: tuple[type[BlockEntry], ...] = (
+    MoveAbsoluteOrRestart, ReadActualPosition, ReadStatus, ReadAxisError, ReadParameter,
+    ReadBoolParameter, WriteParameter, WriteBoolParameter, ReadParameterSet, GetVersion)

@@ -22,6 +22,7 @@ from openmotion.axis.commands import Command, CommandStatus
 from openmotion.core.errors import ConfigError
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.programs import cycle_of
+from openmotion.scenario.queries import Called
 from openmotion.scenario.schema import Condition
 from openmotion.scenario.tracks import configure
 from openmotion.scenario.transport import (
@@ -100,6 +101,10 @@ class CaGroups:
         rt = self.rt
         if isinstance(entry, SetGap):
             return self._set_gap(entry, by_id.get(entry.move))
+        if isinstance(entry, Called):  # a block called once (transport.py)
+            target = (self.groups[entry.group], rt) if isinstance(entry, GroupEntry) \
+                else rt.axes[entry.axis]
+            return entry.call(target, rt.now)
         if isinstance(entry, GroupEntry):
             group = self.groups[entry.group]
             command = getattr(group, entry.method)(**entry.arguments())
@@ -108,7 +113,8 @@ class CaGroups:
                     is not None else rt.cycle + max(1, cycle_of(entry.hold, rt.cycle_time))
                 self.releases.append((cycle, command))
             return command
-        group = self.group_of[entry.axis]
+        member_of = rt.axes[entry.axis].group  # add_axis_to_group may have moved it
+        group = member_of if isinstance(member_of, CaGroup) else self.group_of[entry.axis]
         if isinstance(entry, GearInPosCa):  # master first, as MC_GearInPosCA's in/outs
             command = group.gear_in_pos(rt.axes[entry.master], rt.axes[entry.axis],
                                         **entry.arguments())

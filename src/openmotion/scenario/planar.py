@@ -210,6 +210,9 @@ class EnvironmentSpec(_Model):
     """Instead of columns and rows: the corners [mm] on one 240 mm grid, no two alike."""
     coordinate_systems: Annotated[list[ObjectId], Field(min_length=1)] | None = None
     """With ``parts``: the OIDs of the coordinate systems (a group checks in the first, D-088)."""
+    blocks = ("MC_PlanarEnvironment.add_stator", "MC_PlanarEnvironment.create_boundary",
+              "MC_PlanarEnvironment.update")  #: in the setup; Update every cycle
+
     parts: Annotated[list[PartSpec], Field(min_length=1)] | None = None
     """Instead of stators: the parts (§5.1), each with its stators in the part frame and its
     positions in the coordinate systems. Targets then take a ``reference_id`` (§5.3)."""
@@ -358,6 +361,8 @@ class PlanarMoverSpec(_Model):
     enable: StrictBool = True
     """Enable the mover in the setup; false: a ``mover_enable`` entry does it."""
 
+    blocks = ("MC_PlanarMover.enable", "MC_PlanarMover.update")  #: setup; every cycle
+
     def build(self) -> PlanarMoverParameters:
         return self.parameters.build(MoverVector(self.x, self.y, c=self.c), self.part or 0)
 
@@ -379,6 +384,8 @@ class PlanarGroupSpec(_Model):
     tracks: list[TrackName] | None = None
     """Track members, added after the movers; default: every track when the group has
     ``enable`` (a mover in a group moves only on tracks of its group, §4.3)."""
+    blocks = ("MC_PlanarGroup.enable", "MC_PlanarGroup.update", "MC_PlanarMover.add_to_group",
+              "MC_PlanarEnvironment.add_to_group", "MC_PlanarTrack.add_to_group")  #: setup
     enable: StrictBool = True
     """Enable the group and add its members in the setup; false: the timeline does it
     (planar_group_enable, then add_to_group for each mover; the environment and tracks cannot
@@ -396,6 +403,9 @@ class PlanarSpec(_Model):
     """Planar groups, created in this order."""
     tracks: list[TrackSpec] = []
     """Planar tracks (§6.2), created in this order after the groups (planar_tracks.py)."""
+
+    #: the run hands each planar command an MC_PlanarFeedback, which the object updates
+    blocks = ("MC_PlanarFeedback.update", "MC_PlanarFeedbackBase.update")
 
     @model_validator(mode="after")
     def _sets_up(self) -> PlanarSpec:
@@ -746,6 +756,7 @@ from openmotion.scenario.planar_gearing import (  # noqa: E402
     GearInPosOnTrack,
     GearInPosOnTrackWithMasterMover,
 )
+from openmotion.scenario.planar_objects import OBJECT_ENTRIES  # noqa: E402
 from openmotion.scenario.planar_parts import PART_ENTRIES  # noqa: E402
 from openmotion.scenario.planar_riding import JoinTrack, LeaveTrack, MoveOnTrack  # noqa: E402
 from openmotion.scenario.planar_setpoints import (  # noqa: E402
@@ -758,7 +769,7 @@ PLANAR_ENTRIES: tuple[type, ...] = (
     MoverReset, SetPosition, AddToGroup, RemoveFromGroup, StartExternalSetpointGeneration,
     StopExternalSetpointGeneration, PlanarGroupEnable, PlanarGroupDisable, PlanarGroupReset,
     *PART_ENTRIES, JoinTrack, LeaveTrack, MoveOnTrack, GearInPosOnTrack,
-    GearInPosOnTrackWithMasterMover, AdoptTrackOrientation)
+    GearInPosOnTrackWithMasterMover, AdoptTrackOrientation, *OBJECT_ENTRIES)
 #: the planar entries by their ``command`` (schema.TIMELINE_COMMANDS holds them all)
 PLANAR_COMMANDS: dict[str, type] = {
     get_args(model.model_fields["command"].annotation)[0]: model for model in PLANAR_ENTRIES}

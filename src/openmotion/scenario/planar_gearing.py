@@ -39,6 +39,10 @@ _GEAR = ST_GearInPosOnTrackOptions()  #: the options' defaults
 SyncDirectionsName = _enum_by_name(SyncDirections)
 
 
+#: a trail (``trail``) is built for each entry: Clear, then AddTrack for each track
+TRAIL_METHODS = ("MC_PlanarTrackTrail.clear", "MC_PlanarTrackTrail.add_track")
+
+
 class AxisRef(NamedTuple):
     """An axis argument of an entry, by name; the run passes the Axis of that name."""
 
@@ -120,6 +124,7 @@ class GearInPosOnTrack(_GearIn):
     the slave's arc length is slave sync + (master - master sync)."""
 
     method = "gear_in_pos_on_track"
+    blocks = ("MC_PlanarFeedbackGearInPosOnTrack.update", *TRAIL_METHODS)
     command: Literal["gear_in_pos_on_track"]
     feedback = MC_PlanarFeedbackGearInPosOnTrack
     master: Annotated[StrictStr, AfterValidator(_check_axis)]
@@ -141,6 +146,7 @@ class GearInPosOnTrackWithMasterMover(_GearIn):
     (§6.2.9); with ``follow_mover`` the slave takes the master's way (§6.2.12)."""
 
     method = "gear_in_pos_on_track_with_master_mover"
+    blocks = ("MC_PlanarFeedbackGearInPosOnTrackWithMasterMover.update", *TRAIL_METHODS)
     command: Literal["gear_in_pos_on_track_with_master_mover"]
     feedback = MC_PlanarFeedbackGearInPosOnTrackWithMasterMover
     master_mover: Annotated[StrictStr, AfterValidator(_check_planar_mover)]

@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Any
 
 from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command, CommandStatus
-from openmotion.core.errors import CommandRejected
+from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar import (
     CommandPhase,
     MC_PlanarEnvironment,
@@ -62,11 +62,13 @@ from openmotion.scenario.planar import (
     PlanarSpec,
 )
 from openmotion.scenario.planar_gearing import AxisRef, MoverRef, TrailRef, _GearIn
+from openmotion.scenario.planar_objects import EnvironmentEntry, GroupRef, TrackEntry
 from openmotion.scenario.planar_parts import PartEntry, oid_text
 from openmotion.scenario.planar_riding import MoveOnTrack
 from openmotion.scenario.planar_setpoints import COORDINATES, StartExternalSetpointGeneration
 from openmotion.scenario.planar_tracks import PlanarTrackRow, TrackRef, build_order
 from openmotion.scenario.programs import _motion_cycle, cycle_of
+from openmotion.scenario.queries import Query
 from openmotion.trace.signals import read_planar_signal
 
 if TYPE_CHECKING:
@@ -236,10 +238,14 @@ class PlanarMachine:
             feed = SetpointFeed(self, entry)
             self._feeds.append(feed)
             return feed.row
-        target: Any = self.groups[entry.group] if isinstance(entry, PlanarGroupEntry) \
-            else self.parts[entry.part] if isinstance(entry, PartEntry) \
-            else self.movers[entry.mover]
+        if isinstance(entry, Query):  # a Get method: its row keeps what it returned
+            return entry.call(self, self.rt.now)
+        target = self.target_of(entry)
         command = Command(entry.command, self.rt.now)
+        if target is None:  # an environment entry without planar.environment
+            command._end(CommandStatus.ERROR, self.rt.now, ErrorId.PLANAR_INVALID_INPUT,
+                         "there is no planar.environment")
+            return command
         try:
             arguments = tuple(self.groups[name] for name in entry.arguments()) \
                 if isinstance(entry, AddToGroup) else tuple(map(self._resolve, entry.arguments()))
@@ -247,7 +253,7 @@ class PlanarMachine:
             command._end(CommandStatus.ERROR, self.rt.now, exc.error_id,
                          f"rejected ({int(exc.error_id)}): {exc.message}")
             return command
-        extra: dict[str, Any] = {}
+        extra: dict[str, Any] = {"feedback": MC_PlanarFeedback()}  # as a PLC program passes
         if isinstance(entry, _GearIn):  # its feedback shows in_sync
             extra["feedback"] = self._sync[command] = entry.feedback()
         planar = getattr(target, entry.method)(*arguments, **extra)
@@ -258,17 +264,29 @@ class PlanarMachine:
             self._masters[command] = arguments[0]
         return command
 
+    def target_of(self, entry: Any) -> Any:
+        """The object whose method a planar entry calls; None for an environment entry
+        without planar.environment."""
+        return self.groups[entry.group] if isinstance(entry, PlanarGroupEntry) \
+            else self.parts[entry.part] if isinstance(entry, PartEntry) \
+            else self.tracks[entry.track] if isinstance(entry, TrackEntry) \
+            else self.environment if isinstance(entry, EnvironmentEntry) \
+            else self.movers[entry.mover]
+
     def _resolve(self, argument: Any) -> Any:
         """An entry's argument with a reference by name replaced by its object; a trail is
         built anew (AddTrack), CommandRejected when a track of it does not follow (§6.8)."""
         if isinstance(argument, TrackRef):
             return self.tracks[argument.name]
+        if isinstance(argument, GroupRef):
+            return self.groups[argument.name]
         if isinstance(argument, AxisRef):
             return self.rt.axes[argument.name]
         if isinstance(argument, MoverRef):
             return self.movers[argument.name]
         if isinstance(argument, TrailRef):
             trail = MC_PlanarTrackTrail()
+            trail.clear()  # a PLC program empties its trail before it adds the tracks
             for name in argument.tracks:
                 if not trail.add_track(self.tracks[name]):
                     raise CommandRejected(trail.error_id, f"trail: {trail.message}")

@@ -109,6 +109,8 @@ class PartPositionSpec(_Model):
 class PartSpec(_Model):
     """One part (§5.1): contiguous stators that move together, with their possible positions."""
 
+    blocks = ("MC_PlanarPart.initialize",)  #: the run's MC_PlanarPart of it, before t = 0
+
     oid: ObjectId
     """Its object id; parts and coordinate systems share one id space (§5.3)."""
     stators: Annotated[list[tuple[Number, Number]], Field(min_length=1)]

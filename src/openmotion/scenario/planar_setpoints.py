@@ -81,6 +81,9 @@ class StartExternalSetpointGeneration(PlanarEntry):
     """
 
     method = "start_external_setpoint_generation"
+    #: each cycle, with the reference system id when the feed names one
+    blocks = ("MC_PlanarMover.set_external_setpoint",
+              "MC_PlanarMover.set_external_setpoint_reference_id")
     command: Literal["start_external_setpoint_generation"]
     mode: Literal["absolute", "relative"] = "absolute"
     """ST_ExternalSetpointGenerationOptions: absolute (the mover follows only the setpoints,

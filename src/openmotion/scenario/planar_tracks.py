@@ -118,6 +118,8 @@ def track_number(name: str) -> float | None:
 class CircleSpec(_Model):
     """AppendCircle (§7.2.2.10.4): the arc about ``center`` from ``start`` to ``end``."""
 
+    blocks = ("MC_PlanarTrack.append_circle",)
+
     start: Point
     """[mm]."""
     end: Point
@@ -130,6 +132,8 @@ class CircleSpec(_Model):
 
 class TrackElementSpec(_Model):
     """One geometry element: exactly one of ``line``, ``circle``, ``position``."""
+
+    blocks = ("MC_PlanarTrack.append_line", "MC_PlanarTrack.append_position")
 
     line: tuple[Point, Point] | None = None
     """AppendLine (§7.2.2.10.3): [[x, y], [x, y]], start and end [mm]."""
@@ -186,6 +190,10 @@ class TrackLinkSpec(_Model):
 
 class TrackSpec(_Model):
     """One MC_PlanarTrack (§6.2): its links and geometry, and its init parameters."""
+
+    blocks = ("MC_PlanarTrack.start_from_track", "MC_PlanarTrack.end_at_track",
+              "MC_PlanarTrack.start_from_track_advanced", "MC_PlanarTrack.end_at_track_advanced",
+              "MC_PlanarTrack.close_loop", "MC_PlanarTrack.enable", "MC_PlanarTrack.update")
 
     name: Annotated[Identifier, _unique("planar_tracks"), AfterValidator(_own_track_name)]
     """Unique, not the name of a planar mover or group; entries refer to it."""

@@ -18,8 +18,10 @@ from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.axis.stepper import StepperTerminal
 from openmotion.core.enums import AxisState
+from openmotion.core.errors import ErrorId
 from openmotion.plcopen.external import MC_ExtSetPointGenFeed
 from openmotion.plcopen.jog import MC_Jog
+from openmotion.plcopen.move import MC_MoveAbsoluteOrRestart
 from openmotion.plcopen.override_filter import MC_OverrideFilter
 from openmotion.plcopen.reference import MC_ReadAxisComponents, MC_SetReferenceFlag
 from openmotion.plcopen.stepper import MC_PowerStepper
@@ -29,13 +31,15 @@ from openmotion.scenario.cyclic import (
     EnableExternalSetpoints,
     InjectStall,
     Jog,
+    MoveAbsoluteOrRestart,
     OverrideFilter,
     PowerStepper,
     ReadAxisComponents,
     ReleaseStall,
     SetReferenceFlag,
+    _Call,
 )
-from openmotion.scenario.schema import Condition
+from openmotion.scenario.schema import Condition, ProbeSpec
 
 Holds = Callable[[Condition], bool]  #: the run's condition test
 
@@ -235,6 +239,31 @@ def components_text(components: dict[str, dict]) -> str:
             f" {lag}")
 
 
+class CamProgram(Program):
+    """MC_Home's bCalibrationCam driven by the PLC (TcMC §3.14): the axis' ``cam_input`` is
+    the level of ``spec`` every cycle until the homing command ends, then None again."""
+
+    keeps_running: ClassVar[bool] = False  #: the homing command keeps the run going
+
+    def __init__(self, rt: Runtime, axis: Axis, spec: ProbeSpec) -> None:
+        super().__init__(Command("calibration_cam", rt.now))
+        self.rt, self.axis, self.spec = rt, axis, spec
+        self.homing: Command | None = None
+        self()
+
+    def follow(self, homing: Command) -> None:
+        self.homing = homing
+
+    def __call__(self) -> bool:
+        if self.homing is not None and self.homing.finished:
+            self.axis.cam_input = None
+            return False
+        p, t = self.axis.position - self.axis.raw_offset, self.rt.now
+        spans, at = (self.spec.times, t) if self.spec.times else (self.spec.positions, p)
+        self.axis.cam_input = any(lo <= at < hi for lo, hi in spans)
+        return True
+
+
 class BlockPrograms:
     """The running programs of one run, and the stepper terminals of its axes (one per axis).
 
@@ -249,6 +278,8 @@ class BlockPrograms:
         self.rt, self.holds = rt, holds
         self.running: list[Program] = []
         self.terminals: dict[str, StepperTerminal] = {}
+        #: the MC_MoveAbsoluteOrRestart block of each move_absolute_or_restart entry by id
+        self.restartable: dict[str, MC_MoveAbsoluteOrRestart] = {}
 
     def __call__(self) -> None:
         self.running = [program for program in self.running if program()]
@@ -260,7 +291,7 @@ class BlockPrograms:
 
     def start(self, entry: BlockEntry) -> Command:
         """Carry out ``entry`` now: start its program (first call included) or act at once."""
-        rt, axis = self.rt, self.rt.axes[entry.axis]
+        rt, axis = self.rt, self.rt.axes.get(entry.axis)  # none for get_version
         match entry:
             case Jog():
                 return self._run(JogProgram(rt, axis, entry, self.holds), axis)
@@ -288,7 +319,35 @@ class BlockPrograms:
                 read = MC_ReadAxisComponents(axis)
                 read(execute=True)
                 return _done(entry.command, rt.now, components_text(read.axis_components))
+            case MoveAbsoluteOrRestart():
+                return self._move_or_restart(entry, axis)
+            case _Call():
+                return entry.call(axis, rt.now)
         raise TypeError(f"no program for {type(entry).__name__}")  # pragma: no cover
+
+    def _move_or_restart(self, entry: MoveAbsoluteOrRestart, axis: Axis) -> Command:
+        """A new MC_MoveAbsoluteOrRestart, or a new rising edge of the one of ``restart``."""
+        block = self.restartable.get(entry.restart) if entry.restart is not None else None
+        if block is not None and block.axis is not axis:
+            command = Command(entry.command, self.rt.now)
+            command._end(CommandStatus.ERROR, self.rt.now, ErrorId.INVALID_PARAMETER_VALUE,
+                         f"restart: {entry.restart} moves axis {block.axis.name}, not "
+                         f"{axis.name}")
+            return command
+        if block is None:
+            block = MC_MoveAbsoluteOrRestart(axis)
+        else:
+            block(execute=False)
+        block(execute=True, **entry.arguments())
+        if entry.id is not None:
+            self.restartable[entry.id] = block
+        return block.command  # type: ignore[return-value] - an edge always leaves one
+
+    def cam(self, axis: Axis, spec: ProbeSpec) -> CamProgram:
+        """Drive the axis' calibration cam input from ``spec`` while a homing runs."""
+        program = CamProgram(self.rt, axis, spec)
+        self.running.append(program)
+        return program
 
     def terminal(self, axis: Axis) -> StepperTerminal:
         """The axis' simulated stepper terminal, attached at its first use."""

@@ -30,11 +30,14 @@ from openmotion.scenario.planar import PLANAR_ENTRIES
 from openmotion.scenario.planar_machine import PlanarMachine, PlanarMoverRow, planar_table
 from openmotion.scenario.planar_tracks import PlanarTrackRow, riders_table, track_table
 from openmotion.scenario.programs import BlockPrograms, cycle_of
+from openmotion.scenario.queries import outputs_text, pick
 from openmotion.scenario.schema import (
     AbortTrigger,
     CommandCheck,
     Condition,
     Entry,
+    Home,
+    PlcEvent,
     Power,
     PowerOff,
     Scenario,
@@ -276,6 +279,8 @@ def _value_of(command: Command | None) -> float | None:
     """The command's numeric result value, if any: a touch_probe's recorded position, the
     actual distance of a move_superimposed (whose value is (velocity diff, distance, length))."""
     value = None if command is None else command.value
+    if isinstance(value, dict):  # a query's outputs: a check names one (``output``)
+        return None
     if isinstance(value, tuple) and len(value) == _SUPERPOSITION_VALUES:
         value = value[1]
     if isinstance(value, int | float) and not isinstance(value, bool):
@@ -292,6 +297,8 @@ def _value_detail(command: Command | None) -> str:
     value = None if command is None else command.value
     if isinstance(value, str):
         return value
+    if isinstance(value, dict):
+        return outputs_text(value, _number)
     if isinstance(value, tuple) and len(value) == _SUPERPOSITION_VALUES:
         velocity_diff, distance, length = (_number(float(part)) for part in value)
         return f"distance {distance}, velocity diff {velocity_diff}, length {length}"
@@ -378,7 +385,7 @@ class _Run:
         if isinstance(entry, PLANAR_ENTRIES):
             self._issued(index, entry, self.planar.issue(entry))
             return
-        axis = self.rt.axes[entry.axis]
+        axis = self.rt.axes.get(entry.axis)  # none for get_version
         arguments = entry.arguments()
         for name in entry.axis_fields:
             arguments[name] = self.rt.axes[arguments[name]]
@@ -387,6 +394,10 @@ class _Run:
         elif isinstance(entry, TouchProbe):
             label = self.entries[index][0]
             command = arm_probe(axis, self.trigger_inputs[label], **arguments)
+        elif isinstance(entry, PlcEvent):  # the PLC writes TriggerInput.PlcEvent
+            command = Command(entry.command, self.rt.now)
+            self.trigger_inputs[entry.probe].plc_event = entry.value
+            command._end(CommandStatus.DONE, self.rt.now)
         elif isinstance(entry, AbortTrigger):  # as MC_AbortTrigger: Done, armed or not
             command = Command(entry.command, self.rt.now)
             abort_probe(self.trigger_inputs[entry.probe], self.rt.now)
@@ -395,12 +406,21 @@ class _Run:
         elif isinstance(entry, Power | PowerOff):
             command = Command(entry.command, self.rt.now)
             on = axis.power(**arguments)
-            if on == arguments.get("enable", True):
+            override = axis.set_override(entry.override) \
+                if isinstance(entry, Power) and entry.override is not None else None
+            if override is not None and override.error:
+                command.status, command.error_id = CommandStatus.ERROR, override.error_id
+                command.message = override.message
+            elif on == arguments.get("enable", True):
                 command.status = CommandStatus.DONE
             else:
                 command.status, command.error_id = CommandStatus.ERROR, ErrorId.DRIVE_NOT_READY
                 command.message = "the drive is not ready"
             command.ended_at = self.rt.now
+        elif isinstance(entry, Home) and entry.calibration_cam is not None:
+            cam = self.blocks.cam(axis, entry.calibration_cam)  # wired before the edge
+            command = axis.home(**arguments)
+            cam.follow(command)
         else:
             command = getattr(axis, entry.method)(**arguments)
         self._issued(index, entry, command)
@@ -599,7 +619,10 @@ class _CheckState:
         if ok and check.error_id is not None:
             ok = command is not None and command.error_id == check.error_id
         if check.value is not None:
-            value = _value_of(command)
+            value = _value_of(command) if check.output is None else \
+                pick(command.value if command is not None else None, check.output)
+            if value is None and check.output is not None:
+                return False, f"{detail}, no output {check.output}"
             if value is None:
                 return False, f"{detail}, no value"
             detail += f" {_number(value)}"
@@ -619,7 +642,8 @@ class _CheckState:
                 {"end": "at end", "always": "always"}[check.at]
         if isinstance(check, CommandCheck):
             error = f" {check.error_id.name}" if check.error_id is not None else ""
-            value = "" if check.value is None else f" value {check.value:.15g}" + (
+            output = "" if check.output is None else f" {check.output}"
+            value = "" if check.value is None else f"{output} value {check.value:.15g}" + (
                 f" ± {check.tolerance:.15g}" if check.tolerance else "")
             return f"{check.command} {check.result}{error}{value} {when}"
         parts = []

@@ -54,7 +54,7 @@ from pydantic_core import InitErrorDetails, PydanticCustomError
 
 from openmotion.axis.drive import DriveModel
 from openmotion.axis.parameters import AxisParameters
-from openmotion.axis.probe import InputRef, ProbeSignal, SignalEdge
+from openmotion.axis.probe import InputRef, ProbeSignal, SignalEdge, TouchProbeSource
 from openmotion.axis.probe import _intervals as _probe_intervals
 from openmotion.core.enums import (
     AxisState,
@@ -72,6 +72,7 @@ from openmotion.core.special_values import (
     SPECIAL_VALUES,
     SpecialValue,
 )
+from openmotion.scenario.queries import Query
 from openmotion.trace.record import AXIS_SIGNALS, MOVER_SIGNALS, default_signals, split_signal
 from openmotion.transport.enums import GroupState
 
@@ -99,6 +100,8 @@ class _Names:
     #: track -> its raw (starts_from, ends_at, closed_loop): the links a trail must follow
     track_links: dict[str, tuple[object, object, object]] = dataclasses.field(
         default_factory=dict)
+    #: the axes that add_axis_to_group entries add to a CA group (movers from then on)
+    added: set[str] = dataclasses.field(default_factory=set)
 
     @classmethod
     def of(cls, data: object) -> _Names:
@@ -133,7 +136,11 @@ class _Names:
                    names("axes_groups", "name"), group_axes, names("tracks", "name", planar),
                    {item["name"]: (item.get("starts_from"), item.get("ends_at"),
                                    item.get("closed_loop")) for item in items("tracks", planar)
-                    if isinstance(item.get("name"), str)})
+                    if isinstance(item.get("name"), str)},
+                   {item["axis"] for item in items("timeline")
+                    if item.get("command") == "add_axis_to_group"
+                    and isinstance(item.get("axis"), str)
+                    and item.get("group") in names("ca_groups", "name")})
 
 
 _NAMES: ContextVar[_Names | None] = ContextVar("openmotion_scenario_names", default=None)
@@ -148,10 +155,11 @@ def _check_axis(name: str) -> str:
 
 
 def _check_mover(name: str) -> str:
-    """An axis that one of the ``ca_groups`` lists."""
+    """An axis that one of the ``ca_groups`` lists, or that an add_axis_to_group entry adds
+    to one."""
     _check_axis(name)
     names = _NAMES.get()
-    if names is not None and name not in names.members:
+    if names is not None and name not in names.members and name not in names.added:
         raise ValueError(f"{name!r} is in no CA group (ca_groups[].axes)")
     return name
 
@@ -390,6 +398,9 @@ class _Model(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True,
                               arbitrary_types_allowed=True)
+    blocks: ClassVar[tuple[str, ...]] = ()  #: the blocks (``MC_Power``) and methods
+    #: (``MC_PlanarTrack.append_line``) this part of a file reaches (scenario/coverage.py)
+    outputs: ClassVar[tuple[str, ...]] = ()  #: a query entry's outputs (queries.py)
 
 
 class _ParametersBase(_Model):
@@ -535,6 +546,12 @@ class Power(Entry):
     """Feed enable in positive direction."""
     enable_negative: StrictBool = True
     """Feed enable in negative direction."""
+    override: Number | None = None
+    """MC_Power's Override [%], 0-100, written as MC_SetOverride does; default: left as it
+    is (100 at the start). A value outside 0-100 ends the entry with INVALID_OVERRIDE."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"enable_positive": self.enable_positive, "enable_negative": self.enable_negative}
 
 
 class PowerOff(Entry):
@@ -689,6 +706,13 @@ class Home(Entry):
     command: Literal["home"]
     position: InputValue = DEFAULT_HOME_POSITION
     """Reference position; default: the axis' calibration_value."""
+    calibration_cam: ProbeSpec | None = None
+    """MC_Home's bCalibrationCam as the PLC wires it: TRUE inside ``positions`` (of the
+    machine position) or ``times``, every cycle while the homing runs; default: the axis'
+    simulated cam (its reference_cam parameter)."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {"position": self.position}
 
 
 class GearIn(Entry):
@@ -776,6 +800,10 @@ class TouchProbe(Entry):
 
     method = "arm_probe"
     command: Literal["touch_probe"]
+    touch_probe: _enum_by_name(TouchProbeSource) = (  # type: ignore[valid-type]
+        TouchProbeSource.TOUCH_PROBE_1)
+    """The trigger: touch_probe_1 (the axis' ``probe`` input) or plc_event (a plc_event
+    entry's rising edge); touch_probe_2 to 4 fail (unsupported, §6.3)."""
     edge: _enum_by_name(SignalEdge) = SignalEdge.RISING  # type: ignore[valid-type]
     """rising or falling."""
     window_only: StrictBool = False
@@ -793,7 +821,25 @@ class TouchProbe(Entry):
 
     def trigger_input(self) -> InputRef:
         """A fresh MC_InputRef for this entry (TouchProbe1, the entry's edge)."""
-        return InputRef(edge=self.edge, modulo_positions=self.modulo_positions)
+        return InputRef(touch_probe=self.touch_probe, edge=self.edge,
+                        modulo_positions=self.modulo_positions)
+
+
+class PlcEvent(Entry):
+    """MC_TouchProbe's TriggerInput.PlcEvent (TcMC §4.21, §6.3): the PLC program sets it to
+    ``value``. A touch_probe entry with touch_probe: plc_event records the position of the
+    cycle in which it rises. Done at once."""
+
+    method = "plc_event"
+    blocks = ("MC_TouchProbe",)
+    command: Literal["plc_event"]
+    probe: Annotated[StrictStr, _check_id_of("touch_probe", "probe")]
+    """The id of the touch_probe entry whose TriggerInput it sets."""
+    value: StrictBool = True
+    """The new level of PlcEvent."""
+
+    def arguments(self) -> dict[str, Any]:
+        return {}  # the run sets the touch_probe entry's InputRef
 
 
 class AbortTrigger(Entry):
@@ -817,6 +863,7 @@ class MoveSuperimposed(Entry):
     """
 
     method = "move_superimposed"
+    blocks = ("MC_MoveSuperImposed", "MC_MoveSuperImposedExt")  #: Ext: the mode input
     command: Literal["move_superimposed"]
     distance: InputValue
     """Additional distance [mm or °], != 0; its sign gives the direction."""
@@ -857,6 +904,7 @@ from openmotion.scenario.coordinated import (  # noqa: E402 - needs Entry and th
 # The entries that a function block carries out (jog, external setpoints, override filter,
 # stepper, reference flag) build on Entry above; they live in their own module.
 from openmotion.scenario.cyclic import (  # noqa: E402 - needs Entry and the types above
+    CALL_ENTRIES,
     DisableExternalSetpoints,
     EnableExternalSetpoints,
     InjectStall,
@@ -882,6 +930,7 @@ from openmotion.scenario.planar_parts import part_oids  # noqa: E402 - as planar
 
 # CA groups (TF5410): the ca_groups list and the entries on movers and groups.
 from openmotion.scenario.transport import (  # noqa: E402 - needs Entry and the types above
+    GROUP_CALL_ENTRIES,
     ActivateTrack,
     CaGroupSpec,
     GearInPosCa,
@@ -902,13 +951,13 @@ COMMANDS: dict[str, type[Entry]] = {
     for model in (Power, PowerOff, Reset, SetOverride, MoveAbsolute, MoveRelative, MoveModulo,
                   MoveVelocity, Halt, Stop, ChangeDynamics, NewPosition, NewPositionAndVelocity,
                   SetActualPosition, Home, GearIn, SetGearRatio, GearOut, GearOutExt,
-                  OrientedStop, SetActualPositionOnTheFly, TouchProbe, AbortTrigger,
+                  OrientedStop, SetActualPositionOnTheFly, TouchProbe, AbortTrigger, PlcEvent,
                   MoveSuperimposed, AbortSuperposition, Jog, EnableExternalSetpoints,
                   DisableExternalSetpoints, OverrideFilter, PowerStepper, InjectStall,
                   ReleaseStall, SetReferenceFlag, ReadAxisComponents, MoveAbsoluteCa,
                   MoveRelativeCa, GearInPosCa, HaltCa, ActivateTrack, RegisterCompensation,
                   SetGap, GroupHalt, GroupStop, GroupEnable, GroupDisable,
-                  GroupReset)  # type: ignore[misc]
+                  GroupReset, *CALL_ENTRIES, *GROUP_CALL_ENTRIES)  # type: ignore[misc]
 }
 #: every timeline entry's model by its ``command``: COMMANDS (on axes, CA movers and groups),
 #: the planar ones (on planar movers and groups) and the axes-group ones
@@ -1029,11 +1078,29 @@ class CommandCheck(_Check):
     move_superimposed's actual distance."""
     tolerance: Annotated[StrictFloat, Field(ge=0.0)] = 1e-9
     """Allowed |value - expected value|."""
+    output: StrictStr | None = None
+    """With ``value``: the output of a query entry to compare (read_status: standstill,
+    group_read_actual_position: position_1 ...; scenario/queries.py, D-218)."""
 
     @model_validator(mode="after")
     def _tolerance_with_value(self) -> CommandCheck:
         if self.value is None and "tolerance" in self.model_fields_set:
             raise ValueError("'tolerance' needs 'value'")
+        if self.output is not None and self.value is None:
+            raise ValueError("'output' needs 'value'")
+        names = _NAMES.get()
+        model = TIMELINE_COMMANDS.get(names.commands.get(self.command)) \
+            if names is not None and isinstance(names.commands.get(self.command), str) else None
+        if model is not None and self.output is not None:
+            if not issubclass(model, Query):
+                raise ValueError(f"output: {self.command!r} is no query entry (read_status, "
+                                 "get_length ...), it has no outputs")
+            if not model.has_output(self.output):
+                raise ValueError(f"output: {self.command!r} has no output {self.output!r} "
+                                 f"(outputs: {', '.join(model.outputs) or 'none'})")
+        elif model is not None and issubclass(model, Query) and self.value is not None:
+            raise ValueError(f"value: {self.command!r} is a query; name the output to "
+                             f"compare in 'output' (outputs: {', '.join(model.outputs)})")
         return self
 
 

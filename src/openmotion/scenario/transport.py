@@ -6,7 +6,9 @@ mover in ``axis`` (the run finds its group), ``set_gap`` changes the gap of a ru
 with ``continuous_update``, ``activate_track`` and ``register_compensation`` pick the frame
 of a mover's later moves (the group's parts, tracks and templates: scenario/tracks.py), and
 the group commands (``group_halt``, ``group_stop``, ``group_enable``, ``group_disable``,
-``group_reset``) name the group in ``group`` instead of an axis.
+``group_reset``) name the group in ``group`` instead of an axis. The membership blocks
+(``add_axis_to_group`` ...), the group reads and MC_TransformPosition are called once as
+blocks on either kind of group, MC_ReadTrackPositions on a mover (scenario/queries.py).
 
 schema.py puts these models into its ``COMMANDS``, ``TimelineEntry`` and ``Scenario``; they
 share its value types, conditions and name checks.
@@ -15,7 +17,7 @@ share its value types, conditions and name checks.
 from __future__ import annotations
 
 import dataclasses
-from typing import Annotated, Any, ClassVar, Literal, get_type_hints
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal, get_type_hints
 
 from pydantic import (
     AfterValidator,
@@ -29,8 +31,10 @@ from pydantic import (
 )
 from pydantic_core import InitErrorDetails, PydanticCustomError
 
+from openmotion.axis.commands import Command
 from openmotion.core.enums import BufferMode
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE
+from openmotion.scenario.queries import Called, Query, block_query
 from openmotion.scenario.schema import (
     _NAMES,
     BufferModeName,
@@ -50,8 +54,20 @@ from openmotion.scenario.schema import (
     _unique,
 )
 from openmotion.scenario.tracks import GeometrySpec, PartSpec, TemplateSpec, TrackSpec, problems
+from openmotion.transport.blocks import (
+    MC_AddAxisToGroup,
+    MC_GroupReadError,
+    MC_GroupReadStatus,
+    MC_RemoveAxisFromGroup,
+    MC_UngroupAllAxes,
+)
 from openmotion.transport.enums import GapControlMode, ModuloDirection, SyncMode, SyncStrategy
+from openmotion.transport.group import UDINT_TO_IDENTINGROUP, CaGroup
 from openmotion.transport.parameters import CaGroupParameters
+from openmotion.transport.track_blocks import MC_ReadTrackPositions, MC_TransformPosition
+
+if TYPE_CHECKING:
+    from openmotion.runtime.runtime import Runtime
 
 GapControlModeName = _enum_by_name(GapControlMode)
 ModuloDirectionName = _enum_by_name(ModuloDirection)
@@ -438,6 +454,130 @@ class GroupReset(GroupEntry):
     command: Literal["group_reset"]
 
 
+# -- blocks called once: membership, reads, TransformPosition ------------------------------
+
+
+class _GroupCall(GroupEntry, Called):
+    """A group block (transport/blocks.py, the same for CA and axes groups) called once as
+    ``fb(group, ...)``: the row follows its command, or records its outputs (queries.py)."""
+
+    block_type: ClassVar[Any]  #: the block class
+    trigger: ClassVar[str] = "execute"
+
+    def inputs(self, group: Any, rt: Runtime) -> dict[str, Any]:
+        """The block's inputs besides the trigger."""
+        return {}
+
+    def call(self, target: Any, now: float) -> Command:
+        group, rt = target
+        block = self.block_type(group)
+        block(**{self.trigger: True}, **self.inputs(group, rt))
+        if isinstance(self, Query):
+            return block_query(self.command, now, block, self.outputs)
+        return block.command  # type: ignore[no-any-return] - an edge always leaves one
+
+
+def _ident(group: Any, number: int) -> Any:
+    """IdentInGroup ``number``: a CA group takes it as UDINT_TO_IDENTINGROUP(number)."""
+    return UDINT_TO_IDENTINGROUP(number) if isinstance(group, CaGroup) else number
+
+
+class AddAxisToGroup(_GroupCall):
+    """MC_AddAxisToGroup (TF5410 §9.3.1.1.1, Part 4 §5.1): ``axis`` joins the group as
+    ``ident_in_group``. A CA group takes a standing axis even while it moves; an axes group
+    only in GroupDisabled or GroupStandby. CA entries may then name the axis."""
+
+    block_type = MC_AddAxisToGroup
+    command: Literal["add_axis_to_group"]
+    axis_name: Annotated[StrictStr, AfterValidator(_check_axis)] = Field(alias="axis")
+    """The axis that joins."""
+    ident_in_group: Annotated[StrictInt, Field(ge=0)]
+    """Its IdentInGroup (an axes group's ACS order; a CA group's UDINT_TO_IDENTINGROUP)."""
+
+    def inputs(self, group: Any, rt: Runtime) -> dict[str, Any]:
+        return {"axis": rt.axes[self.axis_name],
+                "ident_in_group": _ident(group, self.ident_in_group)}
+
+
+class RemoveAxisFromGroup(_GroupCall):
+    """MC_RemoveAxisFromGroup (TF5410 §9.3.1.1.8, Part 4 §5.2): the member with
+    ``ident_in_group`` leaves; refused while it moves."""
+
+    block_type = MC_RemoveAxisFromGroup
+    command: Literal["remove_axis_from_group"]
+    ident_in_group: Annotated[StrictInt, Field(ge=0)]
+    """The member's IdentInGroup."""
+
+    def inputs(self, group: Any, rt: Runtime) -> dict[str, Any]:
+        return {"ident_in_group": _ident(group, self.ident_in_group)}
+
+
+class UngroupAllAxes(_GroupCall):
+    """MC_UngroupAllAxes (TF5410 §9.3.1.1.12, Part 4 §5.3): every member leaves."""
+
+    block_type = MC_UngroupAllAxes
+    command: Literal["ungroup_all_axes"]
+
+
+class GroupReadStatus(_GroupCall, Query):
+    """MC_GroupReadStatus (TF5410 §9.3.1.1.5, Part 4 §5.17): the state flags, 1 or 0."""
+
+    block_type = MC_GroupReadStatus
+    trigger = "enable"
+    command: Literal["group_read_status"]
+    outputs = (*MC_GroupReadStatus._STATE_FLAG.values(), "all_axes_standing",
+               "constant_velocity", "accelerating", "decelerating", "in_position")
+
+
+class GroupReadError(_GroupCall, Query):
+    """MC_GroupReadError (TF5410 §9.3.1.1.4, Part 4 §5.18): ``group_error_id`` (a number)."""
+
+    block_type = MC_GroupReadError
+    trigger = "enable"
+    command: Literal["group_read_error"]
+    outputs = ("group_error_id",)
+
+
+class TransformPosition(_GroupCall, Query):
+    """MC_TransformPosition (TF5410 §9.2.1.2): ``origin_position`` from one frame to another
+    (0: the motor path; a template id: its TCP path); output ``destination_position``."""
+
+    block_type = MC_TransformPosition
+    command: Literal["transform_position"]
+    outputs = ("destination_position",)
+    origin_oid: OidInput = 0
+    """The frame of origin_position."""
+    destination_oid: OidInput = 0
+    """The frame of the result."""
+    origin_position: Number
+    """[mm]."""
+
+    def inputs(self, group: Any, rt: Runtime) -> dict[str, Any]:
+        return {"origin_oid": self.origin_oid, "destination_oid": self.destination_oid,
+                "origin_position": self.origin_position}
+
+
+class ReadTrackPositions(CaEntry, Query):
+    """MC_ReadTrackPositions (TF5410 §9.1.1.1.5): the mover's set position on its active
+    track and on its part, with their ids (outputs track_position, track_id, part_position,
+    part_id)."""
+
+    method = ""
+    command: Literal["read_track_positions"]
+    outputs = ("track_position", "track_id", "part_position", "part_id")
+
+    def call(self, target: Any, now: float) -> Command:
+        block = MC_ReadTrackPositions(target)
+        block(enable=True)
+        return block_query(self.command, now, block, self.outputs)
+
+
+#: the entries that call a block once (schema.COMMANDS holds them)
+GROUP_CALL_ENTRIES: tuple[type, ...] = (AddAxisToGroup, RemoveAxisFromGroup, UngroupAllAxes,
+                                        GroupReadStatus, GroupReadError, TransformPosition,
+                                        ReadTrackPositions)
+
 CA_ENTRIES: tuple[type, ...] = (MoveAbsoluteCa, MoveRelativeCa, GearInPosCa, HaltCa,
                                 ActivateTrack, RegisterCompensation, SetGap, GroupHalt,
-                                GroupStop, GroupEnable, GroupDisable, GroupReset)
+                                GroupStop, GroupEnable, GroupDisable, GroupReset,
+                                *GROUP_CALL_ENTRIES)
