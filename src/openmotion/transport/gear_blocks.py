@@ -20,10 +20,11 @@ class ST_GearInPosCAOptions:
     """Options of MC_GearInPosCA (§9.1.2.1), with the manual's defaults.
 
     MinimalSlavePosition, DirectionReversalAllowed and the master velocity under/overshoot
-    flags are checked on the planned sync profile: one that breaks them is SYNC_FAILED (the
-    manual's "synchronisation impossible"); the slave does not first adapt its velocity to
-    make them hold. Both flags FALSE is an error at once, as the manual says. Reference
-    systems other than 0 need geo-compensation.
+    flags hold for the profile the slave drives: when the fastest (or the strategy's timed)
+    profile breaks one, the slave holds at rest and syncs once a compliant profile fits;
+    SYNC_FAILED only when holding cannot lead to one (the manual's "synchronisation
+    impossible", D-204). Both flags FALSE is an error at once, as the manual says.
+    Reference systems other than 0 need geo-compensation.
     """
 
     after_sync_velocity: InputValue = MC_DEFAULT
