@@ -24,6 +24,7 @@ when holding cannot lead to one is the sync impossible (SYNC_FAILED).
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -40,6 +41,7 @@ WAITING, SYNCING, IN_SYNC, HOLDING = 0, 1, 2, 3
 #: relative tolerance of the master signal check (D-205), on top of what a jerk-limited
 #: master can do within one cycle
 _SIGNAL_TOLERANCE = 1e-9
+_ROUNDING = 64.0 * sys.float_info.epsilon  #: relative rounding of a second difference
 _AT_REST = 1e9  #: [s] far enough into any brake to be at rest
 
 
@@ -74,8 +76,8 @@ class GearSync:
     _previous_master: tuple[float, float, float, float] | None = None
     _planned_for: float = 0.0  #: master velocity the sync was timed for
     _stretch_from: float | None = None  #: master position where a stretched profile starts
-    #: the master's set values of the last two cycles, as reported (D-205)
-    _history: tuple[tuple[float, float, float, float], ...] = ()
+    #: (time, the master's set values as reported) of the last two cycles (D-205)
+    _history: tuple[tuple[float, tuple[float, float, float, float]], ...] = ()
     _signal: tuple[float, tuple[float, float, float, float]] | None = None  #: (now, signal)
 
     def coupled(self, mp: float, mv: float, ma: float, mj: float
@@ -181,16 +183,25 @@ class GearSync:
         NONE reads the values as they are. Read once per cycle (``now``)."""
         if self._signal is not None and self._signal[0] == now:
             return self._signal[1]
-        signal, history = master, self._history
-        if self.signal_correction is MasterSignalCorrection.AUTO and history \
-                and cycle_time > 0.0:
+        signal, history, expected = master, [], now - cycle_time
+        for then, values in reversed(self._history):  # samples of the cycles just before
+            if cycle_time <= 0.0 or abs(then - expected) > 1e-6 * cycle_time:
+                break
+            history.insert(0, values)
+            expected -= cycle_time
+        if self.signal_correction is MasterSignalCorrection.AUTO and history:
             signal = self._corrected(master, history, cycle_time)
-        self._history = (history + (master,))[-2:]
+        self._history = (self._history + ((now, master),))[-2:]
         self._signal = (now, signal)
         return signal
 
+    def seed(self, now: float, master: tuple[float, float, float, float]) -> None:
+        """The master's set values when the command was given (``now``: the last cycle), so
+        that its first step can already check the signal (D-205)."""
+        self._history = ((now, master),)
+
     def _corrected(self, master: tuple[float, float, float, float],
-                   history: tuple[tuple[float, float, float, float], ...], dt: float
+                   history: list[tuple[float, float, float, float]], dt: float
                    ) -> tuple[float, float, float, float]:
         """``master``, or its velocity and acceleration from its positions (D-205)."""
         p = master[0]
@@ -203,8 +214,11 @@ class GearSync:
         if len(history) < 2:
             return p, (p - p1) / dt, 0.0, 0.0
         p2 = history[-2][0]
-        return (p, (3.0 * p - 4.0 * p1 + p2) / (2.0 * dt), (p - 2.0 * p1 + p2) / (dt * dt),
-                0.0)
+        acceleration = (p - 2.0 * p1 + p2) / (dt * dt)
+        # the rounding of three positions is no acceleration (Late would take it for one)
+        if abs(acceleration) <= _ROUNDING * max(1.0, abs(p), abs(p1), abs(p2)) / (dt * dt):
+            acceleration = 0.0
+        return p, (3.0 * p - 4.0 * p1 + p2) / (2.0 * dt), acceleration, 0.0
 
     def _may_start(self, now: float, slave: tuple[float, float, float],
                    master: tuple[float, float, float, float], cycle_time: float) -> bool:

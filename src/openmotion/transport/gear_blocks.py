@@ -12,7 +12,12 @@ from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE, MC_INVALID, InputValue
 from openmotion.transport.blocks import _ContinuousUpdate, _group_of
-from openmotion.transport.enums import GapControlMode, SyncMode, SyncStrategy
+from openmotion.transport.enums import (
+    GapControlMode,
+    MasterSignalCorrection,
+    SyncMode,
+    SyncStrategy,
+)
 
 
 @dataclass(frozen=True)
@@ -39,6 +44,7 @@ class ST_GearInPosCAOptions:
     gap_control_mode: GapControlMode = GapControlMode.GROUP_DEFAULT
     slave_sync_position_reference_system: int = 0
     dynamics_reference_system: int = 0
+    master_signal_correction: MasterSignalCorrection = MasterSignalCorrection.AUTO  #: D-205
 
 
 class MC_GearInPosCA(_ContinuousUpdate):
@@ -92,7 +98,7 @@ class MC_GearInPosCA(_ContinuousUpdate):
             options.after_sync_jerk, options.master_velocity_undershoot_allowed,
             options.master_velocity_overshoot_allowed, options.minimal_slave_position,
             options.direction_reversal_allowed, options.override_slave_dynamic_restrictions,
-            options.gap_control_mode, self.continuous_update)
+            options.gap_control_mode, self.continuous_update, options.master_signal_correction)
 
     def _show_progress(self, command: Command) -> None:
         super()._show_progress(command)
