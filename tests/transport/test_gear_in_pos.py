@@ -322,3 +322,31 @@ def test_a_standing_slave_starts_smoothly_to_a_cruising_master(strategy: SyncStr
         assert abs(slave.set_acceleration) <= LIMITS["max_acceleration"] * (1 + 1e-9)
     assert positions[0] == pytest.approx(LIMITS["jerk"] * 0.001 ** 3 / 6.0, rel=1e-6)
     assert all(b >= a for a, b in zip(positions, positions[1:], strict=False))
+
+
+def test_a_slave_held_by_gap_control_stops_and_waits_without_turning_round() -> None:
+    """Gap control brakes the slave in sync harder than its sync dynamics (3000 mm/s²,
+    30000 mm/s³) could let go of; the re-sync then brakes on to rest behind the standing
+    blocker and waits there, never backwards (D-206). Before, each re-sync from the braked
+    state swung the slave back at up to 780 mm/s, again and again."""
+    rt = om.Runtime()
+    group = CaGroup(rt, "ca", rail_is_ring=False, rail_length=20000.0)
+    master = rt.add_axis("master", max_velocity=2000.0)
+    master.power()
+    blocker = rt.add_axis("blocker", position=3000.0, **LIMITS)
+    slave = rt.add_axis("slave", position=0.0, **LIMITS)
+    for i, axis in enumerate((blocker, slave)):
+        axis.power()
+        group.add_axis(axis, UDINT_TO_IDENTINGROUP(i + 1))
+    group.enable()
+    master.move_velocity(500.0)
+    gear = group.gear_in_pos(master, slave, 1.0, 1, 0.0, 0.0, SyncStrategy.EARLY,
+                             velocity=2500.0, acceleration=3000.0, deceleration=3000.0,
+                             jerk=30000.0)
+    rt.run_until(lambda: group.sync_state(gear)[1], timeout=10.0)
+    rt.run_until(lambda: not group.sync_state(gear)[1], timeout=10.0)
+    for _ in range(1500):
+        rt.step()
+        assert slave.set_velocity >= 0.0
+    assert (slave.set_position, slave.set_velocity) == (pytest.approx(2900.0), 0.0)
+    assert gear.busy and not group.sync_state(gear)[1]

@@ -76,6 +76,8 @@ class GearSync:
     _previous_master: tuple[float, float, float, float] | None = None
     _planned_for: float = 0.0  #: master velocity the sync was timed for
     _stretch_from: float | None = None  #: master position where a stretched profile starts
+    _hold_limits: Limits | None = None  #: the dynamics of the sync a hold waits for
+    _no_turn: bool = False  #: held by gap control: the re-sync must not turn the slave round
     #: (time, the master's set values as reported) of the last two cycles (D-205)
     _history: tuple[tuple[float, tuple[float, float, float, float]], ...] = ()
     _signal: tuple[float, tuple[float, float, float, float]] | None = None  #: (now, signal)
@@ -95,9 +97,12 @@ class GearSync:
         master = self.master_signal(now, master, cycle_time)
         mp, mv, ma, mj = master
         cp, cv, ca, cj = self.coupled(mp, mv, ma, mj)
-        if self.phase == WAITING and self._may_start(now, slave, master, cycle_time) or \
-                self.phase == HOLDING:
+        if self.phase == WAITING and self._may_start(now, slave, master, cycle_time):
             self._begin(now, cycle_time, slave, self._previous_master, master, self.limits)
+            self._planned_for = mv
+        elif self.phase == HOLDING:
+            self._begin(now, cycle_time, slave, self._previous_master, master,
+                        self._hold_limits or self.limits, early=self._no_turn)
             self._planned_for = mv
         if self.phase in (WAITING, HOLDING):
             self._previous_master = master
@@ -149,17 +154,18 @@ class GearSync:
         """Gap control braked the slave: synchronise again from where it is, as fast as it
         may: after the first sync with the AfterSync dynamics and no restrictions (they
         shape only the sync phase, §9.1.2.1); before it with the sync dynamics and the
-        restrictions (D-204, D-206)."""
+        restrictions (D-204). A re-sync that would turn the braked slave round (gap control
+        brakes harder than these dynamics can let go) waits: the slave brakes on to rest,
+        or until a re-sync that does not turn it fits (D-206)."""
         if self.phase in (WAITING, HOLDING) or self.error is not None:
             return
         master = self.master_signal(now, master, 0.0)
         self.in_sync = False
         self._stretch_from = None
-        if self.synced_once:
-            self._plan(now, 0.0, slave, master, master, self.after_sync, early=True)
-            return
+        self._hold_limits = self.after_sync if self.synced_once else self.limits
+        self._no_turn = True
         try:
-            self._begin(now, 0.0, slave, master, master, self.limits, early=True)
+            self._begin(now, 0.0, slave, master, master, self._hold_limits, early=True)
         except CommandRejected as rejected:
             self.error = (rejected.error_id, rejected.message)
 
@@ -254,12 +260,27 @@ class GearSync:
         cannot lead to a compliant profile either (§9.1.2.1, D-204)."""
         broken = self._plan(now, cycle_time, slave, master_then, master_now, limits, early)
         if broken is None:
-            return
-        hopeless = self._hold_breaks(slave, master_now, limits)
-        if hopeless is not None:
-            raise CommandRejected(ErrorId.SYNC_FAILED, f"{broken}, and {hopeless}")
+            if not (self._no_turn and self._turns(slave, master_then)):
+                self._no_turn = False
+                return
+        else:
+            hopeless = self._hold_breaks(slave, master_now, limits)
+            if hopeless is not None:
+                raise CommandRejected(ErrorId.SYNC_FAILED, f"{broken}, and {hopeless}")
         self.phase, self.start_sync, self.profile = HOLDING, True, None
+        self._hold_limits = limits
         self._stretch_from = None
+
+    def _turns(self, slave: tuple[float, float, float],
+               master: tuple[float, float, float, float]) -> bool:
+        """Whether the planned profile turns the moving slave round."""
+        assert self.profile is not None
+        _, cv, _, _ = self.coupled(*master)
+        v = slave[1]
+        low, high = self.profile.velocity_extrema()
+        tolerance = 1e-9 * max(1.0, abs(v), self.limits.velocity)
+        return (v > tolerance and cv + low < -tolerance) or \
+            (v < -tolerance and cv + high > tolerance)
 
     def _plan(self, now: float, cycle_time: float, slave: tuple[float, float, float],
               master_then: tuple[float, float, float, float],
