@@ -84,10 +84,6 @@ class MC_GearInPosCA(_ContinuousUpdate):
         if not isinstance(self.master, Axis):
             raise CommandRejected(ErrorId.INVALID_PARAMETER_VALUE,
                                   "master: an axis is needed")
-        for name in ("slave_sync_position_reference_system", "dynamics_reference_system"):
-            if getattr(options, name) != 0:
-                raise CommandRejected(ErrorId.INVALID_MODE,
-                                      f"options.{name}: only 0 (the motor path) for now")
         self._group = _group_of(axis)
         return self._group.gear_in_pos(
             self.master, axis, self.ratio_numerator, self.ratio_denominator,
@@ -98,7 +94,8 @@ class MC_GearInPosCA(_ContinuousUpdate):
             options.after_sync_jerk, options.master_velocity_undershoot_allowed,
             options.master_velocity_overshoot_allowed, options.minimal_slave_position,
             options.direction_reversal_allowed, options.override_slave_dynamic_restrictions,
-            options.gap_control_mode, self.continuous_update, options.master_signal_correction)
+            options.gap_control_mode, self.continuous_update, options.master_signal_correction,
+            options.slave_sync_position_reference_system, options.dynamics_reference_system)
 
     def _show_progress(self, command: Command) -> None:
         super()._show_progress(command)

@@ -422,7 +422,9 @@ class CaGroup(GroupCycle, GroupFaults):
                     gap_control_mode: GapControlMode = GapControlMode.GROUP_DEFAULT,
                     continuous_update: bool = False,
                     master_signal_correction: MasterSignalCorrection = (
-                        MasterSignalCorrection.AUTO)) -> Command:
+                        MasterSignalCorrection.AUTO),
+                    slave_sync_position_reference_system: int = 0,
+                    dynamics_reference_system: int = 0) -> Command:
         """MC_GearInPosCA (§9.1.1.1.4): couple ``slave`` to ``master``'s set values.
 
         The command never ends Done: another command (aborting) decouples. ``sync_state``
@@ -432,6 +434,12 @@ class CaGroup(GroupCycle, GroupFaults):
         command = self._command("gear_in_pos_ca")
 
         def build(mover: Mover) -> CaJob:
+            for name, oid in (("slave_sync_position_reference_system",
+                               slave_sync_position_reference_system),
+                              ("dynamics_reference_system", dynamics_reference_system)):
+                if oid != 0:  # a template's TCP path: not for a coupled slave yet (D-207)
+                    raise CommandRejected(ErrorId.INVALID_MODE,
+                                          f"{name}: only 0 (the motor path) for now")
             if not master_velocity_undershoot_allowed and not master_velocity_overshoot_allowed:
                 raise CommandRejected(ErrorId.INVALID_SYNC_OPTIONS, "master velocity under- "
                                       "and overshoot cannot both be forbidden")
