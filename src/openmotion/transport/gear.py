@@ -108,46 +108,48 @@ class GearSync:
             self._previous_master = master
             return None
         if self.phase == SYNCING:
-            stretched = self._stretch_from is not None
-            if (self.strategy is SyncStrategy.LATE and not self.synced_once
-                    and not self.override_restrictions and abs(ma) > 1e-9 * max(1.0, abs(mv))):
-                self.error = (ErrorId.SYNC_FAILED, "the master accelerated after StartSync "
-                              "(SyncStrategy Late)")
-                return None
-            if (self.strategy is SyncStrategy.SLOW and not self.synced_once and not stretched
-                    and abs(mv - self._planned_for) > 1e-9 * max(1.0, abs(mv))):
-                # the master changed speed: plan the rest again to arrive in time (§9.4.1.5)
-                self._begin(now, cycle_time, slave, self._previous_master, master, self.limits)
-                self._planned_for = mv
-                if self.phase == HOLDING:
-                    self._previous_master = master
-                    return None
-            assert self.profile is not None
-            if stretched:
-                error, at = self._stretched(master)
-                if error is None:  # beyond the slave's maxima: within them from here on
-                    assert self.axis_limits is not None
-                    self._begin(now, cycle_time, slave, self._previous_master, master,
-                                self.axis_limits, early=True)
-                    if self.phase == HOLDING:
-                        self._previous_master = master
-                        return None
-                    assert self.profile is not None
-                    at = now - self.started
-                    error = self.profile.at(at)
-            else:
-                at = now - self.started
-                error = self.profile.at(at)
-            self._previous_master = master
-            if at >= self.profile.duration - 1e-12:
-                self.phase, self.start_sync, self.in_sync = IN_SYNC, False, True
-                self.synced_once = True
-                self._stretch_from = None
-                return cp, cv, ca, cj
-            ep, ev, ea, ej = error
-            return cp + ep, cv + ev, ca + ea, cj + ej
+            return self._syncing(now, slave, master, cycle_time)
         self._previous_master = master
         return cp, cv, ca, cj
+
+    def _syncing(self, now: float, slave: tuple[float, float, float],
+                 master: tuple[float, float, float, float], cycle_time: float
+                 ) -> tuple[float, float, float, float] | None:
+        """A step of the sync profile: the coupled motion plus the sync error."""
+        mp, mv, ma, mj = master
+        stretched = self._stretch_from is not None
+        if (self.strategy is SyncStrategy.LATE and not self.synced_once
+                and not self.override_restrictions and abs(ma) > 1e-9 * max(1.0, abs(mv))):
+            self.error = (ErrorId.SYNC_FAILED, "the master accelerated after StartSync "
+                          "(SyncStrategy Late)")
+            return None
+        if (self.strategy is SyncStrategy.SLOW and not self.synced_once and not stretched
+                and abs(mv - self._planned_for) > 1e-9 * max(1.0, abs(mv))):
+            # the master changed speed: plan the rest again to arrive in time (§9.4.1.5)
+            self._begin(now, cycle_time, slave, self._previous_master, master, self.limits)
+            self._planned_for = mv
+        elif stretched:
+            error, at = self._stretched(master)
+            if error is None:  # beyond the slave's maxima: within them from here on
+                assert self.axis_limits is not None
+                self._begin(now, cycle_time, slave, self._previous_master, master,
+                            self.axis_limits, early=True)
+        if self.phase == HOLDING:
+            self._previous_master = master
+            return None
+        assert self.profile is not None
+        if self._stretch_from is None:
+            at = now - self.started
+            error = self.profile.at(at)
+        self._previous_master = master
+        cp, cv, ca, cj = self.coupled(mp, mv, ma, mj)
+        if at >= self.profile.duration - 1e-12:
+            self.phase, self.start_sync, self.in_sync = IN_SYNC, False, True
+            self.synced_once = True
+            self._stretch_from = None
+            return cp, cv, ca, cj
+        ep, ev, ea, ej = error
+        return cp + ep, cv + ev, ca + ea, cj + ej
 
     def held(self, now: float, slave: tuple[float, float, float],
              master: tuple[float, float, float, float]) -> None:
