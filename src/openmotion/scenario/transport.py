@@ -61,7 +61,13 @@ from openmotion.transport.blocks import (
     MC_RemoveAxisFromGroup,
     MC_UngroupAllAxes,
 )
-from openmotion.transport.enums import GapControlMode, ModuloDirection, SyncMode, SyncStrategy
+from openmotion.transport.enums import (
+    GapControlMode,
+    MasterSignalCorrection,
+    ModuloDirection,
+    SyncMode,
+    SyncStrategy,
+)
 from openmotion.transport.group import UDINT_TO_IDENTINGROUP, CaGroup
 from openmotion.transport.parameters import CaGroupParameters
 from openmotion.transport.track_blocks import MC_ReadTrackPositions, MC_TransformPosition
@@ -73,6 +79,7 @@ GapControlModeName = _enum_by_name(GapControlMode)
 ModuloDirectionName = _enum_by_name(ModuloDirection)
 SyncStrategyName = _enum_by_name(SyncStrategy)
 SyncModeName = _enum_by_name(SyncMode)
+MasterSignalCorrectionName = _enum_by_name(MasterSignalCorrection)
 CA_MOVES = ("move_absolute_ca", "move_relative_ca")  #: the entries ``set_gap`` can change
 #: an OTCID input of a block: a UDINT; 0 = none (the absolute frame, the motor path)
 OidInput = Annotated[StrictInt, Field(ge=0, le=0xFFFFFFFF)]
@@ -94,15 +101,15 @@ class _CaParametersBase(_Model):
 
 
 _HINTS = get_type_hints(CaGroupParameters)
-#: the group parameters a scenario sets (TF5410 §6); GearInPosCA is not reachable from files
-_SCENARIO_PARAMETERS = [f for f in dataclasses.fields(CaGroupParameters)
-                        if f.name != "gear_in_pos_default_dynamics_after_sync"]
+#: the group parameters a scenario sets: all of them (TF5410 §6)
+_SCENARIO_PARAMETERS = dataclasses.fields(CaGroupParameters)
 CaGroupParametersSpec = create_model(
     "CaGroupParametersSpec",
     __base__=_CaParametersBase,
     __doc__="Fields of CaGroupParameters (transport/parameters.py, TF5410 §6), same name and "
             "unit; unset fields keep their defaults. Enums by lower-case name "
-            "(default_gap_control_mode: fast, gap_control_direction: positive).",
+            "(default_gap_control_mode: fast, gap_control_direction: positive, "
+            "gear_in_pos_default_dynamics_after_sync: maximum_slave_dynamics).",
     **{f.name: (_parameter_type(_HINTS[f.name]), f.default) for f in _SCENARIO_PARAMETERS},
 )
 
@@ -250,6 +257,34 @@ class GearInPosCa(_CaMove):
     from the mover in that direction."""
     master_start_distance: InputValue = MC_IGNORE
     """MC_IGNORE: sync at once; > 0: once master >= MSP - d; < 0: once master <= MSP - d."""
+    # ST_GearInPosCAOptions (§9.1.2.1); gap_control_mode comes from _CaMove
+    after_sync_velocity: InputValue = MC_DEFAULT
+    """[mm/s] after the first sync; MC_DEFAULT: the group's
+    gear_in_pos_default_dynamics_after_sync (job_dynamics or maximum_slave_dynamics)."""
+    after_sync_acceleration: InputValue = MC_DEFAULT
+    """[mm/s²] after the first sync."""
+    after_sync_deceleration: InputValue = MC_DEFAULT
+    """[mm/s²] after the first sync."""
+    after_sync_jerk: InputValue = MC_DEFAULT
+    """[mm/s³] after the first sync."""
+    master_velocity_undershoot_allowed: StrictBool = True
+    """false: the slave never slower than the master while it syncs."""
+    master_velocity_overshoot_allowed: StrictBool = True
+    """false: the slave never faster than the master while it syncs (not both false)."""
+    minimal_slave_position: InputValue = MC_IGNORE
+    """[mm] the slave stays at or above it while it syncs; MC_IGNORE: no bound."""
+    direction_reversal_allowed: StrictBool = True
+    """false: the slave never moves against the sync direction while it syncs (D-204)."""
+    override_slave_dynamic_restrictions: StrictBool = False
+    """Late and Slow: a master changing speed stretches or compresses the profile (D-206)."""
+    master_signal_correction: MasterSignalCorrectionName = (  # type: ignore[valid-type]
+        MasterSignalCorrection.AUTO)
+    """auto or none: correct a master signal whose velocity does not fit its positions
+    (D-205)."""
+    slave_sync_position_reference_system: OidInput = 0
+    """0 = the motor path (others: INVALID_MODE, D-207)."""
+    dynamics_reference_system: OidInput = 0
+    """0 = the motor path (others: INVALID_MODE, D-207)."""
 
     def arguments(self) -> dict[str, Any]:
         arguments = super().arguments()

@@ -132,10 +132,15 @@ class GroupCycle:
                                  mover.gap, GapControlMode.GROUP_DEFAULT)
                 proposal = None
             if proposal is None:  # waiting (or stopping): brake to rest with the job's limits
-                lim = job.limits
+                lim = job.limits  # or on along gap control's harder brake (D-206)
+                v, a = float(self.v[slot]), float(self.a[slot])
+                hard = abs(a) > lim.deceleration * (1 + 1e-9) or (  # or it would turn round
+                    v * a < 0.0 and a * a / (2.0 * lim.jerk) > abs(v) * (1 + 1e-9))
+                dec = self.bdec[slot] if hard else lim.deceleration
+                jerk = self.bjerk[slot] if hard else lim.jerk
                 step = brake_state(self.p[slot:slot + 1], self.v[slot:slot + 1],
-                                   self.a[slot:slot + 1], np.array([lim.deceleration]),
-                                   np.array([lim.jerk]), dt)
+                                   self.a[slot:slot + 1], np.array([dec]), np.array([jerk]),
+                                   dt)
                 proposal = tuple(float(x[0]) for x in step)
             for field_, value in zip(nxt, proposal, strict=True):
                 field_[slot] = value

@@ -43,6 +43,14 @@ class GearInPosDefaultDynamicsAfterSync(IntEnum):
     JOB_DYNAMICS = 1
 
 
+class MasterSignalCorrection(IntEnum):
+    """MC_MASTER_SIGNAL_CORRECTION (§9.1.2.6): whether MC_GearInPosCA corrects the master's
+    signal (D-205)."""
+
+    AUTO = 0
+    NONE = 1
+
+
 class GroupType(IntEnum):
     """GroupType of the cyclic group interface (§11.1)."""
 

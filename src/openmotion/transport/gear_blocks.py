@@ -12,7 +12,12 @@ from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE, MC_INVALID, InputValue
 from openmotion.transport.blocks import _ContinuousUpdate, _group_of
-from openmotion.transport.enums import GapControlMode, SyncMode, SyncStrategy
+from openmotion.transport.enums import (
+    GapControlMode,
+    MasterSignalCorrection,
+    SyncMode,
+    SyncStrategy,
+)
 
 
 @dataclass(frozen=True)
@@ -20,10 +25,11 @@ class ST_GearInPosCAOptions:
     """Options of MC_GearInPosCA (§9.1.2.1), with the manual's defaults.
 
     MinimalSlavePosition, DirectionReversalAllowed and the master velocity under/overshoot
-    flags are checked on the planned sync profile: one that breaks them is SYNC_FAILED (the
-    manual's "synchronisation impossible"); the slave does not first adapt its velocity to
-    make them hold. Both flags FALSE is an error at once, as the manual says. Reference
-    systems other than 0 need geo-compensation.
+    flags hold for the profile the slave drives: when the fastest (or the strategy's timed)
+    profile breaks one, the slave holds at rest and syncs once a compliant profile fits;
+    SYNC_FAILED only when holding cannot lead to one (the manual's "synchronisation
+    impossible", D-204). Both flags FALSE is an error at once, as the manual says.
+    Reference systems other than 0 need geo-compensation.
     """
 
     after_sync_velocity: InputValue = MC_DEFAULT
@@ -38,6 +44,7 @@ class ST_GearInPosCAOptions:
     gap_control_mode: GapControlMode = GapControlMode.GROUP_DEFAULT
     slave_sync_position_reference_system: int = 0
     dynamics_reference_system: int = 0
+    master_signal_correction: MasterSignalCorrection = MasterSignalCorrection.AUTO  #: D-205
 
 
 class MC_GearInPosCA(_ContinuousUpdate):
@@ -77,10 +84,6 @@ class MC_GearInPosCA(_ContinuousUpdate):
         if not isinstance(self.master, Axis):
             raise CommandRejected(ErrorId.INVALID_PARAMETER_VALUE,
                                   "master: an axis is needed")
-        for name in ("slave_sync_position_reference_system", "dynamics_reference_system"):
-            if getattr(options, name) != 0:
-                raise CommandRejected(ErrorId.INVALID_MODE,
-                                      f"options.{name}: only 0 (the motor path) for now")
         self._group = _group_of(axis)
         return self._group.gear_in_pos(
             self.master, axis, self.ratio_numerator, self.ratio_denominator,
@@ -91,7 +94,8 @@ class MC_GearInPosCA(_ContinuousUpdate):
             options.after_sync_jerk, options.master_velocity_undershoot_allowed,
             options.master_velocity_overshoot_allowed, options.minimal_slave_position,
             options.direction_reversal_allowed, options.override_slave_dynamic_restrictions,
-            options.gap_control_mode, self.continuous_update)
+            options.gap_control_mode, self.continuous_update, options.master_signal_correction,
+            options.slave_sync_position_reference_system, options.dynamics_reference_system)
 
     def _show_progress(self, command: Command) -> None:
         super()._show_progress(command)

@@ -32,6 +32,7 @@ from openmotion.transport.enums import (
     GearInPosDefaultDynamicsAfterSync,
     GroupState,
     GroupType,
+    MasterSignalCorrection,
     ModuloDirection,
     SyncMode,
     SyncStrategy,
@@ -423,15 +424,26 @@ class CaGroup(GroupCycle, GroupFaults):
                     direction_reversal_allowed: bool = True,
                     override_slave_dynamic_restrictions: bool = False,
                     gap_control_mode: GapControlMode = GapControlMode.GROUP_DEFAULT,
-                    continuous_update: bool = False) -> Command:
+                    continuous_update: bool = False,
+                    master_signal_correction: MasterSignalCorrection = (
+                        MasterSignalCorrection.AUTO),
+                    slave_sync_position_reference_system: int = 0,
+                    dynamics_reference_system: int = 0) -> Command:
         """MC_GearInPosCA (§9.1.1.1.4): couple ``slave`` to ``master``'s set values.
 
         The command never ends Done: another command (aborting) decouples. ``sync_state``
-        gives StartSync and InSync.
+        gives StartSync and InSync. The options' restrictions hold for the profile driven
+        (D-204); ``master_signal_correction`` as D-205 describes.
         """
         command = self._command("gear_in_pos_ca")
 
         def build(mover: Mover) -> CaJob:
+            for name, oid in (("slave_sync_position_reference_system",
+                               slave_sync_position_reference_system),
+                              ("dynamics_reference_system", dynamics_reference_system)):
+                if oid != 0:  # a template's TCP path: not for a coupled slave yet (D-207)
+                    raise CommandRejected(ErrorId.INVALID_MODE,
+                                          f"{name}: only 0 (the motor path) for now")
             if not master_velocity_undershoot_allowed and not master_velocity_overshoot_allowed:
                 raise CommandRejected(ErrorId.INVALID_SYNC_OPTIONS, "master velocity under- "
                                       "and overshoot cannot both be forbidden")
@@ -481,11 +493,20 @@ class CaGroup(GroupCycle, GroupFaults):
                                 after("jerk", after_sync_jerk, defaults.jerk))
             minimum = None if minimal_slave_position is MC_IGNORE else \
                 position_input("minimal_slave_position", minimal_slave_position)
+            correction = enum_input(MasterSignalCorrection, master_signal_correction,
+                                    ErrorId.INVALID_MODE, "master_signal_correction")
+            maxima = Limits(params.max_velocity, params.max_acceleration,
+                            params.max_deceleration, params.max_jerk)
             job.extra = GearSync(master.row, numerator / denominator, msp, ssp, strategy, start,
                                  job.limits, after_sync, bool(override_slave_dynamic_restrictions),
                                  bool(master_velocity_undershoot_allowed),
                                  bool(master_velocity_overshoot_allowed),
-                                 bool(direction_reversal_allowed), minimum)
+                                 bool(direction_reversal_allowed), minimum, correction,
+                                 master.parameters.max_jerk, maxima)
+            k = self._k
+            job.extra.seed(self._rt.now, (float(k.set_p[master.row]), float(k.set_v[master.row]),
+                                          float(k.set_a[master.row]),
+                                          float(k.set_j[master.row])))
             return job
 
         return self._submit(slave, command, build)
