@@ -21,7 +21,7 @@ from openmotion.transport.enums import GapControlDirection, GapControlMode, Grou
 from openmotion.transport.faults import FAULT_STATES
 from openmotion.transport.gap_control import TOLERANCE, Pairs, filter_steps
 from openmotion.transport.gear import GearSync
-from openmotion.transport.kernels import candidates
+from openmotion.transport.kernels import fast_candidates
 from openmotion.transport.movers import (
     FOLLOW,
     GEAR,
@@ -222,7 +222,7 @@ class GroupCycle:
         if rows.size:
             rows = self._candidates(rows, held, dt, (p, v, a, sign, target),
                                     (vmax, acc, dec, jmax, bdec, bjerk), (room_lo, room_hi),
-                                    out, known)
+                                    self._ahead(held, sign, dt), out, known)
         lost = np.zeros(m, dtype=bool)
         lost[rows] = True
         lost |= self.halting[held]
@@ -242,17 +242,38 @@ class GroupCycle:
         known[0][held[still]] = False  # snapped: the filter computes their envelope
         return tuple(out)
 
+    def _ahead(self, held: np.ndarray, sign: np.ndarray, dt: float) -> np.ndarray:
+        """For each held mover moving forwards in a FAST pair: its predecessor's brake a
+        cycle on (p, v, a, dec, jerk) and the gap, which the tracking step may keep braking
+        together with it rather than within the STANDARD room (D-211); nan rows: none."""
+        ahead = np.full((held.size, 6), np.nan)
+        pairs = self._pairs()
+        pair_of = np.full(len(self.movers), -1)
+        pair_of[pairs.succ] = np.arange(pairs.succ.size)
+        m = pair_of[held]
+        use = (m >= 0) & (sign > 0.0)
+        use[use] = pairs.fast[m[use]]
+        if use.any():
+            m = m[use]
+            k = pairs.pred[m]
+            p, v, a, _ = brake_state(self.p[k] + pairs.offset[m], self.v[k], self.a[k],
+                                     self.bdec[k], self.bjerk[k], dt)
+            ahead[use] = np.column_stack((p, v, a, self.bdec[k], self.bjerk[k], pairs.gap[m]))
+        return ahead
+
     @staticmethod
     def _candidates(rows: np.ndarray, held: np.ndarray, dt: float,
                     state: tuple[np.ndarray, ...], limits: tuple[np.ndarray, ...],
-                    room: tuple[np.ndarray, np.ndarray], out: list[np.ndarray],
+                    room: tuple[np.ndarray, np.ndarray], ahead: np.ndarray,
+                    out: list[np.ndarray],
                     known: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
         """Write the first fitting step (+J, 0, -J) of each of ``rows`` into ``out``; returns
-        the rows that no step fits (one compiled loop, kernels.candidates)."""
+        the rows that no step fits (one compiled loop, kernels.fast_candidates)."""
         m = held.size
         steps, env = np.empty((4, m)), np.empty((2, m))
         arrays = (np.ascontiguousarray(x, dtype=float) for x in (*state, *limits, *room))
-        fitted = candidates(rows, dt, *arrays, steps, env)
+        fitted = fast_candidates(rows, dt, *arrays, np.ascontiguousarray(ahead[rows]), steps,
+                                 env)
         chosen = rows[fitted]
         for o, value in zip(out, steps, strict=True):
             o[chosen] = value[chosen]
