@@ -103,10 +103,9 @@ class GroupCycle:
         self._events(now)
 
     def _leave_stale_queues(self) -> None:
-        """A mover on its way to a queue place whose neighbour in the way has moved on since
-        tracks again instead of stopping there: the place is no longer where it must wait
-        (D-210). Its profile would have brought it to rest short of the new place, to start
-        again a cycle later."""
+        """A mover on its way to a queue place tracks again once the neighbour in its way has
+        moved on: that place is no longer where it must wait, and its profile would bring it
+        to rest short of the new one, to start again a cycle later (D-210)."""
         queued = np.flatnonzero((self.mode == FOLLOW) & ~self.halting
                                 & np.isfinite(self.goal) & (self.goal != self.target))
         if not queued.size:
@@ -374,17 +373,17 @@ class GroupCycle:
         if candidates.size:  # a profile with the command's limits must be able to stop there
             slots = held[candidates]
             vmax, acc, dec, jerk = self.lim.take(slots, axis=1)
-            ahead, there = forward[candidates], goals[candidates]
-            fits = self._can_stop(slots, ahead, there, vmax, acc, dec, jerk)
+            onward, there = forward[candidates], goals[candidates]
+            fits = self._can_stop(slots, onward, there, vmax, acc, dec, jerk)
             # one that gap control braked beyond its command's dynamics stops at its queue
             # place with its hardest ones, not short of it to start again (D-210)
-            u, b = np.where(ahead, self.v[slots], -self.v[slots]), \
-                np.where(ahead, self.a[slots], -self.a[slots])
+            u, b = np.where(onward, self.v[slots], -self.v[slots]), \
+                np.where(onward, self.a[slots], -self.a[slots])
             hard = queue[candidates] & ~fits & ((b < -dec) | (u + b * np.abs(b) / (2.0 * jerk)
                                                                < 0.0))
             if hard.any():
                 bdec, bjerk = self.bdec[slots], self.bjerk[slots]
-                hard[hard] = self._can_stop(slots[hard], ahead[hard], there[hard], vmax[hard],
+                hard[hard] = self._can_stop(slots[hard], onward[hard], there[hard], vmax[hard],
                                             acc[hard], bdec[hard], bjerk[hard])
                 for i in np.flatnonzero(hard).tolist():
                     limits[int(candidates[i])] = Limits(float(vmax[i]), float(acc[i]),
