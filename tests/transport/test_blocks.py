@@ -455,6 +455,30 @@ def test_add_and_remove_standing_axes_while_the_group_moves():
     assert leader.set_position == pytest.approx(2500.0)
 
 
+def test_a_standing_mover_waiting_in_a_queue_leaves_while_the_group_moves():
+    """§7.2 (V3.1.10), §9.3.1.1.8: a standing axis may leave a CA group in GroupMoving, also
+    one whose command waits at its queue place; that command ends CommandAborted (D-209).
+    Before, the removal failed with AXIS_MOVING ("is moving or has a command")."""
+    rt, group, (leader, queued, other) = ring(1000.0, 0.0, 2000.0, rail_is_ring=False)
+    wait = MC_MoveAbsoluteCA(queued)
+    wait(execute=True, position=2000.0, velocity=500.0)
+    drive(rt, wait, until=lambda: queued.set_position == 900.0 and queued.set_velocity == 0.0)
+    move = moving(rt, other, position=2900.0)  # the group moves
+    assert wait.busy and group.state is GroupState.MOVING
+    remove = MC_RemoveAxisFromGroup(group)
+    remove(execute=True, ident_in_group=U(2))
+    wait(execute=True)
+    assert remove.done and not remove.error
+    assert outputs(wait) == (False, False, True, False)  # CommandAborted
+    assert queued.group is None and queued.state is om.AxisState.STANDSTILL
+    assert group.order == ["m3", "m1"] and group.state is GroupState.MOVING
+    alone = queued.move_absolute(500.0, 250.0)  # a single axis again
+    rt.run_until(lambda: alone.done, timeout=5.0)
+    assert queued.set_position == 500.0
+    drive(rt, move, until=lambda: move.done)
+    assert other.set_position == pytest.approx(2900.0)
+
+
 def test_adding_or_removing_a_moving_axis_is_an_error():
     rt, group, (leader, _) = ring(1000.0, 0.0)
     moving(rt, leader)

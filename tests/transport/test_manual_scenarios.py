@@ -166,6 +166,41 @@ def test_t6_standby_pushes_down_the_row() -> None:
     assert [a.set_position for a in axes] == pytest.approx([875.0, 975.0, 1075.0], abs=1e-9)
 
 
+@pytest.mark.parametrize("mode", [GapControlMode.STANDARD, GapControlMode.FAST])
+def test_positive_standby_gives_way_to_a_predecessor_moving_back(mode: GapControlMode) -> None:
+    """§8.1.3: with direction Positive the successor alone keeps the gap; §6: standby gap
+    control keeps it for movers without a command too (D-208). A predecessor backing at
+    120 mm/s onto a standing successor took the gap to 60 mm of 140 before, though the
+    standby dynamics (200 mm/s) could keep it; the row behind gives way in turn."""
+    rt, group, axes = group_of([1200.0, 1000.0, 850.0], rail_is_ring=False,
+                               standby_gap_control=True, default_gap=140.0,
+                               default_velocity=200.0, default_gap_control_mode=mode,
+                               gap_control_direction=GapControlDirection.POSITIVE)
+    back = group.move_absolute(axes[0], 900.0, 120.0)
+    peak = 0.0
+    low = np.inf
+    for _ in range(4000):
+        rt.step()
+        low = min(low, group.gaps()[1:].min())
+        peak = max(peak, abs(axes[1].set_velocity), abs(axes[2].set_velocity))
+    assert low >= 140.0 - 1e-9
+    assert back.done and axes[0].set_position == 900.0  # the predecessor is not held
+    assert [a.set_position for a in axes[1:]] == pytest.approx([760.0, 620.0], abs=1e-9)
+    assert peak <= 200.0 * (1 + 1e-9)  # with the standby dynamics
+    assert group.state is GroupState.STANDBY
+
+
+def test_both_with_standby_holds_the_predecessor_and_the_successor_stays() -> None:
+    """§8.1.3: with direction Both the predecessor keeps the gap itself: it waits one gap
+    ahead and the standing successor does not move (D-208)."""
+    rt, group, axes = group_of([1200.0, 1000.0], rail_is_ring=False, standby_gap_control=True,
+                               default_gap=140.0, default_velocity=200.0)
+    back = group.move_absolute(axes[0], 900.0, 120.0)
+    low, _ = run(rt, group, 4.0)
+    assert low >= 140.0 - 1e-9 and back.busy
+    assert [a.set_position for a in axes] == pytest.approx([1140.0, 1000.0], abs=1e-9)
+
+
 def test_t9_after_a_none_command_standby_keeps_the_last_valid_gap() -> None:
     rt, group, axes = group_of([1000.0, 1200.0], rail_is_ring=False, standby_gap_control=True)
     first = group.move_absolute(axes[0], 1000.5, 100.0, gap=150.0)  # gap 150 is valid now

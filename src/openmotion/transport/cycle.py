@@ -21,8 +21,18 @@ from openmotion.transport.enums import GapControlDirection, GapControlMode, Grou
 from openmotion.transport.faults import FAULT_STATES
 from openmotion.transport.gap_control import TOLERANCE, Pairs, filter_steps
 from openmotion.transport.gear import GearSync
-from openmotion.transport.kernels import candidates
-from openmotion.transport.movers import FOLLOW, GEAR, HALT, HELD, IDLE, MOVING_STATES, CaJob, Mover
+from openmotion.transport.kernels import fast_candidates
+from openmotion.transport.movers import (
+    FOLLOW,
+    GEAR,
+    HALT,
+    HELD,
+    IDLE,
+    MOVING_STATES,
+    STANDBY,
+    CaJob,
+    Mover,
+)
 
 if TYPE_CHECKING:
     pass
@@ -63,6 +73,7 @@ class GroupCycle:
                k.set_j[rows].copy()]
         n = rows.size
         known = (np.zeros(n, dtype=bool), np.empty(n), np.empty(n))  # proposal envelopes
+        self._leave_stale_queues()
         held = np.flatnonzero(self.mode == HELD)
         if held.size:
             held = self._waiting(held, nxt, known)
@@ -90,6 +101,20 @@ class GroupCycle:
             sync.held(now, (float(self.p[slot]), float(self.v[slot]), float(self.a[slot])),
                       self._master(sync))
         self._events(now)
+
+    def _leave_stale_queues(self) -> None:
+        """A mover on its way to a queue place tracks again once the neighbour in its way has
+        moved on: that place is no longer where it must wait, and its profile would bring it
+        to rest short of the new one, to start again a cycle later (D-210)."""
+        queued = np.flatnonzero((self.mode == FOLLOW) & ~self.halting
+                                & np.isfinite(self.goal) & (self.goal != self.target))
+        if not queued.size:
+            return
+        room_hi, room_lo = self._room(queued)
+        goal = self.goal[queued]
+        grown = np.where(self.target[queued] >= goal, room_hi > goal + TOLERANCE,
+                         room_lo < goal - TOLERANCE)
+        self.mode[queued[grown]] = HELD
 
     def _end_fast_grace(self, lo: np.ndarray, hi: np.ndarray) -> None:
         """Pairs switched from FAST to STANDARD become STANDARD once safe in that sense."""
@@ -201,7 +226,7 @@ class GroupCycle:
         if rows.size:
             rows = self._candidates(rows, held, dt, (p, v, a, sign, target),
                                     (vmax, acc, dec, jmax, bdec, bjerk), (room_lo, room_hi),
-                                    out, known)
+                                    self._ahead(held, sign, dt), out, known)
         lost = np.zeros(m, dtype=bool)
         lost[rows] = True
         lost |= self.halting[held]
@@ -221,17 +246,38 @@ class GroupCycle:
         known[0][held[still]] = False  # snapped: the filter computes their envelope
         return tuple(out)
 
+    def _ahead(self, held: np.ndarray, sign: np.ndarray, dt: float) -> np.ndarray:
+        """For each held mover moving forwards in a FAST pair: its predecessor's brake a
+        cycle on (p, v, a, dec, jerk) and the gap, which the tracking step may keep braking
+        together with it rather than within the STANDARD room (D-211); nan rows: none."""
+        ahead = np.full((held.size, 6), np.nan)
+        pairs = self._pairs()
+        pair_of = np.full(len(self.movers), -1)
+        pair_of[pairs.succ] = np.arange(pairs.succ.size)
+        m = pair_of[held]
+        use = (m >= 0) & (sign > 0.0)
+        use[use] = pairs.fast[m[use]]
+        if use.any():
+            m = m[use]
+            k = pairs.pred[m]
+            p, v, a, _ = brake_state(self.p[k] + pairs.offset[m], self.v[k], self.a[k],
+                                     self.bdec[k], self.bjerk[k], dt)
+            ahead[use] = np.column_stack((p, v, a, self.bdec[k], self.bjerk[k], pairs.gap[m]))
+        return ahead
+
     @staticmethod
     def _candidates(rows: np.ndarray, held: np.ndarray, dt: float,
                     state: tuple[np.ndarray, ...], limits: tuple[np.ndarray, ...],
-                    room: tuple[np.ndarray, np.ndarray], out: list[np.ndarray],
+                    room: tuple[np.ndarray, np.ndarray], ahead: np.ndarray,
+                    out: list[np.ndarray],
                     known: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
         """Write the first fitting step (+J, 0, -J) of each of ``rows`` into ``out``; returns
-        the rows that no step fits (one compiled loop, kernels.candidates)."""
+        the rows that no step fits (one compiled loop, kernels.fast_candidates)."""
         m = held.size
         steps, env = np.empty((4, m)), np.empty((2, m))
         arrays = (np.ascontiguousarray(x, dtype=float) for x in (*state, *limits, *room))
-        fitted = candidates(rows, dt, *arrays, steps, env)
+        fitted = fast_candidates(rows, dt, *arrays, np.ascontiguousarray(ahead[rows]), steps,
+                                 env)
         chosen = rows[fitted]
         for o, value in zip(out, steps, strict=True):
             o[chosen] = value[chosen]
@@ -328,21 +374,43 @@ class GroupCycle:
             self._finish_job(self.movers[slot])
         goals = np.where(free, target, goal)
         candidates = np.flatnonzero(free | queue)
+        limits: dict[int, Limits] = {}
         if candidates.size:  # a profile with the command's limits must be able to stop there
             slots = held[candidates]
             vmax, acc, dec, jerk = self.lim.take(slots, axis=1)
-            step = np.where(forward[candidates], 1.0, -1.0)
-            b = step * self.a[slots]
-            c_lo, c_hi = brake_envelope(self.p[slots], self.v[slots], self.a[slots], dec, jerk)
-            fits = np.where(forward[candidates], c_hi <= goals[candidates] + TOLERANCE,
-                            c_lo >= goals[candidates] - TOLERANCE)
-            fits &= (b <= acc * (1 + 1e-12)) & (b >= -dec * (1 + 1e-12))
-            u = step * self.v[slots]  # and stop without turning round
-            fits &= (u >= 0.0) & (u + b * np.abs(b) / (2.0 * jerk) >= -1e-9 * vmax)
-            fits &= np.abs(self.v[slots]) <= vmax * (1 + 1e-12)
-            candidates = candidates[fits]
+            onward, there = forward[candidates], goals[candidates]
+            fits = self._can_stop(slots, onward, there, vmax, acc, dec, jerk)
+            # one that gap control braked beyond its command's dynamics stops at its queue
+            # place with its hardest ones, not short of it to start again (D-210)
+            u, b = np.where(onward, self.v[slots], -self.v[slots]), \
+                np.where(onward, self.a[slots], -self.a[slots])
+            hard = queue[candidates] & ~fits & ((b < -dec) | (u + b * np.abs(b) / (2.0 * jerk)
+                                                               < 0.0))
+            if hard.any():
+                bdec, bjerk = self.bdec[slots], self.bjerk[slots]
+                hard[hard] = self._can_stop(slots[hard], onward[hard], there[hard], vmax[hard],
+                                            acc[hard], bdec[hard], bjerk[hard])
+                for i in np.flatnonzero(hard).tolist():
+                    limits[int(candidates[i])] = Limits(float(vmax[i]), float(acc[i]),
+                                                        float(bdec[i]), float(bjerk[i]))
+            candidates = candidates[fits | hard]
         for i in candidates.tolist():
-            self._replan(self.movers[int(held[i])], float(goals[i]))
+            self._replan(self.movers[int(held[i])], float(goals[i]), limits.get(i))
+
+    def _can_stop(self, slots: np.ndarray, forward: np.ndarray, goals: np.ndarray,
+                  vmax: np.ndarray, acc: np.ndarray, dec: np.ndarray,
+                  jerk: np.ndarray) -> np.ndarray:
+        """Whether a profile with these limits can take each mover to rest at its goal: the
+        state is within them and their brake stops before the goal without turning round."""
+        step = np.where(forward, 1.0, -1.0)
+        b = step * self.a[slots]
+        c_lo, c_hi = brake_envelope(self.p[slots], self.v[slots], self.a[slots], dec, jerk)
+        fits = np.where(forward, c_hi <= goals + TOLERANCE, c_lo >= goals - TOLERANCE)
+        fits &= (b <= acc * (1 + 1e-12)) & (b >= -dec * (1 + 1e-12))
+        u = step * self.v[slots]  # and stop without turning round
+        fits &= (u >= 0.0) & (u + b * np.abs(b) / (2.0 * jerk) >= -1e-9 * vmax)
+        fits &= np.abs(self.v[slots]) <= vmax * (1 + 1e-12)
+        return fits
 
     def _restore_gaps(self) -> None:
         """Standby gap control (§6, §8.1.1): movers without a command give way.
@@ -350,23 +418,68 @@ class GroupCycle:
         An idle mover closer to its predecessor than its last valid gap moves back to it with
         the group's default dynamics; idle movers behind it move back as far as that needs
         (the push goes down the row). Movers with a command never give way.
+
+        With direction Positive the successor alone keeps the gap (§8.1.3): a predecessor
+        moving back is not held, so a mover without a command gives way to where the
+        predecessor's command takes it, not only to where it stands, and a mover that gives
+        way already goes further back when that place moves further back (D-208).
         """
         idle = self.mode == IDLE
         halting = self._halt is not None and not all(p.done for p in self._halt_parts)
-        if not idle.any() or self.state is GroupState.STOPPING or halting:
+        if self.state is GroupState.STOPPING or halting:
+            return
+        if self.parameters.gap_control_direction is GapControlDirection.POSITIVE:
+            self._give_way(idle)
+            return
+        if not idle.any():
             return
         slots = np.flatnonzero(idle)
         room_hi, _ = self._room(slots)
         if not np.any(self.p[slots] > room_hi + 1e-6):
             return
         lo, _hi = self._envelope()
-        desired = np.where(idle, self.p, lo)  # where each mover may end up, at most
+        desired = self._push(idle, np.where(idle, self.p, lo))
+        for slot in np.flatnonzero(idle & (desired < self.p - 1e-6)).tolist():
+            self._standby(self.movers[slot], float(desired[slot]))
+
+    def _give_way(self, idle: np.ndarray) -> None:
+        """Standby gap control with direction Positive (D-208): idle movers and those giving
+        way already make room for the lowest point of their predecessor's brake and of the
+        rest of its command (its profile's goal, or a held mover's target)."""
+        giving = (self.mode == FOLLOW) & np.array(
+            [m.job is not None and m.job.kind == STANDBY for m in self.movers], dtype=bool)
+        free = idle | giving
+        if not free.any():
+            return
+        lo, _hi = self._envelope()
+        planned = np.where(self.mode == FOLLOW, self.goal,
+                           np.where(self.mode == HELD, self.target, np.inf))
+        low = np.where(free, np.where(idle, self.p, self.goal), np.minimum(lo, planned))
+        pairs = self._pairs()
+        m = np.flatnonzero(free[pairs.succ])
+        if not m.size:
+            return
+        s = pairs.succ[m]
+        limit = low[pairs.pred[m]] + pairs.offset[m] - pairs.gap[m]
+        tcp = pairs.on_tcp(m)
+        if tcp.any():  # gaps on a TCP path (D-073)
+            limit[tcp] = pairs.behind(m[tcp], low[pairs.pred[m[tcp]]] + pairs.offset[m[tcp]])
+        if not np.any(low[s] > limit + 1e-6):
+            return
+        desired = self._push(free, low)
+        for slot in np.flatnonzero(free & (desired < low - 1e-6)).tolist():
+            self._standby(self.movers[slot], float(desired[slot]))
+
+    def _push(self, free: np.ndarray, desired: np.ndarray) -> np.ndarray:
+        """Where each mover may end up at most: the ``free`` ones one gap behind where their
+        predecessor may, down the row until nothing changes (a ring too)."""
+        desired = desired.copy()
         order = list(range(len(self.movers)))
-        for _ in range(len(order)):  # push down the row until nothing changes (a ring too)
+        for _ in range(len(order)):
             changed = False
             for slot in order:
                 k = int(self.pred[slot])
-                if k < 0 or not idle[slot] or self.gmode[slot] == GapControlMode.NONE:
+                if k < 0 or not free[slot] or self.gmode[slot] == GapControlMode.NONE:
                     continue
                 limit = self._behind(slot, desired[k] + self.offset[slot])
                 if limit < desired[slot] - 1e-9:
@@ -374,8 +487,7 @@ class GroupCycle:
                     changed = True
             if not changed:
                 break
-        for slot in np.flatnonzero(idle & (desired < self.p - 1e-6)).tolist():
-            self._standby(self.movers[slot], float(desired[slot]))
+        return desired
 
     def _behind(self, slot: int, ahead: float) -> float:
         """Where ``slot`` stands one gap behind the motor position ``ahead`` of its
@@ -392,7 +504,7 @@ class GroupCycle:
                         min(group.default_acceleration, p.max_acceleration),
                         min(group.default_deceleration, p.max_deceleration),
                         min(group.default_jerk, p.max_jerk))
-        job = CaJob("standby", self._command("standby_gap_control"), limits, mover.gap,
+        job = CaJob(STANDBY, self._command("standby_gap_control"), limits, mover.gap,
                     self.parameters.default_gap_control_mode, target_of=lambda _start: target)
         self._start(mover, job)
 
@@ -401,13 +513,14 @@ class GroupCycle:
         vmax, acc = self.lim[0].take(slots), self.lim[1].take(slots)
         return (np.abs(self.v[slots]) <= 1e-9 * vmax) & (np.abs(self.a[slots]) <= 1e-9 * acc)
 
-    def _replan(self, mover: Mover, goal: float) -> None:
+    def _replan(self, mover: Mover, goal: float, limits: Limits | None = None) -> None:
+        """A profile to ``goal`` with the command's limits (or ``limits``): FOLLOW again."""
         slot = mover.slot
         job = mover.job
         assert job is not None
         start = KinematicState(float(self.p[slot]), float(self.v[slot]), float(self.a[slot]))
         try:
-            profile = plan_position(start, goal, job.limits)
+            profile = plan_position(start, goal, limits or job.limits)
         except CommandRejected:
             return  # stay held; the tracking step goes on
         self._k.segments.install(mover.axis.row, profile, self._rt.now)

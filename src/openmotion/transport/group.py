@@ -201,14 +201,17 @@ class CaGroup(GroupCycle, GroupFaults):
         return self._finish(command)
 
     def remove_axis(self, ident: IdentInGroup) -> Command:
-        """MC_RemoveAxisFromGroup: Done also when no member has ``ident`` (§9.3.1.1.8)."""
+        """MC_RemoveAxisFromGroup: Done also when no member has ``ident`` (§9.3.1.1.8).
+
+        A standing mover leaves also while the group moves (§7.2, V3.1.10), with a command
+        that waits (a queue place): that command and its buffered ones end CommandAborted
+        (D-209). A moving or still braking mover is refused with AXIS_MOVING."""
         command = self._command("remove_axis")
         mover = next((m for m in self.movers if m.ident == ident), None)
         if mover is None:
             return self._finish(command)
-        if mover.job is not None or self._moving(mover):
-            return self._reject(command, ErrorId.AXIS_MOVING,
-                                f"{mover.axis.name} is moving or has a command")
+        if self._moving(mover):
+            return self._reject(command, ErrorId.AXIS_MOVING, f"{mover.axis.name} is moving")
         self._drop(mover)
         return self._finish(command)
 
@@ -711,8 +714,7 @@ class CaGroup(GroupCycle, GroupFaults):
 
     def _drop(self, mover: Mover) -> None:
         self._abort(mover, "removed from the group")
-        if mover.brake is not None:  # it rests (removal waits for that): its brake is over
-            self._stand(mover)
+        self._stand(mover)  # it rests (removal waits for that): StandStill, its brake is over
         mover.axis.group = None
         row = mover.axis.row
         self._k.segments.install(row, hold(float(self._k.set_p[row])), self._k.sample_time)

@@ -102,43 +102,91 @@ def envelopes(p: np.ndarray, v: np.ndarray, a: np.ndarray, dec: np.ndarray,
 
 
 @compiled
+def _first_step(k: int, dt: float, p: np.ndarray, v: np.ndarray, a: np.ndarray, s: float,
+                target: float, vmax: float, acc: float, dk: float, jk: float, bdk: float,
+                bjk: float, room_lo: float, room_hi: float, ahead: np.ndarray,
+                times: np.ndarray, out: np.ndarray, env: np.ndarray) -> bool:
+    """The first of the steps +J, 0, -J (jerk ``jk``) of mover ``k`` that keeps the limits
+    (acc, dk, vmax), does not pass the target and whose brake with the hardest dynamics
+    (bdk, bjk) stays in its room; written into ``out`` and ``env``. False: none fits.
+
+    ``ahead`` = (p, v, a, dec, jerk, gap) of the predecessor's brake a cycle on, for a mover
+    in a FAST pair moving forwards (gap nan: none): a step past the room is still taken when
+    both brakes together keep that gap, the FAST pair check (D-211)."""
+    for step in (1.0, 0.0, -1.0):
+        j = step * s * jk
+        p1 = p[k] + dt * (v[k] + dt * (0.5 * a[k] + dt * j / 6.0))
+        v1 = v[k] + dt * (a[k] + 0.5 * dt * j)
+        a1 = a[k] + dt * j
+        u, b = s * v1, s * a1
+        release = u + b * abs(b) / (2.0 * jk)
+        if not (b <= acc * _SLACK and b >= -dk * _SLACK
+                and release <= vmax * _SLACK and u >= 0.0 and release >= 0.0):
+            continue
+        top = max(u, release)
+        t_stop = (max(b, 0.0) + 2.0 * dk) / jk + top / dk
+        if top * t_stop >= s * (target - p1):  # near the target: stop before it
+            c_lo, c_hi = envelope(p1, v1, a1, dk, jk)
+            if not (c_hi <= target + TOLERANCE if s > 0.0 else c_lo >= target - TOLERANCE):
+                continue
+        b_lo, b_hi = envelope(p1, v1, a1, bdk, bjk)
+        fits = b_hi <= room_hi and b_lo >= room_lo
+        if not fits and b_lo >= room_lo and not math.isnan(ahead[5]):
+            closest = _min_brake_gap(ahead[0], ahead[1], ahead[2], ahead[3], ahead[4], p1, v1,
+                                     a1, bdk, bjk, times)
+            fits = closest >= ahead[5] - TOLERANCE
+        if fits:
+            out[0, k], out[1, k], out[2, k], out[3, k] = p1, v1, a1, j
+            env[0, k], env[1, k] = b_lo, b_hi
+            return True
+    return False
+
+
+@compiled
 def candidates(rows: np.ndarray, dt: float, p: np.ndarray, v: np.ndarray, a: np.ndarray,
                sign: np.ndarray, target: np.ndarray, vmax: np.ndarray, acc: np.ndarray,
                dec: np.ndarray, jm: np.ndarray, bdec: np.ndarray, bjerk: np.ndarray,
                room_lo: np.ndarray, room_hi: np.ndarray, out: np.ndarray,
                env: np.ndarray) -> np.ndarray:
+    """``fast_candidates`` with no FAST pairs (planar traffic: STANDARD only)."""
+    ahead = np.full((rows.shape[0], 6), np.nan)
+    return fast_candidates(rows, dt, p, v, a, sign, target, vmax, acc, dec, jm, bdec, bjerk,
+                           room_lo, room_hi, ahead, out, env)
+
+
+@compiled
+def fast_candidates(rows: np.ndarray, dt: float, p: np.ndarray, v: np.ndarray, a: np.ndarray,
+                    sign: np.ndarray, target: np.ndarray, vmax: np.ndarray, acc: np.ndarray,
+                    dec: np.ndarray, jm: np.ndarray, bdec: np.ndarray, bjerk: np.ndarray,
+                    room_lo: np.ndarray, room_hi: np.ndarray, ahead: np.ndarray,
+                    out: np.ndarray, env: np.ndarray) -> np.ndarray:
     """GroupCycle._candidates for the held movers ``rows`` (indices into the other arrays):
     the first of the steps +J, 0, -J that keeps the command's limits, does not pass the
-    target and whose brake (with the mover's hardest dynamics) stays in its room. Writes the
-    step into ``out`` (4, m) and its envelope into ``env`` (2, m); returns the mask of the
-    rows that got one."""
+    target and whose brake (with the mover's hardest dynamics) stays in its room, or for a
+    FAST pair keeps the gap braking together with the predecessor (``ahead[r]``, D-211).
+    Writes the step into ``out`` (4, m) and its envelope into ``env`` (2, m); returns the
+    mask of the rows that got one.
+
+    A mover that gap control braked beyond its command's dynamics (its deceleration is
+    beyond the command's, or the command's jerk cannot bring it to rest without turning)
+    fits no such step. It then takes the steps of its hardest dynamics, so that it leaves
+    that brake as soon as its room allows instead of riding it to rest short of its place
+    (D-210)."""
     fitted = np.zeros(rows.shape[0], dtype=np.bool_)
+    times = np.empty(7)
     for r in range(rows.shape[0]):
         k = rows[r]
-        s, jk = sign[k], jm[k]
-        for step in (1.0, 0.0, -1.0):
-            j = step * s * jk
-            p1 = p[k] + dt * (v[k] + dt * (0.5 * a[k] + dt * j / 6.0))
-            v1 = v[k] + dt * (a[k] + 0.5 * dt * j)
-            a1 = a[k] + dt * j
-            u, b = s * v1, s * a1
-            release = u + b * abs(b) / (2.0 * jk)
-            if not (b <= acc[k] * _SLACK and b >= -dec[k] * _SLACK
-                    and release <= vmax[k] * _SLACK and u >= 0.0 and release >= 0.0):
-                continue
-            top = max(u, release)
-            t_stop = (max(b, 0.0) + 2.0 * dec[k]) / jk + top / dec[k]
-            if top * t_stop >= s * (target[k] - p1):  # near the target: stop before it
-                c_lo, c_hi = envelope(p1, v1, a1, dec[k], jk)
-                if not (c_hi <= target[k] + TOLERANCE if s > 0.0
-                        else c_lo >= target[k] - TOLERANCE):
-                    continue
-            b_lo, b_hi = envelope(p1, v1, a1, bdec[k], bjerk[k])
-            if b_hi <= room_hi[k] and b_lo >= room_lo[k]:
-                out[0, k], out[1, k], out[2, k], out[3, k] = p1, v1, a1, j
-                env[0, k], env[1, k] = b_lo, b_hi
-                fitted[r] = True
-                break
+        s = sign[k]
+        fitted[r] = _first_step(k, dt, p, v, a, s, target[k], vmax[k], acc[k], dec[k], jm[k],
+                                bdec[k], bjerk[k], room_lo[k], room_hi[k], ahead[r], times,
+                                out, env)
+        if fitted[r]:
+            continue
+        u, b = s * v[k], s * a[k]
+        if b < -dec[k] or u + b * abs(b) / (2.0 * jm[k]) < 0.0:  # beyond the command's brake
+            fitted[r] = _first_step(k, dt, p, v, a, s, target[k], vmax[k], acc[k], bdec[k],
+                                    bjerk[k], bdec[k], bjerk[k], room_lo[k], room_hi[k],
+                                    ahead[r], times, out, env)
     return fitted
 
 

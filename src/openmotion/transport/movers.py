@@ -20,7 +20,7 @@ if TYPE_CHECKING:
 
 IDLE, FOLLOW, HELD, GEAR = 0, 1, 2, 3  #: mover modes: no command, on its profile, held by
 #: CA, coupled to a master (MC_GearInPosCA)
-POSITION, HALT = "position", "halt"  #: CaJob kinds
+POSITION, HALT, STANDBY = "position", "halt", "standby"  #: CaJob kinds
 MOVING_STATES = (GroupState.STANDBY, GroupState.MOVING, GroupState.STOPPING)
 
 
