@@ -69,7 +69,7 @@ def plan_position(
             return ramped
     asymmetric = limits.acceleration != limits.deceleration
     if asymmetric and start.velocity * sign < -1e-12 * limits.velocity:  # heading away
-        return _brake_then_position(start, target, target_velocity, limits)
+        return _turn_back(start, target, target_velocity, limits, sign)
     try:
         profile = _ruckig_position(start, target, target_velocity, limits, sign)
     except CommandRejected:
@@ -78,7 +78,265 @@ def plan_position(
         profile = None  # a rare numerical failure of ruckig's step 1: brake, then move
     if profile is not None and (not asymmetric or not _reverses(profile, sign)):
         return profile
+    if asymmetric:
+        return _turn_back(start, target, target_velocity, limits, sign)
     return _brake_then_position(start, target, target_velocity, limits)
+
+
+def _turn_back(
+    start: KinematicState, target: float, target_velocity: float, limits: Limits, sign: int
+) -> Profile:
+    """A move that turns back with acceleration != deceleration (D-201): the fastest of the
+    turn through zero velocity (``_through_zero``), the plan with both limits at the lower
+    one (it keeps every bound) and brake-to-rest then move (D-002), so that raising a limit
+    never makes a move slower. Durations first (cheap); only the fastest is built."""
+    low = min(limits.acceleration, limits.deceleration)
+    symmetric = Limits(limits.velocity, low, low, limits.jerk)
+    brake = plan_velocity(start, 0.0, limits)
+    rest = KinematicState(brake.end.position, 0.0, 0.0)
+    rest_sign = _sign(target - rest.position) or _sign(target_velocity)
+    turn = _through_zero(start, target, target_velocity, limits)
+    options = sorted((
+        (turn[0] if turn is not None else math.inf, 0),
+        (_duration(start, target, target_velocity, symmetric, sign), 1),
+        (brake.duration + _duration(rest, target, target_velocity, limits, rest_sign), 2),
+    ))
+    for duration, kind in options:
+        if not math.isfinite(duration):
+            break
+        if kind == 0:
+            assert turn is not None
+            profile = _turn_profile(turn[1], turn[2], target, target_velocity, limits)
+            if profile is not None:
+                return profile
+        elif kind == 1:
+            try:
+                return _ruckig_position(start, target, target_velocity, symmetric, sign)
+            except CommandRejected:
+                continue
+        else:
+            break
+    return Profile.concatenate(
+        brake, _ruckig_position(rest, target, target_velocity, limits, rest_sign)
+    )
+
+
+def _duration(start: KinematicState, target: float, target_velocity: float, limits: Limits,
+              sign: int) -> float:
+    """[s] of ruckig's move, without building the profile; inf where ruckig fails."""
+    _load_state(start, limits, sign)
+    _input.target_position = [target]
+    _input.target_velocity = [target_velocity]
+    try:
+        result = _otg.calculate(_input, _trajectory)
+    except (RuckigError, RuntimeError, ValueError):
+        return math.inf
+    return _trajectory.duration if result in (Result.Working, Result.Finished) else math.inf
+
+
+#: the turn's search: ruckig's velocity interface brakes to the crossing state, its position
+#: interface goes on from there to the target (own instances: the plan's input stays loaded)
+_turn = Ruckig(1)
+_turn_trajectory = Trajectory(1)
+_braking = InputParameter(1)
+_braking.control_interface = ControlInterface.Velocity
+_braking.target_velocity = [0.0]
+_onward = InputParameter(1)
+_onward.control_interface = ControlInterface.Position
+_onward.current_velocity = [0.0]
+_onward.target_acceleration = [0.0]
+_CROSSING_MARGIN = 1e-9  #: relative: the largest crossing acceleration kept off its bound
+_EDGE_PRECISION = 1e-4  #: relative: how closely the overshoot edge is found (feasible side)
+_SATURATION_PROBE = 1e-3  #: relative: step below the chosen crossing acceleration
+_EDGE_STEPS = 40  #: at most, of the root finding for the overshoot edge
+_CROSSING_STEPS = 16  #: golden-section steps over the crossing acceleration (0.618^16 ~ 5e-4)
+_TURN_TOLERANCE = 1e-9  #: relative: the second piece passing its ends by less is residue
+_GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+#: the shortest stop from (v = 0, a = c): release c at full jerk (c³/3j²), then brake the
+#: c²/2j gained with a triangle of peak c/√2 (c³/2√2j²)
+_STOP_FROM_CROSSING = 1.0 / 3.0 + 1.0 / (2.0 * math.sqrt(2.0))
+
+
+def _through_zero(
+    start: KinematicState, target: float, target_velocity: float, limits: Limits
+) -> tuple[float, float, int] | None:
+    """Brake in the start's direction to zero velocity without stopping and go on towards
+    the target at once (D-201): (duration, |a_c|, that direction), or None where no such
+    profile keeps the bounds.
+
+    At the crossing (position p_c, velocity 0, acceleration a_c pointing back) the
+    acceleration is continuous, so |a_c| <= min(acceleration, deceleration). Before it the
+    velocity falls (bound: deceleration), after it it rises (bound: acceleration); each
+    piece is in one direction and ruckig plans it exactly with the mapped pair. For a given
+    |a_c| the fastest first piece is also the shortest (brake as hard as the bounds allow),
+    and the second piece only gains from a shorter way back, so p_c is where that braking
+    ends: one search over |a_c|. The total time falls as |a_c| grows (the turn keeps more of
+    its acceleration), up to the largest value the first piece allows (it must not reach
+    zero velocity before its acceleration has turned round) or the second (it must not
+    overshoot the target): that end is found directly and confirmed by a probe just below
+    it; a golden section over the whole range runs where the probe disagrees.
+    """
+    moving = abs(start.velocity) > 1e-12 * max(limits.velocity, 1e-300)
+    first = _sign(start.velocity) if moving else _sign(start.acceleration)
+    if first == 0:
+        return None
+    jerk = limits.jerk
+    speed = max(start.velocity * first, 0.0)  # towards ``first``
+    push = start.acceleration * first  # > 0: still speeding up
+    # braking from (speed, push) must turn the acceleration round to -|a_c| before the
+    # velocity reaches zero: a straight jerk ramp changes it by (push² - a_c²) / 2 jerk
+    top = min(limits.acceleration, limits.deceleration,
+              math.sqrt(2.0 * jerk * speed + push * push) * (1.0 - _CROSSING_MARGIN))
+    bottom = math.sqrt(max(push * push - 2.0 * jerk * speed, 0.0)) if push < 0.0 else 0.0
+    if bottom > top:
+        return None
+    _load_turn(start, target, target_velocity, limits, first)
+    scale = abs(target - start.position) + speed * 1e-3
+
+    def total(c: float) -> float:
+        return _turn_duration(c, first, target, scale)
+
+    def confirmed(c: float) -> float:
+        """The duration at ``c`` where it is finite and no larger than just below ``c``."""
+        value = total(c)
+        return value if math.isfinite(value) and total(c * (1.0 - _SATURATION_PROBE)) >= value \
+            else math.inf
+
+    # to rest, a second piece that cannot stop short of the target needs no ruckig call
+    edge = top if target_velocity != 0.0 else _overshoot_edge(bottom, top, first, target, jerk)
+    if edge is not None:
+        value = confirmed(edge)
+        if math.isfinite(value):
+            return value, edge, first
+    a, b = bottom, top
+    x1, x2 = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
+    f1, f2 = total(x1), total(x2)
+    for _ in range(_CROSSING_STEPS):
+        if f1 <= f2:
+            b, x2, f2 = x2, x1, f1
+            x1 = b - _GOLDEN * (b - a)
+            f1 = total(x1)
+        else:
+            a, x1, f1 = x1, x2, f2
+            x2 = a + _GOLDEN * (b - a)
+            f2 = total(x2)
+    best, value = (x1, f1) if f1 <= f2 else (x2, f2)
+    return (value, best, first) if math.isfinite(value) else None
+
+
+def _overshoot_edge(bottom: float, top: float, first: int, target: float,
+                    jerk: float) -> float | None:
+    """The largest |a_c| in [bottom, top] from whose crossing the second piece can still
+    stop at the target without passing it (to rest: its distance covers the shortest stop
+    from the crossing); None where not even ``bottom`` can. The room left falls as |a_c|
+    grows: one velocity-interface call per step of regula falsi (Illinois)."""
+
+    def room(c: float) -> float:
+        _braking.target_acceleration = [-first * c]
+        try:
+            if _turn.calculate(_braking, _turn_trajectory) not in (Result.Working,
+                                                                   Result.Finished):
+                return math.nan
+        except (RuckigError, RuntimeError, ValueError):
+            return math.nan
+        crossing = _turn_trajectory.profiles[0][0].p[-1]
+        return (crossing - target) * first - _STOP_FROM_CROSSING * c**3 / (jerk * jerk)
+
+    a, b = bottom, top
+    fb = room(b)
+    if fb >= 0.0:
+        return top
+    fa = room(a)
+    if not (fa > 0.0 and fb < 0.0):
+        return None
+    side = 0
+    for _ in range(_EDGE_STEPS):
+        c = (a * fb - b * fa) / (fb - fa)
+        fc = room(c)
+        if not math.isfinite(fc):
+            return None
+        if fc > 0.0:
+            a, fa = c, fc
+            if side == 1:
+                fb /= 2.0
+            side = 1
+        else:
+            b, fb = c, fc
+            if side == -1:
+                fa /= 2.0
+            side = -1
+        if b - a <= _EDGE_PRECISION * b:
+            break
+    return a
+
+
+def _load_turn(start: KinematicState, target: float, target_velocity: float,
+               limits: Limits, first: int) -> None:
+    """The start, the target and the mapped limits of both pieces into the search inputs."""
+    up, down = limits.acceleration, limits.deceleration
+    _braking.current_position = [start.position]
+    _braking.current_velocity = [start.velocity]
+    _braking.current_acceleration = [start.acceleration]
+    _braking.max_velocity = [limits.velocity]
+    _braking.max_jerk = [limits.jerk]
+    _onward.max_velocity = [limits.velocity]
+    _onward.max_jerk = [limits.jerk]
+    _onward.target_position = [target]
+    _onward.target_velocity = [target_velocity]
+    if first > 0:  # braking a +x motion, then speeding up towards -x
+        _braking.max_acceleration, _braking.min_acceleration = [up], [-down]
+        _onward.max_acceleration, _onward.min_acceleration = [down], [-up]
+    else:
+        _braking.max_acceleration, _braking.min_acceleration = [down], [-up]
+        _onward.max_acceleration, _onward.min_acceleration = [up], [-down]
+
+
+def _turn_duration(c: float, first: int, target: float, scale: float) -> float:
+    """[s] of the turn through the crossing with |a_c| = ``c``; inf where a piece fails or
+    the second passes its ends (the inputs are loaded by ``_load_turn``). The first piece
+    keeps its direction by the range of ``c`` (``_through_zero``); the profile built at the
+    end is checked in full."""
+    _braking.target_acceleration = [-first * c]
+    try:
+        if _turn.calculate(_braking, _turn_trajectory) not in (Result.Working,
+                                                               Result.Finished):
+            return math.inf
+        duration = _turn_trajectory.duration
+        crossing = _turn_trajectory.profiles[0][0].p[-1]
+        _onward.current_position = [crossing]
+        _onward.current_acceleration = [-first * c]
+        if _turn.calculate(_onward, _turn_trajectory) not in (Result.Working, Result.Finished):
+            return math.inf
+    except (RuckigError, RuntimeError, ValueError):
+        return math.inf
+    extrema = _turn_trajectory.position_extrema[0]
+    tolerance = _TURN_TOLERANCE * (abs(crossing - target) + scale)
+    if extrema.min < min(crossing, target) - tolerance \
+            or extrema.max > max(crossing, target) + tolerance:
+        return math.inf  # it passes the target (or the crossing) and turns back
+    return duration + _turn_trajectory.duration
+
+
+def _turn_profile(c: float, first: int, target: float, target_velocity: float,
+                  limits: Limits) -> Profile | None:
+    """The turn through the crossing with |a_c| = ``c`` as one profile (the search inputs
+    are still loaded); None where a piece turns back itself."""
+    _braking.target_acceleration = [-first * c]
+    try:
+        if _turn.calculate(_braking, _turn_trajectory) not in (Result.Working,
+                                                               Result.Finished):
+            return None
+    except (RuckigError, RuntimeError, ValueError):
+        return None
+    braking = _segments(_turn_trajectory.profiles[0][0])
+    crossing = KinematicState(float(braking.p[-1]), 0.0, -first * c)
+    try:
+        onward = _ruckig_position(crossing, target, target_velocity, limits, -first)
+    except CommandRejected:
+        return None
+    if _reverses(braking, first) or _reverses(onward, -first):
+        return None
+    return Profile.concatenate(braking, onward)
 
 
 def _brake_then_position(
