@@ -117,6 +117,40 @@ def test_unequal_limits_are_never_slower_than_the_lower_limit(case):
     assert trace.duration <= ceil_to_cycle(lower, CYCLE) + CYCLE * (1 + 1e-9)
 
 
+def test_velocity_reversal_at_full_speed_is_no_slower_than_the_lower_limit():
+    """MC_MoveVelocity the other way at full speed, acc 200, dec 4000, jerk 500 (D-203):
+    brake-to-rest then speed up took 0.566 s; with acc = dec = 200 it takes 0.4 s, and so
+    does the turn through zero."""
+    limits = Limits(10.0, 200.0, 4000.0, 500.0)
+    rt, axis = single_axis(limits)
+    axis.move_velocity(10.0, Direction.POSITIVE)
+    rt.run_until(lambda: axis.set_velocity == 10.0 and axis.set_acceleration == 0.0,
+                 timeout=5.0)
+    recorder = SetpointRecorder(rt, axis)
+    command = axis.move_velocity(10.0, Direction.NEGATIVE)
+    rt.run_until(lambda: command.in_velocity, timeout=5.0)
+    rt.run(0.01)
+    trace = recorder.trace()
+    assert trace.duration <= 0.4 + 2 * CYCLE
+    assert trace.velocity[-1] == -10.0
+    assert_within_limits(trace, limits)
+
+
+@given(case=moves(kind="velocity"))
+@example(case=MoveCase(KinematicState(0.0, 10.0, 0.0), -10.0, Limits(10.0, 200.0, 4000.0,
+                                                                      500.0), "velocity"))
+def test_unequal_limits_velocity_change_is_never_slower_than_the_lower_limit(case):
+    """acc != dec, MC_MoveVelocity through zero: within the direction-dependent bound at
+    every sample, and no slower than both limits at min(acc, dec) plus one cycle (D-203)."""
+    assume(case.limits.acceleration != case.limits.deceleration)
+    assume(within_limits(case.start, case.limits))
+    lower = ruckig_duration(replace(case, limits=_lower(case.limits)))
+    trace = run_single_move(case, CYCLE)
+    assert trace.velocity[-1] == case.target
+    assert_within_limits(trace, case.limits)
+    assert trace.duration <= ceil_to_cycle(lower, CYCLE) + CYCLE * (1 + 1e-9)
+
+
 def _oracle_cases() -> list[tuple[KinematicState, float, Limits]]:
     """Seeded reversals within the limits: the start heads away from the target, or runs
     towards it too fast to stop; limits 0.1 to 16, acc != dec."""

@@ -3,9 +3,13 @@
 PLCopen has distinct acceleration and deceleration limits; ruckig has one signed pair
 (``max_acceleration`` / ``min_acceleration``). For motion in one direction the pair maps
 exactly: speeding up in +x is bounded by ``acceleration``, slowing down by ``deceleration``,
-and mirrored for -x. A profile that reverses direction cannot be mapped (each half would need
-the other bound), so it is planned as brake-to-rest followed by a fresh move from rest
-(docs/decisions.md, D-002). With equal limits one ruckig call is exact and time-optimal.
+and mirrored for -x. With equal limits, or a move that keeps its direction, one ruckig call
+is exact and time-optimal. A move that must turn back (its velocity passes through zero
+towards the target) cannot be mapped as one piece, since each side of the zero needs the
+other bound: it is planned as two pieces joined at zero velocity with a continuous
+acceleration, each mapped exactly, the crossing chosen by a short search, and it is never
+slower than the plan with both limits at the lower one (docs/decisions.md D-201, which
+supersedes D-002's brake-to-rest then move; D-203 for velocity changes).
 """
 
 from __future__ import annotations
@@ -373,11 +377,57 @@ def plan_velocity(start: KinematicState, velocity: float, limits: Limits) -> Pro
     moving = abs(start.velocity) > 1e-12 * max(limits.velocity, abs(velocity), 1e-300)
     heading = _sign(start.velocity) if moving else _sign(start.acceleration)
     if heading * velocity < 0.0 and limits.acceleration != limits.deceleration:
-        brake = plan_velocity(start, 0.0, limits)
-        return Profile.concatenate(
-            brake, _velocity_profile(KinematicState(brake.end.position), velocity, limits)
-        )
+        return _turn_velocity(start, velocity, limits, heading)
     return _velocity_profile(start, velocity, limits)
+
+
+def _turn_velocity(start: KinematicState, velocity: float, limits: Limits,
+                   heading: int) -> Profile:
+    """A velocity change through zero with acceleration != deceleration (D-203): the fastest
+    of the turn through zero velocity, the change with both limits at the lower one and
+    brake-to-rest then speed up (D-002).
+
+    The crossing acceleration |a_c| (D-201) shortens both pieces as it grows, with no
+    position to reach: so it is the largest value that the lower limit, the braking (its
+    acceleration must turn round before the velocity reaches zero) and the new velocity (the
+    c²/2j gained while |a_c| is released must not pass it) allow.
+    """
+    low = min(limits.acceleration, limits.deceleration)
+    jerk = limits.jerk
+    speed = max(start.velocity * heading, 0.0)
+    push = start.acceleration * heading
+    top = min(low, math.sqrt(2.0 * jerk * speed + push * push),
+              math.sqrt(2.0 * jerk * abs(velocity))) * (1.0 - _CROSSING_MARGIN)
+    bottom = math.sqrt(max(push * push - 2.0 * jerk * speed, 0.0)) if push < 0.0 else 0.0
+    candidates = [_velocity_profile(start, velocity, Limits(limits.velocity, low, low, jerk))]
+    brake = plan_velocity(start, 0.0, limits)
+    candidates.append(Profile.concatenate(
+        brake, _velocity_profile(KinematicState(brake.end.position), velocity, limits)))
+    if bottom <= top:
+        turn = _braked_to_crossing(start, top, heading, limits)
+        if turn is not None:
+            crossing = KinematicState(float(turn.p[-1]), 0.0, -heading * top)
+            onward = _velocity_profile(crossing, velocity, limits)
+            if not _reverses(onward, -heading):
+                candidates.insert(0, Profile.concatenate(turn, onward))
+    return min(candidates, key=lambda c: c.duration)
+
+
+def _braked_to_crossing(start: KinematicState, c: float, heading: int,
+                        limits: Limits) -> Profile | None:
+    """Brake a motion towards ``heading`` to zero velocity with the acceleration at
+    -heading·``c`` (ruckig's velocity interface, the deceleration bounding the braking);
+    None where ruckig fails or the velocity passes zero before."""
+    _load_turn(start, 0.0, 0.0, limits, heading)
+    _braking.target_acceleration = [-heading * c]
+    try:
+        if _turn.calculate(_braking, _turn_trajectory) not in (Result.Working,
+                                                               Result.Finished):
+            return None
+    except (RuckigError, RuntimeError, ValueError):
+        return None
+    braking = _segments(_turn_trajectory.profiles[0][0])
+    return None if _reverses(braking, heading) else braking
 
 
 def jerk_within_velocity(start: KinematicState, jerk: float, max_velocity: float,
