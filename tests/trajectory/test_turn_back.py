@@ -15,10 +15,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from hypothesis import assume, example, given, reject
+from hypothesis import strategies as st
 from ruckig import RuckigError
 
 from openmotion.bench.otg_oracle import optimal_duration
 from openmotion.core.enums import Direction
+from openmotion.core.errors import CommandRejected
 from openmotion.testing import (
     REL,
     MoveCase,
@@ -184,6 +186,44 @@ def test_turn_back_is_within_the_oracle(index):
     assert profile.duration <= lower.duration + 1e-9
     assert profile.end.position == target
     _assert_profile_within(profile, limits)
+
+
+@given(case=moves(high=False), share=st.floats(0.05, 1.0))
+@example(case=MoveCase(  # from the axes benchmark: heading away faster than the new command
+    KinematicState(-51.370033467799395, -295.57866262742874, 555.1573983439121),
+    152.0394147032689, Limits(295.6, 4894.430324299196, 3823.380719357494,
+                              12847.749393019078)), share=223.9305463445349 / 295.6)
+def test_turn_back_slower_than_the_start_keeps_the_new_velocity(case, share):
+    """A command slower than the axis runs (its velocity a ``share`` of the limits the state
+    was drawn in): after the turn through zero |v| stays within the command's velocity,
+    the acceleration within the direction-dependent bound (D-201). Releasing the crossing
+    acceleration a_c carries the speed on by a_c²/2j, so |a_c| must be small enough."""
+    assume(case.limits.acceleration != case.limits.deceleration)
+    assume(within_limits(case.start, case.limits))
+    lim = case.limits
+    command = Limits(lim.velocity * share, lim.acceleration, lim.deceleration, lim.jerk)
+    try:
+        profile = plan_position(case.start, case.target, command)
+    except CommandRejected:
+        reject()
+    heading = np.sign(case.start.velocity) or np.sign(case.start.acceleration)
+    assume(heading * (case.target - case.start.position) < 0.0)  # it has to turn back
+    crossing = _first_zero(profile, heading)
+    assume(crossing is not None)
+    after = Profile.from_data(profile.data[:, crossing:].copy())
+    lo, hi = after.velocity_extrema()
+    assert max(-lo, hi) <= command.velocity * (1 + REL)
+    assert profile.end.position == case.target
+    _assert_profile_within(after, command)
+
+
+def _first_zero(profile: Profile, heading: float) -> int | None:
+    """Index of the first segment after the start that begins at or past zero velocity
+    (against ``heading``): where the turn has crossed."""
+    for k in range(1, len(profile.v)):
+        if profile.v[k] * heading <= 0.0:
+            return k
+    return None
 
 
 def test_blending_turn_back_keeps_the_bounds():

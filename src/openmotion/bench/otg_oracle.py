@@ -34,6 +34,7 @@ ACCELERATION_CELLS = 24  #: grid lines over |a_c| in [0, min(acc, dec)]
 POSITION_CELLS = 40  #: grid lines over p_c
 GOLDEN_STEPS = 40  #: golden-section steps in each refinement
 REVERSAL_TOLERANCE = 1e-9  #: relative: a piece turning back by less is float residue
+RETRY_FACTORS = (1.0, 1.0 - 1e-12, 1.0 - 1e-10, 1.0 - 1e-8)  #: as the otg benchmark's
 _GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
 
 
@@ -69,15 +70,18 @@ class _Pieces:
         inp.target_position = [target.position]
         inp.target_velocity = [target.velocity]
         inp.target_acceleration = [target.acceleration]
-        inp.max_velocity = [limits.velocity]
-        if direction >= 0:
-            inp.max_acceleration, inp.min_acceleration = [up], [-down]
+        if direction < 0:
+            up, down = down, up  # bounds of +a and -a
+        for factor in RETRY_FACTORS:  # ruckig's step 1 fails on a few inputs that solve
+            inp.max_velocity = [limits.velocity * factor]  # with every limit a hair lower
+            inp.max_acceleration, inp.min_acceleration = [up * factor], [-down * factor]
+            inp.max_jerk = [limits.jerk * factor]
+            try:
+                result = self.otg.calculate(inp, self.trajectory)
+            except (ruckig.RuckigError, RuntimeError, ValueError):
+                continue
+            break
         else:
-            inp.max_acceleration, inp.min_acceleration = [down], [-up]
-        inp.max_jerk = [limits.jerk]
-        try:
-            result = self.otg.calculate(inp, self.trajectory)
-        except (ruckig.RuckigError, RuntimeError, ValueError):
             return math.inf
         if result not in (ruckig.Result.Working, ruckig.Result.Finished):
             return math.inf

@@ -127,15 +127,21 @@ def _turn_back(
 
 def _duration(start: KinematicState, target: float, target_velocity: float, limits: Limits,
               sign: int) -> float:
-    """[s] of ruckig's move, without building the profile; inf where ruckig fails."""
+    """[s] of ruckig's move, without building the profile where ruckig solves it at once;
+    else that of the plan with the limits lowered a hair (``_calculate``); inf where even
+    that fails."""
     _load_state(start, limits, sign)
     _input.target_position = [target]
     _input.target_velocity = [target_velocity]
     try:
-        result = _otg.calculate(_input, _trajectory)
+        if _otg.calculate(_input, _trajectory) in (Result.Working, Result.Finished):
+            return _trajectory.duration
     except (RuckigError, RuntimeError, ValueError):
+        pass
+    try:
+        return _ruckig_position(start, target, target_velocity, limits, sign).duration
+    except CommandRejected:
         return math.inf
-    return _trajectory.duration if result in (Result.Working, Result.Finished) else math.inf
 
 
 #: the turn's search: ruckig's velocity interface brakes to the crossing state, its position
@@ -188,9 +194,11 @@ def _through_zero(
     speed = max(start.velocity * first, 0.0)  # towards ``first``
     push = start.acceleration * first  # > 0: still speeding up
     # braking from (speed, push) must turn the acceleration round to -|a_c| before the
-    # velocity reaches zero: a straight jerk ramp changes it by (push² - a_c²) / 2 jerk
+    # velocity reaches zero: a straight jerk ramp changes it by (push² - a_c²) / 2 jerk; and
+    # releasing |a_c| after the crossing carries the speed on by a_c² / 2 jerk
     top = min(limits.acceleration, limits.deceleration,
-              math.sqrt(2.0 * jerk * speed + push * push) * (1.0 - _CROSSING_MARGIN))
+              math.sqrt(2.0 * jerk * speed + push * push) * (1.0 - _CROSSING_MARGIN),
+              math.sqrt(2.0 * jerk * limits.velocity) * (1.0 - _CROSSING_MARGIN))
     bottom = math.sqrt(max(push * push - 2.0 * jerk * speed, 0.0)) if push < 0.0 else 0.0
     if bottom > top:
         return None
@@ -324,7 +332,8 @@ def _turn_duration(c: float, first: int, target: float, scale: float) -> float:
 def _turn_profile(c: float, first: int, target: float, target_velocity: float,
                   limits: Limits) -> Profile | None:
     """The turn through the crossing with |a_c| = ``c`` as one profile (the search inputs
-    are still loaded); None where a piece turns back itself."""
+    are still loaded); None where a piece turns back itself or the second passes the
+    velocity limit."""
     _braking.target_acceleration = [-first * c]
     try:
         if _turn.calculate(_braking, _turn_trajectory) not in (Result.Working,
@@ -338,7 +347,9 @@ def _turn_profile(c: float, first: int, target: float, target_velocity: float,
         onward = _ruckig_position(crossing, target, target_velocity, limits, -first)
     except CommandRejected:
         return None
-    if _reverses(braking, first) or _reverses(onward, -first):
+    lo, hi = onward.velocity_extrema()
+    if _reverses(braking, first) or _reverses(onward, -first) \
+            or max(-lo, hi) > limits.velocity * (1.0 + VELOCITY_TOLERANCE):
         return None
     return Profile.concatenate(braking, onward)
 
@@ -390,14 +401,16 @@ def _turn_velocity(start: KinematicState, velocity: float, limits: Limits,
     The crossing acceleration |a_c| (D-201) shortens both pieces as it grows, with no
     position to reach: so it is the largest value that the lower limit, the braking (its
     acceleration must turn round before the velocity reaches zero) and the new velocity (the
-    c²/2j gained while |a_c| is released must not pass it) allow.
+    a_c²/2j gained while |a_c| is released must pass neither it nor the velocity limit)
+    allow.
     """
     low = min(limits.acceleration, limits.deceleration)
     jerk = limits.jerk
     speed = max(start.velocity * heading, 0.0)
     push = start.acceleration * heading
     top = min(low, math.sqrt(2.0 * jerk * speed + push * push),
-              math.sqrt(2.0 * jerk * abs(velocity))) * (1.0 - _CROSSING_MARGIN)
+              math.sqrt(2.0 * jerk * min(abs(velocity), limits.velocity))) \
+        * (1.0 - _CROSSING_MARGIN)
     bottom = math.sqrt(max(push * push - 2.0 * jerk * speed, 0.0)) if push < 0.0 else 0.0
     candidates = [_velocity_profile(start, velocity, Limits(limits.velocity, low, low, jerk))]
     brake = plan_velocity(start, 0.0, limits)
