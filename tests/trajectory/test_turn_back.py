@@ -14,7 +14,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from hypothesis import assume, example, given, reject
+from hypothesis import HealthCheck, assume, example, given, reject, settings
 from hypothesis import strategies as st
 from ruckig import RuckigError
 
@@ -34,7 +34,7 @@ from openmotion.testing import (
     single_axis,
     within_limits,
 )
-from openmotion.trajectory.plan import Limits, plan_position
+from openmotion.trajectory.plan import Limits, jerk_within_velocity, plan_position
 from openmotion.trajectory.segments import KinematicState, Profile
 
 CYCLE = 0.001
@@ -146,7 +146,10 @@ def test_unequal_limits_velocity_change_is_never_slower_than_the_lower_limit(cas
     every sample, and no slower than both limits at min(acc, dec) plus one cycle (D-203)."""
     assume(case.limits.acceleration != case.limits.deceleration)
     assume(within_limits(case.start, case.limits))
-    lower = ruckig_duration(replace(case, limits=_lower(case.limits)))
+    try:
+        lower = ruckig_duration(replace(case, limits=_lower(case.limits)))
+    except RuckigError:
+        reject()
     trace = run_single_move(case, CYCLE)
     assert trace.velocity[-1] == case.target
     assert_within_limits(trace, case.limits)
@@ -188,6 +191,7 @@ def test_turn_back_is_within_the_oracle(index):
     _assert_profile_within(profile, limits)
 
 
+@settings(suppress_health_check=[HealthCheck.filter_too_much])
 @given(case=moves(high=False), share=st.floats(0.05, 1.0))
 @example(case=MoveCase(  # from the axes benchmark: heading away faster than the new command
     KinematicState(-51.370033467799395, -295.57866262742874, 555.1573983439121),
@@ -200,14 +204,21 @@ def test_turn_back_slower_than_the_start_keeps_the_new_velocity(case, share):
     acceleration a_c carries the speed on by a_c²/2j, so |a_c| must be small enough."""
     assume(case.limits.acceleration != case.limits.deceleration)
     assume(within_limits(case.start, case.limits))
+    heading = np.sign(case.start.velocity) or np.sign(case.start.acceleration)
+    assume(heading != 0.0)
+    # the target behind the axis, so that it has to turn back
+    target = case.start.position - heading * abs(case.target - case.start.position)
+    assume(target != case.start.position)
+    case = replace(case, target=target)
     lim = case.limits
     command = Limits(lim.velocity * share, lim.acceleration, lim.deceleration, lim.jerk)
+    # where releasing the start's acceleration passes the new velocity whatever the plan,
+    # the axis raises the jerk first (D-177): not this planner's case
+    assume(jerk_within_velocity(case.start, lim.jerk, command.velocity, lim.jerk) == lim.jerk)
     try:
         profile = plan_position(case.start, case.target, command)
     except CommandRejected:
         reject()
-    heading = np.sign(case.start.velocity) or np.sign(case.start.acceleration)
-    assume(heading * (case.target - case.start.position) < 0.0)  # it has to turn back
     crossing = _first_zero(profile, heading)
     assume(crossing is not None)
     after = Profile.from_data(profile.data[:, crossing:].copy())

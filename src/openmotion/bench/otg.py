@@ -408,6 +408,9 @@ def _asymmetric_figures(runs: list[dict[str, Any]]) -> dict[str, Any]:
             r["our_duration"] > r["oracle_duration"] * (1 + ORACLE_GRACE) + CYCLE_TIME
             for r in kept),
         "below_oracle": sum(x < 1.0 - 1e-6 for x in ratio),
+        "oracle_ratio_min": min(ratio) if ratio else None,
+        "below_oracle_samples": [r["sample"]["index"] for r, x in zip(kept, ratio, strict=True)
+                                 if x < 1.0 - 1e-6][:20],
         "min_ratio_median": _percentile(to_min, 50),
         "min_ratio_max": max(to_min) if to_min else None,
     }

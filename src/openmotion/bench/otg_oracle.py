@@ -16,7 +16,11 @@ zero. So the optimum is the fastest of
   planned by ruckig with its own mapped limits and kept only where it does not turn back
   itself. |a_c| <= min(acceleration, deceleration), since the acceleration is continuous and
   bounds both sides. The search is a grid over (a_c, p_c), each cell refined by golden
-  sections: nothing here assumes where the best crossing lies.
+  sections. Along p_c two grids are joined: an even one from the start, and a geometric one
+  from where the hardest braking to that a_c stops (no crossing lies nearer; near it the
+  first piece may be feasible only in a window narrower than the even grid's step). The
+  planner's claim that this stop point is the best p_c is not assumed: both grids reach far
+  beyond it.
 """
 
 from __future__ import annotations
@@ -31,7 +35,8 @@ from openmotion.trajectory.plan import Limits, _segments
 from openmotion.trajectory.segments import KinematicState
 
 ACCELERATION_CELLS = 24  #: grid lines over |a_c| in [0, min(acc, dec)]
-POSITION_CELLS = 40  #: grid lines over p_c
+POSITION_CELLS = 40  #: grid lines over p_c (each of the two grids)
+ANCHOR_SPAN = 1e-8  #: relative to the reach: the finest step of the grid from the stop point
 GOLDEN_STEPS = 40  #: golden-section steps in each refinement
 REVERSAL_TOLERANCE = 1e-9  #: relative: a piece turning back by less is float residue
 RETRY_FACTORS = (1.0, 1.0 - 1e-12, 1.0 - 1e-10, 1.0 - 1e-8)  #: as the otg benchmark's
@@ -57,6 +62,34 @@ class _Pieces:
         self.otg = ruckig.Ruckig(1)
         self.inp = ruckig.InputParameter(1)
         self.trajectory = ruckig.Trajectory(1)
+        self.velocity_input = ruckig.InputParameter(1)
+        self.velocity_input.control_interface = ruckig.ControlInterface.Velocity
+
+    def stop(self, start: KinematicState, c: float, limits: Limits, first: int) -> float:
+        """Where braking as hard as the bounds allow, to zero velocity with acceleration
+        -``first``·``c``, ends (ruckig's velocity interface): no crossing with that
+        acceleration lies nearer, so a second grid over p_c starts there, fine near it (the
+        first piece's feasible window can be narrow); the start position where ruckig
+        fails."""
+        inp = self.velocity_input
+        inp.current_position = [start.position]
+        inp.current_velocity = [start.velocity]
+        inp.current_acceleration = [start.acceleration]
+        inp.target_velocity = [0.0]
+        inp.target_acceleration = [-first * c]
+        up, down = limits.acceleration, limits.deceleration
+        if first < 0:
+            up, down = down, up
+        inp.max_velocity = [limits.velocity]
+        inp.max_acceleration, inp.min_acceleration = [up], [-down]
+        inp.max_jerk = [limits.jerk]
+        try:
+            result = self.otg.calculate(inp, self.trajectory)
+        except (ruckig.RuckigError, RuntimeError, ValueError):
+            return start.position
+        if result not in (ruckig.Result.Working, ruckig.Result.Finished):
+            return start.position
+        return float(self.trajectory.profiles[0][0].p[-1])
 
     def duration(self, start: KinematicState, target: KinematicState, limits: Limits,
                  direction: int, up: float, down: float) -> float:
@@ -134,12 +167,17 @@ def _best_reversal(pieces: _Pieces, start: KinematicState, end: KinematicState,
                                    limits.deceleration)
 
     def along_p(c: float) -> tuple[float, float]:
-        grid = start.position + first * reach * np.linspace(0.0, 1.0, POSITION_CELLS + 1)
+        anchor = pieces.stop(start, c, limits, first)
+        grid = np.unique(np.concatenate((
+            start.position + first * reach * np.linspace(0.0, 1.0, POSITION_CELLS + 1),
+            anchor + first * reach * np.concatenate(
+                ([0.0], np.geomspace(ANCHOR_SPAN, 1.0, POSITION_CELLS))),
+        )))
         values = [total(c, float(p)) for p in grid]
         k = int(np.argmin(values))
         if math.isinf(values[k]):
             return math.inf, float(grid[k])
-        lo, hi = float(grid[max(k - 1, 0)]), float(grid[min(k + 1, POSITION_CELLS)])
+        lo, hi = float(grid[max(k - 1, 0)]), float(grid[min(k + 1, len(grid) - 1)])
         p, value = _golden(lambda x: total(c, x), lo, hi)
         return (value, p) if value < values[k] else (values[k], float(grid[k]))
 

@@ -96,14 +96,19 @@ def _turn_back(
     never makes a move slower. Durations first (cheap); only the fastest is built."""
     low = min(limits.acceleration, limits.deceleration)
     symmetric = Limits(limits.velocity, low, low, limits.jerk)
-    brake = plan_velocity(start, 0.0, limits)
-    rest = KinematicState(brake.end.position, 0.0, 0.0)
-    rest_sign = _sign(target - rest.position) or _sign(target_velocity)
     turn = _through_zero(start, target, target_velocity, limits)
+    if turn is not None and math.isfinite(turn[3]):
+        stopped = turn[3]  # |a_c| = 0 is brake-to-rest then move, timed by the search
+    else:
+        brake = plan_velocity(start, 0.0, limits)
+        rest = KinematicState(brake.end.position, 0.0, 0.0)
+        stopped = brake.duration + _duration(rest, target, target_velocity, limits,
+                                             _sign(target - rest.position)
+                                             or _sign(target_velocity))
     options = sorted((
         (turn[0] if turn is not None else math.inf, 0),
         (_duration(start, target, target_velocity, symmetric, sign), 1),
-        (brake.duration + _duration(rest, target, target_velocity, limits, rest_sign), 2),
+        (stopped, 2),
     ))
     for duration, kind in options:
         if not math.isfinite(duration):
@@ -120,9 +125,7 @@ def _turn_back(
                 continue
         else:
             break
-    return Profile.concatenate(
-        brake, _ruckig_position(rest, target, target_velocity, limits, rest_sign)
-    )
+    return _brake_then_position(start, target, target_velocity, limits)
 
 
 def _duration(start: KinematicState, target: float, target_velocity: float, limits: Limits,
@@ -169,10 +172,11 @@ _STOP_FROM_CROSSING = 1.0 / 3.0 + 1.0 / (2.0 * math.sqrt(2.0))
 
 def _through_zero(
     start: KinematicState, target: float, target_velocity: float, limits: Limits
-) -> tuple[float, float, int] | None:
+) -> tuple[float, float, int, float] | None:
     """Brake in the start's direction to zero velocity without stopping and go on towards
-    the target at once (D-201): (duration, |a_c|, that direction), or None where no such
-    profile keeps the bounds.
+    the target at once (D-201): (duration, |a_c|, that direction, the duration with
+    |a_c| = 0, i.e. brake-to-rest then move, or inf where that is outside the range), or None
+    where no such profile keeps the bounds.
 
     At the crossing (position p_c, velocity 0, acceleration a_c pointing back) the
     acceleration is continuous, so |a_c| <= min(acceleration, deceleration). Before it the
@@ -219,7 +223,7 @@ def _through_zero(
     if edge is not None:
         value = confirmed(edge)
         if math.isfinite(value):
-            return value, edge, first
+            return value, edge, first, total(0.0) if bottom == 0.0 else math.inf
     a, b = bottom, top
     x1, x2 = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
     f1, f2 = total(x1), total(x2)
@@ -233,7 +237,9 @@ def _through_zero(
             x2 = a + _GOLDEN * (b - a)
             f2 = total(x2)
     best, value = (x1, f1) if f1 <= f2 else (x2, f2)
-    return (value, best, first) if math.isfinite(value) else None
+    if not math.isfinite(value):
+        return None
+    return value, best, first, total(0.0) if bottom == 0.0 else math.inf
 
 
 def _overshoot_edge(bottom: float, top: float, first: int, target: float,
