@@ -115,7 +115,7 @@ def _turn_back(
             break
         if kind == 0:
             assert turn is not None
-            profile = _turn_profile(turn[1], turn[2], target, target_velocity, limits)
+            profile = _turn_profile(turn[1], turn[2], start, target, target_velocity, limits)
             if profile is not None:
                 return profile
         elif kind == 1:
@@ -335,27 +335,20 @@ def _turn_duration(c: float, first: int, target: float, scale: float) -> float:
     return duration + _turn_trajectory.duration
 
 
-def _turn_profile(c: float, first: int, target: float, target_velocity: float,
-                  limits: Limits) -> Profile | None:
-    """The turn through the crossing with |a_c| = ``c`` as one profile (the search inputs
-    are still loaded); None where a piece turns back itself or the second passes the
-    velocity limit."""
-    _braking.target_acceleration = [-first * c]
-    try:
-        if _turn.calculate(_braking, _turn_trajectory) not in (Result.Working,
-                                                               Result.Finished):
-            return None
-    except (RuckigError, RuntimeError, ValueError):
+def _turn_profile(c: float, first: int, start: KinematicState, target: float,
+                  target_velocity: float, limits: Limits) -> Profile | None:
+    """The turn through the crossing with |a_c| = ``c`` as one profile; None where a piece
+    turns back itself or the second passes the velocity limit."""
+    braking = _braked_to_crossing(start, c, first, limits)
+    if braking is None:
         return None
-    braking = _segments(_turn_trajectory.profiles[0][0])
     crossing = KinematicState(float(braking.p[-1]), 0.0, -first * c)
     try:
         onward = _ruckig_position(crossing, target, target_velocity, limits, -first)
     except CommandRejected:
         return None
     lo, hi = onward.velocity_extrema()
-    if _reverses(braking, first) or _reverses(onward, -first) \
-            or max(-lo, hi) > limits.velocity * (1.0 + VELOCITY_TOLERANCE):
+    if _reverses(onward, -first) or max(-lo, hi) > limits.velocity * (1.0 + VELOCITY_TOLERANCE):
         return None
     return Profile.concatenate(braking, onward)
 
