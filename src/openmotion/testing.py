@@ -311,7 +311,8 @@ def ruckig_reverses(case: MoveCase) -> bool:
     target, or ruckig's one-call profile crosses zero velocity (beyond plan.py's tolerance).
 
     With acceleration != deceleration such a profile cannot keep both limits, so openmotion
-    brakes to rest and moves again (docs/decisions.md D-002): it is no longer time-optimal.
+    turns through zero velocity in two pieces instead (docs/decisions.md D-201): ruckig's
+    duration is then no reference (``openmotion.bench.otg_oracle`` is).
     """
     if case.start.velocity * _direction(case) < 0.0:
         return True

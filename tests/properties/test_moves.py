@@ -67,7 +67,7 @@ def _assert_time_optimal(trace, case) -> None:  # noqa: ANN001
     Limits(161.0, 1010.0, 682.0, 50800.0)))
 def test_move_keeps_limits(case):
     """Every sample keeps velocity, jerk, and acceleration/deceleration (acc != dec drawn in
-    80 % of the cases, reversals included: brake-then-move must keep both limits)."""
+    80 % of the cases, reversals included: the turn through zero must keep both, D-201)."""
     assume(within_limits(case.start, case.limits))
     assert_within_limits(run_single_move(case, CYCLE), case.limits)
 
@@ -103,11 +103,11 @@ def test_asymmetric_move_without_reversal_is_time_optimal(case):
     ruckig bounds the signed acceleration (``max_acceleration``/``min_acceleration``); plan.py
     maps "speeding up" and "slowing down" onto that pair for the direction of the move. A
     profile that reverses (start velocity pointing away from the target, or an overshoot)
-    would need the other bound after the reversal, so it is planned as brake-to-rest plus a
-    move from rest (docs/decisions.md D-002). That keeps both limits but is not time-optimal,
-    and ruckig cannot plan the true optimum under the piecewise bound, so there is no oracle:
-    for those moves ``test_move_keeps_limits`` and ``test_move_reaches_target_exactly_and_stays``
-    are the properties.
+    would need the other bound after the reversal, so it is planned as a turn through zero
+    velocity (docs/decisions.md D-201), which no single ruckig call plans: those moves are
+    held to the brute-force oracle and to the min(acc, dec) plan in
+    tests/trajectory/test_turn_back.py, and here to ``test_move_keeps_limits`` and
+    ``test_move_reaches_target_exactly_and_stays``.
     """
     assume(case.limits.acceleration != case.limits.deceleration)
     assume(within_limits(case.start, case.limits))

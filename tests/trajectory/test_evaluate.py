@@ -2,8 +2,9 @@
 evaluators (``Profile.at`` and the numpy ``SegmentTable``) against each other.
 
 Profiles come from plan.py for random limits and start states, also beyond the limits, where
-ruckig prepends a brake pre-phase, and with acc != dec, where a reversal becomes
-brake-then-move (two ruckig calls; those have no single ruckig trajectory to compare with).
+ruckig prepends a brake pre-phase, and with acc != dec, where a reversal becomes a turn
+through zero velocity (two ruckig pieces, D-201; those have no single ruckig trajectory to
+compare with).
 """
 
 from __future__ import annotations
@@ -77,8 +78,8 @@ def _single_call(case: MoveCase):  # noqa: ANN202 - ruckig.Trajectory
     """ruckig's trajectory for ``case`` when plan.py used exactly that one call: not for a
     position move that starts above the velocity limit towards its target (ramped down to
     the limit first, D-021); with acc != dec not where the move reverses (start velocity, or
-    at rest the start acceleration, pointing away from the target, or an overshoot: brake,
-    then move, D-002)."""
+    at rest the start acceleration, pointing away from the target, or an overshoot: a turn
+    through zero velocity, D-201)."""
     start, lim = case.start, case.limits
     heading = np.sign(case.target - start.position) if case.kind == "position" else 0.0
     heading = heading or np.sign(case.target) or np.sign(start.velocity)

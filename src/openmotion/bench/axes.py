@@ -116,15 +116,17 @@ def command_limits(c: StreamCommand, velocity: float,
       being a hard limit (docs/decisions.md D-020), <= max(max_velocity, ``forced_speed``
       with max_jerk);
     * |a| <= max(acceleration, deceleration, |a| at issue);
-    * |j| <= jerk, or, where that jerk would let the velocity pass max_velocity, the smallest
-      jerk that does not, up to max_jerk (D-020; the kernel adds 1e-6 relative, so do we).
+    * |j| <= jerk, or, where that jerk would let the velocity pass max_velocity (still
+      speeding up, or braking hard through zero and on the other way), the smallest jerk
+      that does not, up to max_jerk (D-020, D-177; the kernel adds 1e-6 relative, so do
+      we). A move that turns through zero without stopping (D-201) meets the second case.
     """
     v_max, j_max = AXIS_LIMITS["max_velocity"], AXIS_LIMITS["max_jerk"]
     speed = min(max(c.velocity, float(forced_speed(velocity, acceleration, c.jerk))),
                 max(v_max, float(forced_speed(velocity, acceleration, j_max))))
     jerk = c.jerk
-    if velocity * acceleration > 0.0 and forced_speed(velocity, acceleration, c.jerk) > v_max:
-        room = v_max - abs(velocity)
+    if acceleration != 0.0 and forced_speed(velocity, acceleration, c.jerk) > v_max:
+        room = v_max - (velocity if acceleration > 0.0 else -velocity)  # less v ahead
         needed = acceleration**2 / (2.0 * room) * (1.0 + 1e-6) if room > 0.0 else j_max
         jerk = max(c.jerk, min(needed, j_max))
     return speed, max(c.acceleration, c.deceleration, abs(acceleration)), jerk

@@ -21,6 +21,7 @@ import ruckig
 from openmotion.bench.axes import run_axes
 from openmotion.bench.ca import run_ca
 from openmotion.bench.fbcall import run_fbcall
+from openmotion.bench.otg import ORACLE_GRACE as OTG_ORACLE_GRACE
 from openmotion.bench.otg import run_otg
 from openmotion.bench.path import run_path
 from openmotion.bench.planar import run_planar
@@ -61,7 +62,9 @@ def _axes(quick: bool, progress: Progress) -> dict[str, Any]:
 
 
 def _otg(quick: bool, progress: Progress) -> dict[str, Any]:
-    return run_otg(samples=25 if quick else 2000, progress=progress)
+    if quick:
+        return run_otg(samples=25, asymmetric_samples=10, progress=progress)
+    return run_otg(samples=2000, progress=progress)
 
 
 def _fbcall(quick: bool, progress: Progress) -> dict[str, Any]:
@@ -166,6 +169,7 @@ def goals_axes(results: dict[str, Any]) -> dict[str, Any]:
 
 def goals_otg(results: dict[str, Any]) -> dict[str, Any]:
     n = results["samples"]
+    asym = results["acc_ne_dec"]
     return {
         "reached": _goal("every sample reaches its target bit-exactly", results["reached"],
                          results["reached"] == n),
@@ -176,6 +180,15 @@ def goals_otg(results: dict[str, Any]) -> dict[str, Any]:
                             results["violations"], results["violations"] == 0),
         "command_errors": _goal("no target move rejected", results["command_errors"],
                                 results["command_errors"] == 0),
+        "slower_than_min": _goal("acc != dec: none slower than min(acc, dec) + 1 cycle",
+                                 asym["slower_than_min"], asym["slower_than_min"] == 0),
+        "oracle_p99": _goal("acc != dec: p99 within 1 % + 1 cycle of the oracle (D-201)",
+                            asym["oracle_graced_p99"],
+                            asym["oracle_graced_p99"] is None
+                            or asym["oracle_graced_p99"] <= 1.0 + OTG_ORACLE_GRACE),
+        "direction_violations": _goal(
+            "acc != dec: |a| <= dec while |v| falls, <= acc otherwise, every sample",
+            asym["violations"], asym["violations"] == 0),
     }
 
 
@@ -412,10 +425,27 @@ def _render_otg(results: dict[str, Any]) -> list[str]:
         ["  within ceil(ruckig) + 1 cycle", r["time_ok"]],
         ["  worst excess over ceil(ruckig) [cycles]", r["worst_excess_cycles"]],
         ["  worst plan duration vs ruckig (relative)", r["worst_duration_excess_relative"]],
-        ["acc != dec samples (limits and reach only)", r["asymmetric"]],
+        ["acc != dec samples", r["asymmetric"]],
         ["  reached", r["asymmetric_reached"]],
         ["  duration / ruckig mapped, median", r["asymmetric_duration_ratio_median"]],
         ["  duration / ruckig mapped, max", r["asymmetric_duration_ratio_max"]],
+    ]
+    for name, key in (("acc != dec", "acc_ne_dec"), ("reversals", "reversals")):
+        a = r[key]
+        rows += [
+            [f"{name}: cases (judged by the oracle)", f"{a['cases']} ({a['judged']})"],
+            ["  slower than min(acc, dec) + 1 cycle", a["slower_than_min"]],
+            ["  duration / oracle: median / p99 / max",
+             f"{_fmt(a['oracle_ratio_median'], 5)} / {_fmt(a['oracle_ratio_p99'], 5)} / "
+             f"{_fmt(a['oracle_ratio_max'], 5)}"],
+            ["  (duration - 1 cycle) / oracle, p99", _fmt(a["oracle_graced_p99"], 5)],
+            ["  beyond oracle x 1.01 + 1 cycle", a["beyond_oracle_grace"]],
+            ["  faster than the oracle (its misses)", a["below_oracle"]],
+            ["  duration / min(acc, dec) plan: median / max",
+             f"{_fmt(a['min_ratio_median'], 5)} / {_fmt(a['min_ratio_max'], 5)}"],
+            ["  samples with a limit violation", a["violations"]],
+        ]
+    rows += [
         ["samples with a limit violation", r["violations"]],
         ["target moves rejected", r["command_errors"]],
         ["pre-moves rejected (start from rest)", r["pre_move_errors"]],
@@ -427,6 +457,7 @@ def _render_otg(results: dict[str, Any]) -> list[str]:
                                                         f"{_fmt(r['ruckig_plan_us_warm_median'])}"],
         ["plan us: our move_absolute (first call)", r["our_plan_us_median"]],
         ["plan us: our move_absolute (warm)", r["our_plan_us_warm_median"]],
+        ["plan us: our move_absolute, reversals (warm)", r["reversal_plan_us_warm_median"]],
     ]
     lines = _table(["figure", "value"], rows)
     for f in r["failures"]:

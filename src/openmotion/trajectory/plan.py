@@ -3,9 +3,13 @@
 PLCopen has distinct acceleration and deceleration limits; ruckig has one signed pair
 (``max_acceleration`` / ``min_acceleration``). For motion in one direction the pair maps
 exactly: speeding up in +x is bounded by ``acceleration``, slowing down by ``deceleration``,
-and mirrored for -x. A profile that reverses direction cannot be mapped (each half would need
-the other bound), so it is planned as brake-to-rest followed by a fresh move from rest
-(docs/decisions.md, D-002). With equal limits one ruckig call is exact and time-optimal.
+and mirrored for -x. With equal limits, or a move that keeps its direction, one ruckig call
+is exact and time-optimal. A move that must turn back (its velocity passes through zero
+towards the target) cannot be mapped as one piece, since each side of the zero needs the
+other bound: it is planned as two pieces joined at zero velocity with a continuous
+acceleration, each mapped exactly, the crossing chosen by a short search, and it is never
+slower than the plan with both limits at the lower one (docs/decisions.md D-201, which
+supersedes D-002's brake-to-rest then move; D-203 for velocity changes).
 """
 
 from __future__ import annotations
@@ -69,7 +73,7 @@ def plan_position(
             return ramped
     asymmetric = limits.acceleration != limits.deceleration
     if asymmetric and start.velocity * sign < -1e-12 * limits.velocity:  # heading away
-        return _brake_then_position(start, target, target_velocity, limits)
+        return _turn_back(start, target, target_velocity, limits, sign)
     try:
         profile = _ruckig_position(start, target, target_velocity, limits, sign)
     except CommandRejected:
@@ -78,7 +82,275 @@ def plan_position(
         profile = None  # a rare numerical failure of ruckig's step 1: brake, then move
     if profile is not None and (not asymmetric or not _reverses(profile, sign)):
         return profile
+    if asymmetric:
+        return _turn_back(start, target, target_velocity, limits, sign)
     return _brake_then_position(start, target, target_velocity, limits)
+
+
+def _turn_back(
+    start: KinematicState, target: float, target_velocity: float, limits: Limits, sign: int
+) -> Profile:
+    """A move that turns back with acceleration != deceleration (D-201): the fastest of the
+    turn through zero velocity (``_through_zero``), the plan with both limits at the lower
+    one (it keeps every bound) and brake-to-rest then move (D-002), so that raising a limit
+    never makes a move slower. Durations first (cheap); only the fastest is built."""
+    low = min(limits.acceleration, limits.deceleration)
+    symmetric = Limits(limits.velocity, low, low, limits.jerk)
+    turn = _through_zero(start, target, target_velocity, limits)
+    if turn is not None and math.isfinite(turn[3]):
+        stopped = turn[3]  # |a_c| = 0 is brake-to-rest then move, timed by the search
+    else:
+        brake = plan_velocity(start, 0.0, limits)
+        rest = KinematicState(brake.end.position, 0.0, 0.0)
+        stopped = brake.duration + _duration(rest, target, target_velocity, limits,
+                                             _sign(target - rest.position)
+                                             or _sign(target_velocity))
+    options = sorted((
+        (turn[0] if turn is not None else math.inf, 0),
+        (_duration(start, target, target_velocity, symmetric, sign), 1),
+        (stopped, 2),
+    ))
+    for duration, kind in options:
+        if not math.isfinite(duration):
+            break
+        if kind == 0:
+            assert turn is not None
+            profile = _turn_profile(turn[1], turn[2], start, target, target_velocity, limits)
+            if profile is not None:
+                return profile
+        elif kind == 1:
+            try:
+                return _ruckig_position(start, target, target_velocity, symmetric, sign)
+            except CommandRejected:
+                continue
+        else:
+            break
+    return _brake_then_position(start, target, target_velocity, limits)
+
+
+def _duration(start: KinematicState, target: float, target_velocity: float, limits: Limits,
+              sign: int) -> float:
+    """[s] of ruckig's move, without building the profile where ruckig solves it at once;
+    else that of the plan with the limits lowered a hair (``_calculate``); inf where even
+    that fails."""
+    _load_state(start, limits, sign)
+    _input.target_position = [target]
+    _input.target_velocity = [target_velocity]
+    try:
+        if _otg.calculate(_input, _trajectory) in (Result.Working, Result.Finished):
+            return _trajectory.duration
+    except (RuckigError, RuntimeError, ValueError):
+        pass
+    try:
+        return _ruckig_position(start, target, target_velocity, limits, sign).duration
+    except CommandRejected:
+        return math.inf
+
+
+#: the turn's search: ruckig's velocity interface brakes to the crossing state, its position
+#: interface goes on from there to the target (own instances: the plan's input stays loaded)
+_turn = Ruckig(1)
+_turn_trajectory = Trajectory(1)
+_braking = InputParameter(1)
+_braking.control_interface = ControlInterface.Velocity
+_braking.target_velocity = [0.0]
+_onward = InputParameter(1)
+_onward.control_interface = ControlInterface.Position
+_onward.current_velocity = [0.0]
+_onward.target_acceleration = [0.0]
+_CROSSING_MARGIN = 1e-9  #: relative: the largest crossing acceleration kept off its bound
+_EDGE_PRECISION = 1e-4  #: relative: how closely the overshoot edge is found (feasible side)
+_SATURATION_PROBE = 1e-3  #: relative: step below the chosen crossing acceleration
+_EDGE_STEPS = 40  #: at most, of the root finding for the overshoot edge
+_CROSSING_STEPS = 16  #: golden-section steps over the crossing acceleration (0.618^16 ~ 5e-4)
+_TURN_TOLERANCE = 1e-9  #: relative: the second piece passing its ends by less is residue
+_GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+#: the shortest stop from (v = 0, a = c): release c at full jerk (c³/3j²), then brake the
+#: c²/2j gained with a triangle of peak c/√2 (c³/2√2j²)
+_STOP_FROM_CROSSING = 1.0 / 3.0 + 1.0 / (2.0 * math.sqrt(2.0))
+
+
+def _through_zero(
+    start: KinematicState, target: float, target_velocity: float, limits: Limits
+) -> tuple[float, float, int, float] | None:
+    """Brake in the start's direction to zero velocity without stopping and go on towards
+    the target at once (D-201): (duration, |a_c|, that direction, the duration with
+    |a_c| = 0, i.e. brake-to-rest then move, or inf where that is outside the range), or None
+    where no such profile keeps the bounds.
+
+    At the crossing (position p_c, velocity 0, acceleration a_c pointing back) the
+    acceleration is continuous, so |a_c| <= min(acceleration, deceleration). Before it the
+    velocity falls (bound: deceleration), after it it rises (bound: acceleration); each
+    piece is in one direction and ruckig plans it exactly with the mapped pair. For a given
+    |a_c| the fastest first piece is also the shortest (brake as hard as the bounds allow),
+    and the second piece only gains from a shorter way back, so p_c is where that braking
+    ends: one search over |a_c|. The total time falls as |a_c| grows (the turn keeps more of
+    its acceleration), up to the largest value the first piece allows (it must not reach
+    zero velocity before its acceleration has turned round) or the second (it must not
+    overshoot the target): that end is found directly and confirmed by a probe just below
+    it; a golden section over the whole range runs where the probe disagrees.
+    """
+    moving = abs(start.velocity) > 1e-12 * max(limits.velocity, 1e-300)
+    first = _sign(start.velocity) if moving else _sign(start.acceleration)
+    if first == 0:
+        return None
+    jerk = limits.jerk
+    speed = max(start.velocity * first, 0.0)  # towards ``first``
+    push = start.acceleration * first  # > 0: still speeding up
+    # braking from (speed, push) must turn the acceleration round to -|a_c| before the
+    # velocity reaches zero: a straight jerk ramp changes it by (push² - a_c²) / 2 jerk; and
+    # releasing |a_c| after the crossing carries the speed on by a_c² / 2 jerk
+    top = min(limits.acceleration, limits.deceleration,
+              math.sqrt(2.0 * jerk * speed + push * push) * (1.0 - _CROSSING_MARGIN),
+              math.sqrt(2.0 * jerk * limits.velocity) * (1.0 - _CROSSING_MARGIN))
+    bottom = math.sqrt(max(push * push - 2.0 * jerk * speed, 0.0)) if push < 0.0 else 0.0
+    if bottom > top:
+        return None
+    _load_turn(start, target, target_velocity, limits, first)
+    scale = abs(target - start.position) + speed * 1e-3
+
+    def total(c: float) -> float:
+        return _turn_duration(c, first, target, scale)
+
+    def confirmed(c: float) -> float:
+        """The duration at ``c`` where it is finite and no larger than just below ``c``."""
+        value = total(c)
+        return value if math.isfinite(value) and total(c * (1.0 - _SATURATION_PROBE)) >= value \
+            else math.inf
+
+    # to rest, a second piece that cannot stop short of the target needs no ruckig call
+    edge = top if target_velocity != 0.0 else _overshoot_edge(bottom, top, first, target, jerk)
+    if edge is not None:
+        value = confirmed(edge)
+        if math.isfinite(value):
+            return value, edge, first, total(0.0) if bottom == 0.0 else math.inf
+    a, b = bottom, top
+    x1, x2 = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
+    f1, f2 = total(x1), total(x2)
+    for _ in range(_CROSSING_STEPS):
+        if f1 <= f2:
+            b, x2, f2 = x2, x1, f1
+            x1 = b - _GOLDEN * (b - a)
+            f1 = total(x1)
+        else:
+            a, x1, f1 = x1, x2, f2
+            x2 = a + _GOLDEN * (b - a)
+            f2 = total(x2)
+    best, value = (x1, f1) if f1 <= f2 else (x2, f2)
+    if not math.isfinite(value):
+        return None
+    return value, best, first, total(0.0) if bottom == 0.0 else math.inf
+
+
+def _overshoot_edge(bottom: float, top: float, first: int, target: float,
+                    jerk: float) -> float | None:
+    """The largest |a_c| in [bottom, top] from whose crossing the second piece can still
+    stop at the target without passing it (to rest: its distance covers the shortest stop
+    from the crossing); None where not even ``bottom`` can. The room left falls as |a_c|
+    grows: one velocity-interface call per step of regula falsi (Illinois)."""
+
+    def room(c: float) -> float:
+        _braking.target_acceleration = [-first * c]
+        try:
+            if _turn.calculate(_braking, _turn_trajectory) not in (Result.Working,
+                                                                   Result.Finished):
+                return math.nan
+        except (RuckigError, RuntimeError, ValueError):
+            return math.nan
+        crossing = _turn_trajectory.profiles[0][0].p[-1]
+        return (crossing - target) * first - _STOP_FROM_CROSSING * c**3 / (jerk * jerk)
+
+    a, b = bottom, top
+    fb = room(b)
+    if fb >= 0.0:
+        return top
+    fa = room(a)
+    if not (fa > 0.0 and fb < 0.0):
+        return None
+    side = 0
+    for _ in range(_EDGE_STEPS):
+        c = (a * fb - b * fa) / (fb - fa)
+        fc = room(c)
+        if not math.isfinite(fc):
+            return None
+        if fc > 0.0:
+            a, fa = c, fc
+            if side == 1:
+                fb /= 2.0
+            side = 1
+        else:
+            b, fb = c, fc
+            if side == -1:
+                fa /= 2.0
+            side = -1
+        if b - a <= _EDGE_PRECISION * b:
+            break
+    return a
+
+
+def _load_turn(start: KinematicState, target: float, target_velocity: float,
+               limits: Limits, first: int) -> None:
+    """The start, the target and the mapped limits of both pieces into the search inputs."""
+    up, down = limits.acceleration, limits.deceleration
+    _braking.current_position = [start.position]
+    _braking.current_velocity = [start.velocity]
+    _braking.current_acceleration = [start.acceleration]
+    _braking.max_velocity = [limits.velocity]
+    _braking.max_jerk = [limits.jerk]
+    _onward.max_velocity = [limits.velocity]
+    _onward.max_jerk = [limits.jerk]
+    _onward.target_position = [target]
+    _onward.target_velocity = [target_velocity]
+    if first > 0:  # braking a +x motion, then speeding up towards -x
+        _braking.max_acceleration, _braking.min_acceleration = [up], [-down]
+        _onward.max_acceleration, _onward.min_acceleration = [down], [-up]
+    else:
+        _braking.max_acceleration, _braking.min_acceleration = [down], [-up]
+        _onward.max_acceleration, _onward.min_acceleration = [up], [-down]
+
+
+def _turn_duration(c: float, first: int, target: float, scale: float) -> float:
+    """[s] of the turn through the crossing with |a_c| = ``c``; inf where a piece fails or
+    the second passes its ends (the inputs are loaded by ``_load_turn``). The first piece
+    keeps its direction by the range of ``c`` (``_through_zero``); the profile built at the
+    end is checked in full."""
+    _braking.target_acceleration = [-first * c]
+    try:
+        if _turn.calculate(_braking, _turn_trajectory) not in (Result.Working,
+                                                               Result.Finished):
+            return math.inf
+        duration = _turn_trajectory.duration
+        crossing = _turn_trajectory.profiles[0][0].p[-1]
+        _onward.current_position = [crossing]
+        _onward.current_acceleration = [-first * c]
+        if _turn.calculate(_onward, _turn_trajectory) not in (Result.Working, Result.Finished):
+            return math.inf
+    except (RuckigError, RuntimeError, ValueError):
+        return math.inf
+    extrema = _turn_trajectory.position_extrema[0]
+    tolerance = _TURN_TOLERANCE * (abs(crossing - target) + scale)
+    if extrema.min < min(crossing, target) - tolerance \
+            or extrema.max > max(crossing, target) + tolerance:
+        return math.inf  # it passes the target (or the crossing) and turns back
+    return duration + _turn_trajectory.duration
+
+
+def _turn_profile(c: float, first: int, start: KinematicState, target: float,
+                  target_velocity: float, limits: Limits) -> Profile | None:
+    """The turn through the crossing with |a_c| = ``c`` as one profile; None where a piece
+    turns back itself or the second passes the velocity limit."""
+    braking = _braked_to_crossing(start, c, first, limits)
+    if braking is None:
+        return None
+    crossing = KinematicState(float(braking.p[-1]), 0.0, -first * c)
+    try:
+        onward = _ruckig_position(crossing, target, target_velocity, limits, -first)
+    except CommandRejected:
+        return None
+    lo, hi = onward.velocity_extrema()
+    if _reverses(onward, -first) or max(-lo, hi) > limits.velocity * (1.0 + VELOCITY_TOLERANCE):
+        return None
+    return Profile.concatenate(braking, onward)
 
 
 def _brake_then_position(
@@ -115,11 +387,59 @@ def plan_velocity(start: KinematicState, velocity: float, limits: Limits) -> Pro
     moving = abs(start.velocity) > 1e-12 * max(limits.velocity, abs(velocity), 1e-300)
     heading = _sign(start.velocity) if moving else _sign(start.acceleration)
     if heading * velocity < 0.0 and limits.acceleration != limits.deceleration:
-        brake = plan_velocity(start, 0.0, limits)
-        return Profile.concatenate(
-            brake, _velocity_profile(KinematicState(brake.end.position), velocity, limits)
-        )
+        return _turn_velocity(start, velocity, limits, heading)
     return _velocity_profile(start, velocity, limits)
+
+
+def _turn_velocity(start: KinematicState, velocity: float, limits: Limits,
+                   heading: int) -> Profile:
+    """A velocity change through zero with acceleration != deceleration (D-203): the fastest
+    of the turn through zero velocity, the change with both limits at the lower one and
+    brake-to-rest then speed up (D-002).
+
+    The crossing acceleration |a_c| (D-201) shortens both pieces as it grows, with no
+    position to reach: so it is the largest value that the lower limit, the braking (its
+    acceleration must turn round before the velocity reaches zero) and the new velocity (the
+    a_c²/2j gained while |a_c| is released must pass neither it nor the velocity limit)
+    allow.
+    """
+    low = min(limits.acceleration, limits.deceleration)
+    jerk = limits.jerk
+    speed = max(start.velocity * heading, 0.0)
+    push = start.acceleration * heading
+    top = min(low, math.sqrt(2.0 * jerk * speed + push * push),
+              math.sqrt(2.0 * jerk * min(abs(velocity), limits.velocity))) \
+        * (1.0 - _CROSSING_MARGIN)
+    bottom = math.sqrt(max(push * push - 2.0 * jerk * speed, 0.0)) if push < 0.0 else 0.0
+    candidates = [_velocity_profile(start, velocity, Limits(limits.velocity, low, low, jerk))]
+    brake = plan_velocity(start, 0.0, limits)
+    candidates.append(Profile.concatenate(
+        brake, _velocity_profile(KinematicState(brake.end.position), velocity, limits)))
+    if bottom <= top:
+        turn = _braked_to_crossing(start, top, heading, limits)
+        if turn is not None:
+            crossing = KinematicState(float(turn.p[-1]), 0.0, -heading * top)
+            onward = _velocity_profile(crossing, velocity, limits)
+            if not _reverses(onward, -heading):
+                candidates.insert(0, Profile.concatenate(turn, onward))
+    return min(candidates, key=lambda c: c.duration)
+
+
+def _braked_to_crossing(start: KinematicState, c: float, heading: int,
+                        limits: Limits) -> Profile | None:
+    """Brake a motion towards ``heading`` to zero velocity with the acceleration at
+    -heading·``c`` (ruckig's velocity interface, the deceleration bounding the braking);
+    None where ruckig fails or the velocity passes zero before."""
+    _load_turn(start, 0.0, 0.0, limits, heading)
+    _braking.target_acceleration = [-heading * c]
+    try:
+        if _turn.calculate(_braking, _turn_trajectory) not in (Result.Working,
+                                                               Result.Finished):
+            return None
+    except (RuckigError, RuntimeError, ValueError):
+        return None
+    braking = _segments(_turn_trajectory.profiles[0][0])
+    return None if _reverses(braking, heading) else braking
 
 
 def jerk_within_velocity(start: KinematicState, jerk: float, max_velocity: float,
