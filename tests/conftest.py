@@ -9,7 +9,7 @@ import pytest
 import ruckig
 from hypothesis import HealthCheck, settings
 
-from openmotion.plcopen.handshake import FunctionBlock
+from openmotion.kernel.handshake import FunctionBlock
 
 settings.register_profile("dev", max_examples=60, deadline=None)
 settings.register_profile(

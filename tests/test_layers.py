@@ -26,10 +26,8 @@ LAYERS: tuple[frozenset[str], ...] = (
 )
 SYSTEMS = LAYERS[4]
 #: system -> system imports still to be moved out (issue 21 item 4: the shared 1-D
-#: multi-mover engine and the handshake bases go where every system may use them)
-KNOWN_CROSSINGS = frozenset({("coordinated", "transport"), ("coordinated", "plcopen"),
-                             ("planar", "transport"),
-                             ("transport", "plcopen")})
+#: multi-mover engine and the group-block bases go where every system may use them)
+KNOWN_CROSSINGS = frozenset({("coordinated", "transport"), ("planar", "transport")})
 
 
 def _annotation_nodes(tree: ast.Module) -> set[int]:

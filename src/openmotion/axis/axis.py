@@ -651,7 +651,7 @@ class Axis:
         job = self._job
         if job is None or job.kind != "gear":
             return self._reject(command, ErrorId.NOT_COUPLED, "the axis is not a geared slave")
-        job.command._end(CommandStatus.ABORTED, self._rt.now, message="decoupled by MC_GearOut")
+        job.command.end(CommandStatus.ABORTED, self._rt.now, message="decoupled by MC_GearOut")
         self._job = None
         self._release_coupling()
         self._finish(command)
@@ -856,7 +856,7 @@ class Axis:
                                            abs(state.acceleration)),
                                 max(min(p.jerk, room.jerk), p.jerk * ROOM_FLOOR))
             k.overlay.install(self.row, profile, k.sample_time)
-            self._superposition._end(CommandStatus.ABORTED, self._rt.now,
+            self._superposition.end(CommandStatus.ABORTED, self._rt.now,
                                      message="aborted by MC_AbortSuperposition")
             self._superposition = None
         self._finish(command)
@@ -898,7 +898,7 @@ class Axis:
             self._install(self._carry_on(k.state(row)), has_job=False)
         k.set_superimposed(row, False)
         if self._superposition is not None:
-            self._superposition._end(status, self._rt.now, error_id, message)
+            self._superposition.end(status, self._rt.now, error_id, message)
             self._superposition = None
         if ended:
             self._after_superposition()
@@ -1035,7 +1035,7 @@ class Axis:
         start = k.state(row)
         k.set_external(row, False)
         if self._job is not None and self._job.kind == "external":
-            self._job.command._end(CommandStatus.DONE, self._rt.now, message=reason)
+            self._job.command.end(CommandStatus.DONE, self._rt.now, message=reason)
             self._job = None
         p = self.parameters
         self._install(jobs.plan_brake(start, p.deceleration, p.jerk, p), has_job=False)
@@ -1413,7 +1413,7 @@ class Axis:
         time = max(time, self._k.sample_time)  # never rewrite a sample already taken
         previous = self._job
         if previous is not None and previous.kind == "velocity":  # never Done by itself (D-178)
-            previous.command._end(CommandStatus.ABORTED, self._rt.now,
+            previous.command.end(CommandStatus.ABORTED, self._rt.now,
                                   message=f"taken over by the buffered {job.command.kind}")
         start = self._k.segments.state(self.row, time)
         job.extra["start"] = start.position
@@ -1427,28 +1427,28 @@ class Axis:
                 profile = self._plan_base(job, start)
             jobs.check_soft_limits(self.parameters, profile, job.target)
         except CommandRejected as rejected:
-            job.command._end(CommandStatus.ERROR, time, rejected.error_id, rejected.message)
+            job.command.end(CommandStatus.ERROR, time, rejected.error_id, rejected.message)
             self._job = None
             self._start_next(time)
             return
         self._start(job, profile, time=time)
 
     def _finish(self, command: Command) -> None:
-        command._end(CommandStatus.DONE, self._rt.now)
+        command.end(CommandStatus.DONE, self._rt.now)
 
     def _reject(self, command: Command, error_id: ErrorId, message: str) -> Command:
-        command._end(CommandStatus.ERROR, self._rt.now, error_id, message)
+        command.end(CommandStatus.ERROR, self._rt.now, error_id, message)
         return command
 
     def _fail_job(self, job: Job, error_id: ErrorId, message: str) -> None:
-        job.command._end(CommandStatus.ERROR, self._rt.now, error_id, message)
+        job.command.end(CommandStatus.ERROR, self._rt.now, error_id, message)
 
     def _abort_all(self, reason: str) -> None:
         now = self._rt.now
         if self._k.superimposed[self.row]:  # MC_Stop and new moves end it too (§3.12)
             self._fold_overlay(CommandStatus.ABORTED, reason)
         if self._job is not None:
-            self._job.command._end(CommandStatus.ABORTED, now, message=reason)
+            self._job.command.end(CommandStatus.ABORTED, now, message=reason)
             if self._job.kind == "home":
                 self.calibration_state = 0
             if self._job.kind == "gear":
@@ -1463,7 +1463,7 @@ class Axis:
                     math.inf, p.max_acceleration, p.max_deceleration, jerk)), has_job=False)
             self._job = None
         for job in self._queue:
-            job.command._end(CommandStatus.ABORTED, now, message=reason)
+            job.command.end(CommandStatus.ABORTED, now, message=reason)
         self._queue.clear()
 
     def fault(self, error_id: ErrorId, message: str, time: float | None = None) -> None:
@@ -1570,7 +1570,7 @@ class Axis:
             if command.finished:
                 return False
             if job is not self._job:
-                command._end(CommandStatus.ABORTED, now, message="the move ended before the "
+                command.end(CommandStatus.ABORTED, now, message="the move ended before the "
                              "switch position")
                 return False
             position = self.set_position

@@ -65,7 +65,7 @@ class HomingSequence:
         elif state == 6 and not axis.has_job and axis.set_velocity == 0.0:
             axis.calibration_state = 7
             axis.homed = True
-            job.command._end(CommandStatus.DONE, now)
+            job.command.end(CommandStatus.DONE, now)
             axis._job = None
             axis.state = AxisState.STANDSTILL
             axis._start_next(now)

@@ -229,7 +229,7 @@ class _ProbeCycle:
         return True
 
     def _end(self, status: CommandStatus, now: float, state: TouchProbeState) -> None:
-        self.command._end(status, now)
+        self.command.end(status, now)
         self.ref.probe_state = state
         if _ARMED.get(self.ref) is self:
             del _ARMED[self.ref]
@@ -280,7 +280,7 @@ def arm_probe(axis: Axis, ref: InputRef, window_only: bool = False,
                                   "a probe cycle is armed on this TriggerInput: "
                                   "MC_AbortTrigger first (TcMC §4.21)")
     except CommandRejected as rejected:
-        command._end(CommandStatus.ERROR, rt.now, rejected.error_id, rejected.message)
+        command.end(CommandStatus.ERROR, rt.now, rejected.error_id, rejected.message)
         return command
     cycle = _ProbeCycle(axis, ref, window, command)
     command.status = CommandStatus.ACTIVE

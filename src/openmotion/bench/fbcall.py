@@ -16,8 +16,8 @@ from collections.abc import Callable
 from typing import Any
 
 import openmotion as om
+from openmotion.kernel.handshake import FunctionBlock
 from openmotion.plcopen import MC_MoveAbsolute
-from openmotion.plcopen.handshake import FunctionBlock
 
 REPEATS = 7
 FAR = 1.0e6  #: a target so far away that the move stays busy through every repeat [mm]

@@ -184,11 +184,11 @@ class MC_PathSelect(_GroupCommand):
             self.path_data = select_path(group, self.path_description, self.coord_system,
                                          self.transition_mode, self.transition_parameter)
         except CommandRejected as rejected:
-            command._end(CommandStatus.ERROR, command.issued_at, rejected.error_id,
+            command.end(CommandStatus.ERROR, command.issued_at, rejected.error_id,
                          rejected.message)
             return command
         command.value = self.path_data
-        command._end(CommandStatus.DONE, command.issued_at)
+        command.end(CommandStatus.DONE, command.issued_at)
         return command
 
 

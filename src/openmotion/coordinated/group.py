@@ -277,7 +277,7 @@ class AxesGroup:
         self._home_abort("the group was disabled")
         self._hold_members()
         if self._stop is not None:
-            self._stop._end(CommandStatus.ABORTED, self._rt.now, message="the group was disabled")
+            self._stop.end(CommandStatus.ABORTED, self._rt.now, message="the group was disabled")
             self._stop = None
         self.machine.fire(GroupEvent.DISABLE)
         self._couple()
@@ -313,14 +313,14 @@ class AxesGroup:
         self._reset = None
         failed = next((part for part in parts if part.error), None)
         if failed is not None:
-            command._end(CommandStatus.ERROR, now, failed.error_id, failed.message)
+            command.end(CommandStatus.ERROR, now, failed.error_id, failed.message)
             return
         if self.state is G.ERROR_STOP or self.state is G.STANDBY or self.state is G.DISABLED:
             self.error_id, self.error_message = ErrorId.NO_ERROR, ""
             self.machine.fire(GroupEvent.RESET)
             self._last_axis_states = {}
             self._couple()
-        command._end(CommandStatus.DONE, now)
+        command.end(CommandStatus.DONE, now)
 
     # -- coordinate systems (§5.8) -------------------------------------------------------------
 
@@ -404,7 +404,7 @@ class AxesGroup:
 
         def apply() -> None:
             self._set_position(value, relative, coord_system)
-            command._end(CommandStatus.DONE, self._rt.now)
+            command.end(CommandStatus.DONE, self._rt.now)
         return self._after_motion(command, mode, apply)
 
     def _set_position(self, value: np.ndarray, relative: bool, coord_system: CoordSystem
@@ -463,7 +463,7 @@ class AxesGroup:
         """An Aborting motion, a halt or stop, disable, an error: what waits is aborted."""
         queued, self._queued = self._queued, []
         for command, _, _ in queued:
-            command._end(CommandStatus.ABORTED, self._rt.now, message=reason)
+            command.end(CommandStatus.ABORTED, self._rt.now, message=reason)
 
     def _set_acs(self, value: np.ndarray, relative: bool) -> None:
         """Each member's setpoint reads ``value`` (or moves by it), its actual position
@@ -1048,7 +1048,7 @@ class AxesGroup:
         if command is None:
             return
         if command.busy and not self.motion.running and self.all_axes_standing:
-            command._end(CommandStatus.DONE, now)
+            command.end(CommandStatus.DONE, now)
             command.hold = command.hold  # the FB keeps it until Execute falls
         if command.done and not command.hold:
             self._stop = None
@@ -1068,15 +1068,15 @@ class AxesGroup:
         for axis in self.axes:
             axis.group = self
         if failed is not None:
-            command._end(CommandStatus.ERROR, now, failed.error_id, failed.message)
+            command.end(CommandStatus.ERROR, now, failed.error_id, failed.message)
             self._fault(failed.error_id, f"homing failed: {failed.message}")
             return
         if self.state is G.HOMING:
-            command._end(CommandStatus.DONE, now)
+            command.end(CommandStatus.DONE, now)
             self.machine.fire(GroupEvent.HOME_END)
             self._couple()
         else:
-            command._end(CommandStatus.ABORTED, now, message="the group left GroupHoming")
+            command.end(CommandStatus.ABORTED, now, message="the group left GroupHoming")
 
     def _home_abort(self, reason: str) -> None:
         """MC_GroupHome ends (its members stop); what waits in ``_queued`` ends too."""
@@ -1087,7 +1087,7 @@ class AxesGroup:
             with self._ungrouped(axis):
                 axis.stop()
             axis.group = self
-        self._home_command._end(CommandStatus.ABORTED, self._rt.now, message=reason)
+        self._home_command.end(CommandStatus.ABORTED, self._rt.now, message=reason)
         self._home_command, self._home = None, []
 
     def _end_pending(self) -> None:
@@ -1099,7 +1099,7 @@ class AxesGroup:
                 continue
             if self.motion.all_ended(wait):
                 apply()
-                command._end(CommandStatus.DONE, self._rt.now)
+                command.end(CommandStatus.DONE, self._rt.now)
             elif command.busy:
                 keep.append((command, wait, apply))
         self._pending = keep
@@ -1122,7 +1122,7 @@ class AxesGroup:
                 self.motion.abort_all(f"member {axis.name} lost power")
                 self._hold_members()
                 if self._stop is not None:
-                    self._stop._end(CommandStatus.ABORTED, self._rt.now,
+                    self._stop.end(CommandStatus.ABORTED, self._rt.now,
                                     message=f"member {axis.name} lost power")
                     self._stop = None
                 self._home_abort(f"member {axis.name} lost power")
@@ -1135,7 +1135,7 @@ class AxesGroup:
         self.motion.abort_all(f"group error: {message}", error=(error_id, message))
         self._home_abort(f"group error: {message}")
         if self._stop is not None:
-            self._stop._end(CommandStatus.ABORTED, self._rt.now, message=message)
+            self._stop.end(CommandStatus.ABORTED, self._rt.now, message=message)
             self._stop = None
         self._brake_members()
         self.machine.fire(GroupEvent.ERROR)
@@ -1276,11 +1276,11 @@ class AxesGroup:
         return Command(kind, self._rt.now)
 
     def _finish(self, command: Command) -> Command:
-        command._end(CommandStatus.DONE, self._rt.now)
+        command.end(CommandStatus.DONE, self._rt.now)
         return command
 
     def _reject(self, command: Command, rejected: CommandRejected) -> Command:
-        command._end(CommandStatus.ERROR, self._rt.now, rejected.error_id, rejected.message)
+        command.end(CommandStatus.ERROR, self._rt.now, rejected.error_id, rejected.message)
         return command
 
 

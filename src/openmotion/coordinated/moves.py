@@ -278,7 +278,7 @@ class PathMotion:
         self.follow = None
         self.interrupted = False
         if self.law is None:  # nothing runs (a buffered halt, or one at rest): at rest now
-            command._end(CommandStatus.DONE, now)
+            command.end(CommandStatus.DONE, now)
             return
         command.status = CommandStatus.ACTIVE
         self.halt_command = command
@@ -287,7 +287,7 @@ class PathMotion:
     def interrupt(self, command: Command, deceleration: float, jerk: float) -> None:
         active = self.active
         if self.law is None or active is None:
-            command._end(CommandStatus.ERROR, self.group._rt.now, ErrorId.NOTHING_TO_DO,
+            command.end(CommandStatus.ERROR, self.group._rt.now, ErrorId.NOTHING_TO_DO,
                          "no path motion to interrupt (§5.15)")
             return
         self.law.stop(self.group._rt.now, deceleration, jerk, keep=True)
@@ -301,7 +301,7 @@ class PathMotion:
             raise CommandRejected(ErrorId.NOTHING_TO_DO, "no interrupted motion to continue "
                                                          "(§5.16)")
         if self.interrupt_command is not None and self.interrupt_command.busy:
-            self.interrupt_command._end(CommandStatus.ABORTED, self.group._rt.now,
+            self.interrupt_command.end(CommandStatus.ABORTED, self.group._rt.now,
                                         message="continued before standstill")
         self.interrupt_command = None
         self.interrupted = False
@@ -318,7 +318,7 @@ class PathMotion:
         self.follow = None
         self.interrupted = False
         if self.halt_command is not None:
-            self.halt_command._end(CommandStatus.ABORTED, self.group._rt.now, message=reason)
+            self.halt_command.end(CommandStatus.ABORTED, self.group._rt.now, message=reason)
             self.halt_command = None
         if self.law is not None:
             self.law.stop(self.group._rt.now, deceleration, jerk, keep=False)
@@ -339,9 +339,9 @@ class PathMotion:
                 ended.append(extra)
         for command in ended:
             if error is None:
-                command._end(CommandStatus.ABORTED, now, message=reason)
+                command.end(CommandStatus.ABORTED, now, message=reason)
             else:
-                command._end(CommandStatus.ERROR, now, error[0], error[1])
+                command.end(CommandStatus.ERROR, now, error[0], error[1])
         self._clear()
 
     def end_tracking(self, reason: str) -> None:
@@ -350,7 +350,7 @@ class PathMotion:
         self.group.spaces.dynamic = None
         command = getattr(tracker, "command", None)
         if isinstance(command, Command):
-            command._end(CommandStatus.ABORTED, self.group._rt.now, message=reason)
+            command.end(CommandStatus.ABORTED, self.group._rt.now, message=reason)
         if self.follow is not None:  # hold where the frame carried the TCP last
             self.follow = None
             self.group.settle(self.group._last_setpoints()[0])
@@ -374,7 +374,7 @@ class PathMotion:
             if self.law.done:
                 self._at_rest(now)
             elif self.interrupted and self.law.standing and self.interrupt_command is not None:
-                self.interrupt_command._end(CommandStatus.DONE, now)
+                self.interrupt_command.end(CommandStatus.DONE, now)
                 self.interrupt_command = None
         elif self.follow is not None:
             self._output_follow(now)
@@ -383,7 +383,7 @@ class PathMotion:
             try:
                 self._begin(request, self._start_point(request))
             except CommandRejected as rejected:
-                request.command._end(CommandStatus.ERROR, now, rejected.error_id,
+                request.command.end(CommandStatus.ERROR, now, rejected.error_id,
                                      rejected.message)
         del group
 
@@ -392,7 +392,7 @@ class PathMotion:
         if not self.interrupted:
             for request in self.commands:
                 if request.command.busy:
-                    request.command._end(CommandStatus.DONE, now)
+                    request.command.end(CommandStatus.DONE, now)
             last = self.commands[-1] if self.commands else None
             dynamic = group.spaces.dynamic is not None
             if last is not None and last.space == PCS and dynamic and last.command.done \
@@ -405,7 +405,7 @@ class PathMotion:
             if self.follow is None:
                 group.settle(group.acs_set())
             if self.halt_command is not None:
-                self.halt_command._end(CommandStatus.DONE, now)
+                self.halt_command.end(CommandStatus.DONE, now)
                 self.halt_command = None
 
     def _update_statuses(self, piece: int, now: float) -> None:
@@ -413,7 +413,7 @@ class PathMotion:
             if request.command.finished:
                 continue
             if request.last < piece:
-                request.command._end(CommandStatus.DONE, now)
+                request.command.end(CommandStatus.DONE, now)
                 continue
             if request.first <= piece and not self.interrupted:
                 request.command.status = CommandStatus.ACTIVE
@@ -489,7 +489,7 @@ class PathMotion:
                                   "is at its end already")
         if not geometry:  # already there: Done without motion
             request.end = start
-            request.command._end(CommandStatus.DONE, group._rt.now)
+            request.command.end(CommandStatus.DONE, group._rt.now)
             group.settle(group.acs_set())
             return
         self._orientation = start.copy() if request.space != ACS else None
@@ -694,15 +694,15 @@ class PathMotion:
     def _abort_queue(self, reason: str) -> None:
         now = self.group._rt.now
         for request in self.commands:
-            request.command._end(CommandStatus.ABORTED, now, message=reason)
+            request.command.end(CommandStatus.ABORTED, now, message=reason)
         if self.waiting is not None:
-            self.waiting.command._end(CommandStatus.ABORTED, now, message=reason)
+            self.waiting.command.end(CommandStatus.ABORTED, now, message=reason)
             self.waiting = None
         if self.halt_command is not None:
-            self.halt_command._end(CommandStatus.ABORTED, now, message=reason)
+            self.halt_command.end(CommandStatus.ABORTED, now, message=reason)
             self.halt_command = None
         if self.interrupt_command is not None:
-            self.interrupt_command._end(CommandStatus.ABORTED, now, message=reason)
+            self.interrupt_command.end(CommandStatus.ABORTED, now, message=reason)
             self.interrupt_command = None
         self.interrupted = False
 

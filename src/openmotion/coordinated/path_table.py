@@ -50,7 +50,7 @@ from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE, MC_INVALID, MC_MAXIMUM
 from openmotion.geometry.path import Arc, CircMode, PathChoice
-from openmotion.plcopen.handshake import FunctionBlock
+from openmotion.kernel.handshake import FunctionBlock
 from openmotion.transport.blocks import _GroupCommand, _GroupRead
 
 if TYPE_CHECKING:
@@ -566,14 +566,14 @@ class PathTableRun:
         """The path ends early: CommandAborted (or Error), what waits is aborted too."""
         now = self.group._rt.now
         for transform in self.transforms:
-            transform._end(CommandStatus.ABORTED, now, message=reason)
+            transform.end(CommandStatus.ABORTED, now, message=reason)
         if error is None:
-            self.command._end(CommandStatus.ABORTED, now, message=reason)
+            self.command.end(CommandStatus.ABORTED, now, message=reason)
         else:
-            self.command._end(CommandStatus.ERROR, now, error[0], error[1])
+            self.command.end(CommandStatus.ERROR, now, error[0], error[1])
         self.blocked_at = None
         for command, _ in self.deferred:
-            command._end(CommandStatus.ABORTED, now, message=reason)
+            command.end(CommandStatus.ABORTED, now, message=reason)
         self.deferred = []
 
     # -- the cycle -----------------------------------------------------------------------------
@@ -603,7 +603,7 @@ class PathTableRun:
                 self._feed()
         if self.index >= len(self.rows) and at_rest and all(
                 c.finished for c in self.transforms) and all(c.done for c in self.fed):
-            self.command._end(CommandStatus.DONE, now)
+            self.command.end(CommandStatus.DONE, now)
             deferred, self.deferred = self.deferred, []
             for command, start in deferred:
                 if command.busy:

@@ -153,7 +153,7 @@ class AxisSync:
     def step(self, now: float, dt: float) -> None:
         slave, k = self.slave, self.group._k
         if slave.has_job or slave.state is not AxisState.SYNCHRONIZED_MOTION:
-            self.command._end(CommandStatus.ABORTED, now,
+            self.command.end(CommandStatus.ABORTED, now,
                               message=f"{slave.name} got a command of its own (§6.3)")
             return
         previous, self.speed = self.speed, path_speed(self.group, self.inputs.coord_system)
@@ -185,4 +185,4 @@ class AxisSync:
 
     def end(self, now: float, reason: str) -> None:
         if self.command.busy:
-            self.command._end(CommandStatus.ABORTED, now, message=reason)
+            self.command.end(CommandStatus.ABORTED, now, message=reason)

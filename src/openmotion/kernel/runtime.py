@@ -16,6 +16,7 @@ from typing import Any
 
 from openmotion.core.checks import non_negative_number, positive_number
 from openmotion.core.errors import ConfigError
+from openmotion.kernel.command import Command
 from openmotion.kernel.system import System
 
 Program = Callable[[], Any]
@@ -102,16 +103,15 @@ class CyclicRuntime:
         for _ in range(round(seconds / self.cycle_time)):
             self.step()
 
-    def run_until(self, predicate: Callable[[], bool] | Any, timeout: float = 60.0) -> float:
-        """Step until ``predicate()`` is true (or a command handle is ``finished``); returns
-        ``now``.
+    def run_until(self, predicate: Callable[[], bool] | Command, timeout: float = 60.0) -> float:
+        """Step until ``predicate()`` is true (or a Command finishes); returns ``now``.
 
         Raises ``TimeoutError`` naming the predicate and the time when ``timeout`` seconds of
         virtual time pass first (0: the predicate is asked once, without a step). A
         ``timeout`` that is NaN, infinite or negative is a ``ConfigError``.
         """
         timeout = non_negative_number(timeout, "run_until: timeout")
-        if not callable(predicate) and hasattr(predicate, "finished"):
+        if isinstance(predicate, Command):
             command = predicate
             predicate = lambda: command.finished  # noqa: E731 - a named closure reads worse
         elif not callable(predicate):

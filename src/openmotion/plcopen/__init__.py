@@ -1,5 +1,6 @@
 """PLCopen single-axis function blocks of the TcMC library, with their manual names."""
 
+from openmotion.kernel.handshake import EnableBlock, ExecuteBlock, FunctionBlock
 from openmotion.plcopen.admin import (
     MC_ChangeDynParam,
     MC_Reset,
@@ -18,7 +19,6 @@ from openmotion.plcopen.gear import (
     MC_GearOut,
     MC_GearOutExt,
 )
-from openmotion.plcopen.handshake import EnableBlock, ExecuteBlock, FunctionBlock
 from openmotion.plcopen.home import MC_Home
 from openmotion.plcopen.jog import JogMode, MC_Jog
 from openmotion.plcopen.move import (

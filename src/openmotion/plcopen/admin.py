@@ -7,7 +7,7 @@ from typing import Any, ClassVar
 from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command
 from openmotion.core.special_values import MC_DEFAULT, MC_INVALID
-from openmotion.plcopen.handshake import ExecuteBlock
+from openmotion.kernel.handshake import ExecuteBlock
 
 
 class MC_Reset(ExecuteBlock):

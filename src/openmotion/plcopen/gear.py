@@ -10,7 +10,7 @@ from openmotion.axis.commands import Command
 from openmotion.core.enums import DecoupleMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_INVALID
-from openmotion.plcopen.handshake import ExecuteBlock
+from openmotion.kernel.handshake import ExecuteBlock
 
 
 class _Coupling(ExecuteBlock):

@@ -42,7 +42,7 @@ from openmotion.axis.commands import Command, CommandStatus
 from openmotion.core.enums import Direction
 from openmotion.core.errors import ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_INVALID, InputValue
-from openmotion.plcopen.handshake import FunctionBlock
+from openmotion.kernel.handshake import FunctionBlock
 
 _NO_ERROR = ErrorId.NO_ERROR
 
@@ -164,7 +164,7 @@ class MC_Jog(FunctionBlock):
     def _fail(self, error_id: ErrorId, message: str) -> None:
         now = self._axis()._rt.now
         command = Command("MC_Jog", now)
-        command._end(CommandStatus.ERROR, now, error_id, message)
+        command.end(CommandStatus.ERROR, now, error_id, message)
         self._command = command
         self._phase = _MOVING
 

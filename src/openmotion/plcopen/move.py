@@ -8,7 +8,7 @@ from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command
 from openmotion.core.enums import BufferMode, Direction
 from openmotion.core.special_values import MC_DEFAULT, MC_INVALID
-from openmotion.plcopen.handshake import ExecuteBlock
+from openmotion.kernel.handshake import ExecuteBlock
 
 _DYNAMICS: dict[str, Any] = {
     "velocity": MC_INVALID,

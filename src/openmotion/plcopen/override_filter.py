@@ -36,7 +36,7 @@ from numbers import Integral, Real
 from typing import Any, ClassVar, Protocol
 
 from openmotion.core.errors import ErrorId
-from openmotion.plcopen.handshake import FunctionBlock
+from openmotion.kernel.handshake import FunctionBlock
 
 FULL_SCALE = 1_000_000  #: override_value_filtered at 100 % (TcMC cyclic interface DWORD)
 _TIME_TOLERANCE = 1e-9  #: [s] absorbs float noise in ``now`` (cycle * cycle_time)

@@ -8,7 +8,7 @@ from typing import Any, ClassVar
 from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.core.enums import ReadMode
-from openmotion.plcopen.handshake import EnableBlock, ExecuteBlock
+from openmotion.kernel.handshake import EnableBlock, ExecuteBlock
 
 
 class MC_ReadParameter(EnableBlock):
@@ -58,7 +58,7 @@ class MC_ReadParameterSet(ExecuteBlock):
     def _issue(self, axis: Axis) -> Command:
         command = Command("read_parameter_set", 0.0)
         command.value = asdict(axis.parameters)
-        command._end(CommandStatus.DONE, 0.0)
+        command.end(CommandStatus.DONE, 0.0)
         return command
 
     def _show_result(self, command: Command | None) -> None:

@@ -7,7 +7,7 @@ from typing import Any, ClassVar
 
 from openmotion.axis.axis import Axis
 from openmotion.core.errors import ErrorId
-from openmotion.plcopen.handshake import FunctionBlock
+from openmotion.kernel.handshake import FunctionBlock
 
 
 class MC_Power(FunctionBlock):

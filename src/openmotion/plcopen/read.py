@@ -5,7 +5,7 @@ from __future__ import annotations
 from openmotion.axis.axis import Axis
 from openmotion.core.enums import AxisState
 from openmotion.core.errors import ErrorId
-from openmotion.plcopen.handshake import EnableBlock
+from openmotion.kernel.handshake import EnableBlock
 
 
 class MC_ReadActualPosition(EnableBlock):

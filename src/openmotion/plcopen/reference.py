@@ -8,14 +8,14 @@ from typing import Any, ClassVar
 
 from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command, CommandStatus
-from openmotion.plcopen.handshake import ExecuteBlock
+from openmotion.kernel.handshake import ExecuteBlock
 
 
 def _done(axis: Axis, kind: str, value: object = None) -> Command:
     now = axis._rt.now
     command = Command(kind, now)
     command.value = value
-    command._end(CommandStatus.DONE, now)
+    command.end(CommandStatus.DONE, now)
     return command
 
 

@@ -36,7 +36,7 @@ from openmotion.axis.axis import Axis
 from openmotion.axis.stepper import STATUS2_ERROR_MASK, STATUS_ERROR, STATUS_STALL_BITS
 from openmotion.core.enums import AxisState
 from openmotion.core.errors import ErrorId
-from openmotion.plcopen.handshake import FunctionBlock
+from openmotion.kernel.handshake import FunctionBlock
 from openmotion.plcopen.power import MC_Power
 
 

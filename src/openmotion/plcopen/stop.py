@@ -8,7 +8,7 @@ from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command
 from openmotion.core.enums import BufferMode
 from openmotion.core.special_values import MC_DEFAULT
-from openmotion.plcopen.handshake import ExecuteBlock
+from openmotion.kernel.handshake import ExecuteBlock
 
 
 class MC_Stop(ExecuteBlock):

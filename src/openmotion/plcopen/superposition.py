@@ -9,7 +9,7 @@ from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command
 from openmotion.core.enums import SuperpositionMode
 from openmotion.core.special_values import MC_DEFAULT, MC_INVALID
-from openmotion.plcopen.handshake import ExecuteBlock
+from openmotion.kernel.handshake import ExecuteBlock
 
 _INPUTS: dict[str, Any] = {
     "distance": MC_INVALID, "velocity_diff": MC_INVALID, "acceleration": MC_DEFAULT,

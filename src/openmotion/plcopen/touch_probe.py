@@ -21,7 +21,7 @@ from openmotion.axis.probe import (
     abort_probe,
     arm_probe,
 )
-from openmotion.plcopen.handshake import ExecuteBlock
+from openmotion.kernel.handshake import ExecuteBlock
 
 __all__ = [
     "InputRef", "MC_AbortTrigger", "MC_TouchProbe", "SignalEdge", "TouchProbeSource",
@@ -84,5 +84,5 @@ class MC_AbortTrigger(ExecuteBlock):
         abort_probe(ref, now)
         if ref.probe_state is TouchProbeState.ACTIVATED:  # written by the user: repair it
             ref.probe_state = TouchProbeState.INACTIVE
-        command._end(CommandStatus.DONE, now)
+        command.end(CommandStatus.DONE, now)
         return command

@@ -121,7 +121,7 @@ class AxesGroups:
                                                 select.transition_parameter)
             except CommandRejected as rejected:
                 command = Command("MC_PathSelect", rt.now)
-                command._end(CommandStatus.ERROR, rt.now, rejected.error_id, rejected.message)
+                command.end(CommandStatus.ERROR, rt.now, rejected.error_id, rejected.message)
                 return command
         command = getattr(group, entry.method)(**arguments)
         if isinstance(entry, BACKGROUND):
@@ -187,7 +187,7 @@ def _move_path_table(group: AxesGroup, entry: MovePathTable) -> Command:
         block(table, **row.inputs())
         if block.error:
             command = Command(type(block).__name__, group._rt.now)
-            command._end(CommandStatus.ERROR, group._rt.now, block.error_id,
+            command.end(CommandStatus.ERROR, group._rt.now, block.error_id,
                          f"row {number}: {block.message}")
             return command
     return group.move_path_table(table)

@@ -137,7 +137,7 @@ class CaGroups:
             if mover is not None and not mover.job.continuous_update:  # type: ignore[union-attr]
                 command.message = f"ignored: {entry.move} has continuous_update false"
             group.set_gap(move, entry.gap)
-        command._end(CommandStatus.DONE, self.rt.now, message=command.message)
+        command.end(CommandStatus.DONE, self.rt.now, message=command.message)
         return command
 
     def release_due(self) -> None:

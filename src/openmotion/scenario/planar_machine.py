@@ -243,14 +243,14 @@ class PlanarMachine:
         target = self.target_of(entry)
         command = Command(entry.command, self.rt.now)
         if target is None:  # an environment entry without planar.environment
-            command._end(CommandStatus.ERROR, self.rt.now, ErrorId.PLANAR_INVALID_INPUT,
+            command.end(CommandStatus.ERROR, self.rt.now, ErrorId.PLANAR_INVALID_INPUT,
                          "there is no planar.environment")
             return command
         try:
             arguments = tuple(self.groups[name] for name in entry.arguments()) \
                 if isinstance(entry, AddToGroup) else tuple(map(self._resolve, entry.arguments()))
         except CommandRejected as exc:  # a trail whose links do not hold (parts moved)
-            command._end(CommandStatus.ERROR, self.rt.now, exc.error_id,
+            command.end(CommandStatus.ERROR, self.rt.now, exc.error_id,
                          f"rejected ({int(exc.error_id)}): {exc.message}")
             return command
         extra: dict[str, Any] = {"feedback": MC_PlanarFeedback()}  # as a PLC program passes
@@ -317,7 +317,7 @@ class PlanarMachine:
                 still.append((planar, command))
                 continue
             accepted = command.status is CommandStatus.ACTIVE
-            command._end(_STATUS[planar.phase], self.rt.now, planar.error_id,
+            command.end(_STATUS[planar.phase], self.rt.now, planar.error_id,
                          self.outcome(planar, accepted))
         self._open = still
 
@@ -497,12 +497,12 @@ class SetpointFeed:
         """
         start, row, mover, now = self.start, self.row, self.mover, self.rt.now
         if mover.error and start.phase is not CommandPhase.SENT:
-            row._end(CommandStatus.ERROR, now, mover.error_id, mover.message)
+            row.end(CommandStatus.ERROR, now, mover.error_id, mover.message)
         elif start.error:
-            row._end(CommandStatus.ERROR, now, start.error_id,
+            row.end(CommandStatus.ERROR, now, start.error_id,
                      self.machine.outcome(start, row.active))
         elif not start.busy:
-            row._end(_STATUS[start.phase], now)
+            row.end(_STATUS[start.phase], now)
         elif start.active:
             row.status = CommandStatus.ACTIVE
         return not row.finished

@@ -58,7 +58,7 @@ def _motion_cycle(rt: Runtime) -> int:
 def _done(kind: str, now: float, value: object = None) -> Command:
     command = Command(kind, now)
     command.value = value
-    command._end(CommandStatus.DONE, now)
+    command.end(CommandStatus.DONE, now)
     return command
 
 
@@ -75,7 +75,7 @@ class Program:
 
     def replace(self, now: float) -> None:
         """A later entry of the same kind took over the axis: the record ends aborted."""
-        self.command._end(CommandStatus.ABORTED, now,
+        self.command.end(CommandStatus.ABORTED, now,
                           message=f"replaced by a later {self.command.kind} entry")
 
 
@@ -103,7 +103,7 @@ class JogProgram(Program):
         status = (CommandStatus.ERROR if block.error else CommandStatus.ABORTED
                   if block.command_aborted else CommandStatus.DONE)
         motion = block.command
-        command._end(status, rt.now, block.error_id, block.message)
+        command.end(status, rt.now, block.error_id, block.message)
         if motion is not None and motion.ended_at is not None:
             command.ended_at = max(motion.ended_at, command.issued_at)  # when the motion ended
         return False
@@ -139,10 +139,10 @@ class FeedProgram(Program):
         if generation.finished:
             axis = self.axis
             if generation.aborted and axis.state is AxisState.ERROR_STOP:
-                command._end(CommandStatus.ERROR, self.rt.now, axis.axis_error_id,
+                command.end(CommandStatus.ERROR, self.rt.now, axis.axis_error_id,
                              axis.axis_error_message)
             else:
-                command._end(generation.status, self.rt.now, message=generation.message)
+                command.end(generation.status, self.rt.now, message=generation.message)
             command.ended_at = generation.ended_at
             return False
         command.status = CommandStatus.ACTIVE
@@ -185,7 +185,7 @@ class OverrideFilterProgram(Program):
         block, command = self.block, self.command
         block(override_value_raw=due[-1])
         if block.error:
-            command._end(CommandStatus.ERROR, self.rt.now, block.error_id, block.message)
+            command.end(CommandStatus.ERROR, self.rt.now, block.error_id, block.message)
             return False
         command.status = CommandStatus.ACTIVE
         percent = command.value = block.override_percent_filtered
@@ -210,7 +210,7 @@ class StepperProgram(Program):
         block, terminal = self.block, self.terminal
         block(kl_status=terminal.status, kl_status2=terminal.status2)
         if block.error:
-            self.command._end(CommandStatus.ERROR, self.rt.now, block.error_id, block.message)
+            self.command.end(CommandStatus.ERROR, self.rt.now, block.error_id, block.message)
             return False
         self.command.status = CommandStatus.ACTIVE if block.status else CommandStatus.BUFFERED
         return True
@@ -330,7 +330,7 @@ class BlockPrograms:
         block = self.restartable.get(entry.restart) if entry.restart is not None else None
         if block is not None and block.axis is not axis:
             command = Command(entry.command, self.rt.now)
-            command._end(CommandStatus.ERROR, self.rt.now, ErrorId.INVALID_PARAMETER_VALUE,
+            command.end(CommandStatus.ERROR, self.rt.now, ErrorId.INVALID_PARAMETER_VALUE,
                          f"restart: {entry.restart} moves axis {block.axis.name}, not "
                          f"{axis.name}")
             return command

@@ -105,10 +105,10 @@ def query_command(kind: str, now: float, outputs: Mapping[str, object],
     """A query's record: Done with ``outputs`` as its value, or Error with ``error_id``."""
     command = Command(kind, now)
     if error_id != ErrorId.NO_ERROR:
-        command._end(CommandStatus.ERROR, now, error_id, message)
+        command.end(CommandStatus.ERROR, now, error_id, message)
         return command
     command.value = flatten(outputs)
-    command._end(CommandStatus.DONE, now)
+    command.end(CommandStatus.DONE, now)
     return command
 
 

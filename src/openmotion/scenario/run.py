@@ -397,7 +397,7 @@ class _Run:
         elif isinstance(entry, PlcEvent):  # the PLC writes TriggerInput.PlcEvent
             command = Command(entry.command, self.rt.now)
             self.trigger_inputs[entry.probe].plc_event = entry.value
-            command._end(CommandStatus.DONE, self.rt.now)
+            command.end(CommandStatus.DONE, self.rt.now)
         elif isinstance(entry, AbortTrigger):  # as MC_AbortTrigger: Done, armed or not
             command = Command(entry.command, self.rt.now)
             abort_probe(self.trigger_inputs[entry.probe], self.rt.now)

@@ -1,7 +1,7 @@
 """The PLCopen blocks of the CA group: Tc3_McCollisionAvoidance (TF5410 §9.1) and the group
 blocks of Tc3_McCoordinatedMotion (§9.3), over the ``CaGroup`` Python API.
 
-The handshake is plcopen/handshake.py's: each block supplies only its policy. The motion
+The handshake is kernel/handshake.py's: each block supplies only its policy. The motion
 blocks take the axis first, as the TcMC blocks do, and find its group through ``axis.group``;
 the group blocks take the ``CaGroup`` first (``axes_group``)::
 
@@ -29,7 +29,7 @@ from openmotion.axis.commands import Command
 from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_INVALID
-from openmotion.plcopen.handshake import EnableBlock, ExecuteBlock, FunctionBlock
+from openmotion.kernel.handshake import EnableBlock, ExecuteBlock, FunctionBlock
 from openmotion.transport.enums import GapControlMode, GroupState, ModuloDirection
 from openmotion.transport.group import CaGroup
 

@@ -151,7 +151,7 @@ class GroupCycle:
                 sync.error = (rejected.error_id, rejected.message)
                 proposal = None
             if sync.error is not None:
-                job.command._end(CommandStatus.ERROR, now, *sync.error)
+                job.command.end(CommandStatus.ERROR, now, *sync.error)
                 mover.job = None
                 self._issue_halt(mover, self._command("halt"), MC_DEFAULT, MC_DEFAULT,
                                  mover.gap, GapControlMode.GROUP_DEFAULT)
@@ -325,11 +325,11 @@ class GroupCycle:
         idle = not self.mode.any()  # mode IDLE (0) exactly when the mover has no command
         if self._halt is not None:
             if any(part.aborted for part in self._halt_parts):  # a new command took over
-                self._halt._end(CommandStatus.ABORTED, now,
+                self._halt.end(CommandStatus.ABORTED, now,
                                 message="a member took another command")
                 self._halt = None
             elif all(part.done for part in self._halt_parts) and idle:
-                self._halt._end(CommandStatus.DONE, now)  # after standby opened the gaps (T8)
+                self._halt.end(CommandStatus.DONE, now)  # after standby opened the gaps (T8)
                 self._halt = None
         if self._stop is not None:
             if self._stop.busy and idle:

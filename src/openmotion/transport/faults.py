@@ -76,7 +76,7 @@ class GroupFaults:
         error_id = ErrorId.GROUP_ERROR if status is CommandStatus.ERROR else ErrorId.NO_ERROR
         for mover in self.movers:
             for job in ([mover.job] if mover.job else []) + mover.queue:
-                job.command._end(status, now, error_id, message)
+                job.command.end(status, now, error_id, message)
             mover.job = None
             mover.queue.clear()
             self.mode[mover.slot] = IDLE
@@ -88,7 +88,7 @@ class GroupFaults:
                 self._install_brake(mover, FaultBrake(now - self._rt.cycle_time, profile), now)
         for command in (self._stop, self._halt):
             if command is not None:
-                command._end(status, now, error_id, message)
+                command.end(status, now, error_id, message)
         self._stop = self._halt = None
         self._pairs_dirty = True
         self._room_of = None

@@ -186,10 +186,10 @@ class GeoCompensation:
             self._group._pairs_dirty = True  # its gaps are now on the TCP path (D-073)
             self._group._room_of = None
         except CommandRejected as rejected:
-            command._end(CommandStatus.ERROR, command.issued_at, rejected.error_id,
+            command.end(CommandStatus.ERROR, command.issued_at, rejected.error_id,
                          rejected.message)
             return command
-        command._end(CommandStatus.DONE, command.issued_at)
+        command.end(CommandStatus.DONE, command.issued_at)
         return command
 
     def registered(self, axis: Axis) -> MoverTemplate | None:

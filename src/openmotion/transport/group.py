@@ -544,11 +544,11 @@ class CaGroup(GroupCycle, GroupFaults):
         return Command(kind, self._rt.now)
 
     def _finish(self, command: Command) -> Command:
-        command._end(CommandStatus.DONE, self._rt.now)
+        command.end(CommandStatus.DONE, self._rt.now)
         return command
 
     def _reject(self, command: Command, error_id: ErrorId, message: str) -> Command:
-        command._end(CommandStatus.ERROR, self._rt.now, error_id, message)
+        command.end(CommandStatus.ERROR, self._rt.now, error_id, message)
         return command
 
     def _refusal(self) -> tuple[ErrorId, str]:
@@ -684,16 +684,16 @@ class CaGroup(GroupCycle, GroupFaults):
     def _abort(self, mover: Mover, reason: str) -> None:
         now = self._rt.now
         if mover.job is not None:
-            mover.job.command._end(CommandStatus.ABORTED, now, message=reason)
+            mover.job.command.end(CommandStatus.ABORTED, now, message=reason)
             mover.job = None
         for job in mover.queue:
-            job.command._end(CommandStatus.ABORTED, now, message=reason)
+            job.command.end(CommandStatus.ABORTED, now, message=reason)
         mover.queue.clear()
 
     def _finish_job(self, mover: Mover) -> None:
         job = mover.job
         assert job is not None
-        job.command._end(CommandStatus.DONE, self._rt.now)
+        job.command.end(CommandStatus.DONE, self._rt.now)
         mover.job = None
         slot = mover.slot
         self.mode[slot] = IDLE
@@ -733,7 +733,7 @@ class CaGroup(GroupCycle, GroupFaults):
             self._stand(mover)
         for command in (self._stop, self._halt):
             if command is not None:
-                command._end(CommandStatus.ABORTED, self._rt.now, message="the group was disabled")
+                command.end(CommandStatus.ABORTED, self._rt.now, message="the group was disabled")
         self._stop = self._halt = None
         if self.state is GroupState.ERROR_STOP:
             self.error_disabled = True

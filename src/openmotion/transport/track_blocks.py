@@ -15,7 +15,7 @@ from typing import Any, ClassVar
 
 from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command, CommandStatus
-from openmotion.plcopen.handshake import EnableBlock, ExecuteBlock
+from openmotion.kernel.handshake import EnableBlock, ExecuteBlock
 from openmotion.transport.blocks import _group_of, _GroupCommand
 from openmotion.transport.enums import CompensationType
 from openmotion.transport.group import CaGroup
@@ -104,7 +104,7 @@ class MC_TransformPosition(_GroupCommand):
                                                     self.origin_position)
         command = Command("transform_position", group._rt.now)
         command.value = value
-        command._end(CommandStatus.DONE, command.issued_at)
+        command.end(CommandStatus.DONE, command.issued_at)
         return command
 
     def _show_result(self, command: Command | None) -> None:

@@ -148,14 +148,14 @@ class TrackTable:
             if track_id:
                 self._position_on(self.tracks[track_id], axis.set_position)
         except CommandRejected as rejected:
-            command._end(CommandStatus.ERROR, command.issued_at, rejected.error_id,
+            command.end(CommandStatus.ERROR, command.issued_at, rejected.error_id,
                          rejected.message)
             return command
         if track_id:
             self._active[axis.row] = track_id
         else:
             self._active.pop(axis.row, None)
-        command._end(CommandStatus.DONE, command.issued_at)
+        command.end(CommandStatus.DONE, command.issued_at)
         return command
 
     def active_track(self, axis: Axis) -> Track | None:

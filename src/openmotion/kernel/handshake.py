@@ -16,9 +16,11 @@ from __future__ import annotations
 import difflib
 from typing import Any, ClassVar
 
-from openmotion.axis.axis import Axis
-from openmotion.axis.commands import Command, CommandStatus
 from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.kernel.command import Command, CommandStatus
+
+#: what a block acts on: an axis, an axes group, a CA group; the kernel names none of them
+Target = Any
 
 _NO_ERROR = ErrorId.NO_ERROR
 
@@ -38,7 +40,7 @@ class FunctionBlock:
         cls.INPUTS = merged
         cls._names = frozenset(merged) | {"axis"}
 
-    def __init__(self, axis: Axis | None = None, **inputs: Any) -> None:
+    def __init__(self, axis: Target | None = None, **inputs: Any) -> None:
         self.axis = axis
         self.__dict__.update(self.INPUTS)
         self._reset_outputs()
@@ -58,7 +60,7 @@ class FunctionBlock:
         self.error_id = _NO_ERROR
         self.message = ""
 
-    def _axis(self) -> Axis:
+    def _axis(self) -> Target:
         if self.axis is None:
             raise TypeError(f"{type(self).__name__} needs an axis: call it as fb(axis, ...)")
         return self.axis
@@ -80,7 +82,7 @@ class ExecuteBlock(FunctionBlock):
         self._shown = False
         self._last_execute = False
 
-    def __call__(self, axis: Axis | None = None, /, **inputs: Any) -> None:
+    def __call__(self, axis: Target | None = None, /, **inputs: Any) -> None:
         if inputs:
             self._set_inputs(inputs)
         if axis is not None:
@@ -110,7 +112,7 @@ class ExecuteBlock(FunctionBlock):
             self._command = self._issue(self._axis())
         except CommandRejected as rejected:  # a block-level check before any axis call
             self._command = Command(type(self).__name__, 0.0)
-            self._command._end(CommandStatus.ERROR, 0.0, rejected.error_id, rejected.message)
+            self._command.end(CommandStatus.ERROR, 0.0, rejected.error_id, rejected.message)
 
     def _clear(self) -> None:
         self.done = self.busy = self.active = self.command_aborted = self.error = False
@@ -151,7 +153,7 @@ class ExecuteBlock(FunctionBlock):
     def _show_result(self, command: Command | None) -> None:
         """Hook: block-specific outputs at the end (None when they are cleared)."""
 
-    def _issue(self, axis: Axis) -> Command:
+    def _issue(self, axis: Target) -> Command:
         raise NotImplementedError
 
     def _retrigger(self, command: Command) -> bool:
@@ -177,7 +179,7 @@ class EnableBlock(FunctionBlock):
         self.done = False
         self._last_enable = False
 
-    def __call__(self, axis: Axis | None = None, /, **inputs: Any) -> None:
+    def __call__(self, axis: Target | None = None, /, **inputs: Any) -> None:
         if inputs:
             self._set_inputs(inputs)
         if axis is not None:
@@ -195,7 +197,7 @@ class EnableBlock(FunctionBlock):
             self.done = False
             self.error, self.error_id, self.message = True, rejected.error_id, rejected.message
 
-    def _enabled(self, axis: Axis, rising: bool) -> None:
+    def _enabled(self, axis: Target, rising: bool) -> None:
         raise NotImplementedError
 
     def _disabled(self) -> None:
