@@ -29,6 +29,7 @@ from openmotion.core.enums import (
     NewPosAndVeloMode,
     SuperpositionMode,
     TargetPositionType,
+    convert_enum,
 )
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.modulo import modulo_target, snap_to_period
@@ -380,7 +381,7 @@ class Axis:
         def target(start: float) -> float:
             value = require_position("position", position)
             try:
-                way = Direction(direction)
+                way = convert_enum(Direction, direction)
             except ValueError:
                 raise CommandRejected(ErrorId.INVALID_DIRECTION,
                                       f"direction {direction!r} is not an MC_Direction") from None
@@ -1538,7 +1539,7 @@ class Axis:
 
     def _direction_sign(self, direction: Direction) -> int:
         try:
-            direction = Direction(direction)
+            direction = convert_enum(Direction, direction)
         except ValueError:
             raise CommandRejected(ErrorId.INVALID_DIRECTION,
                                   f"direction {direction!r} is not an MC_Direction") from None

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
-from enum import IntEnum
+from enum import Enum, IntEnum
+from typing import TypeVar
+
+EnumT = TypeVar("EnumT", bound=Enum)
 
 
 class AxisState(IntEnum):
@@ -19,7 +22,12 @@ class AxisState(IntEnum):
 
 
 class Direction(IntEnum):
-    """MC_Direction (TcMC §6.2)."""
+    """MC_Direction of the TcMC library (TcMC §6.2): MC_Positive_Direction, MC_Shortest_Way,
+    MC_Negative_Direction, MC_Current_Direction.
+
+    Not the MC3 libraries' MC_DIRECTION (``ModuloDirection``): a member of that one converts by
+    its name at the boundary (``convert_enum``, D-225).
+    """
 
     POSITIVE = 1
     SHORTEST_WAY = 2
@@ -96,12 +104,32 @@ class SuperpositionMode(IntEnum):
 
 
 class ModuloDirection(IntEnum):
-    """MC_DIRECTION of Tc3_Mc3Definitions (TF5410 §9.4.1.3, TF5430 §7.2.1.1.2); NEGATIVE = 3.
+    """MC_DIRECTION of Tc3_Mc3Definitions (TF5410 §9.4.1.3, TF5430 §7.2.1.1.2):
+    mcDirectionNonModulo, mcDirectionPositive, mcDirectionShortestWay, mcDirectionNegative.
 
-    The MC3 libraries (CA group, planar movers) share it; TcMC's ``Direction`` differs.
+    The MC3 libraries (CA group, planar movers) share it. TcMC's ``Direction`` is another
+    type of the same manual name (the manual qualifies the namespace where both meet); a
+    member of one given for the other converts by name (``convert_enum``, D-225).
     """
 
     NON_MODULO = 0
     POSITIVE = 1
     SHORTEST_WAY = 2
     NEGATIVE = 3
+
+
+def convert_enum(kind: type[EnumT], value: object) -> EnumT:
+    """``value`` as a member of ``kind``: a member of another enumeration by its name, which
+    is what it means, anything else by its value (a PLC passes the number).
+
+    The two direction types (``Direction``, ``ModuloDirection``) and MC_SYNC_MODE share the
+    names Positive and Negative, and their numbers agree only because both manuals chose
+    1 and 3: a conversion between them goes by name (D-225). Raises ``ValueError`` for a
+    value that names or numbers no member.
+    """
+    if isinstance(value, Enum) and not isinstance(value, kind):
+        try:
+            return kind[value.name]
+        except KeyError:
+            raise ValueError(f"{value!r} is not a {kind.__name__}") from None
+    return kind(value)

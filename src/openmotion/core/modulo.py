@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from openmotion.core.enums import Direction
+from openmotion.core.enums import Direction, ModuloDirection, convert_enum
 from openmotion.core.errors import CommandRejected, ErrorId
 
 
@@ -70,17 +70,19 @@ def snap_to_period(approximate_end: float, base: float, period: float) -> float:
     return base + period * round((approximate_end - base) / period)
 
 
-def mc3_modulo_target(start: float, position: float, direction: int, additional_turns: int,
-                      period: float, window: float) -> float:
+def mc3_modulo_target(start: float, position: float, direction: ModuloDirection,
+                      additional_turns: int, period: float, window: float) -> float:
     """Absolute target of an MC3 modulo move (TF5410 §11.3; also XPlanar's C axis).
 
-    ``direction``: 0 NonModulo (``position`` is absolute), 1 Positive, 2 ShortestWay,
-    3 Negative. A modulo ``position`` must lie in [0, period]. Inside ``window`` around
-    the target the move takes the short way whatever the direction (no unintended turn);
-    additional turns are added to that. Raises ``CommandRejected`` with INVALID_TARGET_POSITION or
-    INVALID_ADDITIONAL_TURNS.
+    ``direction``: an MC_DIRECTION, NonModulo (``position`` is absolute), Positive,
+    ShortestWay or Negative; a number is its value, a member of another enumeration (TcMC's
+    ``Direction``, MC_SYNC_MODE) its name (D-225). A modulo ``position`` must lie in
+    [0, period]. Inside ``window`` around the target the move takes the short way whatever
+    the direction (no unintended turn); additional turns are added to that. Raises
+    ``CommandRejected`` with INVALID_TARGET_POSITION or INVALID_ADDITIONAL_TURNS.
     """
-    if direction == 0:
+    direction = convert_enum(ModuloDirection, direction)
+    if direction is ModuloDirection.NON_MODULO:
         if additional_turns:
             raise CommandRejected(ErrorId.INVALID_ADDITIONAL_TURNS,
                                   "additional turns need direction positive or negative")
@@ -88,19 +90,19 @@ def mc3_modulo_target(start: float, position: float, direction: int, additional_
     if not 0.0 <= position <= period:
         raise CommandRejected(ErrorId.INVALID_TARGET_POSITION,
                               f"modulo target {position:g} outside [0, {period:g}]")
-    if direction == 2 and additional_turns:
+    if direction is ModuloDirection.SHORTEST_WAY and additional_turns:
         raise CommandRejected(ErrorId.INVALID_ADDITIONAL_TURNS,
                               "additional turns need direction positive or negative")
     s = start % period
     short = (position - s + period / 2.0) % period - period / 2.0
-    if direction == 2 or abs(short) <= window:
+    if direction is ModuloDirection.SHORTEST_WAY or abs(short) <= window:
         delta = short
-    elif direction == 1:
+    elif direction is ModuloDirection.POSITIVE:
         delta = (position - s) % period
     else:
         delta = -((s - position) % period)
-    if direction == 1:
+    if direction is ModuloDirection.POSITIVE:
         delta += additional_turns * period
-    elif direction == 3:
+    elif direction is ModuloDirection.NEGATIVE:
         delta -= additional_turns * period
     return start + delta

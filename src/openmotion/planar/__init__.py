@@ -17,6 +17,7 @@ from openmotion.planar.feedback import (
     MC_PlanarFeedbackBase,
     MC_PlanarFeedbackGearInPosOnTrack,
     MC_PlanarFeedbackGearInPosOnTrackWithMasterMover,
+    MC_PlanarFeedbackInSync,
     PlanarCommand,
     PlanarObjectInfo,
 )
@@ -25,10 +26,20 @@ from openmotion.planar.gearing import MC_PlanarTrackTrail
 from openmotion.planar.group import MC_PlanarGroup
 from openmotion.planar.mover import MC_PlanarMover
 from openmotion.planar.options import (
+    CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD,
+    CDT_MCTOPLC_PLANAR_GROUP_STD,
+    CDT_MCTOPLC_PLANAR_MOVER,
+    CDT_MCTOPLC_PLANAR_MOVER_ACT,
+    CDT_MCTOPLC_PLANAR_MOVER_COORDMODE,
+    CDT_MCTOPLC_PLANAR_MOVER_SET,
+    CDT_MCTOPLC_PLANAR_MOVER_STD,
+    CDT_MCTOPLC_PLANAR_MOVER_TRACK,
+    CDT_MCTOPLC_PLANAR_TRACK_STD,
     DynamicConstraint_PathXY,
     IPlcDynamicConstraint,
     MoverVector,
     PlanarMoverParameters,
+    ST_AdoptTrackOrientationOptions,
     ST_EndAtTrackAdvancedOptions,
     ST_ExternalSetpointGenerationOptions,
     ST_GearInPosOnTrackOptions,
@@ -45,18 +56,30 @@ from openmotion.planar.positions import PositionXYC
 from openmotion.planar.stators import StatorField
 from openmotion.planar.system import PlanarSystem
 from openmotion.planar.track import MC_PlanarTrack
+from openmotion.trajectory.plan import Limits  # the dynamics of PlanarMoverParameters (D-224)
 
 __all__ = [
+    "CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD",
+    "CDT_MCTOPLC_PLANAR_GROUP_STD",
+    "CDT_MCTOPLC_PLANAR_MOVER",
+    "CDT_MCTOPLC_PLANAR_MOVER_ACT",
+    "CDT_MCTOPLC_PLANAR_MOVER_COORDMODE",
+    "CDT_MCTOPLC_PLANAR_MOVER_SET",
+    "CDT_MCTOPLC_PLANAR_MOVER_STD",
+    "CDT_MCTOPLC_PLANAR_MOVER_TRACK",
+    "CDT_MCTOPLC_PLANAR_TRACK_STD",
     "CommandPhase",
     "CoordinateMode",
     "DynamicConstraint_PathXY",
     "ExternalSetPositionMode",
     "IPlcDynamicConstraint",
+    "Limits",
     "MC_PlanarEnvironment",
     "MC_PlanarFeedback",
     "MC_PlanarFeedbackBase",
     "MC_PlanarFeedbackGearInPosOnTrack",
     "MC_PlanarFeedbackGearInPosOnTrackWithMasterMover",
+    "MC_PlanarFeedbackInSync",
     "MC_PlanarGroup",
     "MC_PlanarMover",
     "MC_PlanarPart",
@@ -76,6 +99,7 @@ __all__ = [
     "PlanarSystem",
     "Pose",
     "PositionXYC",
+    "ST_AdoptTrackOrientationOptions",
     "ST_EndAtTrackAdvancedOptions",
     "ST_ExternalSetpointGenerationOptions",
     "ST_GearInPosOnTrackOptions",

@@ -29,7 +29,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from openmotion.core.enums import ModuloDirection
+from openmotion.core.enums import ModuloDirection, convert_enum
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.modulo import mc3_modulo_target
 from openmotion.planar.enums import SyncDirections
@@ -225,7 +225,7 @@ def _modulo(track: MC_PlanarTrack, here: MC_PlanarTrack, s: float, position: flo
     """Arc length on ``track``'s first leg of the mover's way (it may be negative: a lap
     behind) where the sync position ``position`` lies with the modulo ``direction``; the
     mover stands at ``s`` on ``here``."""
-    direction = ModuloDirection(direction)
+    direction = convert_enum(ModuloDirection, direction)
     if direction is ModuloDirection.NON_MODULO:
         return position
     name = "".join(word.title() for word in direction.name.split("_"))
@@ -241,7 +241,7 @@ def _modulo(track: MC_PlanarTrack, here: MC_PlanarTrack, s: float, position: flo
                                   "occurrence of the sync position lies behind it on its way "
                                   "(D-148)")
         return position
-    return mc3_modulo_target(s, position, int(direction), 0, track.length, tolerance)
+    return mc3_modulo_target(s, position, direction, 0, track.length, tolerance)
 
 
 def _slave(mover: MC_PlanarMover, kind: MoverCommand) -> tuple[Rider, Any]:

@@ -22,6 +22,7 @@ import enum
 import math
 import typing
 from abc import ABC, abstractmethod
+from contextlib import suppress
 from dataclasses import dataclass, fields
 from functools import cache, cached_property
 
@@ -34,6 +35,7 @@ from openmotion.core.checks import (
     non_negative_number,
     positive_number,
 )
+from openmotion.core.enums import convert_enum
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE, InputValue
 from openmotion.planar.enums import (
@@ -67,9 +69,13 @@ def _check_modulo(prefix: str, direction: ModuloDirection, additional_turns: int
                   tolerance: float = 0.0) -> None:
     """The modulo rules of §6.1.9: turns only with Positive/Negative, no tolerance with
     NonModulo."""
-    if isinstance(direction, bool) or direction not in set(ModuloDirection):
-        raise CommandRejected(_INVALID, f"{prefix}direction: not an MC_DIRECTION: {direction!r}")
-    direction = ModuloDirection(direction)
+    try:
+        if isinstance(direction, bool):
+            raise ValueError(direction)
+        direction = convert_enum(ModuloDirection, direction)
+    except (ValueError, TypeError):
+        raise CommandRejected(_INVALID,
+                              f"{prefix}direction: not an MC_DIRECTION: {direction!r}") from None
     _check_udint(f"{prefix}additional_turns", additional_turns)
     _check_non_negative(f"{prefix}modulo_tolerance", tolerance)
     if additional_turns and direction not in (ModuloDirection.POSITIVE, ModuloDirection.NEGATIVE):
@@ -92,9 +98,9 @@ class _Options:
         names no member stays as given and ``check`` refuses it."""
         for name, kind in _enum_fields(type(self)):
             value = getattr(self, name)
-            if isinstance(value, int) and not isinstance(value, bool | kind) and \
-                    value in set(kind):
-                object.__setattr__(self, name, kind(value))
+            if isinstance(value, int) and not isinstance(value, bool | kind):
+                with suppress(ValueError):  # no such member: ``check`` refuses it
+                    object.__setattr__(self, name, convert_enum(kind, value))
 
     def check(self) -> None:
         """Raise ``CommandRejected`` for a value the manual forbids (nothing to check here)."""

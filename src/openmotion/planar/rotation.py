@@ -15,7 +15,7 @@ import math
 from dataclasses import dataclass
 from numbers import Integral
 
-from openmotion.core.enums import ModuloDirection
+from openmotion.core.enums import ModuloDirection, convert_enum
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.modulo import mc3_modulo_target
 from openmotion.planar.enums import MoverCommandMode
@@ -142,7 +142,7 @@ def modulo_target(start: float, position: float, direction: ModuloDirection,
     if tolerance and direction == ModuloDirection.NON_MODULO:
         raise CommandRejected(ErrorId.INVALID_MODULO_OPTIONS,
                               "a modulo tolerance needs a modulo direction, not NON_MODULO")
-    return mc3_modulo_target(start, position, int(direction), int(additional_turns), modulus,
+    return mc3_modulo_target(start, position, direction, int(additional_turns), modulus,
                              tolerance)
 
 
@@ -163,7 +163,7 @@ def move_c_target(start: float, position: float, direction: ModuloDirection,
 
 def _direction(direction: ModuloDirection) -> ModuloDirection:
     try:
-        return ModuloDirection(direction)
+        return convert_enum(ModuloDirection, direction)
     except ValueError:
         raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
                               f"direction {direction!r} is no MC_DIRECTION") from None

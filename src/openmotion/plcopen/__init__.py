@@ -53,7 +53,14 @@ from openmotion.plcopen.superposition import (
     MC_MoveSuperImposed,
     MC_MoveSuperImposedExt,
 )
-from openmotion.plcopen.touch_probe import MC_AbortTrigger, MC_TouchProbe
+from openmotion.plcopen.touch_probe import (
+    InputRef,
+    MC_AbortTrigger,
+    MC_TouchProbe,
+    SignalEdge,
+    TouchProbeSource,
+    TouchProbeState,
+)
 from openmotion.plcopen.version import F_GetVersionTcMC
 
 __all__ = [
@@ -63,6 +70,7 @@ __all__ = [
     "F_GetVersionTcMC",
     "ExecuteBlock",
     "FunctionBlock",
+    "InputRef",
     "JogMode",
     "MC_AbortSuperposition",
     "MC_AbortTrigger",
@@ -108,4 +116,7 @@ __all__ = [
     "MC_WriteBoolParameter",
     "MC_WriteParameter",
     "PowerStepperParams",
+    "SignalEdge",
+    "TouchProbeSource",
+    "TouchProbeState",
 ]

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from openmotion.axis.commands import Command, CommandStatus
-from openmotion.core.enums import AxisState, BufferMode
+from openmotion.core.enums import AxisState, BufferMode, convert_enum
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.modulo import mc3_modulo_target
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE, MC_INVALID, InputValue
@@ -353,10 +353,10 @@ class CaGroup(GroupCycle, GroupFaults):
             # frame (its active track, PositionReferenceSystem); from here on the motor path
             target = self.tracks.to_absolute(mover.axis, target, direction_,
                                              position_reference_system)
-            mc3_modulo_target(0.0, target, int(direction_), turns, length, window)  # validate
+            mc3_modulo_target(0.0, target, direction_, turns, length, window)  # validate
             job = self._job(mover, POSITION, command, velocity, acceleration, deceleration,
                             jerk, gap, buffer_mode, gap_control_mode, continuous_update)
-            job.target_of = lambda start: mc3_modulo_target(start, target, int(direction_),
+            job.target_of = lambda start: mc3_modulo_target(start, target, direction_,
                                                             turns, length, window)
             self.tracks.compensate(mover.axis, job, dynamics_reference_system)  # TCP dynamics
             return job
@@ -469,7 +469,8 @@ class CaGroup(GroupCycle, GroupFaults):
                     raise CommandRejected(ErrorId.MODULO_ON_OPEN_RAIL,
                                           "a modulo sync mode needs a rail that is a ring")
                 # the next such position from the slave in the sync mode's direction
-                ssp = mc3_modulo_target(float(self.p[mover.slot]), ssp, int(mode), 0,
+                ssp = mc3_modulo_target(float(self.p[mover.slot]), ssp,
+                                        convert_enum(ModuloDirection, mode), 0,
                                         self.parameters.rail_length, 0.0)
             start = None if master_start_distance is MC_IGNORE else \
                 position_input("master_start_distance", master_start_distance)

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from openmotion.axis.commands import Command
-from openmotion.core.enums import BufferMode
+from openmotion.core.enums import BufferMode, convert_enum
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import InputValue
 from openmotion.trajectory.plan import Limits
@@ -97,7 +97,7 @@ def enum_input(kind: Any, value: Any, error_id: ErrorId, name: str) -> Any:
     try:
         if isinstance(value, bool):
             raise ValueError(value)
-        return kind(value)
+        return convert_enum(kind, value)
     except (ValueError, TypeError):
         raise CommandRejected(error_id, f"{name}: {value!r} is not a {kind.__name__}") from None
 
