@@ -124,7 +124,8 @@ class GearInPosOnTrack(_GearIn):
     the slave's arc length is slave sync + (master - master sync)."""
 
     method = "gear_in_pos_on_track"
-    blocks = ("MC_PlanarFeedbackGearInPosOnTrack.update", *TRAIL_METHODS)
+    blocks = ("MC_PlanarFeedbackGearInPosOnTrack.update", "MC_PlanarFeedbackInSync.update",
+              *TRAIL_METHODS)
     command: Literal["gear_in_pos_on_track"]
     feedback = MC_PlanarFeedbackGearInPosOnTrack
     master: Annotated[StrictStr, AfterValidator(_check_axis)]
@@ -146,7 +147,8 @@ class GearInPosOnTrackWithMasterMover(_GearIn):
     (§6.2.9); with ``follow_mover`` the slave takes the master's way (§6.2.12)."""
 
     method = "gear_in_pos_on_track_with_master_mover"
-    blocks = ("MC_PlanarFeedbackGearInPosOnTrackWithMasterMover.update", *TRAIL_METHODS)
+    blocks = ("MC_PlanarFeedbackGearInPosOnTrackWithMasterMover.update",
+              "MC_PlanarFeedbackInSync.update", *TRAIL_METHODS)
     command: Literal["gear_in_pos_on_track_with_master_mover"]
     feedback = MC_PlanarFeedbackGearInPosOnTrackWithMasterMover
     master_mover: Annotated[StrictStr, AfterValidator(_check_planar_mover)]
