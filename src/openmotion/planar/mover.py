@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, TypeVar
+from typing import TYPE_CHECKING, ClassVar, TypeVar
 
 import numpy as np
 
@@ -44,6 +44,7 @@ from openmotion.planar.gearing import (
     gear_in_pos_on_track_with_master_mover,
 )
 from openmotion.planar.group import MC_PlanarGroup, planar_group
+from openmotion.planar.kind import PLANAR_MOVER
 from openmotion.planar.motion import (
     PositionLimits,
     plan_axis_move,
@@ -105,6 +106,7 @@ from openmotion.planar.states import (
 from openmotion.planar.system import PlanarSystem, StatefulObject
 from openmotion.planar.track import MC_PlanarTrack
 from openmotion.planar.traffic import Rider, traffic_of
+from openmotion.runtime.model import Kind
 from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 
@@ -154,6 +156,8 @@ class MC_PlanarMover(StatefulObject):
     Every command method takes ``feedback`` (None is the PLC's 0) and returns the
     ``PlanarCommand``, which a Python script may poll (``command.done``).
     """
+
+    MACHINE: ClassVar[Kind] = PLANAR_MOVER  #: its signals and commands in the machine model
 
     def __init__(self, runtime: Runtime, parameters: PlanarMoverParameters | None = None,
                  name: str | None = None) -> None:

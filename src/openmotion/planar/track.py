@@ -16,7 +16,7 @@ disabled, and its geometry changes only without any (D-119).
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, ClassVar, NamedTuple
 
 import numpy as np
 
@@ -28,6 +28,7 @@ from openmotion.planar.enums import PlanarObjectType, PlanarState, TrackOperatio
 from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand, PlanarObjectInfo
 from openmotion.planar.frames import Pose, cos_sin
 from openmotion.planar.group import planar_group
+from openmotion.planar.kind import PLANAR_TRACK
 from openmotion.planar.network import END, START
 from openmotion.planar.options import (
     CDT_MCTOPLC_PLANAR_TRACK_STD,
@@ -39,6 +40,7 @@ from openmotion.planar.reservation import MemberId
 from openmotion.planar.states import PlanarStateMachine
 from openmotion.planar.system import PlanarSystem, StatefulObject
 from openmotion.planar.traffic import Traffic, network_of, traffic_of
+from openmotion.runtime.model import Kind
 
 if TYPE_CHECKING:
     from openmotion.planar.group import MC_PlanarGroup
@@ -55,6 +57,8 @@ class MC_PlanarTrack(StatefulObject):
     ``check_collisions_against_static_objects`` (default False, §6.2.1): in a group, the
     band the track holds while movers move on it is checked against other tracks and the
     environment too; without it only movers can block the band (§6.5)."""
+
+    MACHINE: ClassVar[Kind] = PLANAR_TRACK  #: its signals and commands in the machine model
 
     def __init__(self, runtime: Runtime, name: str | None = None, *,
                  max_mover_width: float = MAX_MOVER_SIZE,

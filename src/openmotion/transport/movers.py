@@ -5,15 +5,17 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from openmotion.axis.commands import Command
 from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import InputValue
+from openmotion.runtime.model import Kind
 from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 from openmotion.transport.enums import GapControlMode, GroupState, GroupType
+from openmotion.transport.kind import CA_MOVER
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
@@ -78,6 +80,8 @@ class FaultBrake:
 @dataclass
 class Mover:
     """A member of the group: its axis, identity and commands."""
+
+    MACHINE: ClassVar[Kind] = CA_MOVER  #: its signals in the machine model
 
     axis: Axis
     ident: IdentInGroup
