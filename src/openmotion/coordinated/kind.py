@@ -55,13 +55,13 @@ AXES_GROUP = Kind(
     "axes_group",
     signals=(
         *(SignalSpec(name, "mm", float, _coordinate(index), f"TCP set position {name} (MCS)",
-                     default=True) for index, name in enumerate("xyz")),
+                     default=True, scope=True) for index, name in enumerate("xyz")),
         SignalSpec("path_velocity", "mm/s", float, _law("path_velocity"),
-                   "path velocity of the time law", default=True),
+                   "path velocity of the time law", default=True, scope=True),
         SignalSpec("path_acceleration", "mm/s²", float, _law("path_acceleration"),
                    "path acceleration of the time law"),
         SignalSpec("state", "", AxesGroupState, lambda group: float(group.state),
-                   "AxesGroupState (Part 4 §2)", plottable=False),
+                   "AxesGroupState (Part 4 §2)"),
     ),
     handles=("Command",),
     identify=lambda group: 0,  # an axes group has no id of its own yet (the System contract)

@@ -50,28 +50,29 @@ def _state(obj: Any) -> float:
 
 
 def _state_signal() -> SignalSpec:
-    return SignalSpec("state", "", PlanarState, _state, "PlanarState (§4.1)", plottable=False)
+    return SignalSpec("state", "", PlanarState, _state, "PlanarState (§4.1)")
 
 
 PLANAR_MOVER = Kind(
     "planar_mover",
     signals=(
-        SignalSpec("x", "mm", float, _pose("x"), "published set position x", default=True),
-        SignalSpec("y", "mm", float, _pose("y"), "published set position y", default=True),
-        SignalSpec("z", "mm", float, _pose("z"), "published set position z (lift)"),
+        SignalSpec("x", "mm", float, _pose("x"), "published set position x", default=True,
+                   scope=True),
+        SignalSpec("y", "mm", float, _pose("y"), "published set position y", default=True,
+                   scope=True),
+        SignalSpec("z", "mm", float, _pose("z"), "published set position z (lift)",
+                   scope=True),
         SignalSpec("a", "°", float, _pose("a"), "published set position a (tilt about x)"),
         SignalSpec("b", "°", float, _pose("b"), "published set position b (tilt about y)"),
         SignalSpec("c", "°", float, _pose("c"), "published set position c (rotation)",
-                   default=True),
-        SignalSpec("velocity", "mm/s", float, _speed, "path velocity |(vx, vy)|"),
+                   default=True, scope=True),
+        SignalSpec("velocity", "mm/s", float, _speed, "path velocity |(vx, vy)|", scope=True),
         _state_signal(),
         SignalSpec("coordinate_system", "", int,
                    lambda mover: float(mover.mc_to_plc.set.physical_area_id),
-                   "OID of the coordinate system x, y, c are in (0: PhysicalAreaID)",
-                   plottable=False),
+                   "OID of the coordinate system x, y, c are in (0: PhysicalAreaID)"),
         SignalSpec("track", "", int, _track_number,
-                   "number of the track it is on (1: the first made; 0: none)",
-                   plottable=False),
+                   "number of the track it is on (1: the first made; 0: none)"),
         SignalSpec("s", "mm", float, _arc_length, "set arc length on its track (NaN: none)"),
     ),
     handles=_HANDLES,
@@ -87,7 +88,7 @@ PLANAR_PART = Kind(
     "planar_part",
     signals=(_state_signal(),
              SignalSpec("position_index", "", int, lambda part: float(part.position_index),
-                        "the active position (1-based, §5.1)", plottable=False)),
+                        "the active position (1-based, §5.1)")),
 )
 
 PLANAR_ENVIRONMENT = Kind(

@@ -71,7 +71,8 @@ class SignalSpec:
     dtype: type  #: float, bool, int or the IntEnum whose number the value is
     read: Callable[[Any], float]  #: the value of one object now
     doc: str = ""
-    plottable: bool = True  #: a continuous quantity a scope draws (not a state or an id)
+    #: a live scope offers it (the viewer): what one watches while the machine runs
+    scope: bool = False
     default: bool = False  #: recorded when a scenario names no signals
     actual: str = ""  #: the signal that measures what this setpoint asks for
     #: reads all given objects at once (one numpy gather), or None: one ``read`` per object
@@ -94,8 +95,8 @@ class Signal:
     spec: SignalSpec = field(repr=False, compare=False)  #: its declaration (doc, bulk ...)
 
     @property
-    def plottable(self) -> bool:
-        return self.spec.plottable
+    def scope(self) -> bool:
+        return self.spec.scope
 
 
 @dataclass(frozen=True)

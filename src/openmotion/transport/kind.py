@@ -51,7 +51,7 @@ CA_MOVER = Kind(
     "ca_mover",
     signals=(
         SignalSpec("gap", "mm", float, _member(_gap),
-                   "setpoint gap to the predecessor in the group (inf: none)"),
+                   "setpoint gap to the predecessor in the group (inf: none)", scope=True),
         SignalSpec("track_position", "mm", float, _member(_track_position),
                    "set position on the active track, as MC_ReadTrackPositions gives it; the "
                    "absolute set position without one; NaN once off an open track"),
@@ -67,7 +67,7 @@ CA_MOVER = Kind(
 CA_GROUP = Kind(
     "ca_group",
     signals=(SignalSpec("state", "", GroupState, lambda group: float(group.state),
-                        "GroupState of the cyclic interface (§7.2)", plottable=False),),
+                        "GroupState of the cyclic interface (§7.2)"),),
     handles=("Command",),
     children=lambda group: tuple(group.movers),  # in CA order once enabled
 )

@@ -43,7 +43,15 @@ from openmotion.core.errors import ConfigError
 from openmotion.runtime.paced import PacedRuntime
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario import Scenario
-from openmotion.viewer.layers import Layer, LayerFactory, Reader, finite, registered_layers
+from openmotion.viewer.layers import (
+    Layer,
+    LayerFactory,
+    Reader,
+    finite,
+    first_scope,
+    registered_layers,
+    scope_signals,
+)
 from openmotion.viewer.machine import Machine, scenario_machine
 
 FRAME_RATE = 25.0  #: frames per second of wall time, the most a session sends
@@ -393,7 +401,8 @@ class Session:
         self.machine = machine
         self._layers: list[Layer] = [layer for factory in self._factories
                                      for layer in factory(rt)]
-        self._signals: dict[str, Reader] = {}
+        model = scope_signals(rt)
+        self._signals: dict[str, Reader] = {name: signal.read for name, signal in model.items()}
         for layer in self._layers:
             self._signals.update(layer.signals())
         self.finished, self.behind, self.failure = False, False, ""
@@ -407,7 +416,7 @@ class Session:
             "cycle_time": rt.cycle_time, "frame_rate": self.frame_rate,
             "restart": self.restartable, "signals": list(self._signals)})
         chosen = [name for name in machine.signals if name in self._signals]
-        self._select(chosen or list(self._signals)[:2])
+        self._select(chosen or first_scope(model) or list(self._signals)[:2])
 
     def _select(self, names: list[str]) -> None:
         names = [name for name in dict.fromkeys(names) if name in self._signals]
