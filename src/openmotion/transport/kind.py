@@ -60,7 +60,6 @@ CA_MOVER = Kind(
                    "template (MC_TransformPosition); NaN without one"),
     ),
     identify=lambda mover: mover.axis.row + 1,  # the AxisId of the axis it is
-    label=lambda mover: mover.axis.name,
     subject=lambda mover: mover.axis,
 )
 

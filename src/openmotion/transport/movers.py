@@ -92,6 +92,11 @@ class Mover:
     slot: int = -1  #: index in the group's arrays (CA order)
     brake: FaultBrake | None = None  #: running brake after a fault, until the mover rests
 
+    @property
+    def name(self) -> str:
+        """The name of the axis it is."""
+        return self.axis.name
+
 
 def hold(position: float) -> Profile:
     return Profile.hold(KinematicState(position))
