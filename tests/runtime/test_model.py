@@ -108,7 +108,7 @@ def test_a_signal_declares_unit_dtype_and_reads_a_float() -> None:
     ("free.speed", r"'free': no signal 'speed'; one of set_position, set_velocity, "),
     ("free.positon", r"no signal 'positon' \(did you mean 'position'\?\)"),
     ("nobody.position", r"no object 'nobody'; one of free, a, b, xts"),
-    ("free", r"no object 'free'"),
+    ("free", r"'free' is not '<object>.<signal>'"),
 ])
 def test_an_unknown_signal_is_a_config_error_naming_the_choices(name: str, message: str) -> None:
     rt, _ = ca_runtime()

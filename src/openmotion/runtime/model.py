@@ -131,10 +131,10 @@ class CommandSpec:
 
     def bind(self, obj: Any) -> CommandSpec:
         method = getattr(obj, self.name)
-        names = {put.name for put in self.inputs}
+        names = [put.name for put in self.inputs]
 
         def start(**inputs: Any) -> Any:
-            unknown = sorted(set(inputs) - names)
+            unknown = sorted(set(inputs).difference(names))
             if unknown:
                 raise TypeError(_unknown(f"{self.name} has no input", unknown[0], names))
             return method(**inputs)
@@ -252,8 +252,10 @@ class MachineModel:
     def signal(self, qualified: str) -> Signal:
         """A signal by ``<object>.<signal>``; ``ConfigError`` naming the choices otherwise."""
         owner, dot, name = qualified.partition(".")
+        if not dot:
+            raise ConfigError(f"{qualified!r} is not '<object>.<signal>'")
         found = [obj for obj in self.objects if obj.name == owner]
-        if not dot or not found:
+        if not found:
             raise ConfigError(_unknown("no object", owner,
                                        dict.fromkeys(obj.name for obj in self.objects)))
         for obj in found:

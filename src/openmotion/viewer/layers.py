@@ -9,7 +9,9 @@ thread, between two cycles, so they need no locks.
 
 The scope offers the signals of the machine model (runtime/model.py, D-228): every signal
 its kind declares for a live scope (``scope``), under its ``<object>.<signal>`` name
-(``scope_signals``); a layer adds signals only for what the model does not know.
+(``scope_signals``); a layer adds signals only for what the model does not know. The table
+lists every object of the model: a layer's rows, then a plain row (kind, name, state) for
+each object no layer shows (``model_rows``).
 
 Every number a layer hands out must be JSON: finite floats or None (``finite``).
 """
@@ -20,9 +22,10 @@ import math
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from enum import Enum
 from typing import TYPE_CHECKING, Any, ClassVar
 
-from openmotion.runtime.model import Signal, machine
+from openmotion.runtime.model import MachineModel, MachineObject, Signal
 
 if TYPE_CHECKING:
     from openmotion.runtime.runtime import Runtime
@@ -79,15 +82,31 @@ def registered_layers() -> tuple[LayerFactory, ...]:
     return tuple(_FACTORIES)
 
 
-def scope_signals(runtime: Runtime) -> dict[str, Signal]:
+def scope_signals(model: MachineModel) -> dict[str, Signal]:
     """The signals of every object of the machine model that a live scope offers, by
     qualified name, in model order (an object's in the order its kind declares them)."""
     found: dict[str, Signal] = {}
-    for obj in machine(runtime):
+    for obj in model:
         for signal in obj.signals:
             if signal.scope:
                 found.setdefault(f"{obj.name}.{signal.name}", signal)
     return found
+
+
+def model_rows(model: MachineModel, shown: Iterable[str]) -> list[Row]:
+    """A row of kind, name and state for every object of the model that no layer shows (an
+    axes group, its axes, a part): the table lists every object of the machine (D-228)."""
+    seen = set(shown)
+    return [Row(obj.kind.replace("_", " "), obj.name, _state(obj))
+            for obj in model if obj.name not in seen]
+
+
+def _state(obj: MachineObject) -> str:
+    """The object's state signal as the enum member's name, "-" without one."""
+    for signal in obj.signals:
+        if signal.name == "state" and issubclass(signal.dtype, Enum):
+            return signal.dtype(int(signal.read())).name.lower()
+    return "-"
 
 
 def first_scope(signals: dict[str, Signal]) -> list[str]:
