@@ -83,7 +83,8 @@ def run_dense(points: np.ndarray) -> dict[str, float]:
 
 def _setpoints(rt: om.Runtime, group: AxesGroup) -> tuple[np.ndarray, np.ndarray]:
     """The members' velocity and acceleration setpoints of this cycle."""
-    return rt._kernel.set_v[group.rows].copy(), rt._kernel.set_a[group.rows].copy()
+    kernel = rt.axis_system.kernel
+    return kernel.set_v[group.rows].copy(), kernel.set_a[group.rows].copy()
 
 
 @pytest.mark.parametrize("curve, n", [(rose, 400), (ellipse, 300)], ids=["rose", "ellipse"])

@@ -124,7 +124,7 @@ def in_state(state: G) -> tuple[om.Runtime, AxesGroup, list[om.Axis]]:
     if state is G.STOPPING:
         assert group.stop().busy
     elif state is G.ERROR_STOP:
-        axes[1]._fault(ErrorId.FOLLOWING_ERROR, "test fault")
+        axes[1].fault(ErrorId.FOLLOWING_ERROR, "test fault")
         rt.step()
     assert group.state is state
     return rt, group, axes
@@ -213,7 +213,7 @@ def test_rule26_removing_the_last_axis_disables_the_group():
 
 def test_rule26_removing_the_last_axis_in_error_stop_disables_the_group():
     rt, group, (a1,) = group_of(0.0)
-    a1._fault(ErrorId.FOLLOWING_ERROR, "test fault")
+    a1.fault(ErrorId.FOLLOWING_ERROR, "test fault")
     rt.step()
     assert group.state is G.ERROR_STOP
     assert group.remove_axis(1).done
@@ -523,7 +523,7 @@ def test_rule48_power_off_of_a_member_aborts_the_stop_and_disables_the_group():
                          ids=lambda s: s.name)
 def test_rules49_54_a_member_in_error_stop_puts_the_group_in_group_error_stop(state):
     rt, group, axes = in_state(state)
-    axes[0]._fault(ErrorId.FOLLOWING_ERROR, "test fault")
+    axes[0].fault(ErrorId.FOLLOWING_ERROR, "test fault")
     rt.step()
     assert group.state is G.ERROR_STOP
     assert group.error_id is ErrorId.GROUP_ERROR
@@ -549,7 +549,7 @@ def test_rule49_a_real_following_error_stops_a_moving_group():
 
 def test_rule50_group_error_stop_leaves_the_healthy_members_alone():
     rt, group, axes, move = moving_group()
-    axes[0]._fault(ErrorId.FOLLOWING_ERROR, "test fault")
+    axes[0].fault(ErrorId.FOLLOWING_ERROR, "test fault")
     rt.run(0.5)
     assert group.state is G.ERROR_STOP
     assert axes[0].state is S.ERROR_STOP
@@ -570,7 +570,7 @@ def member_jump(rt: om.Runtime, axis: om.Axis, cycles: int = 50) -> float:
 
 def test_rule50_healthy_members_brake_from_where_they_are():
     rt, group, axes, move = moving_group()  # axis 1 at 20 mm, 100 mm/s
-    axes[1]._fault(ErrorId.FOLLOWING_ERROR, "test fault")
+    axes[1].fault(ErrorId.FOLLOWING_ERROR, "test fault")
     assert member_jump(rt, axes[0]) <= 100.0 * rt.cycle_time * (1 + 1e-6)
     assert axes[0].set_position > 20.0
 
@@ -629,7 +629,7 @@ def test_rules52_53_69_reset_clears_the_group_error_and_leaves_other_fbs_alone()
     read(enable=True)
     assert read.valid and read.group_error_id is ErrorId.NO_ERROR
     drive(rt, move, until=lambda: tcp(group)[0] > 10.0)
-    axes[1]._fault(ErrorId.FOLLOWING_ERROR, "test fault")
+    axes[1].fault(ErrorId.FOLLOWING_ERROR, "test fault")
     drive(rt, move, read, until=lambda: group.state is G.ERROR_STOP)
     assert read.valid and read.group_error_id is ErrorId.GROUP_ERROR
     assert move.error and move.error_id is ErrorId.GROUP_ERROR

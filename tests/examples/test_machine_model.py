@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from openmotion.runtime.model import MachineModel, machine
+from openmotion.kernel.model import MachineModel, machine
 from openmotion.scenario import examples_dir
 from openmotion.trace import TraceRecorder
 from openmotion.trace.signals import MOVER_SIGNALS, describe, source_of

@@ -587,7 +587,7 @@ def test_group_read_error_after_a_member_fault_and_reset_recovery():
     status = MC_GroupReadStatus(group)
     read(enable=True)
     assert read.group_error_id is ErrorId.NO_ERROR
-    leader._fault(ErrorId.FOLLOWING_ERROR, "test")
+    leader.fault(ErrorId.FOLLOWING_ERROR, "test")
     rt.step()
     read()
     status(enable=True)

@@ -103,7 +103,7 @@ class FaultRun:
         self.vmax = np.array([m["max_velocity"] for m in movers])
         self.amax = np.array([max(m["max_acceleration"], m["max_deceleration"]) for m in movers])
         self.jmax = np.array([m["max_jerk"] for m in movers])
-        k = rt._kernel
+        k = rt.axis_system.kernel
         self.last_v = k.set_v[self.rows].copy()
 
     def run(self) -> None:
@@ -148,7 +148,7 @@ class FaultRun:
         if kind == "power_off":
             axis.power(False)
         elif kind == "following_error":  # what the drive monitor reports (Runtime phase 3)
-            axis._fault(ErrorId.FOLLOWING_ERROR, "injected following error")
+            axis.fault(ErrorId.FOLLOWING_ERROR, "injected following error")
         elif axis.group is self.group:
             self.removing.add(i)
             halt = self.group.halt_axis(axis)
@@ -172,11 +172,11 @@ class FaultRun:
         assert not reset.error, reset.message
 
     def resting(self) -> bool:
-        k = self.rt._kernel
+        k = self.rt.axis_system.kernel
         return bool(np.all(k.set_v[self.rows] == 0.0) and np.all(k.set_a[self.rows] == 0.0))
 
     def check(self) -> None:
-        rt, group, k = self.rt, self.group, self.rt._kernel
+        rt, group, k = self.rt, self.group, self.rt.axis_system.kernel
         gaps = group.gaps()  # inf for a mover with no predecessor
         if gaps.size:
             assert gaps.min() >= self.case["gap"] - GAP_TOLERANCE, \

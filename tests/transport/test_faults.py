@@ -153,7 +153,7 @@ def test_movers_braking_after_a_group_error_report_stopping_until_rest() -> None
     rt, group, axes = convoy(GapControlMode.STANDARD, n=6, velocity=1800.0, ring=True)
     failed = group.movers[2].axis
     watch = Watch(rt, group, axes)
-    failed._fault(ErrorId.FOLLOWING_ERROR, "test")
+    failed.fault(ErrorId.FOLLOWING_ERROR, "test")
     watch.run()
     assert group.state is GroupState.ERROR_STOP
     assert watch.false_rest == []
@@ -171,7 +171,8 @@ def test_following_error_of_a_stalled_mover_brakes_the_group_in_time() -> None:
     """The drive's following-error monitor (Runtime phase 3) of a stalled mover: the group
     goes to GroupErrorStop and every mover brakes from the state of the fault's cycle."""
     rt, group, (follower, leader) = convoy(GapControlMode.FAST)
-    rt._kernel.set_blocked(leader.row, True)  # the mechanics stall: actual stops following
+    # the mechanics stall: the actual position stops following
+    rt.axis_system.kernel.set_blocked(leader.row, True)
     watch = Watch(rt, group, [follower, leader])
     watch.run()
     assert leader.state is AxisState.ERROR_STOP
@@ -185,7 +186,7 @@ def test_group_reset_waits_for_the_brakes_then_the_group_moves_again() -> None:
     """MC_GroupReset during the error reaction stays Busy until every mover rests (as MC_Reset
     does, D-019), so gap control never takes over a moving mover as if it stood (D-184)."""
     rt, group, (follower, leader) = convoy(GapControlMode.FAST)
-    follower._fault(ErrorId.FOLLOWING_ERROR, "test")
+    follower.fault(ErrorId.FOLLOWING_ERROR, "test")
     rt.step()
     reset = group.reset()
     assert reset.busy

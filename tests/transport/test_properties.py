@@ -79,7 +79,7 @@ def _run(case: dict, liveness: bool = True) -> None:
     assert group.enable().done
     gap, length = case["gap"], case["length"]
     rows = np.array([a.row for a in axes])
-    k = rt._kernel
+    k = rt.axis_system.kernel
     vmax = np.array([m["max_velocity"] for m in case["movers"]])
     amax = np.array([max(m["max_acceleration"], m["max_deceleration"]) for m in case["movers"]])
     jmax = np.array([m["max_jerk"] for m in case["movers"]])

@@ -44,8 +44,8 @@ from openmotion.trajectory.segments import KinematicState, Profile
 
 if TYPE_CHECKING:
     from openmotion.axis.kernel import AxisKernel
-    from openmotion.runtime.model import Kind
-    from openmotion.runtime.runtime import Runtime
+    from openmotion.axis.system import AxisSystem
+    from openmotion.kernel.model import Kind
 
 MAX_BUFFERED = 16  #: commands an axis queues behind the active one (docs/decisions.md D-008)
 _BLEND_SPEED = {
@@ -67,14 +67,15 @@ class Axis:
 
     MACHINE: ClassVar[Kind] = AXIS  #: its signals and commands in the machine model
 
-    def __init__(self, runtime: Runtime, kernel: AxisKernel, name: str, row: int,
-                 parameters: AxisParameters, drive: DriveModel) -> None:
+    def __init__(self, system: AxisSystem, name: str, row: int, parameters: AxisParameters,
+                 drive: DriveModel) -> None:
         self.name = name
         self.row = row
         self.parameters = parameters
         self.drive = drive
-        self._rt = runtime
-        self._k = kernel
+        self.system = system  #: the runtime's AxisSystem: kernel row, events and watchers
+        self._rt = system.runtime
+        self._k = system.kernel
         self.state = AxisState.DISABLED
         self.axis_error_id = ErrorId.NO_ERROR  #: the axis error behind ErrorStop
         self.axis_error_message = ""
@@ -234,7 +235,7 @@ class Axis:
                 and not job.command.finished and lo <= start.position <= hi \
                 and not k.superimposed[row] and self._stop_job_at(job, start, limit):
             return
-        self._fault(ErrorId.SOFT_LIMIT_REACHED,
+        self.fault(ErrorId.SOFT_LIMIT_REACHED,
                     f"the motion would pass the software limit {limit} written during it")
 
     def _stop_job_at(self, job: Job, start: KinematicState, limit: float) -> bool:
@@ -309,7 +310,7 @@ class Axis:
         elif not status and self.powered:
             self.powered = False
             for slave in self._slaves():  # they must not follow the frozen setpoint (D-199)
-                slave._fault(ErrorId.MASTER_DISABLED,
+                slave.fault(ErrorId.MASTER_DISABLED,
                              f"its master {self.name} was disabled while coupled")
             self._abort_all("the axis was disabled")
             self._k.reset_setpoint_to_actual(self.row)
@@ -337,7 +338,7 @@ class Axis:
             self._finish(command)
             return command
         command.status = CommandStatus.ACTIVE
-        self._rt._watch(self, lambda now: self._try_reset(command, now))
+        self.system.watch(self, lambda now: self._try_reset(command, now))
         return command
 
     def set_override(self, percent: float) -> Command:
@@ -474,7 +475,7 @@ class Axis:
         self._job = job
         command.status = CommandStatus.ACTIVE
         self.state = AxisState.HOMING
-        self._rt._watch(self, lambda now: sequence.step(now))
+        self.system.watch(self, lambda now: sequence.step(now))
         return command
 
     def set_actual_position(self, position: InputValue) -> Command:
@@ -607,7 +608,7 @@ class Axis:
         self._job = job
         command.status = CommandStatus.ACTIVE
         self.state = AxisState.SYNCHRONIZED_MOTION
-        self._rt._watch(self, lambda now: self._gear_cycle(job))
+        self.system.watch(self, lambda now: self._gear_cycle(job))
         return command
 
     def dynamic_coupling(self, master: Axis) -> Command | None:
@@ -736,14 +737,14 @@ class Axis:
             couplings.set_ratio(self.row, ratio, master.set_position, 0.0)
         return True  # the kernel watches the slave's limits in every sample (D-182)
 
-    def _gear_limit_fault(self) -> None:
+    def gear_limit_fault(self) -> None:
         """Kernel event: this slave's new sample would pass its maximum velocity,
         acceleration or jerk (or brake beyond its maximum velocity). ErrorStop, decoupled,
         braking with the maximum deceleration and jerk from the previous sample, the last
         one within the limits, so that no sample beyond them is ever output (D-182)."""
         v, a, j = self.set_velocity, self.set_acceleration, self.set_jerk
         time, start = self._k.previous_sample(self.row)
-        self._fault(ErrorId.GEAR_LIMIT_EXCEEDED,
+        self.fault(ErrorId.GEAR_LIMIT_EXCEEDED,
                     f"the geared slave would reach {v:.6g} mm/s, {a:.6g} mm/s², {j:.6g} mm/s³ "
                     "beyond its maxima")
         p = self.parameters
@@ -865,7 +866,7 @@ class Axis:
         self._finish(command)
         return command
 
-    def _on_superposition_end(self) -> None:
+    def superposition_ended(self) -> None:
         """Kernel event: the superimposed motion is complete; fold it into the base."""
         command = self._superposition
         if command is not None:
@@ -932,7 +933,7 @@ class Axis:
                 self._install(self._plan(job))
                 job.command.in_velocity = False
             except CommandRejected as rejected:
-                self._fault(rejected.error_id, rejected.message)
+                self.fault(rejected.error_id, rejected.message)
         elif job.kind in ("halt", "stop") and not self.has_job:
             self._end_stop(job)
 
@@ -987,7 +988,7 @@ class Axis:
         self._job.command = self._new("external_motion")
         self._job.command.status = CommandStatus.ACTIVE
         grace = [True]  # the feed may start in the cycle after the enable
-        self._rt._watch(self, lambda now: self._external_cycle(job, grace))
+        self.system.watch(self, lambda now: self._external_cycle(job, grace))
         return command
 
     def disable_external_setpoints(self) -> Command:
@@ -1012,14 +1013,14 @@ class Axis:
             return False
         k, row, p = self._k, self.row, self.parameters
         if not k.fed[row] and not grace[0]:
-            self._fault(ErrorId.EXT_SETPOINT_MISSING, "no external setpoint fed this cycle")
+            self.fault(ErrorId.EXT_SETPOINT_MISSING, "no external setpoint fed this cycle")
             return False
         grace[0] = False
         k.fed[row] = False
         v, a = abs(self.set_velocity), abs(self.set_acceleration)
         if not (math.isfinite(self.set_position) and v <= p.max_velocity * (1 + 1e-9)
                 and a <= max(p.max_acceleration, p.max_deceleration) * (1 + 1e-9)):
-            self._fault(ErrorId.EXT_SETPOINT_LIMIT,
+            self.fault(ErrorId.EXT_SETPOINT_LIMIT,
                         f"fed setpoint {v:.6g} mm/s, {a:.6g} mm/s² beyond the axis maxima")
             return False
         target, kind = self._external_goal
@@ -1285,7 +1286,7 @@ class Axis:
         self.state = _STATE_OF_JOB[job.kind]
         if job.soft_limit_stop:  # a MoveVelocity that will stop at a software limit
             self.state = AxisState.CONTINUOUS_MOTION
-            self._rt._watch(self, lambda now: self._cruise_check(job))
+            self.system.watch(self, lambda now: self._cruise_check(job))
 
     def _cruise_check(self, job: Job) -> bool:
         """InVelocity for a velocity job planned as a stop at a software limit (D-016)."""
@@ -1325,7 +1326,7 @@ class Axis:
         if job.kind == "position" and self.state is AxisState.CONTINUOUS_MOTION:
             self.state = AxisState.DISCRETE_MOTION
 
-    def _on_profile_end(self, end_time: float) -> None:
+    def profile_ended(self, end_time: float) -> None:
         """Kernel event: the setpoint reached the end state of the job's profile."""
         self._k.has_job[self.row] = False
         job = self._job
@@ -1337,7 +1338,7 @@ class Axis:
             self._start_next(end_time)
         elif job.kind == "position":
             if job.soft_limit_stop:
-                self._fault(ErrorId.SOFT_LIMIT_REACHED,
+                self.fault(ErrorId.SOFT_LIMIT_REACHED,
                             f"stopped at the software limit {job.target}",
                             time=end_time)
             elif self._queue and self._queue[0].buffer_mode in _BLEND_SPEED:
@@ -1345,7 +1346,7 @@ class Axis:
                 self._start_next(end_time)
             elif not job.extra.get("settling"):
                 job.extra["settling"] = True
-                self._rt._watch(self, lambda now: self._settle(job, now))
+                self.system.watch(self, lambda now: self._settle(job, now))
         elif job.kind in ("halt", "stop") and not self._k.superimposed[self.row]:
             self._end_stop(job)
         # a halt whose base came to rest under a superposition ends with it (D-181)
@@ -1355,7 +1356,7 @@ class Axis:
         self._finish(job.command)
         if job.kind == "stop" and job.command.hold:
             self._hold = job.command
-            self._rt._watch(self, self._release_stop)
+            self.system.watch(self, self._release_stop)
         else:
             self._job = None
             self.state = AxisState.STANDSTILL
@@ -1387,7 +1388,7 @@ class Axis:
             self._start_next(now)
             return False
         if p.enable_in_target_timeout and job.settling_for > p.in_target_timeout:
-            self._fault(ErrorId.IN_TARGET_TIMEOUT,
+            self.fault(ErrorId.IN_TARGET_TIMEOUT,
                         f"not in the target window {p.in_target_timeout} s after the profile")
             return False
         return True
@@ -1469,7 +1470,7 @@ class Axis:
             job.command._end(CommandStatus.ABORTED, now, message=reason)
         self._queue.clear()
 
-    def _fault(self, error_id: ErrorId, message: str, time: float | None = None) -> None:
+    def fault(self, error_id: ErrorId, message: str, time: float | None = None) -> None:
         """An axis error: ErrorStop, the commands are aborted, a controlled stop follows.
 
         The stop is planned from the setpoint at ``time`` (default: the last sample).
@@ -1527,7 +1528,7 @@ class Axis:
         try:
             profile = self._plan(job)
         except CommandRejected as rejected:
-            self._fault(rejected.error_id, rejected.message)
+            self.fault(rejected.error_id, rejected.message)
             return
         job.command.in_velocity = False
         self._install(profile)
@@ -1590,7 +1591,7 @@ class Axis:
             self._finish(command)
             return False
 
-        self._rt._watch(self, check)
+        self.system.watch(self, check)
 
     def _stop_limits(self, deceleration: InputValue, jerk: InputValue,
                      command: Command) -> Limits:

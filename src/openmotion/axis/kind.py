@@ -1,6 +1,6 @@
 """What the machine model shows of an axis: its signals, and its commands from its methods.
 
-Declared once here (``Axis.MACHINE``), read by every edge (runtime/model.py, D-226). Every
+Declared once here (``Axis.MACHINE``), read by every edge (kernel/model.py, D-226). Every
 value is the float a trace records: the state as its AxisState number, the override in percent
 (0-100), homed as 0 or 1, the axis error as its ErrorId number (0: none). Lengths are in the
 axis unit: mm, or ° on a rotary axis.
@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 from openmotion.core.enums import AxisState
 from openmotion.core.errors import ErrorId
-from openmotion.runtime.model import BulkReader, Kind, SignalSpec, compact_index
+from openmotion.kernel.model import BulkReader, Kind, SignalSpec, compact_index
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
@@ -27,7 +27,7 @@ _KERNEL_FIELDS = {"set_position": "set_p", "set_velocity": "set_v",
 def _gather(prop: str):  # noqa: ANN202 - a bulk reader factory
     """All given axes' values of one kernel signal in one numpy gather per sample."""
     def bulk(axes: Sequence[Axis]) -> BulkReader:
-        kernel = axes[0]._k  # every axis of a runtime shares its kernel
+        kernel = axes[0].system.kernel  # every axis of a runtime shares it
         rows = compact_index([axis.row for axis in axes])
         if prop == "following_error":
             return lambda: kernel.set_p[rows] - kernel.act_p[rows]

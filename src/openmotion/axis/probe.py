@@ -117,7 +117,7 @@ class ProbeSignal:
             old.detach()
         _SIGNALS[axis] = self
         self._attached = True
-        axis._rt._watch(axis, self._tick)
+        axis.system.watch(axis, self._tick)
 
     def detach(self) -> None:
         """Unwire the input: no more edges."""
@@ -286,7 +286,7 @@ def arm_probe(axis: Axis, ref: InputRef, window_only: bool = False,
     command.status = CommandStatus.ACTIVE
     ref.probe_state = TouchProbeState.ACTIVATED
     _ARMED[ref] = cycle
-    rt._watch(axis, cycle.step)
+    axis.system.watch(axis, cycle.step)
     return command
 
 

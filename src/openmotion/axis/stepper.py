@@ -91,7 +91,7 @@ class StepperTerminal:
                 return False
             return True
 
-        axis._rt._watch(axis, release_when_due)
+        axis.system.watch(axis, release_when_due)
 
     def release(self) -> None:
         """End a stall: the mechanics follow again, the stall bits clear."""

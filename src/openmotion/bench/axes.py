@@ -139,7 +139,7 @@ def check_run(n_axes: int, stream: list[StreamCommand], cycles: int) -> dict[str
     acceleration away in time) are counted apart, as are commands allowed a raised jerk.
     """
     rt, axes = build_runtime(n_axes)
-    kernel = rt._kernel
+    kernel = rt.axis_system.kernel
     plan = issue_plan(axes, stream, cycles)
     commands: list[list[StreamCommand]] = [[] for _ in range(cycles)]
     for c in stream:
@@ -223,7 +223,7 @@ def timed_run(n_axes: int, stream: list[StreamCommand], cycles: int,
     if trace:
         buffer = np.zeros((cycles, 2, n_axes))
         buffer.fill(1.0)
-        kernel = rt._kernel
+        kernel = rt.axis_system.kernel
 
         def record(runtime: om.Runtime) -> None:
             row = buffer[runtime.cycle - 1]

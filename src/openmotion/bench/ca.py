@@ -95,7 +95,7 @@ class _Run:
         self.wall[cycle] = time.perf_counter() - start
         self.cpu[cycle] = time.thread_time() - cpu
         self.min_gap = min(self.min_gap, float(self.group.gaps().min()))
-        k, slack = self.rt._kernel, 1 + LIMIT_SLACK
+        k, slack = self.rt.axis_system.kernel, 1 + LIMIT_SLACK
         v, a, j = k.set_v[self.rows], k.set_a[self.rows], k.set_j[self.rows]
         braking = a * v < 0.0
         self.limit_violations += int(np.count_nonzero(

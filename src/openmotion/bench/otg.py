@@ -262,7 +262,7 @@ def run_sample(sample: Sample) -> dict[str, Any]:
 def _step_to_target(rt: om.Runtime, axis: om.Axis, target: float,
                     cap: int) -> dict[str, Any]:
     """Step until the setpoint is bit-equal to the target at rest; peak |v|, |a|, |j|."""
-    kernel, row = rt._kernel, axis.row
+    kernel, row = rt.axis_system.kernel, axis.row
     set_p, set_v, set_a, set_j = kernel.set_p, kernel.set_v, kernel.set_a, kernel.set_j
     v_peak = a_peak = j_peak = 0.0
     for cycle in range(1, cap + 1):

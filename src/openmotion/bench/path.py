@@ -92,14 +92,14 @@ def run_path(segments: int = 10_000, progress: Callable[[str], None] | None = No
     if not select.done:
         raise RuntimeError(f"MC_PathSelect failed: {select.message}")
     timings: list[float] = []
-    advance = rt._systems[-1]
+    advance = group.advance
 
     def timed(now: float) -> None:
         start = time.perf_counter()
         advance(now)
         timings.append(time.perf_counter() - start)
 
-    rt._systems[-1] = timed
+    group.advance = timed  # type: ignore[method-assign] # the group's motion phase, timed
     move = MC_MovePath(group)
     began = time.perf_counter()
     move(execute=True, path_data=select.path_data, velocity=VELOCITY,
@@ -109,7 +109,7 @@ def run_path(segments: int = 10_000, progress: Callable[[str], None] | None = No
         raise RuntimeError(f"MC_MovePath failed: {move.message}")
     geometry = [entry.geometry for _, entry in sorted(group.motion.entries.items())]
     lengths, caps, exits = group.motion.law.speed_limits()
-    k, rows = rt._kernel, group.rows
+    k, rows = rt.axis_system.kernel, group.rows
     limit_v = np.array([a.parameters.max_velocity for a in axes])
     limit_a = np.array([min(a.parameters.max_acceleration, a.parameters.max_deceleration)
                         for a in axes])

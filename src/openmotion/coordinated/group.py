@@ -62,7 +62,7 @@ from openmotion.trajectory.segments import KinematicState, Profile
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
-    from openmotion.runtime.model import Kind
+    from openmotion.kernel.model import Kind
     from openmotion.runtime.runtime import Runtime
 
 G = AxesGroupState
@@ -93,7 +93,7 @@ class AxesGroup:
                               f"{type(dynamics).__name__}")
         self.name = name
         self._rt = runtime
-        self._k = runtime._kernel
+        self._k = runtime.axis_system.kernel
         self.machine = GroupStateMachine()
         self.members: dict[int, Axis] = {}  #: IdentInGroup -> axis, in insertion order
         self.dynamics = dynamics or PathDynamics()
@@ -116,7 +116,7 @@ class AxesGroup:
         #: commands buffered behind the motion: a Buffered MC_GroupHome or MC_GroupSetPosition
         #: (§5.7, §5.9), and the motions buffered behind those; (command, is_motion, start)
         self._queued: list[tuple[Command, bool, Callable[[], None]]] = []
-        runtime._add_system(self._advance)
+        runtime.add_system(self)
 
     # -- reading -------------------------------------------------------------------------------
 
@@ -611,7 +611,7 @@ class AxesGroup:
         # after the members' homing sequences (watchers run by row, then by age): the group
         # is GroupStandby in the cycle its last member is homed, never StandStill under
         # GroupHoming (Table 5)
-        self._rt._watch(max(self.axes, key=lambda a: a.row), self._watch_home)
+        self._rt.axis_system.watch(max(self.axes, key=lambda a: a.row), self._watch_home)
         return command
 
     def _watch_home(self, now: float) -> bool:
@@ -922,7 +922,11 @@ class AxesGroup:
 
     # -- the cycle -----------------------------------------------------------------------------
 
-    def _advance(self, now: float) -> None:
+    def objects(self) -> tuple[AxesGroup]:
+        return (self,)
+
+    def advance(self, now: float) -> None:
+        """The motion phase, after the member axes' profiles: the path, syncs, resets."""
         if not self.members:
             return
         self._end_reset(now)

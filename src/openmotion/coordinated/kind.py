@@ -1,6 +1,6 @@
 """What the machine model shows of a Part 4 axes group: its TCP, its time law, its state.
 
-Declared once here (``AxesGroup.MACHINE``), read by every edge (runtime/model.py, D-226):
+Declared once here (``AxesGroup.MACHINE``), read by every edge (kernel/model.py, D-226):
 ``x``, ``y``, ``z`` (the TCP's set position in the MCS; 0 for a coordinate its kinematics
 lacks, NaN without members), ``path_velocity`` and ``path_acceleration`` (of its time law,
 along the path in the frame the path runs in: 0 while the TCP only rides on a moving PCS),
@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from openmotion.coordinated.states import AxesGroupState
-from openmotion.runtime.model import Kind, SignalSpec
+from openmotion.kernel.model import Kind, SignalSpec
 
 if TYPE_CHECKING:
     from openmotion.coordinated.group import AxesGroup

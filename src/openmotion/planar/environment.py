@@ -14,6 +14,7 @@ import numpy as np
 import shapely
 
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
+from openmotion.kernel.model import Kind
 from openmotion.planar.enums import ExternalSetPositionMode, PlanarObjectType, PlanarState
 from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand, PlanarObjectInfo
 from openmotion.planar.frames import Pose
@@ -27,7 +28,6 @@ from openmotion.planar.reservation import MemberId, footprint, grown_surface, pa
 from openmotion.planar.states import ErrorReaction
 from openmotion.planar.stators import Boundary, StatorField
 from openmotion.planar.system import PlanarObject, PlanarSystem
-from openmotion.runtime.model import Kind
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry

@@ -13,6 +13,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, ClassVar
 
 from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.kernel.model import Kind
 from openmotion.planar.enums import PlanarState
 from openmotion.planar.feedback import PlanarCommand
 from openmotion.planar.kind import PLANAR_GROUP
@@ -20,7 +21,6 @@ from openmotion.planar.options import CDT_MCTOPLC_PLANAR_GROUP_STD
 from openmotion.planar.reservation import MemberId, ReservationRegistry, SweptArea
 from openmotion.planar.states import PlanarStateMachine, title
 from openmotion.planar.system import PlanarObject, PlanarSystem, StatefulObject
-from openmotion.runtime.model import Kind
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry

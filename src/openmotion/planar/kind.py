@@ -1,7 +1,7 @@
 """What the machine model shows of the planar objects (TF5430; D-226).
 
 Declared once here and set as ``MACHINE`` on each class; read by every edge
-(runtime/model.py). A mover's signals: x, y, z [mm], a, b, c [°] (its published set
+(kernel/model.py). A mover's signals: x, y, z [mm], a, b, c [°] (its published set
 position), ``velocity`` (path velocity |(vx, vy)| [mm/s]), ``state`` (the PlanarState number),
 ``coordinate_system`` (the OID of the coordinate system x, y, c are in; 0 without parts:
 PhysicalAreaID), ``track`` (the number of the track it is coupled to: 1 for the first track
@@ -14,8 +14,8 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
+from openmotion.kernel.model import Kind, SignalSpec
 from openmotion.planar.enums import PlanarState
-from openmotion.runtime.model import Kind, SignalSpec
 
 if TYPE_CHECKING:
     from openmotion.planar.mover import MC_PlanarMover

@@ -23,6 +23,7 @@ import numpy as np
 
 from openmotion.axis.axis import Axis
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
+from openmotion.kernel.model import Kind
 from openmotion.planar.enums import (
     CoordinateMode,
     ExternalSetPositionMode,
@@ -106,7 +107,6 @@ from openmotion.planar.states import (
 from openmotion.planar.system import PlanarSystem, StatefulObject
 from openmotion.planar.track import MC_PlanarTrack
 from openmotion.planar.traffic import Rider, traffic_of
-from openmotion.runtime.model import Kind
 from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 

@@ -25,10 +25,10 @@ from shapely.geometry.base import BaseGeometry
 
 from openmotion.core.checks import finite_number, finite_pair
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
+from openmotion.kernel.model import Kind
 from openmotion.planar.enums import PlanarState
 from openmotion.planar.frames import Pose
 from openmotion.planar.kind import PLANAR_PART
-from openmotion.runtime.model import Kind
 
 STATOR_SIZE = 240.0  #: side of a square stator [mm] (§5.1)
 TOLERANCE = 1e-6  #: a point this close [mm] is on a part; a smaller overlap [mm²] is none

@@ -12,7 +12,6 @@ calls ``update()`` of every object: a user who calls it as well sees nothing new
 
 from __future__ import annotations
 
-import weakref
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -31,7 +30,6 @@ if TYPE_CHECKING:
 _MOVER_OIDS = 0x05110000  #: movers count up from 16#05110010 (§6.1.8 watch window)
 _OBJECT_OIDS = 0x05120000  #: tracks, groups and environments share 16#0512xxxx (§6.2, §6.7.2)
 _OID_STEP = 0x10
-_SYSTEMS: weakref.WeakKeyDictionary[Runtime, PlanarSystem] = weakref.WeakKeyDictionary()
 
 
 class PlanarObject:
@@ -111,7 +109,7 @@ class PlanarSystem:
         self.cycle_time = runtime.cycle_time
         self.table = SegmentTable(capacity=48)
         self._values = [np.zeros(48) for _ in range(4)]  # p, v, a, j of every row
-        self.objects: list[PlanarObject] = []  #: in creation order
+        self._objects: list[PlanarObject] = []  #: in creation order
         self.movers: list[MC_PlanarMover] = []
         self.environments: list[MC_PlanarEnvironment] = []
         self._sent: list[tuple[PlanarObject, PlanarCommand]] = []
@@ -119,15 +117,21 @@ class PlanarSystem:
         self.published = 0  #: counts motion phases: cached statuses older than this are stale
         self.network: Any = None  #: the TrackNetwork, made with the first track (track.py)
         self.traffic: Any = None  #: the movers on tracks (traffic.py)
-        runtime._add_system(self._advance)
+        runtime.add_system(self)
+
+    name = "planar"
+
+    def objects(self) -> tuple[PlanarObject, ...]:
+        """Environments, groups, movers, tracks and parts in creation order."""
+        return tuple(self._objects)
 
     @classmethod
     def of(cls, runtime: Runtime) -> PlanarSystem:
         """The planar system of ``runtime``, made on first use."""
-        system = _SYSTEMS.get(runtime)
-        if system is None:
-            system = _SYSTEMS[runtime] = cls(runtime)
-        return system
+        for system in runtime.systems:
+            if isinstance(system, cls):
+                return system
+        return cls(runtime)
 
     @property
     def now(self) -> float:
@@ -139,7 +143,7 @@ class PlanarSystem:
         return self.runtime.now - self.cycle_time if self.runtime.cycle else 0.0
 
     def register(self, obj: PlanarObject) -> None:
-        self.objects.append(obj)
+        self._objects.append(obj)
 
     def next_oid(self, kind: str) -> int:
         """OIDs as TwinCAT hands them out: 16#05110010, 16#05110020, ... for movers."""
@@ -179,7 +183,8 @@ class PlanarSystem:
         """The environment that describes the stators and parts (the first one made)."""
         return self.environments[0] if self.environments else None
 
-    def _advance(self, now: float) -> None:
+    def advance(self, now: float) -> None:
+        """The motion phase: run the commands sent, evaluate, move on tracks, publish."""
         sent, self._sent = self._sent, []
         for obj, _ in sent:
             obj._queue.take()
@@ -192,7 +197,7 @@ class PlanarSystem:
         for mover in self.movers:
             if mover._next_event <= now:
                 mover._after_motion(now)
-        for obj in self.objects:
+        for obj in self._objects:
             if obj._awake:
                 obj._awake = obj._publish()
         self.published += 1

@@ -24,6 +24,7 @@ from openmotion.core.checks import non_negative_number, positive_number
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.geometry.track import TrackPath
 from openmotion.geometry.track_elements import TrackPose
+from openmotion.kernel.model import Kind
 from openmotion.planar.enums import PlanarObjectType, PlanarState, TrackOperationMode
 from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand, PlanarObjectInfo
 from openmotion.planar.frames import Pose, cos_sin
@@ -40,7 +41,6 @@ from openmotion.planar.reservation import MemberId
 from openmotion.planar.states import PlanarStateMachine
 from openmotion.planar.system import PlanarSystem, StatefulObject
 from openmotion.planar.traffic import Traffic, network_of, traffic_of
-from openmotion.runtime.model import Kind
 
 if TYPE_CHECKING:
     from openmotion.planar.group import MC_PlanarGroup

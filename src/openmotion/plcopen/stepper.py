@@ -127,7 +127,7 @@ class MC_PowerStepper(FunctionBlock):
             self.error, self.error_id, self.message = True, problem[0], problem[1]
 
         if stalled and mode in (DestallMode.SET_ERROR, DestallMode.SET_ERR_NON_REF):
-            axis._fault(ErrorId.STEPPER_STALL, f"MC_PowerStepper(AxId:={int(axis.axis_id)}) "
+            axis.fault(ErrorId.STEPPER_STALL, f"MC_PowerStepper(AxId:={int(axis.axis_id)}) "
                                                "reporting error 0x4636 (stall error)!")
             if mode is DestallMode.SET_ERR_NON_REF:
                 axis.homed = False
@@ -135,7 +135,7 @@ class MC_PowerStepper(FunctionBlock):
         if params.status_mon_enable and watching:
             errors = status_word & STATUS2_ERROR_MASK
             if errors or status_byte & STATUS_ERROR:
-                axis._fault(ErrorId.DRIVE_NOT_READY,
+                axis.fault(ErrorId.DRIVE_NOT_READY,
                             f"MC_PowerStepper(AxId:={int(axis.axis_id)}): terminal error, "
                             f"KL_Status 16#{status_byte:02X}, KL_Status2 16#{status_word:04X}")
 

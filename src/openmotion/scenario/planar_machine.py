@@ -160,7 +160,7 @@ class PlanarMachine:
                 steps.append((loc, f"joining group {group.name}",
                               self.tracks[name].add_to_group(target)))
         self._settle(steps)
-        rt.cycle, rt.now = 0, 0.0  # the setup happened before t = 0 (module docstring)
+        rt.rewind()  # the setup happened before t = 0 (module docstring)
         failed: set[Loc] = set()  # tracks with a failed command: only the first one counts
         problems = []
         for loc, what, command in tracks + steps:

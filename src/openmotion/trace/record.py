@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from openmotion.core.errors import ConfigError
-from openmotion.runtime.model import machine
+from openmotion.kernel.model import machine
 from openmotion.trace.signals import (
     AXIS_SIGNALS,
     MOVER_SIGNALS,

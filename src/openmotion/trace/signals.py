@@ -1,7 +1,7 @@
 """What a trace can record: the signals of the machine model, found through a registry.
 
 A signal is named ``<object>.<signal>``: ``x.set_position``, ``m2.gap``, ``m1.x``. Every kind
-of object declares its signals once, next to its class (``MACHINE``, runtime/model.py,
+of object declares its signals once, next to its class (``MACHINE``, kernel/model.py,
 D-226); this module derives the trace's vocabulary from those declarations and keeps no list
 of its own. The recorder looks the object up by name and asks the source registered for its
 type (``source_of``) for a reader. The built-in sources read the model:
@@ -33,9 +33,9 @@ import numpy as np
 
 from openmotion.axis.axis import Axis
 from openmotion.coordinated.group import AxesGroup
+from openmotion.kernel.model import Kind, SignalSpec, compact_index, kind_of
 from openmotion.planar import MC_PlanarEnvironment, MC_PlanarGroup, MC_PlanarMover
 from openmotion.planar.stators import STATOR_SIZE
-from openmotion.runtime.model import Kind, SignalSpec, compact_index, kind_of
 from openmotion.transport.movers import Mover
 
 if TYPE_CHECKING:
@@ -128,7 +128,7 @@ class SignalSource:
 
 class ModelSignals(SignalSource):
     """The signals one or more kinds of the machine model declare: their readers and bulk
-    readers are the model's (runtime/model.py)."""
+    readers are the model's (kernel/model.py)."""
 
     def __init__(self, *kinds: Kind) -> None:
         self.kind = kinds[0].name

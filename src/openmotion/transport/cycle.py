@@ -43,7 +43,7 @@ class GroupCycle:
             self._pairs_dirty = False
         return self._pair_cache
 
-    def _advance(self, now: float) -> None:
+    def advance(self, now: float) -> None:
         """Phase 2, after the profiles: gap control and the movers' command events."""
         if self.state in FAULT_STATES:  # brakes run only there (faults.py)
             self._follow_brakes(now)  # first, so that a reset sees where they are

@@ -64,7 +64,7 @@ __all__ = ["UDINT_TO_IDENTINGROUP", "CaGroup", "CaJob", "GroupInterface", "Ident
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
-    from openmotion.runtime.model import Kind
+    from openmotion.kernel.model import Kind
     from openmotion.runtime.runtime import Runtime
 
 class CaGroup(GroupCycle, GroupFaults):
@@ -89,10 +89,10 @@ class CaGroup(GroupCycle, GroupFaults):
         except (TypeError, ValueError) as exc:
             raise ConfigError(f"CA group {name!r}: {exc}") from None
         self.name = name
-        self.oid = 0x05030000 + len(runtime._systems) + 1  #: TcCOM-like object id (ours)
+        self.oid = 0x05030000 + runtime.serial("ca_group")  #: TcCOM-like object id (ours)
         self.parameters = parameters
         self._rt = runtime
-        self._k = runtime._kernel
+        self._k = runtime.axis_system.kernel
         self.state = GroupState.DISABLED
         self.error_disabled = False  #: internal GroupErrorDisabled (not visible, §7.2)
         self.error_id = ErrorId.NO_ERROR  #: GroupErrorId of the cyclic interface
@@ -106,7 +106,11 @@ class CaGroup(GroupCycle, GroupFaults):
         self._reset_parts: list[Command] = []
         self._arrays(0)
         self.tracks = TrackTable(self)  #: parts, tracks and geo-compensation (tracks.py)
-        runtime._add_system(self._advance)
+        runtime.add_system(self)
+
+    def objects(self) -> tuple[CaGroup]:
+        """The group itself; its movers are axes, objects of the runtime's AxisSystem."""
+        return (self,)
 
     # -- reading -------------------------------------------------------------------------------
 

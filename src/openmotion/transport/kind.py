@@ -3,7 +3,7 @@
 A CA mover is an axis in a CA group: its own signals (``gap``, ``track_position``,
 ``tcp_position``) read the axis's group at the time of reading, so they read NaN once the
 axis leaves its group (or for an axis in none). Declared once here (``CaGroup.MACHINE``,
-``Mover.MACHINE``), read by every edge (runtime/model.py).
+``Mover.MACHINE``), read by every edge (kernel/model.py).
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from openmotion.core.errors import CommandRejected
-from openmotion.runtime.model import Kind, SignalSpec
+from openmotion.kernel.model import Kind, SignalSpec
 from openmotion.transport.enums import GroupState
 
 if TYPE_CHECKING:

@@ -11,7 +11,7 @@ from openmotion.axis.commands import Command
 from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import InputValue
-from openmotion.runtime.model import Kind
+from openmotion.kernel.model import Kind
 from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 from openmotion.transport.enums import GapControlMode, GroupState, GroupType

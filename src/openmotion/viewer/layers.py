@@ -7,7 +7,7 @@ planar.py) are registered when ``openmotion.viewer`` is imported, in drawing ord
 subsystem plugs in with ``@register_layer``. Layers are read only by the session's kernel
 thread, between two cycles, so they need no locks.
 
-The scope offers the signals of the machine model (runtime/model.py, D-228): every signal
+The scope offers the signals of the machine model (kernel/model.py, D-228): every signal
 its kind declares for a live scope (``scope``), under its ``<object>.<signal>`` name
 (``scope_signals``); a layer adds signals only for what the model does not know. The table
 lists every object of the model: a layer's rows, then a plain row (kind, name, state) for
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import TYPE_CHECKING, Any, ClassVar
 
-from openmotion.runtime.model import MachineModel, MachineObject, Signal
+from openmotion.kernel.model import MachineModel, MachineObject, Signal
 
 if TYPE_CHECKING:
     from openmotion.runtime.runtime import Runtime
@@ -118,15 +118,6 @@ def first_scope(signals: dict[str, Signal]) -> list[str]:
     first = signals[names[0]]
     actual = f"{names[0].rpartition('.')[0]}.{first.spec.actual}"
     return [names[0], actual] if first.spec.actual and actual in signals else names[:2]
-
-
-def attached_systems(runtime: Runtime) -> list[object]:
-    """The motion systems on ``runtime`` (CA groups, the planar system) in creation order.
-
-    The runtime keeps them as the bound ``advance`` methods it calls every cycle; this is
-    the one place where the viewer reads that list.
-    """
-    return [getattr(advance, "__self__", None) for advance in runtime._systems]
 
 
 def finite(value: float) -> float | None:

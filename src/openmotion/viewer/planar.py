@@ -18,7 +18,7 @@ from openmotion.planar.group import MC_PlanarGroup
 from openmotion.planar.mover import MC_PlanarMover
 from openmotion.planar.parts import STATOR_SIZE
 from openmotion.planar.system import PlanarSystem
-from openmotion.viewer.layers import Layer, Row, attached_systems, error_text, number
+from openmotion.viewer.layers import Layer, Row, error_text, number
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -38,7 +38,7 @@ class PlanarLayer(Layer):
         self._system = system
 
     def _groups(self) -> list[MC_PlanarGroup]:
-        return [obj for obj in self._system.objects if isinstance(obj, MC_PlanarGroup)]
+        return [obj for obj in self._system.objects() if isinstance(obj, MC_PlanarGroup)]
 
     def panel(self) -> dict[str, Any]:
         system = self._system
@@ -166,6 +166,6 @@ def _polygons(geometry: BaseGeometry) -> list[Any]:
 
 def planar_layers(runtime: Runtime) -> list[Layer]:
     """The planar layer, when the runtime has a planar system (never makes one)."""
-    return [PlanarLayer(system) for system in attached_systems(runtime)
+    return [PlanarLayer(system) for system in runtime.systems
             if isinstance(system, PlanarSystem)]
 

@@ -9,7 +9,6 @@ from openmotion.viewer.axes import axis_row
 from openmotion.viewer.layers import (
     Layer,
     Row,
-    attached_systems,
     error_text,
     finite,
     number,
@@ -55,5 +54,5 @@ class RailLayer(Layer):
 
 def rail_layers(runtime: Runtime) -> list[Layer]:
     """One layer per CA group on the runtime."""
-    return [RailLayer(system) for system in attached_systems(runtime)
+    return [RailLayer(system) for system in runtime.systems
             if isinstance(system, CaGroup)]

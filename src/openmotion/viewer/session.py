@@ -40,7 +40,7 @@ from pathlib import Path
 from typing import Any
 
 from openmotion.core.errors import ConfigError
-from openmotion.runtime.model import machine as machine_model
+from openmotion.kernel.model import machine as machine_model
 from openmotion.runtime.paced import PacedRuntime
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario import Scenario

@@ -1,4 +1,4 @@
-"""The machine model (runtime/model.py, D-226): one description of every object, its signals
+"""The machine model (kernel/model.py, D-226): one description of every object, its signals
 and its commands, declared next to each class and read by every edge."""
 
 from __future__ import annotations
@@ -13,10 +13,8 @@ import numpy as np
 import pytest
 
 import openmotion as om
-from openmotion.planar import MC_PlanarEnvironment, MC_PlanarGroup, MC_PlanarMover, Pose
-from openmotion.planar.parts import Part, PartLayout, PartPosition
-from openmotion.runtime import model
-from openmotion.runtime.model import (
+from openmotion.kernel import model
+from openmotion.kernel.model import (
     REQUIRED,
     Input,
     Kind,
@@ -26,6 +24,8 @@ from openmotion.runtime.model import (
     kind_of,
     machine,
 )
+from openmotion.planar import MC_PlanarEnvironment, MC_PlanarGroup, MC_PlanarMover, Pose
+from openmotion.planar.parts import Part, PartLayout, PartPosition
 from openmotion.trace import TraceRecorder
 from openmotion.transport import CaGroup
 from openmotion.transport.group import UDINT_TO_IDENTINGROUP

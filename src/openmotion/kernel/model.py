@@ -12,7 +12,8 @@ runtime's systems and binds the declarations to the live objects: ``MachineObjec
 ``Signal`` and ``CommandSpec`` entries.
 
 This module is the kernel's: it imports no system package (axis, plcopen, transport,
-coordinated, planar); it finds the kinds through the objects themselves.
+coordinated, planar); it finds the objects through the System contract (``runtime.systems``,
+each system's ``objects()``) and their kinds through the objects themselves.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ import numpy as np
 from openmotion.core.errors import ConfigError
 
 if TYPE_CHECKING:
-    from openmotion.runtime.runtime import Runtime
+    from openmotion.kernel.runtime import CyclicRuntime
 
 __all__ = ["REQUIRED", "UNITS", "CommandSpec", "Input", "Kind", "MachineModel",
            "MachineObject", "Signal", "SignalSpec", "compact_index", "derive_commands",
@@ -280,37 +281,26 @@ def kind_of(obj: object) -> Kind | None:
     return kind if isinstance(kind, Kind) else None
 
 
-def machine(runtime: Runtime) -> MachineModel:
-    """The model of ``runtime`` as it stands now: every object of every system."""
+def machine(runtime: CyclicRuntime) -> MachineModel:
+    """The model of ``runtime`` as it stands now: every object of every system, the systems
+    in the order they run (``runtime.systems``: the axes first)."""
     found: list[MachineObject] = []
-    for objects in _systems(runtime):
-        for obj in objects:
-            _walk(obj, found)
+    seen: set[int] = set()
+    for system in runtime.systems:
+        for obj in system.objects():
+            _walk(obj, found, seen)
     return MachineModel(tuple(found))
 
 
-def _walk(obj: Any, found: list[MachineObject], parent: str = "") -> None:
+def _walk(obj: Any, found: list[MachineObject], seen: set[int], parent: str = "") -> None:
     kind = kind_of(obj)
-    if kind is None:
-        return  # a system's helper the model does not show
+    if kind is None or id(obj) in seen:
+        return  # a system's helper the model does not show, or one listed already
+    seen.add(id(obj))
     described = kind.describe(obj, parent)
     found.append(described)
     for child in kind.children(obj):
-        _walk(child, found, described.name)
-
-
-def _systems(runtime: Runtime) -> list[list[Any]]:
-    """The objects of each system on ``runtime``, axes first, then in the order the systems
-    were added. The one place that reads the runtime's private system list, until the
-    public System contract (``Runtime.systems``) replaces it."""
-    systems: list[list[Any]] = [list(runtime.axes.values())]
-    for advance in runtime._systems:
-        system = getattr(advance, "__self__", None)
-        if kind_of(system) is not None:
-            systems.append([system])  # a group is its own system and object
-        else:
-            systems.append(list(getattr(system, "objects", ())))
-    return systems
+        _walk(child, found, seen, described.name)
 
 
 # -- commands from signatures -------------------------------------------------------------------
