@@ -21,7 +21,7 @@ from __future__ import annotations
 import difflib
 import inspect
 import re
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
 from typing import TYPE_CHECKING, Any
@@ -239,7 +239,7 @@ class MachineModel:
 
     objects: tuple[MachineObject, ...]
 
-    def __iter__(self) -> Any:
+    def __iter__(self) -> Iterator[MachineObject]:
         return iter(self.objects)
 
     def __len__(self) -> int:
