@@ -10,13 +10,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 from openmotion.axis import jobs
 from openmotion.axis.commands import Command, CommandStatus, Job
 from openmotion.axis.drive import DriveModel
 from openmotion.axis.dynamics import require_position, resolve, resolve_limits
 from openmotion.axis.homing import HomingSequence
+from openmotion.axis.kind import AXIS
 from openmotion.axis.parameters import PARAMETERS, AxisPara, AxisParameters
 from openmotion.axis.state_machine import admit
 from openmotion.axis.superposition import ROOM_FLOOR, plan_superposition, room_beside
@@ -45,6 +46,7 @@ from openmotion.trajectory.segments import KinematicState, Profile
 if TYPE_CHECKING:
     from openmotion.axis.kernel import AxisKernel
     from openmotion.axis.system import AxisSystem
+    from openmotion.kernel.model import Kind
 
 MAX_BUFFERED = 16  #: commands an axis queues behind the active one (docs/decisions.md D-008)
 _BLEND_SPEED = {
@@ -63,6 +65,8 @@ _STATE_OF_JOB = {
 
 class Axis:
     """One simulated NC axis. Units: mm (or °) and s."""
+
+    MACHINE: ClassVar[Kind] = AXIS  #: its signals and commands in the machine model
 
     def __init__(self, system: AxisSystem, name: str, row: int, parameters: AxisParameters,
                  drive: DriveModel) -> None:

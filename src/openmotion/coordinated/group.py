@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
@@ -31,6 +31,7 @@ from openmotion.coordinated.inputs import (
     enum_value,
 )
 from openmotion.coordinated.inputs import buffer_mode as part4_buffer_mode
+from openmotion.coordinated.kind import AXES_GROUP
 from openmotion.coordinated.kinematics import Kinematics
 from openmotion.coordinated.moves import PathMotion
 from openmotion.coordinated.requests import build_request
@@ -62,6 +63,7 @@ from openmotion.trajectory.segments import KinematicState, Profile
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
     from openmotion.coordinated.path_table import PathTableRun
+    from openmotion.kernel.model import Kind
     from openmotion.runtime.runtime import Runtime
 
 G = AxesGroupState
@@ -82,6 +84,8 @@ class AxesGroup:
     ``AxesGroup(rt, "xy")`` makes an empty, disabled group; add axes, enable it, move it. The
     Python methods return a ``Command``, as the axis methods do; the FBs (blocks.py) call them.
     """
+
+    MACHINE: ClassVar[Kind] = AXES_GROUP  #: its signals and commands in the machine model
 
     def __init__(self, runtime: Runtime, name: str = "group",
                  dynamics: PathDynamics | None = None) -> None:

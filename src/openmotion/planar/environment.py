@@ -8,16 +8,18 @@ commands of MC_PlanarPart (§6.6.1) and resolves the reference ids of targets (�
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 import shapely
 
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
+from openmotion.kernel.model import Kind
 from openmotion.planar.enums import ExternalSetPositionMode, PlanarObjectType, PlanarState
 from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand, PlanarObjectInfo
 from openmotion.planar.frames import Pose
 from openmotion.planar.group import planar_group
+from openmotion.planar.kind import PLANAR_ENVIRONMENT
 from openmotion.planar.motion import sample_path
 from openmotion.planar.options import CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD
 from openmotion.planar.parts import TOLERANCE, Part, PartLayout, PartPosition
@@ -76,6 +78,8 @@ class MC_PlanarEnvironment(PlanarObject):
     """The stator surface. ``layout`` switches the part feature on (§5.2): the stators are
     then the parts' in their active positions, and reference ids name parts and coordinate
     systems."""
+
+    MACHINE: ClassVar[Kind] = PLANAR_ENVIRONMENT  #: its signals and commands in the machine model
 
     def __init__(self, runtime: Runtime, layout: PartLayout | None = None,
                  name: str | None = None) -> None:

@@ -10,11 +10,13 @@ avoidance is then not in force (docs/decisions.md).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.kernel.model import Kind
 from openmotion.planar.enums import PlanarState
 from openmotion.planar.feedback import PlanarCommand
+from openmotion.planar.kind import PLANAR_GROUP
 from openmotion.planar.options import CDT_MCTOPLC_PLANAR_GROUP_STD
 from openmotion.planar.reservation import MemberId, ReservationRegistry, SweptArea
 from openmotion.planar.states import PlanarStateMachine, title
@@ -28,6 +30,8 @@ if TYPE_CHECKING:
 
 class MC_PlanarGroup(StatefulObject):
     """A planar group: Enable, Disable, Reset and the members' reserved areas."""
+
+    MACHINE: ClassVar[Kind] = PLANAR_GROUP  #: its signals and commands in the machine model
 
     def __init__(self, runtime: Runtime, name: str | None = None) -> None:
         system = PlanarSystem.of(runtime)

@@ -17,12 +17,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, TypeVar
+from typing import TYPE_CHECKING, ClassVar, TypeVar
 
 import numpy as np
 
 from openmotion.axis.axis import Axis
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
+from openmotion.kernel.model import Kind
 from openmotion.planar.enums import (
     CoordinateMode,
     ExternalSetPositionMode,
@@ -44,6 +45,7 @@ from openmotion.planar.gearing import (
     gear_in_pos_on_track_with_master_mover,
 )
 from openmotion.planar.group import MC_PlanarGroup, planar_group
+from openmotion.planar.kind import PLANAR_MOVER
 from openmotion.planar.motion import (
     PositionLimits,
     plan_axis_move,
@@ -154,6 +156,8 @@ class MC_PlanarMover(StatefulObject):
     Every command method takes ``feedback`` (None is the PLC's 0) and returns the
     ``PlanarCommand``, which a Python script may poll (``command.done``).
     """
+
+    MACHINE: ClassVar[Kind] = PLANAR_MOVER  #: its signals and commands in the machine model
 
     def __init__(self, runtime: Runtime, parameters: PlanarMoverParameters | None = None,
                  name: str | None = None) -> None:

@@ -16,7 +16,7 @@ import contextlib
 from collections.abc import Collection, Iterable, Sequence
 from dataclasses import dataclass
 from itertools import pairwise
-from typing import NamedTuple
+from typing import ClassVar, NamedTuple
 
 import shapely
 from shapely.affinity import affine_transform
@@ -25,8 +25,10 @@ from shapely.geometry.base import BaseGeometry
 
 from openmotion.core.checks import finite_number, finite_pair
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
+from openmotion.kernel.model import Kind
 from openmotion.planar.enums import PlanarState
 from openmotion.planar.frames import Pose
+from openmotion.planar.kind import PLANAR_PART
 
 STATOR_SIZE = 240.0  #: side of a square stator [mm] (§5.1)
 TOLERANCE = 1e-6  #: a point this close [mm] is on a part; a smaller overlap [mm²] is none
@@ -69,6 +71,8 @@ class Part:
     ``PartLayout.follow_movers``, by the movers of its coordinate system. Transitional states
     (Enabling, Disabling, ErrorPending, Resetting) end at the next ``update``.
     """
+
+    MACHINE: ClassVar[Kind] = PLANAR_PART  #: its signals and commands in the machine model
 
     def __init__(self, oid: int, stators: Iterable[tuple[float, float]],
                  positions: Sequence[PartPosition], position_index: int = 1) -> None:

@@ -16,7 +16,7 @@ disabled, and its geometry changes only without any (D-119).
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, ClassVar, NamedTuple
 
 import numpy as np
 
@@ -24,10 +24,12 @@ from openmotion.core.checks import non_negative_number, positive_number
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.geometry.track import TrackPath
 from openmotion.geometry.track_elements import TrackPose
+from openmotion.kernel.model import Kind
 from openmotion.planar.enums import PlanarObjectType, PlanarState, TrackOperationMode
 from openmotion.planar.feedback import MC_PlanarFeedbackBase, PlanarCommand, PlanarObjectInfo
 from openmotion.planar.frames import Pose, cos_sin
 from openmotion.planar.group import planar_group
+from openmotion.planar.kind import PLANAR_TRACK
 from openmotion.planar.network import END, START
 from openmotion.planar.options import (
     CDT_MCTOPLC_PLANAR_TRACK_STD,
@@ -55,6 +57,8 @@ class MC_PlanarTrack(StatefulObject):
     ``check_collisions_against_static_objects`` (default False, §6.2.1): in a group, the
     band the track holds while movers move on it is checked against other tracks and the
     environment too; without it only movers can block the band (§6.5)."""
+
+    MACHINE: ClassVar[Kind] = PLANAR_TRACK  #: its signals and commands in the machine model
 
     def __init__(self, runtime: Runtime, name: str | None = None, *,
                  max_mover_width: float = MAX_MOVER_SIZE,

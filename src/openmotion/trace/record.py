@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from openmotion.core.errors import ConfigError
+from openmotion.kernel.model import machine
 from openmotion.trace.signals import (
     AXIS_SIGNALS,
     MOVER_SIGNALS,
@@ -158,8 +159,9 @@ class TraceRecorder:
             raise ConfigError("chunk: only with stream (the rows per chunk written to disk)")
         named: dict[str, Any] = dict(runtime.axes)
         named.update((obj.name, obj) for obj in objects)
-        self._objects = list(named.values())
-        self._bulk, self._single = _readers(runtime, named, signals)
+        self._objects = list(named.values())  #: what the layout describes
+        self._bulk, self._single = _readers(runtime, _with_model(runtime, named, signals),
+                                            signals)
         self.columns = (TIME, *signals)
         self.every = every
         self.title = title
@@ -331,6 +333,16 @@ def _readers(runtime: Runtime, named: dict[str, Any], signals: Sequence[str]) \
         else:
             single += [(column, source.reader(obj, prop)) for column, obj in targets]
     return bulk, single
+
+
+def _with_model(runtime: Runtime, named: dict[str, Any], signals: Sequence[str]) \
+        -> dict[str, Any]:
+    """``named``, and every other object of the machine model when a signal names one
+    (a CA group, a planar track or part): a trace records any signal of the model."""
+    if all(name.partition(".")[0] in named for name in signals):
+        return named
+    found = {obj.name: obj.target for obj in reversed(machine(runtime).objects)}
+    return {**found, **named}
 
 
 def _resolve(named: dict[str, Any], name: str) -> tuple[Any, SignalSource, str]:

@@ -1,28 +1,31 @@
-"""What a trace can record: one ``SignalSource`` per kind of object, found through a registry.
+"""What a trace can record: the signals of the machine model, found through a registry.
 
-A signal is named ``<object>.<signal>``: ``x.set_position``, ``m2.gap``, ``m1.x``. The
-recorder looks the object up by name and asks the source registered for its type
-(``source_of``) for a reader; it knows no kind of object itself. The built-in sources:
+A signal is named ``<object>.<signal>``: ``x.set_position``, ``m2.gap``, ``m1.x``. Every kind
+of object declares its signals once, next to its class (``MACHINE``, kernel/model.py,
+D-226); this module derives the trace's vocabulary from those declarations and keeps no list
+of its own. The recorder looks the object up by name and asks the source registered for its
+type (``source_of``) for a reader. The built-in sources read the model:
 
-- ``AxisSignals`` for ``Axis`` (``AXIS_SIGNALS``; a CA mover is an axis and adds ``gap``,
-  ``track_position``, ``tcp_position``);
+- ``AxisSignals`` for ``Axis``: the axis's signals (``AXIS_SIGNALS``), and those of a CA
+  mover (``MOVER_SIGNALS``: ``gap``, ``track_position``, ``tcp_position``), which are named on
+  the axis and read NaN while the axis is in no CA group (D-227);
 - ``PlanarMoverSignals`` for ``MC_PlanarMover`` (``PLANAR_MOVER_SIGNALS``);
 - ``PlanarGroupSignals`` for ``MC_PlanarGroup`` (``state``);
 - ``PlanarEnvironmentSignals`` for ``MC_PlanarEnvironment`` (no signals: it only describes
   the stators and parts a planar figure draws);
-- ``AxesGroupSignals`` for a Part 4 ``AxesGroup`` (``GROUP_SIGNALS``).
+- ``AxesGroupSignals`` for a Part 4 ``AxesGroup`` (``GROUP_SIGNALS``);
+- ``ModelSignals`` of its kind for any other object of the model (a CA group, a planar track
+  or part).
 
-``register_source(kind, source)`` adds a kind of object. A source may also read all its
-objects' values of one signal in one numpy operation (``bulk``), and ``describe`` an object
-for the trace's ``layout``: what a figure needs beyond the columns (stators, footprints,
-rails, gaps). Every value is a float64; a state is its enum number.
+``register_source(kind, source)`` adds a kind of object the model does not know. A source
+may also read all its objects' values of one signal in one numpy operation (``bulk``), and
+``describe`` an object for the trace's ``layout``: what a figure needs beyond the columns
+(stators, footprints, rails, gaps). Every value is a float64; a state is its enum number.
 """
 
 from __future__ import annotations
 
-import math
 import re
-import weakref
 from collections.abc import Callable, Iterable, Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -30,40 +33,40 @@ import numpy as np
 
 from openmotion.axis.axis import Axis
 from openmotion.coordinated.group import AxesGroup
-from openmotion.core.errors import CommandRejected
+from openmotion.kernel.model import Kind, SignalSpec, compact_index, kind_of
 from openmotion.planar import MC_PlanarEnvironment, MC_PlanarGroup, MC_PlanarMover
 from openmotion.planar.stators import STATOR_SIZE
-from openmotion.planar.traffic import network_of
+from openmotion.transport.movers import Mover
 
 if TYPE_CHECKING:
     from openmotion.runtime.runtime import Runtime
 
+__all__ = ["AXIS_SIGNALS", "DEFAULT_AXIS_SIGNALS", "DEFAULT_GROUP_SIGNALS", "GROUP_SIGNALS",
+           "MOVER_SIGNALS", "PLANAR_MOVER_SIGNALS", "AxesGroupSignals", "AxisSignals",
+           "ModelSignals", "PlanarEnvironmentSignals", "PlanarGroupSignals",
+           "PlanarMoverSignals", "SignalSource", "compact_index", "default_signals", "describe",
+           "read_group_signal", "read_planar_signal", "read_signal", "register_source",
+           "source_of", "split_signal"]
+
 Reader = Callable[[], float]
 BulkReader = Callable[[], np.ndarray]
 
-#: Axis properties a trace can record, in the order ``default_signals`` lists them.
-AXIS_SIGNALS = ("set_position", "set_velocity", "set_acceleration", "set_jerk", "position",
-                "velocity", "following_error", "state", "override", "homed", "axis_error_id",
-                "gap", "track_position", "tcp_position")
-#: The signals only members of a CA group have (NaN for other axes).
-MOVER_SIGNALS = ("gap", "track_position", "tcp_position")
-#: What a scenario records when it names no signals: setpoint and actual position.
-DEFAULT_AXIS_SIGNALS = ("set_position", "set_velocity", "set_acceleration", "position")
-#: A planar mover's signals: its published set position, path velocity, PlanarState, the
-#: coordinate system its position is in (with parts), the track it is on and its arc length.
-PLANAR_MOVER_SIGNALS = ("x", "y", "z", "a", "b", "c", "velocity", "state", "coordinate_system",
-                        "track", "s")
-#: An axes group's signals (Part 4): its TCP's set position x, y, z in the MCS [mm], the path
-#: velocity and acceleration of its time law [mm/s, mm/s²] and its AxesGroupState number.
-GROUP_SIGNALS = ("x", "y", "z", "path_velocity", "path_acceleration", "state", "blocker_id")
-#: What a scenario records of each axes group when it names no signals.
-DEFAULT_GROUP_SIGNALS = ("x", "y", "z", "path_velocity")
-_WHOLE_SIGNALS = frozenset({"state", "homed", "axis_error_id"})
+_AXIS, _CA_MOVER = Axis.MACHINE, Mover.MACHINE
+_PLANAR_MOVER, _GROUP = MC_PlanarMover.MACHINE, AxesGroup.MACHINE
+#: the signals only members of a CA group have (NaN for other axes)
+MOVER_SIGNALS = _CA_MOVER.signal_names
+#: what a trace records of an axis: its own signals, then a CA mover's (D-227)
+AXIS_SIGNALS = _AXIS.signal_names + MOVER_SIGNALS
+#: what a scenario records when it names no signals: setpoint and actual position
+DEFAULT_AXIS_SIGNALS = tuple(spec.name for spec in _AXIS.signals if spec.default)
+#: a planar mover's signals (planar/kind.py)
+PLANAR_MOVER_SIGNALS = _PLANAR_MOVER.signal_names
+#: an axes group's signals (coordinated/kind.py)
+GROUP_SIGNALS = _GROUP.signal_names
+#: what a scenario records of each axes group when it names no signals
+DEFAULT_GROUP_SIGNALS = tuple(spec.name for spec in _GROUP.signals if spec.default)
 _SIGNAL = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)\.([a-z_]+)$")
-#: signals kept in the axis kernel's arrays, read for all axes at once
-_KERNEL_FIELDS = {"set_position": "set_p", "set_velocity": "set_v",
-                  "set_acceleration": "set_a", "set_jerk": "set_j", "position": "act_p",
-                  "velocity": "act_v"}
+_AXIS_SPECS = {spec.name: spec for spec in (*_AXIS.signals, *_CA_MOVER.signals)}
 
 
 def split_signal(name: str) -> tuple[str, str]:
@@ -76,37 +79,9 @@ def split_signal(name: str) -> tuple[str, str]:
 
 
 def read_signal(axis: Axis, prop: str) -> float:
-    """One signal of ``axis`` as a float: the state as its AxisState number, the override in
-    percent (0-100), homed as 0 or 1, the axis error as its ErrorId number (0: none). The
-    signals of a CA mover (transport/; NaN for an axis in no CA group):
-
-    - ``gap``: the setpoint gap [mm] to the predecessor in the group (inf: no predecessor);
-    - ``track_position``: the set position on the active track, as MC_ReadTrackPositions
-      gives it; the absolute set position without one; NaN once off an (open) track;
-    - ``tcp_position``: the TCP arc length [mm] of the set position on the path of the
-      registered mover template (MC_TransformPosition from 0 to it); NaN without one.
-    """
-    if prop in MOVER_SIGNALS:
-        group = axis.group
-        return math.nan if group is None or isinstance(group, AxesGroup) \
-            else _mover_signal(group, axis, prop)
-    value = getattr(axis, prop)
-    if prop == "override":
-        return float(value) * 100.0
-    return float(int(value)) if prop in _WHOLE_SIGNALS else float(value)
-
-
-def _mover_signal(group: Any, axis: Axis, prop: str) -> float:
-    if prop == "gap":
-        return float(group.gaps()[group.mover_of(axis).slot])
-    if prop == "track_position":
-        try:
-            return float(group.tracks.read_track_positions(axis).track_position)
-        except CommandRejected:  # NOT_ON_TRACK: the mover left its open track
-            return math.nan
-    geo = group.tracks.geo
-    template = geo.registered(axis)
-    return math.nan if template is None else geo.to_tcp(template, axis.set_position)
+    """One signal of ``axis`` as a float, as the model declares it (axis/kind.py; a CA
+    mover's signals: transport/kind.py, NaN for an axis in no CA group)."""
+    return _AXIS_SPECS[prop].read(axis)
 
 
 def default_signals(axis_names: Iterable[str]) -> list[str]:
@@ -114,69 +89,13 @@ def default_signals(axis_names: Iterable[str]) -> list[str]:
 
 
 def read_planar_signal(mover: MC_PlanarMover, prop: str) -> float:
-    """One signal of a planar mover: x, y, z [mm], a, b, c [°] (its published set position),
-    ``velocity`` (path velocity |(vx, vy)| [mm/s]), ``state`` (the PlanarState number),
-    ``coordinate_system`` (the OID of the coordinate system x, y, c are in; 0 without parts:
-    PhysicalAreaID), ``track`` (the number of the track it is coupled to: 1 for the first
-    track made on the runtime, 2 for the next ...; 0 on none) and ``s`` (its set arc length
-    on that track [mm]; NaN on none)."""
-    if prop == "state":
-        return float(mover.state)
-    if prop in ("track", "s"):
-        return _track_signal(mover, prop)
-    if prop == "velocity":
-        velocity = mover.mc_to_plc.set.set_velo
-        return math.hypot(velocity.x, velocity.y)
-    if prop == "coordinate_system":
-        return float(mover.mc_to_plc.set.physical_area_id)
-    return float(getattr(mover.position, prop))
-
-
-def _track_signal(mover: MC_PlanarMover, prop: str) -> float:
-    on_track = mover.mc_to_plc.set_on_track
-    if not on_track.track_oid:
-        return 0.0 if prop == "track" else math.nan
-    if prop == "s":
-        return float(on_track.set_pos)
-    tracks = network_of(mover._system).tracks  # creation order, as the numbers count
-    return float(next(k for k, track in enumerate(tracks, start=1)
-                      if track.oid == on_track.track_oid))
+    """One signal of a planar mover, as the model declares it (planar/kind.py)."""
+    return _PLANAR_MOVER.signal(prop).read(mover)
 
 
 def read_group_signal(group: AxesGroup, prop: str) -> float:
-    """One signal of an axes group: ``x``, ``y``, ``z`` (the TCP's set position in the MCS;
-    0 for a coordinate its kinematics lacks, NaN without members), ``path_velocity`` and
-    ``path_acceleration`` (of its time law, along the path in the frame the path runs in:
-    0 while the TCP only rides on a moving PCS), ``state`` (the AxesGroupState number),
-    ``blocker_id`` (MC_GroupReadBlockerStatus: the blocker the path stands at, 0: none)."""
-    if prop == "state":
-        return float(group.state)
-    if prop == "blocker_id":
-        return float(group.blocker_status()[1])
-    if prop in ("path_velocity", "path_acceleration"):
-        return float(getattr(group.motion, prop))
-    if not group.members:
-        return math.nan
-    return float(_tcp(group)["xyz".index(prop)])
-
-
-#: group -> (set positions, kinematics, MCS offset, TCP) of its last TCP reading
-_TCP_CACHE: weakref.WeakKeyDictionary[AxesGroup, tuple[bytes, Any, bytes, np.ndarray]] = \
-    weakref.WeakKeyDictionary()
-
-
-def _tcp(group: AxesGroup) -> np.ndarray:
-    """The TCP's set position in the MCS; x, y and z read in one sample share one forward
-    transform (the cache is keyed by all it depends on)."""
-    spaces = group.spaces
-    acs = group.acs_set()
-    acs_key, offset_key = acs.tobytes(), spaces.mcs_offset.tobytes()
-    cached = _TCP_CACHE.get(group)
-    if cached is None or cached[0] != acs_key or cached[1] is not spaces.kinematics \
-            or cached[2] != offset_key:
-        cached = acs_key, spaces.kinematics, offset_key, spaces.xyz(spaces.to_mcs(acs))
-        _TCP_CACHE[group] = cached
-    return cached[3]
+    """One signal of an axes group, as the model declares it (coordinated/kind.py)."""
+    return _GROUP.signal(prop).read(group)
 
 
 # -- the registry ------------------------------------------------------------------------------
@@ -207,25 +126,35 @@ class SignalSource:
         return {}
 
 
-class AxisSignals(SignalSource):
-    """An axis (and a CA mover: an axis in a CA group)."""
+class ModelSignals(SignalSource):
+    """The signals one or more kinds of the machine model declare: their readers and bulk
+    readers are the model's (kernel/model.py)."""
 
-    kind = "axis"
-    signals = AXIS_SIGNALS
+    def __init__(self, *kinds: Kind) -> None:
+        self.kind = kinds[0].name
+        self._specs: dict[str, SignalSpec] = {
+            spec.name: spec for kind in kinds for spec in kind.signals}
+        self.signals = tuple(self._specs)
 
-    def read(self, obj: Axis, prop: str) -> float:
-        return read_signal(obj, prop)
+    def read(self, obj: Any, prop: str) -> float:
+        return self._specs[prop].read(obj)
 
-    def bulk(self, runtime: Runtime, objects: Sequence[Axis], prop: str) -> BulkReader | None:
-        """The kernel's arrays hold the kinematic signals of every axis: one gather each."""
-        kernel = runtime.axis_system.kernel  # the observer phase reads it, as the cycle does
-        rows = compact_index([axis.row for axis in objects])
-        if prop == "following_error":
-            return lambda: kernel.set_p[rows] - kernel.act_p[rows]
-        field = _KERNEL_FIELDS.get(prop)
-        if field is None:
-            return None
-        return lambda: getattr(kernel, field)[rows]  # arrays are replaced when they grow
+    def reader(self, obj: Any, prop: str) -> Reader:
+        read = self._specs[prop].read
+        return lambda: read(obj)
+
+    def bulk(self, runtime: Runtime, objects: Sequence[Any], prop: str) -> BulkReader | None:
+        """The model's bulk reader (the kernel's arrays hold the kinematic signals of every
+        axis: one gather each), or None."""
+        bulk = self._specs[prop].bulk
+        return None if bulk is None else bulk(objects)
+
+
+class AxisSignals(ModelSignals):
+    """An axis (and a CA mover: an axis in a CA group, D-227)."""
+
+    def __init__(self) -> None:
+        super().__init__(_AXIS, _CA_MOVER)
 
     def describe(self, obj: Axis) -> dict[str, Any]:
         group: Any = obj.group
@@ -239,12 +168,9 @@ class AxisSignals(SignalSource):
             "movers": list(group.order)}}}
 
 
-class PlanarMoverSignals(SignalSource):
-    kind = "planar_mover"
-    signals = PLANAR_MOVER_SIGNALS
-
-    def read(self, obj: MC_PlanarMover, prop: str) -> float:
-        return read_planar_signal(obj, prop)
+class PlanarMoverSignals(ModelSignals):
+    def __init__(self) -> None:
+        super().__init__(_PLANAR_MOVER)
 
     def describe(self, obj: MC_PlanarMover) -> dict[str, Any]:
         parameters = obj.parameters
@@ -252,20 +178,18 @@ class PlanarMoverSignals(SignalSource):
                                                  "height": float(parameters.mover_height)}}}}
 
 
-class PlanarGroupSignals(SignalSource):
-    kind = "planar_group"
-    signals = ("state",)
-
-    def read(self, obj: MC_PlanarGroup, prop: str) -> float:
-        return float(obj.state)
+class PlanarGroupSignals(ModelSignals):
+    def __init__(self) -> None:
+        super().__init__(MC_PlanarGroup.MACHINE)
 
 
-class PlanarEnvironmentSignals(SignalSource):
+class PlanarEnvironmentSignals(ModelSignals):
     """No signals: the stators (their lower-left corners) and, with parts, the coordinate
     systems and the outline of every part in each of its positions (``active``: the one it
     is in)."""
 
-    kind = "planar_environment"
+    def __init__(self) -> None:
+        super().__init__(MC_PlanarEnvironment.MACHINE)
 
     def describe(self, obj: MC_PlanarEnvironment) -> dict[str, Any]:
         planar: dict[str, Any] = {
@@ -283,15 +207,12 @@ class PlanarEnvironmentSignals(SignalSource):
         return {"planar": planar}
 
 
-class AxesGroupSignals(SignalSource):
+class AxesGroupSignals(ModelSignals):
     """A Part 4 axes group: its members (IdentInGroup order) and MCS coordinates describe it
     for the path figure."""
 
-    kind = "axes_group"
-    signals = GROUP_SIGNALS
-
-    def read(self, obj: AxesGroup, prop: str) -> float:
-        return read_group_signal(obj, prop)
+    def __init__(self) -> None:
+        super().__init__(_GROUP)
 
     def describe(self, obj: AxesGroup) -> dict[str, Any]:
         return {"axes_groups": {obj.name: {
@@ -308,12 +229,22 @@ def register_source(kind: type, source: SignalSource) -> None:
 
 
 def source_of(obj: object) -> SignalSource | None:
-    """The source registered for the type of ``obj`` or its nearest base class."""
+    """The source registered for the type of ``obj`` or its nearest base class; else the
+    signals its kind declares in the machine model; else None."""
     for kind in type(obj).__mro__:
         source = _SOURCES.get(kind)
         if source is not None:
             return source
-    return None
+    declared = kind_of(obj)
+    if declared is None:
+        return None
+    source = _MODEL_SOURCES.get(declared.name)
+    if source is None:
+        source = _MODEL_SOURCES[declared.name] = ModelSignals(declared)
+    return source
+
+
+_MODEL_SOURCES: dict[str, ModelSignals] = {}  #: by kind name, for kinds without a source
 
 
 def describe(objects: Iterable[object]) -> dict[str, Any]:
@@ -326,13 +257,6 @@ def describe(objects: Iterable[object]) -> dict[str, Any]:
             layout["objects"][getattr(obj, "name", "")] = source.kind
             _merge(layout, source.describe(obj))
     return layout
-
-
-def compact_index(positions: list[int]) -> slice | np.ndarray:
-    """A slice for consecutive positions (a view, no gather), else an index array."""
-    if positions and positions == list(range(positions[0], positions[0] + len(positions))):
-        return slice(positions[0], positions[0] + len(positions))
-    return np.array(positions, dtype=np.intp)
 
 
 def _merge(into: dict[str, Any], more: dict[str, Any]) -> None:

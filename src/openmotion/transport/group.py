@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
@@ -40,6 +40,7 @@ from openmotion.transport.enums import (
 from openmotion.transport.faults import GroupFaults
 from openmotion.transport.gear import GearSync
 from openmotion.transport.inputs import ca_gap, ca_limits, ca_value, halt_limits
+from openmotion.transport.kind import CA_GROUP
 from openmotion.transport.movers import (
     FOLLOW,
     GEAR,
@@ -64,10 +65,13 @@ __all__ = ["UDINT_TO_IDENTINGROUP", "CaGroup", "CaJob", "GroupInterface", "Ident
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
+    from openmotion.kernel.model import Kind
     from openmotion.runtime.runtime import Runtime
 
 class CaGroup(GroupCycle, GroupFaults):
     """A CA group on a rail; create with ``CaGroup(runtime, "ca", rail_length=...)``."""
+
+    MACHINE: ClassVar[Kind] = CA_GROUP  #: its signals and commands in the machine model
 
     def __init__(self, runtime: Runtime, name: str = "ca",
                  parameters: CaGroupParameters | None = None, **overrides: Any) -> None:

@@ -5,15 +5,17 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from openmotion.axis.commands import Command
 from openmotion.core.enums import BufferMode, convert_enum
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import InputValue
+from openmotion.kernel.model import Kind
 from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 from openmotion.transport.enums import GapControlMode, GroupState, GroupType
+from openmotion.transport.kind import CA_MOVER
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
@@ -79,6 +81,8 @@ class FaultBrake:
 class Mover:
     """A member of the group: its axis, identity and commands."""
 
+    MACHINE: ClassVar[Kind] = CA_MOVER  #: its signals in the machine model
+
     axis: Axis
     ident: IdentInGroup
     added: int  #: insertion serial (ties in the CA order: the last added is first)
@@ -87,6 +91,11 @@ class Mover:
     gap: float = 0.0  #: the last valid gap (§9.1.2.5: kept after a None command)
     slot: int = -1  #: index in the group's arrays (CA order)
     brake: FaultBrake | None = None  #: running brake after a fault, until the mover rests
+
+    @property
+    def name(self) -> str:
+        """The name of the axis it is."""
+        return self.axis.name
 
 
 def hold(position: float) -> Profile:

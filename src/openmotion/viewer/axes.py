@@ -4,15 +4,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from openmotion.viewer.layers import Layer, Reader, Row, error_text, finite, number
+from openmotion.viewer.layers import Layer, Row, error_text, finite, number
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
     from openmotion.runtime.runtime import Runtime
-
-#: the axis properties the scope offers, for every axis (CA movers too)
-AXIS_SIGNALS = ("set_position", "position", "set_velocity", "velocity", "set_acceleration",
-                "following_error")
 
 
 class AxesLayer(Layer):
@@ -33,10 +29,6 @@ class AxesLayer(Layer):
     def rows(self) -> list[Row]:
         return [axis_row(axis, "axis") for axis in self._free()]
 
-    def signals(self) -> dict[str, Reader]:
-        return {f"{name}.{prop}": _reader(axis, prop)
-                for name, axis in self._rt.axes.items() for prop in AXIS_SIGNALS}
-
 
 def _bar(axis: Axis) -> dict[str, Any]:
     parameters = axis.parameters
@@ -54,13 +46,6 @@ def axis_row(axis: Axis, kind: str, detail: str = "") -> Row:
                number(axis.set_velocity), command.kind if command is not None else "",
                detail or f"lag {number(axis.following_error, 4)}",
                error_text(axis.axis_error_id, axis.axis_error_message))
-
-
-def _reader(axis: Axis, prop: str) -> Reader:
-    def read() -> float:
-        return float(getattr(axis, prop))
-
-    return read
 
 
 def axes_layers(runtime: Runtime) -> list[Layer]:

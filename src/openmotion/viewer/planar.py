@@ -18,14 +18,13 @@ from openmotion.planar.group import MC_PlanarGroup
 from openmotion.planar.mover import MC_PlanarMover
 from openmotion.planar.parts import STATOR_SIZE
 from openmotion.planar.system import PlanarSystem
-from openmotion.viewer.layers import Layer, Reader, Row, error_text, number
+from openmotion.viewer.layers import Layer, Row, error_text, number
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
     from openmotion.runtime.runtime import Runtime
 
-MOVER_SIGNALS = ("x", "y", "z", "c", "velocity")  #: what the scope offers per mover
 DIGITS = 1  #: decimals of the coordinates sent to the page [mm]
 
 
@@ -85,10 +84,6 @@ class PlanarLayer(Layer):
                      error=error_text(track.error_id, "")) for track in self._tracks()]
         return rows + [_mover_row(mover) for mover in self._system.movers]
 
-    def signals(self) -> dict[str, Reader]:
-        return {f"{mover.name}.{prop}": _reader(mover, prop)
-                for mover in self._system.movers for prop in MOVER_SIGNALS}
-
 
 TRACK_STEP = 10.0  #: [mm] between the points of a drawn track
 
@@ -147,12 +142,6 @@ def _mover_row(mover: MC_PlanarMover) -> Row:
 def _speed(mover: MC_PlanarMover) -> float:
     velocity = mover.mc_to_plc.set.set_velo
     return math.hypot(velocity.x, velocity.y)
-
-
-def _reader(mover: MC_PlanarMover, prop: str) -> Reader:
-    if prop == "velocity":
-        return lambda: _speed(mover)
-    return lambda: float(getattr(mover.position, prop))
 
 
 def rings(geometry: BaseGeometry) -> list[list[list[float]]]:

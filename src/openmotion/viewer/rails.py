@@ -8,7 +8,6 @@ from openmotion.transport.group import CaGroup
 from openmotion.viewer.axes import axis_row
 from openmotion.viewer.layers import (
     Layer,
-    Reader,
     Row,
     error_text,
     finite,
@@ -16,7 +15,6 @@ from openmotion.viewer.layers import (
 )
 
 if TYPE_CHECKING:
-    from openmotion.axis.axis import Axis
     from openmotion.runtime.runtime import Runtime
 
 
@@ -52,18 +50,6 @@ class RailLayer(Layer):
             detail = f"gap {number(gap, 1)}" + (f", track {track.track_id}" if track else "")
             rows.append(axis_row(mover.axis, "CA mover", detail))
         return rows
-
-    def signals(self) -> dict[str, Reader]:
-        return {f"{mover.axis.name}.gap": self._gap_reader(mover.axis)
-                for mover in self._group.movers}
-
-    def _gap_reader(self, axis: Axis) -> Reader:
-        group = self._group
-
-        def gap() -> float:
-            return float(group.gaps()[group.mover_of(axis).slot])
-
-        return gap
 
 
 def rail_layers(runtime: Runtime) -> list[Layer]:

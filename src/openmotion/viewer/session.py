@@ -40,10 +40,20 @@ from pathlib import Path
 from typing import Any
 
 from openmotion.core.errors import ConfigError
+from openmotion.kernel.model import machine as machine_model
 from openmotion.runtime.paced import PacedRuntime
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario import Scenario
-from openmotion.viewer.layers import Layer, LayerFactory, Reader, finite, registered_layers
+from openmotion.viewer.layers import (
+    Layer,
+    LayerFactory,
+    Reader,
+    finite,
+    first_scope,
+    model_rows,
+    registered_layers,
+    scope_signals,
+)
 from openmotion.viewer.machine import Machine, scenario_machine
 
 FRAME_RATE = 25.0  #: frames per second of wall time, the most a session sends
@@ -393,7 +403,9 @@ class Session:
         self.machine = machine
         self._layers: list[Layer] = [layer for factory in self._factories
                                      for layer in factory(rt)]
-        self._signals: dict[str, Reader] = {}
+        self._model = machine_model(rt)  #: the objects the table lists, as they were at the start
+        scope = scope_signals(self._model)
+        self._signals: dict[str, Reader] = {name: signal.read for name, signal in scope.items()}
         for layer in self._layers:
             self._signals.update(layer.signals())
         self.finished, self.behind, self.failure = False, False, ""
@@ -407,7 +419,7 @@ class Session:
             "cycle_time": rt.cycle_time, "frame_rate": self.frame_rate,
             "restart": self.restartable, "signals": list(self._signals)})
         chosen = [name for name in machine.signals if name in self._signals]
-        self._select(chosen or list(self._signals)[:2])
+        self._select(chosen or first_scope(scope) or list(self._signals)[:2])
 
     def _select(self, names: list[str]) -> None:
         names = [name for name in dict.fromkeys(names) if name in self._signals]
@@ -430,7 +442,9 @@ class Session:
     def _publish(self, now: float) -> None:
         rate = self._reached(now)
         self.behind = self._running() and now - self._slipped < SLOW_HOLD
-        rows = [asdict(row) for layer in self._layers for row in layer.rows()]
+        shown = [row for layer in self._layers for row in layer.rows()]
+        shown += model_rows(self._model, (row.name for row in shown))
+        rows = [asdict(row) for row in shown]
         data = {**self._status(rate),
                 "panels": [{"kind": layer.kind, "name": layer.name, **layer.panel()}
                            for layer in self._layers],
