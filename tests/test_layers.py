@@ -1,9 +1,7 @@
 """The layers of docs/architecture.md hold: imports point inward, systems never import each
 other, and no two packages import each other (directly or round a ring).
 
-Imports under ``if TYPE_CHECKING:`` are annotations only and do not count. The crossings
-the restructuring has not removed yet are listed in ``KNOWN_CROSSINGS``; the test fails on
-a new one and on a listed one that is gone, so the list only shrinks.
+Imports under ``if TYPE_CHECKING:`` are annotations only and do not count.
 """
 
 from __future__ import annotations
@@ -17,17 +15,16 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "openmotion"
 #: inner layers first; a package may import its own layer and the layers before it
 LAYERS: tuple[frozenset[str], ...] = (
     frozenset({"core", "trajectory", "geometry"}),  # the maths
-    frozenset({"kernel"}),  # cyclic runtime, System contract
+    frozenset({"kernel"}),  # cyclic runtime, System contract, machine model, handshake
+    frozenset({"rail"}),  # the 1-D multi-mover engine of CA rails and planar tracks
     frozenset({"axis"}),  # the single-axis engine every axis-based system builds on
     frozenset({"runtime"}),  # the runtime users make: the kernel with its axes
     frozenset({"plcopen", "transport", "coordinated", "planar"}),  # the systems
     frozenset({"trace", "scenario", "viewer", "bench", "examples", "testing", "warm", "cli",
                "__main__", "__init__"}),  # the edges
 )
-SYSTEMS = LAYERS[4]
-#: system -> system imports still to be moved out (issue 21 item 4: the shared 1-D
-#: multi-mover engine and the group-block bases go where every system may use them)
-KNOWN_CROSSINGS = frozenset({("coordinated", "transport"), ("planar", "transport")})
+SYSTEMS = LAYERS[5]
+
 
 
 def _annotation_nodes(tree: ast.Module) -> set[int]:
@@ -102,12 +99,10 @@ def test_every_package_imports_inward_only():
     assert outward(package_imports()) == []
 
 
-def test_systems_never_import_each_other_beyond_the_known_crossings():
-    crossings = {(package, target) for package, targets in package_imports().items()
-                 for target in targets if package in SYSTEMS and target in SYSTEMS}
-    assert not crossings - KNOWN_CROSSINGS, f"new crossings: {sorted(crossings - KNOWN_CROSSINGS)}"
-    assert not KNOWN_CROSSINGS - crossings, \
-        f"gone, remove from KNOWN_CROSSINGS: {sorted(KNOWN_CROSSINGS - crossings)}"
+def test_systems_never_import_each_other():
+    crossings = sorted((package, target) for package, targets in package_imports().items()
+                       for target in targets if package in SYSTEMS and target in SYSTEMS)
+    assert crossings == []
 
 
 def test_the_kernel_knows_no_system():

@@ -91,7 +91,7 @@ def test_importing_the_package_compiles_nothing() -> None:
             def on_end(self, ev): pass
         event.register("numba:compile", Listener())
         import openmotion, openmotion.planar, openmotion.scenario, openmotion.coordinated
-        import openmotion.transport.kernels, openmotion.planar.traffic
+        import openmotion.rail.kernels, openmotion.planar.traffic
         print(len(compiled), compiled[:5])
     """)
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

@@ -29,8 +29,8 @@ from openmotion.planar import (
     ST_GearInPosOnTrackOptions,
     ST_GearInPosOnTrackWithMasterMoverOptions,
 )
+from openmotion.rail.gear import GearSync
 from openmotion.testing import enabled_line, enabled_loop, enabled_movers, join_all
-from openmotion.transport.gear import GearSync
 
 
 def _mover(rt: om.Runtime, x: float = 0.0, y: float = 0.0) -> MC_PlanarMover:

@@ -22,8 +22,8 @@ from openmotion.planar.traffic_kernels import (
     stretch_samples,
     touching,
 )
-from openmotion.transport.braking import brake_envelope
-from openmotion.transport.gap_control import Pairs, filter_steps
+from openmotion.rail.braking import brake_envelope
+from openmotion.rail.gap_control import Pairs, filter_steps
 
 p = PositionXYC
 

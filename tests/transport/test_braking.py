@@ -1,4 +1,4 @@
-"""The brake of gap control (transport/braking.py, compiled in kernels.py) against the
+"""The brake of gap control (rail/braking.py, compiled in kernels.py) against the
 planner's own stop (trajectory.plan.plan_stop): the same states at every instant, and an
 envelope that holds every position the brake passes, turning states included."""
 
@@ -10,9 +10,9 @@ import numpy as np
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from openmotion.rail.braking import brake_envelope, brake_state
 from openmotion.trajectory.plan import plan_stop
 from openmotion.trajectory.segments import KinematicState
-from openmotion.transport.braking import brake_envelope, brake_state
 
 states = st.tuples(
     st.floats(-1000.0, 1000.0),  # p

@@ -12,8 +12,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from openmotion.transport.braking import brake_phases
-from openmotion.transport.gap_control import TOLERANCE, Pairs, _safe, min_brake_gap
+from openmotion.rail.braking import brake_phases
+from openmotion.rail.gap_control import TOLERANCE, Pairs, _safe, min_brake_gap
 
 
 def _boundaries(p: np.ndarray, v: np.ndarray, a: np.ndarray, durations: np.ndarray,

@@ -42,8 +42,10 @@ from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import MC_DEFAULT
 from openmotion.geometry.path import CircMode, PathChoice
-from openmotion.transport import blocks as ca_blocks
-from openmotion.transport.blocks import (
+from openmotion.kernel import group_blocks
+from openmotion.kernel.group_blocks import (
+    GroupCommand,
+    GroupRead,
     MC_AddAxisToGroup,
     MC_GroupDisable,
     MC_GroupEnable,
@@ -52,8 +54,6 @@ from openmotion.transport.blocks import (
     MC_GroupReset,
     MC_RemoveAxisFromGroup,
     MC_UngroupAllAxes,
-    _GroupCommand,
-    _GroupRead,
 )
 
 __all__ = [
@@ -93,7 +93,7 @@ def _group(reference: Any) -> AxesGroup:
 # -- motion (§5.20-§5.27) --------------------------------------------------------------------------
 
 
-class _Move(_GroupCommand):
+class _Move(GroupCommand):
     INPUTS: ClassVar[dict[str, Any]] = {**_DYNAMICS, "coord_system": CoordSystem.MCS,
                                         **_BLENDING}
 
@@ -163,7 +163,7 @@ class MC_MoveDirectRelative(_Move):
         return _group(group).move_direct_relative(self.distance, **self._common())
 
 
-class MC_PathSelect(_GroupCommand):
+class MC_PathSelect(GroupCommand):
     """Prepare ``path_description`` (§5.26): a list of elements (see coordinated/paths.py)
     becomes ``path_data`` for MC_MovePath; Done at once. ``transition_mode`` and
     ``transition_parameter`` (ours) round the corners inside the path; an element may set
@@ -209,7 +209,7 @@ class MC_MovePath(_Move):
 # -- administration and stopping (§5.4, §5.7, §5.9, §5.15, §5.16, §5.28) ----------------------
 
 
-class MC_GroupHome(_GroupCommand):
+class MC_GroupHome(GroupCommand):
     """Home every member (§5.7); ``position``: where the group is after homing, in
     ``coord_system`` (ACS: one value per axis; MCS, PCS: per coordinate, taken back to the
     axes through the transforms in force), or None for the configured ones.
@@ -242,7 +242,7 @@ class _BufferedBrake:
         return super()._issue(group)  # type: ignore[misc]
 
 
-class MC_GroupStop(_BufferedBrake, ca_blocks.MC_GroupStop):
+class MC_GroupStop(_BufferedBrake, group_blocks.MC_GroupStop):
     """MC_GroupStop (§5.13) with ``buffer_mode``: Aborting stops at once; Buffered (the
     Blending modes act as Buffered) waits, Busy and not Active, until the motion before
     it is over, then stops the group at rest (decisions D-194). As the CA group's
@@ -251,14 +251,14 @@ class MC_GroupStop(_BufferedBrake, ca_blocks.MC_GroupStop):
     method = "stop"
 
 
-class MC_GroupHalt(_BufferedBrake, ca_blocks.MC_GroupHalt):
+class MC_GroupHalt(_BufferedBrake, group_blocks.MC_GroupHalt):
     """MC_GroupHalt (§5.14) with ``buffer_mode``: Buffered (the Blending modes act as
     Buffered) waits until the motion before it is over and is Done then (D-194)."""
 
     method = "halt"
 
 
-class MC_GroupSetPosition(_GroupCommand):
+class MC_GroupSetPosition(GroupCommand):
     """New coordinates without motion (§5.9); ``relative`` adds them. ``buffer_mode`` as
     MC_GroupHome: Aborting needs GroupStandby, the others wait for the motion before."""
 
@@ -271,7 +271,7 @@ class MC_GroupSetPosition(_GroupCommand):
                                           self.buffer_mode)
 
 
-class MC_GroupInterrupt(_GroupCommand):
+class MC_GroupInterrupt(GroupCommand):
     """Brake along the path and keep the rest (§5.15); Done at standstill."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"deceleration": MC_DEFAULT, "jerk": MC_DEFAULT}
@@ -280,14 +280,14 @@ class MC_GroupInterrupt(_GroupCommand):
         return _group(group).interrupt(self.deceleration, self.jerk)
 
 
-class MC_GroupContinue(_GroupCommand):
+class MC_GroupContinue(GroupCommand):
     """Resume an interrupted path (§5.16). Error: NOTHING_TO_DO without an interrupt."""
 
     def _issue(self, group: Any) -> Command:  # type: ignore[override]
         return _group(group).continue_()
 
 
-class MC_GroupSetOverride(_GroupRead):
+class MC_GroupSetOverride(GroupRead):
     """Factors on the path dynamics while ``enable`` (§5.28); ``enabled`` once applied. The
     last factors stay in force after ``enable`` falls (rule 94)."""
 
@@ -306,7 +306,7 @@ class MC_GroupSetOverride(_GroupRead):
         self.enabled = True
 
 
-class MC_GroupReadActualPosition(_GroupRead):
+class MC_GroupReadActualPosition(GroupRead):
     """``position`` in ``coord_system`` (§5.10): per member (ACS) or per coordinate."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"coord_system": CoordSystem.ACS}
@@ -320,7 +320,7 @@ class MC_GroupReadActualPosition(_GroupRead):
         self.position = _group(group).position(coord)
 
 
-class MC_GroupReadActualVelocity(_GroupRead):
+class MC_GroupReadActualVelocity(GroupRead):
     """``velocity`` in ``coord_system`` and ``path_velocity``, the TCP speed (§5.11)."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"coord_system": CoordSystem.ACS}
@@ -335,7 +335,7 @@ class MC_GroupReadActualVelocity(_GroupRead):
         self.velocity, self.path_velocity = _group(group).velocity(coord)
 
 
-class MC_GroupReadActualAcceleration(_GroupRead):
+class MC_GroupReadActualAcceleration(GroupRead):
     """``acceleration`` and ``path_acceleration`` (§5.12; positive while speeding up)."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"coord_system": CoordSystem.ACS}
@@ -350,7 +350,7 @@ class MC_GroupReadActualAcceleration(_GroupRead):
         self.acceleration, self.path_acceleration = _group(group).acceleration(coord)
 
 
-class MC_GroupReadConfiguration(_GroupRead):
+class MC_GroupReadConfiguration(GroupRead):
     """The member with ``ident_in_group`` (ACS), or a view of MCS/PCS coordinate
     ``ident_in_group`` (1-based) whose ``position`` is the TCP's (§5.4, rule 35)."""
 
@@ -392,7 +392,7 @@ class CoordinateView:
 # -- coordinate systems (§5.8) ------------------------------------------------------------------
 
 
-class MC_SetKinTransform(_GroupCommand):
+class MC_SetKinTransform(GroupCommand):
     """Set the ACS <-> MCS model (§5.8.1): ``kin_transform`` is a ``Kinematics``."""
 
     INPUTS: ClassVar[dict[str, Any]] = {"kin_transform": None,
@@ -402,7 +402,7 @@ class MC_SetKinTransform(_GroupCommand):
         return _group(group).set_kinematics(self.kin_transform, self.execution_mode)
 
 
-class MC_ReadKinTransform(_GroupRead):
+class MC_ReadKinTransform(GroupRead):
     """``kin_transform``: the model in force (§5.8.4)."""
 
     def _reset_outputs(self) -> None:
@@ -413,7 +413,7 @@ class MC_ReadKinTransform(_GroupRead):
         self.kin_transform = _group(group).kinematics
 
 
-class MC_SetCartesianTransform(_GroupCommand):
+class MC_SetCartesianTransform(GroupCommand):
     """One more Cartesian transform of the PCS (§5.8.2): translation [mm], then rotations
     [°] about z, y, x (frames.py), composed with those active (given in the frame they set
     up); all zeros de-select the PCS. Ends a tracking FB on the PCS."""
@@ -431,7 +431,7 @@ class MC_SetCartesianTransform(_GroupCommand):
         return _group(group).set_cartesian_transform(frame, self.execution_mode)
 
 
-class MC_ReadCartesianTransform(_GroupRead):
+class MC_ReadCartesianTransform(GroupRead):
     """The PCS placement in force as trans_x ... rot_z (§5.8.5)."""
 
     def _reset_outputs(self) -> None:
@@ -446,7 +446,7 @@ class MC_ReadCartesianTransform(_GroupRead):
          self.rot_x, self.rot_y, self.rot_z) = values
 
 
-class MC_SetCoordinateTransform(_GroupCommand):
+class MC_SetCoordinateTransform(GroupCommand):
     """Place the PCS in the MCS (§5.8.3), replacing the transforms active before:
     ``coord_transform`` is a ``Frame`` or six values (trans_x, trans_y, trans_z, rot_x,
     rot_y, rot_z)."""
@@ -459,7 +459,7 @@ class MC_SetCoordinateTransform(_GroupCommand):
                                                       self.execution_mode)
 
 
-class MC_ReadCoordinateTransform(_GroupRead):
+class MC_ReadCoordinateTransform(GroupRead):
     """``coord_transform``: the PCS placement in force, a ``Frame`` (§5.8.6)."""
 
     def _reset_outputs(self) -> None:
@@ -485,7 +485,7 @@ def _frame(value: Any) -> Frame:
 # -- synchronisation and tracking (§6) -----------------------------------------------------------
 
 
-class _Tracking(_GroupCommand):
+class _Tracking(GroupCommand):
     """A block that sets a moving PCS (§6.5-§6.7): Done once the transformation is set (at
     once), with Busy FALSE (§3.3: Busy falls with Done); Active while the frame is computed
     every cycle, whatever Execute does; CommandAborted when another transform replaces it
@@ -570,7 +570,7 @@ class MC_SetDynCoordTransform(_Tracking):
             self.coord_system, self.buffer_mode)
 
 
-class MC_SyncAxisToGroup(_GroupCommand):
+class MC_SyncAxisToGroup(GroupCommand):
     """``slave`` (an axis outside the group) counts the group's path length (§6.3): it ramps
     in to ratio_numerator / ratio_denominator x the path speed in ``coord_system`` with
     ``acceleration``, ``deceleration`` and ``jerk`` (MC_DEFAULT: the slave's defaults), then
@@ -602,7 +602,7 @@ class MC_SyncAxisToGroup(_GroupCommand):
         self.in_sync = False
 
 
-class MC_SyncGroupToAxis(_GroupCommand):
+class MC_SyncGroupToAxis(GroupCommand):
     """The group's arc length along ``path_data`` (MC_PathSelect) follows ``master`` like a
     cam (§6.4): s = tuc_numerator / tuc_denominator x (master - master when it couples).
     ``buffer_mode`` Aborting takes over a moving group (it brakes along its path, then

@@ -24,10 +24,10 @@ from enum import IntEnum
 from typing import TYPE_CHECKING
 
 from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.rail.enums import SyncStrategy
+from openmotion.rail.gear import GearSync
 from openmotion.trajectory.plan import Limits, plan_position, plan_stop
 from openmotion.trajectory.segments import KinematicState, Profile
-from openmotion.transport.enums import SyncStrategy
-from openmotion.transport.gear import GearSync
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis

@@ -50,8 +50,8 @@ from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE, MC_INVALID, MC_MAXIMUM
 from openmotion.geometry.path import Arc, CircMode, PathChoice
+from openmotion.kernel.group_blocks import GroupCommand, GroupRead
 from openmotion.kernel.handshake import FunctionBlock
-from openmotion.transport.blocks import _GroupCommand, _GroupRead
 
 if TYPE_CHECKING:
     from openmotion.coordinated.group import AxesGroup
@@ -686,7 +686,7 @@ def check_rows(group: AxesGroup, rows: tuple[Row, ...]) -> None:
 # -- the blocks on the group ---------------------------------------------------------------------
 
 
-class MC_ReleaseBlocker(_GroupCommand):
+class MC_ReleaseBlocker(GroupCommand):
     """Release blocker ``blocker_id`` (§9.3.1.2.7): the one the path stands at, or the next
     one ahead (then the path passes it, blending where it still can). Done in the call.
     Errors: INVALID_BLOCKER_ID, UNKNOWN_BLOCKER (no running table has it ahead)."""
@@ -697,7 +697,7 @@ class MC_ReleaseBlocker(_GroupCommand):
         return _part4(group).release_blocker(self.blocker_id)
 
 
-class MC_GroupReadBlockerStatus(_GroupRead):
+class MC_GroupReadBlockerStatus(GroupRead):
     """While ``enable``: ``blocked`` (the path stands at a blocker) and its ``blocker_id``
     (§9.3.1.2.8). ``valid`` only for a Part 4 AxesGroup: a CA group has no blockers."""
 

@@ -2,7 +2,7 @@
 
 The time law (timing.py) runs these on events, never per cycle. A dense contour of 10 000
 pieces may put a thousand zones into one look-ahead window; as Python loops the pass alone
-would cost milliseconds, compiled it costs microseconds (the style of transport/kernels.py).
+would cost milliseconds, compiled it costs microseconds (the style of rail/kernels.py).
 
 Symbols follow the jerk-limited speed change from (v1, a = 0) to (v2, a = 0) with peak
 acceleration a_max and jerk j (the "ramp"): it lasts

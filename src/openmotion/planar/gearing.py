@@ -42,8 +42,8 @@ from openmotion.planar.positions import finite
 from openmotion.planar.states import MoverCommand, check_track_accepts
 from openmotion.planar.track import MC_PlanarTrack
 from openmotion.planar.traffic import Leg, Rider, ahead_legs
-from openmotion.transport.enums import SyncStrategy
-from openmotion.transport.gear import GearSync
+from openmotion.rail.enums import SyncStrategy
+from openmotion.rail.gear import GearSync
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis

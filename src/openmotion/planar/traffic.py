@@ -78,11 +78,11 @@ from openmotion.planar.traffic_kernels import (
     zone_holders,
     zone_lines,
 )
+from openmotion.rail.braking import brake_envelope, brake_state
+from openmotion.rail.gap_control import TOLERANCE, Pairs
+from openmotion.rail.gear import SYNCING, GearSync
 from openmotion.trajectory.plan import Limits, plan_position, plan_stop, plan_velocity
 from openmotion.trajectory.segments import KinematicState, Profile
-from openmotion.transport.braking import brake_envelope, brake_state
-from openmotion.transport.gap_control import TOLERANCE, Pairs
-from openmotion.transport.gear import SYNCING, GearSync
 
 if TYPE_CHECKING:
     from openmotion.planar.feedback import PlanarCommand

@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from openmotion.core.compiled import compiled, true_indices
 from openmotion.planar.track_atlas import frames_on
-from openmotion.transport.kernels import brake_states, candidates, envelope
+from openmotion.rail.kernels import brake_states, candidates, envelope
 
 TOLERANCE = 1e-9  #: [mm] as gap_control.TOLERANCE
 _SLACK = 1 + 1e-12  #: relative float slack of the limit checks (as in Traffic._track)
@@ -776,8 +776,8 @@ def warm() -> None:
     to compile), and compiles none it does not need; a benchmark that times cycles calls
     this first."""
     from openmotion.planar.track_atlas import Atlas
-    from openmotion.transport.kernels import brake_states as states
-    from openmotion.transport.kernels import envelopes
+    from openmotion.rail.kernels import brake_states as states
+    from openmotion.rail.kernels import envelopes
 
     f, i, b = np.zeros(1), np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.bool_)
     lim = np.ones((4, 1))

@@ -14,14 +14,14 @@ import numpy as np
 from openmotion.axis.commands import CommandStatus
 from openmotion.core.errors import CommandRejected
 from openmotion.core.special_values import MC_DEFAULT
+from openmotion.rail.braking import brake_envelope, brake_state
+from openmotion.rail.gap_control import TOLERANCE, Pairs, filter_steps
+from openmotion.rail.gear import GearSync
+from openmotion.rail.kernels import fast_candidates
 from openmotion.trajectory.plan import Limits, plan_position
 from openmotion.trajectory.segments import KinematicState
-from openmotion.transport.braking import brake_envelope, brake_state
 from openmotion.transport.enums import GapControlDirection, GapControlMode, GroupState
 from openmotion.transport.faults import FAULT_STATES
-from openmotion.transport.gap_control import TOLERANCE, Pairs, filter_steps
-from openmotion.transport.gear import GearSync
-from openmotion.transport.kernels import fast_candidates
 from openmotion.transport.movers import (
     FOLLOW,
     GEAR,

@@ -6,6 +6,10 @@ from enum import IntEnum
 
 from openmotion.core.enums import ModuloDirection as ModuloDirection  # the CA blocks take it
 
+# the sync engine's, shared with planar tracks (rail/enums.py)
+from openmotion.rail.enums import MasterSignalCorrection as MasterSignalCorrection
+from openmotion.rail.enums import SyncStrategy as SyncStrategy
+
 
 class GapControlMode(IntEnum):
     """MC_GAP_CONTROL_MODE (§9.1.2.5); the group default is STANDARD or FAST only."""
@@ -43,28 +47,12 @@ class GearInPosDefaultDynamicsAfterSync(IntEnum):
     JOB_DYNAMICS = 1
 
 
-class MasterSignalCorrection(IntEnum):
-    """MC_MASTER_SIGNAL_CORRECTION (§9.1.2.6): whether MC_GearInPosCA corrects the master's
-    signal (D-205)."""
-
-    AUTO = 0
-    NONE = 1
-
-
 class GroupType(IntEnum):
     """GroupType of the cyclic group interface (§11.1)."""
 
     INVALID = 0
     CA = 1
     DXD = 2
-
-
-class SyncStrategy(IntEnum):
-    """MC_SYNC_STRATEGY (§9.4.1.5)."""
-
-    LATE = 1
-    SLOW = 2
-    EARLY = 3
 
 
 class SyncMode(IntEnum):

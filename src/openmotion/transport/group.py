@@ -24,6 +24,7 @@ from openmotion.core.enums import AxisState, BufferMode, convert_enum
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.modulo import mc3_modulo_target
 from openmotion.core.special_values import MC_DEFAULT, MC_IGNORE, MC_INVALID, InputValue
+from openmotion.rail.gear import GearSync
 from openmotion.trajectory.plan import Limits, plan_position, plan_stop
 from openmotion.trajectory.segments import KinematicState
 from openmotion.transport.cycle import GroupCycle
@@ -38,7 +39,6 @@ from openmotion.transport.enums import (
     SyncStrategy,
 )
 from openmotion.transport.faults import GroupFaults
-from openmotion.transport.gear import GearSync
 from openmotion.transport.inputs import ca_gap, ca_limits, ca_value, halt_limits
 from openmotion.transport.kind import CA_GROUP
 from openmotion.transport.movers import (

@@ -15,8 +15,9 @@ from typing import Any, ClassVar
 
 from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command, CommandStatus
+from openmotion.kernel.group_blocks import GroupCommand
 from openmotion.kernel.handshake import EnableBlock, ExecuteBlock
-from openmotion.transport.blocks import _group_of, _GroupCommand
+from openmotion.transport.blocks import _group_of
 from openmotion.transport.enums import CompensationType
 from openmotion.transport.group import CaGroup
 
@@ -83,7 +84,7 @@ class MC_RegisterCompensation(ExecuteBlock):
             axis, self.compensation_id, self.compensation_type)
 
 
-class MC_TransformPosition(_GroupCommand):
+class MC_TransformPosition(GroupCommand):
     """A position from one frame to another, for information only (§9.2.1.2): 0 is the
     absolute motor path, a template's OTCID its TCP path. Called as ``fb(group, ...)``.
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from openmotion.transport.kernels import brake_states, envelopes, phase_table
+from openmotion.rail.kernels import brake_states, envelopes, phase_table
 
 Arrays = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 

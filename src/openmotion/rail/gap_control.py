@@ -25,8 +25,8 @@ from typing import Protocol
 
 import numpy as np
 
-from openmotion.transport.braking import brake_envelope
-from openmotion.transport.kernels import blame, brake_blamed, min_brake_gaps, pair_safety
+from openmotion.rail.braking import brake_envelope
+from openmotion.rail.kernels import blame, brake_blamed, min_brake_gaps, pair_safety
 
 TOLERANCE = 1e-9  #: [mm] float slack of the pair checks
 

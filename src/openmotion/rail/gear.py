@@ -30,10 +30,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.rail.braking import brake_envelope, brake_state
+from openmotion.rail.enums import MasterSignalCorrection, SyncStrategy
 from openmotion.trajectory.plan import Limits, plan_position, plan_position_in, plan_velocity
 from openmotion.trajectory.segments import KinematicState, Profile
-from openmotion.transport.braking import brake_envelope, brake_state
-from openmotion.transport.enums import MasterSignalCorrection, SyncStrategy
 
 #: WAITING: before the sync phase (MasterStartDistance, Late's start); HOLDING: in the sync
 #: phase, at rest until a profile that keeps the options' restrictions exists (D-204)
