@@ -134,7 +134,8 @@ def _velocity_extrema(data: np.ndarray) -> tuple[float, float]:
         dt = t[k + 1] - t[k]
         v0, a0, jk = v[k], a[k], j[k]
         end = v0 + dt * (a0 + dt * jk / 2.0)
-        low, high = min(low, end), max(high, end)
+        # the integrated end and the next row's own value, which a pinned end state sets
+        low, high = min(low, end, v[k + 1]), max(high, end, v[k + 1])
         if jk != 0.0:
             tm = -a0 / jk
             if 0.0 < tm < dt:
