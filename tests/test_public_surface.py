@@ -179,4 +179,5 @@ def test_importing_coordinated_loads_no_module_of_it() -> None:
             "print(sorted(m for m in sys.modules if m.startswith('openmotion')))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True, timeout=120).stdout
-    assert out.strip() == "['openmotion', 'openmotion.coordinated']"
+    assert out.strip() == ("['openmotion', 'openmotion.coordinated', 'openmotion.core', "
+                           "'openmotion.core.lazy']")

@@ -9,8 +9,9 @@ planner. Short block names (``MC_MoveLinAbs``, §1.3.1) stay in ``coordinated.bl
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from openmotion.core.lazy import lazy_exports
 
 _BLOCKS = "openmotion.coordinated.blocks"
 
@@ -167,17 +168,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    module = _WHERE.get(name)
-    if module is None:
-        raise AttributeError(f"module 'openmotion.coordinated' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _WHERE, __all__)
 
 
 if TYPE_CHECKING:

@@ -7,9 +7,9 @@ import each other, and must be entered through the schema. The runner loads on f
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
+from openmotion.core.lazy import lazy_exports
 from openmotion.examples import (
     Example,
     default_scenario,
@@ -27,16 +27,8 @@ __all__ = ["CheckRow", "CommandRow", "Example", "Problem", "Scenario", "Scenario
            "load_scenario", "parse_scenario", "resolve_scenario", "run_scenario"]
 
 
-def __getattr__(name: str) -> Any:
-    if name not in _LAZY:
-        raise AttributeError(f"module 'openmotion.scenario' has no attribute {name!r}")
-    value = getattr(importlib.import_module("openmotion.scenario.run"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, dict.fromkeys(_LAZY, "openmotion.scenario.run"),
+                                    __all__)
 
 
 if TYPE_CHECKING:
