@@ -118,3 +118,16 @@ def test_rewind_is_refused_once_an_axis_exists_and_the_clock_stays():
     assert rt.cycle == 3
     rt.step()
     assert rt.cycle == 4
+
+
+def test_axes_groups_are_numbered_in_their_own_count():
+    """Each kind counts its own objects (D-223): axes groups 1, 2 whatever else exists; the
+    machine model shows that number as the group's id."""
+    from openmotion.kernel.model import machine
+
+    rt = om.Runtime()
+    CaGroup(rt, "ca")
+    first, second = AxesGroup(rt, "g1"), AxesGroup(rt, "g2")
+    assert (first.group_id, second.group_id) == (1, 2)
+    ids = {obj.name: obj.id for obj in machine(rt) if obj.kind == "axes_group"}
+    assert ids == {"g1": 1, "g2": 2}

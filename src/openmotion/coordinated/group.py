@@ -119,6 +119,8 @@ class AxesGroup:
         self._queued: list[tuple[Command, bool, Callable[[], None]]] = []
         self.table: PathTableRun | None = None  #: TF5410 MC_MovePath over a path table
         self._feeding = False  #: the table run hands its own segments in (no self-abort)
+        #: 1, 2, ... in the order the runtime's axes groups were made (its model id, D-223)
+        self.group_id = runtime.serial("axes_group")
         runtime.add_system(self)
 
     # -- reading -------------------------------------------------------------------------------

@@ -67,5 +67,5 @@ AXES_GROUP = Kind(
                    "the blocker the path stands at, 0: none (TF5410 §9.3.1.2.8)"),
     ),
     handles=("Command",),
-    identify=lambda group: 0,  # an axes group has no id of its own yet (the System contract)
+    identify=lambda group: group.group_id,  # counted per runtime (D-223)
 )
