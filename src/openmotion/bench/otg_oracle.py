@@ -31,7 +31,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import ruckig
 
-from openmotion.trajectory.plan import Limits, _segments
+from openmotion.trajectory.plan import Limits, _segments, golden_minimum
 from openmotion.trajectory.segments import KinematicState
 
 ACCELERATION_CELLS = 24  #: grid lines over |a_c| in [0, min(acc, dec)]
@@ -40,7 +40,6 @@ ANCHOR_SPAN = 1e-8  #: relative to the reach: the finest step of the grid from t
 GOLDEN_STEPS = 40  #: golden-section steps in each refinement
 REVERSAL_TOLERANCE = 1e-9  #: relative: a piece turning back by less is float residue
 RETRY_FACTORS = (1.0, 1.0 - 1e-12, 1.0 - 1e-10, 1.0 - 1e-8)  #: as the otg benchmark's
-_GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
 
 
 @dataclass(frozen=True)
@@ -208,19 +207,7 @@ def _reach(start: KinematicState, limits: Limits, first: int) -> float:
 def _golden(function, lo: float, hi: float,  # noqa: ANN001 - a float -> float callable
             steps: int = GOLDEN_STEPS) -> tuple[float, float]:
     """Golden-section minimum of ``function`` on [lo, hi]: (argument, value)."""
-    a, b = lo, hi
-    x1, x2 = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
-    f1, f2 = function(x1), function(x2)
-    for _ in range(steps):
-        if f1 <= f2:
-            b, x2, f2 = x2, x1, f1
-            x1 = b - _GOLDEN * (b - a)
-            f1 = function(x1)
-        else:
-            a, x1, f1 = x1, x2, f2
-            x2 = a + _GOLDEN * (b - a)
-            f2 = function(x2)
-    return (x1, f1) if f1 <= f2 else (x2, f2)
+    return golden_minimum(function, lo, hi, steps)
 
 
 def _sign(value: float) -> int:

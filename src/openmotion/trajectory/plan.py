@@ -15,6 +15,7 @@ supersedes D-002's brake-to-rest then move; D-203 for velocity changes).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -224,19 +225,7 @@ def _through_zero(
         value = confirmed(edge)
         if math.isfinite(value):
             return value, edge, first, total(0.0) if bottom == 0.0 else math.inf
-    a, b = bottom, top
-    x1, x2 = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
-    f1, f2 = total(x1), total(x2)
-    for _ in range(_CROSSING_STEPS):
-        if f1 <= f2:
-            b, x2, f2 = x2, x1, f1
-            x1 = b - _GOLDEN * (b - a)
-            f1 = total(x1)
-        else:
-            a, x1, f1 = x1, x2, f2
-            x2 = a + _GOLDEN * (b - a)
-            f2 = total(x2)
-    best, value = (x1, f1) if f1 <= f2 else (x2, f2)
+    best, value = golden_minimum(total, bottom, top, _CROSSING_STEPS)
     if not math.isfinite(value):
         return None
     return value, best, first, total(0.0) if bottom == 0.0 else math.inf
@@ -692,3 +681,22 @@ def _reverses(profile: Profile, sign: int) -> bool:
 
 def _sign(value: float) -> int:
     return int(value > 0.0) - int(value < 0.0)
+
+
+def golden_minimum(function: Callable[[float], float], lo: float, hi: float,
+                   steps: int) -> tuple[float, float]:
+    """Golden-section search for the minimum of ``function`` on [lo, hi] in ``steps``
+    narrowings: (argument, value), the better of the last two probes."""
+    a, b = lo, hi
+    x1, x2 = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
+    f1, f2 = function(x1), function(x2)
+    for _ in range(steps):
+        if f1 <= f2:
+            b, x2, f2 = x2, x1, f1
+            x1 = b - _GOLDEN * (b - a)
+            f1 = function(x1)
+        else:
+            a, x1, f1 = x1, x2, f2
+            x2 = a + _GOLDEN * (b - a)
+            f2 = function(x2)
+    return (x1, f1) if f1 <= f2 else (x2, f2)
