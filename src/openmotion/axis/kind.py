@@ -71,5 +71,6 @@ AXIS = Kind(
                    "the axis error behind ErrorStop (0: none)"),
     ),
     handles=("Command",),
+    levels=("power",),  # MC_Power: Enable is a level, Status follows at once
     identify=lambda axis: axis.row + 1,  # AxisId: rows count from 0, ids from 1
 )

@@ -129,6 +129,9 @@ class CommandSpec:
     inputs: tuple[Input, ...]
     doc: str = ""
     start: Callable[..., Any] | None = field(default=None, compare=False, repr=False)
+    #: a level, not an edge: the method sets a state and returns its status at once (MC_Power's
+    #: Enable and Status); no command handle follows it
+    level: bool = False
 
     def bind(self, obj: Any) -> CommandSpec:
         method = getattr(obj, self.name)
@@ -140,7 +143,7 @@ class CommandSpec:
                 raise TypeError(_unknown(f"{self.name} has no input", unknown[0], names))
             return method(**inputs)
 
-        return CommandSpec(self.name, self.inputs, self.doc, start)
+        return CommandSpec(self.name, self.inputs, self.doc, start, self.level)
 
 
 @dataclass(frozen=True)
@@ -157,6 +160,8 @@ class Kind:
     name: str  #: the kind: "axis", "ca_group", "planar_mover" ...
     signals: tuple[SignalSpec, ...] = ()
     handles: tuple[str, ...] = ()  #: the command handle types its command methods return
+    #: methods that set a level and return its status (``CommandSpec.level``): MC_Power
+    levels: tuple[str, ...] = ()
     #: units of command inputs where ``UNITS`` does not fit: by input or "<command>.<input>"
     units: Mapping[str, str] = field(default_factory=dict, compare=False)
     identify: Callable[[Any], int] = field(default=lambda obj: int(obj.oid), compare=False)
@@ -187,7 +192,7 @@ class Kind:
         key = (cls, self.name)
         found = _COMMANDS.get(key)
         if found is None:
-            found = _COMMANDS[key] = derive_commands(cls, self.handles, self.units)
+            found = _COMMANDS[key] = derive_commands(cls, self.handles, self.units, self.levels)
         return found
 
     def describe(self, obj: Any, parent: str = "") -> MachineObject:
@@ -309,19 +314,22 @@ _TOKEN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
 
 def derive_commands(cls: type, handles: Iterable[str],
-                    units: Mapping[str, str] | None = None) -> tuple[CommandSpec, ...]:
+                    units: Mapping[str, str] | None = None,
+                    levels: Iterable[str] = ()) -> tuple[CommandSpec, ...]:
     """The commands of ``cls``: its public methods (its own and inherited, in definition
     order) whose return annotation is one of ``handles`` (the kind's command handle type),
-    with their inputs from the signatures. ``units`` overrides ``UNITS`` by input name or
-    by ``"<command>.<input>"``."""
+    and the methods named in ``levels``, with their inputs from the signatures. ``units``
+    overrides ``UNITS`` by input name or by ``"<command>.<input>"``."""
+    levels = frozenset(levels)
     wanted = set(handles)
     methods: dict[str, Callable[..., Any]] = {}
     for klass in reversed(cls.__mro__):
         for name, value in vars(klass).items():
             if not name.startswith("_") and inspect.isfunction(value):
                 methods[name] = value
-    return tuple(_command(name, method, units or {}) for name, method in methods.items()
-                 if _returns(method) in wanted)
+    return tuple(_command(name, method, units or {}, name in levels)
+                 for name, method in methods.items()
+                 if _returns(method) in wanted or name in levels)
 
 
 def _returns(method: Callable[..., Any]) -> str:
@@ -329,7 +337,8 @@ def _returns(method: Callable[..., Any]) -> str:
     return getattr(annotation, "__name__", str(annotation))
 
 
-def _command(name: str, method: Callable[..., Any], units: Mapping[str, str]) -> CommandSpec:
+def _command(name: str, method: Callable[..., Any], units: Mapping[str, str],
+             level: bool = False) -> CommandSpec:
     inputs = []
     for parameter in list(inspect.signature(method).parameters.values())[1:]:
         if parameter.kind in (parameter.VAR_POSITIONAL, parameter.VAR_KEYWORD):
@@ -343,7 +352,7 @@ def _command(name: str, method: Callable[..., Any], units: Mapping[str, str]) ->
         inputs.append(Input(parameter.name, dtype, unit, default,
                             _choices(method, dtype, default)))
     doc = (inspect.getdoc(method) or "").split("\n\n")[0].replace("\n", " ")
-    return CommandSpec(name, tuple(inputs), doc)
+    return CommandSpec(name, tuple(inputs), doc, level=level)
 
 
 def _choices(method: Callable[..., Any], dtype: str, default: Any) -> tuple[str, ...]:

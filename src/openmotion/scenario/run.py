@@ -245,7 +245,7 @@ def run_scenario(source: str | Path | Scenario, progress: Progress | None = None
     way of keeping the trace, ``chunk`` its chunk size (``TraceRecorder``, D-188); a
     streamed run's ``trace`` reads its columns from the directory when first used."""
     scenario = source if isinstance(source, Scenario) else load_scenario(source)
-    return _Run(scenario, figure, _trace_mode(scenario, keep, stream, chunk)).run(progress)
+    return ScenarioRun(scenario, figure, _trace_mode(scenario, keep, stream, chunk)).run(progress)
 
 
 def _trace_mode(scenario: Scenario, keep: int | None, stream: str | Path | None,
@@ -311,7 +311,10 @@ def _result_of(command: Command | None) -> str:
     return "BUSY" if command.status <= CommandStatus.ACTIVE else command.status.name
 
 
-class _Run:
+class ScenarioRun:
+    """A scenario set up on its runtime: ``run`` steps it to its end; the viewer and the
+    endpoints step it themselves (``scenario.live``) with ``program`` and ``observe`` added."""
+
     def __init__(self, scenario: Scenario, figure: bool = False,
                  trace_mode: dict[str, Any] | None = None) -> None:
         self.scenario = scenario
@@ -549,7 +552,7 @@ class _Run:
 class _CheckState:
     """One check while the run goes on: when to evaluate it and what it found."""
 
-    def __init__(self, check: SignalCheck | CommandCheck, run: _Run) -> None:
+    def __init__(self, check: SignalCheck | CommandCheck, run: ScenarioRun) -> None:
         self.check, self.run = check, run
         self.cycle = cycle_of(check.at, run.rt.cycle_time) \
             if isinstance(check.at, float) and check.when is None else None

@@ -5,9 +5,9 @@
 (docs/viewer.md).
 """
 
+from openmotion.scenario.live import Machine, scenario_machine
 from openmotion.viewer.axes import AxesLayer, axes_layers
 from openmotion.viewer.layers import Layer, LayerFactory, Row, register_layer, registered_layers
-from openmotion.viewer.machine import Machine, scenario_machine
 from openmotion.viewer.planar import PlanarLayer, planar_layers
 from openmotion.viewer.rails import RailLayer, rail_layers
 from openmotion.viewer.server import create_app, serve, serving

@@ -44,6 +44,7 @@ from openmotion.kernel.model import machine as machine_model
 from openmotion.runtime.paced import PacedRuntime
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario import Scenario
+from openmotion.scenario.live import Machine, scenario_machine
 from openmotion.viewer.layers import (
     Layer,
     LayerFactory,
@@ -54,7 +55,6 @@ from openmotion.viewer.layers import (
     registered_layers,
     scope_signals,
 )
-from openmotion.viewer.machine import Machine, scenario_machine
 
 FRAME_RATE = 25.0  #: frames per second of wall time, the most a session sends
 MIN_FRAME_RATE = 5.0  #: the fewest frames per second a session that cannot keep up sends

@@ -1,9 +1,9 @@
-"""What a session runs: a runtime, whether it has ended, and the signals to show first.
+"""A scenario stepped live: a runtime, whether it has ended, and the signals to show first.
 
 ``scenario_machine`` sets a scenario file up as ``run_scenario`` does (objects, timeline,
-checks) but leaves the stepping to the session, cycle by cycle, and asks the run's own end
-rule before each cycle, so a scenario ends in the viewer at the cycle it ends in
-``openmotion run``. The trace recorder is left out: the viewer keeps no trace.
+checks) but leaves the stepping to its caller (the viewer's session, the endpoints' host),
+cycle by cycle, and offers the run's own end rule, so a scenario ends in the viewer at the
+cycle it ends in ``openmotion run``. The trace recorder is left out: a live run keeps no trace.
 """
 
 from __future__ import annotations
@@ -13,7 +13,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from openmotion.runtime.runtime import Runtime
-from openmotion.scenario import Scenario, load_scenario
+from openmotion.scenario.load import load_scenario
+from openmotion.scenario.run import ScenarioRun
+from openmotion.scenario.schema import Scenario
 
 
 def _never() -> bool:
@@ -32,12 +34,10 @@ class Machine:
 
 def scenario_machine(source: str | Path | Scenario) -> Machine:
     """A scenario file (or model) ready to step; raises ``ConfigError`` as ``run_scenario``."""
-    from openmotion.scenario.run import _Run  # the runner's set-up half, stepped by the viewer
-
     scenario = source if isinstance(source, Scenario) else load_scenario(source)
-    run = _Run(scenario)
+    run = ScenarioRun(scenario)
     rt = run.rt
-    run.fire_due()  # entries at t = 0 act before the first cycle, as in _Run.run
+    run.fire_due()  # entries at t = 0 act before the first cycle, as in ScenarioRun.run
     run.observe(rt)
     rt.add_program(run.program)
     rt.add_observer(run.observe)

@@ -1,0 +1,25 @@
+"""Endpoints: the machine served to the tools engineers already use (docs/endpoints.md).
+
+``MachineHost`` runs one machine on a kernel thread, paced by the wall clock or in lockstep
+with a client, and publishes snapshots of its machine model; the OPC UA server, the ADS
+server and the FMI unit are built on it and on ``wire``, which says how a command's inputs
+travel. Each is generated from the machine model (``openmotion.kernel.model``), never from a
+list of its own.
+"""
+
+from openmotion.endpoints.host import HostError, HostStatus, MachineHost, Pace, Snapshot
+from openmotion.endpoints.wire import (
+    HandleState,
+    WireCommand,
+    WireError,
+    WireInput,
+    WireKind,
+    coerce,
+    default_of,
+    handle_state,
+    wire_commands,
+)
+
+__all__ = ["HandleState", "HostError", "HostStatus", "MachineHost", "Pace", "Snapshot",
+           "WireCommand", "WireError", "WireInput", "WireKind", "coerce", "default_of",
+           "handle_state", "wire_commands"]
