@@ -250,15 +250,32 @@ def _object(put: WireInput, value: Any, model: MachineModel) -> Any:
 
 
 def _vector(put: WireInput, value: Any, model: MachineModel) -> Any:
+    """An array of numbers; for a dataclass its fields in order, trailing ones with defaults
+    may be left out (``[x, y]`` for a ``PositionXYC`` in frame 0 with c = 0)."""
     if isinstance(value, str | bytes) or not isinstance(value, Sequence):
         raise WireError(f"input {put.name!r} takes an array of numbers")
     numbers = [_finite(put, item) for item in value]
-    length = put.length
-    if length is not None and len(numbers) != length:
-        raise WireError(f"input {put.name!r} takes {length} numbers, not {len(numbers)}")
-    if not 0 < len(numbers) <= _MAX_VECTOR:
-        raise WireError(f"input {put.name!r} takes 1 to {_MAX_VECTOR} numbers")
-    return put.type(*numbers) if put.type is not None else numbers
+    most = put.length or _MAX_VECTOR
+    if not 0 < len(numbers) <= most:
+        raise WireError(f"input {put.name!r} takes 1 to {most} numbers, not {len(numbers)}")
+    if put.type is None:
+        return numbers
+    fields = dataclasses.fields(put.type)
+    hints = typing.get_type_hints(put.type)
+    needed = sum(1 for f in fields if f.default is dataclasses.MISSING
+                 and f.default_factory is dataclasses.MISSING)
+    if len(numbers) < needed:
+        raise WireError(f"input {put.name!r} takes at least {needed} numbers")
+    values: list[float | int] = []
+    for field_, number in zip(fields, numbers, strict=False):
+        if hints.get(field_.name) is int:
+            if number != int(number):
+                raise WireError(f"input {put.name!r}: {field_.name} takes a whole number, "
+                                f"not {number}")
+            values.append(int(number))
+        else:
+            values.append(number)
+    return put.type(*values)
 
 
 _COERCE: dict[WireKind, Callable[[WireInput, Any, MachineModel], Any]] = {
