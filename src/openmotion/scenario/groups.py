@@ -20,10 +20,12 @@ import numpy as np
 from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.core.errors import ConfigError
+from openmotion.rail.stations import StationLine, StationRow
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.programs import cycle_of
 from openmotion.scenario.queries import Called
 from openmotion.scenario.schema import Condition
+from openmotion.scenario.stations import build_line
 from openmotion.scenario.tracks import configure
 from openmotion.scenario.transport import (
     CaEntry,
@@ -72,6 +74,7 @@ class CaGroups:
         self.rt = rt
         self.groups: dict[str, CaGroup] = {}
         self.group_of: dict[str, CaGroup] = {}  #: axis name -> its group
+        self.lines: list[StationLine] = []  #: the groups' station lines
         for spec in specs:
             group = CaGroup(rt, spec.name, spec.parameters.build())
             problems = list(configure(spec, group))  # parts, tracks, geometry, templates
@@ -87,6 +90,9 @@ class CaGroups:
             if spec.enable:
                 group.enable()
             self.groups[spec.name] = group
+            line = build_line(rt, group, spec.stations, spec.routes, list(spec.axes))
+            if line is not None:
+                self.lines.append(line)
         rows = 1 + max((axis.row for axis in rt.axes.values()), default=0)
         self.minimum = np.full(rows, np.inf)  #: smallest gap of each axis row [mm]
         self.minimum_at = np.full(rows, np.nan)
@@ -157,8 +163,9 @@ class CaGroups:
 
     @property
     def busy(self) -> bool:
-        """A group_stop still holds its group (Execute TRUE): the run goes on."""
-        return bool(self.releases)
+        """A group_stop still holds its group (Execute TRUE), or a station line has movers on
+        their routes: the run goes on."""
+        return bool(self.releases) or any(line.busy for line in self.lines)
 
     def standing(self, group: CaGroup) -> bool:
         """Every mover of ``group`` stands: set velocity and acceleration 0 (see STANDING)."""
@@ -194,6 +201,24 @@ class CaGroups:
                                      _finite(gaps[order - 1]), _finite(self.minimum[row]),
                                      _finite(self.minimum_at[row])))
         return rows
+
+    def station_signal(self, subject: str, name: str) -> float | None:
+        """A station's signal (its machine-model declaration), or None for no station."""
+        for line in self.lines:
+            for state in line.objects():
+                if state.name == subject:
+                    return state.MACHINE.signal(name).read(state)
+        return None
+
+    def station_reading(self, signal: str) -> tuple[float, str, bool] | None:
+        """(value, shown, named) of a station's signal for a check, or None."""
+        subject, _, name = signal.partition(".")
+        value = self.station_signal(subject, name)
+        return None if value is None else (value, "", False)
+
+    def station_rows(self) -> list[tuple[str, StationRow]]:
+        """(line name, station row) of every station line."""
+        return [(line.name, row) for line in self.lines for row in line.station_rows()]
 
     def group_rows(self) -> list[GroupRow]:
         rows = []

@@ -21,6 +21,7 @@ from openmotion.axis.commands import Command, CommandStatus
 from openmotion.axis.probe import InputRef, abort_probe, arm_probe
 from openmotion.core.enums import AxisState
 from openmotion.core.errors import ConfigError, ErrorId
+from openmotion.rail.stations import StationRow
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.coordinated_machine import AxesGroupRow, AxesGroups, axes_group_table
 from openmotion.scenario.cyclic import BlockEntry
@@ -44,6 +45,7 @@ from openmotion.scenario.schema import (
     SignalCheck,
     TouchProbe,
 )
+from openmotion.scenario.stations import station_table
 from openmotion.scenario.transport import CA_ENTRIES, SetGap
 from openmotion.trace.plot import figure_signals
 from openmotion.trace.record import Trace, TraceRecorder
@@ -106,6 +108,8 @@ class ScenarioResult:
     planar_movers: list[PlanarMoverRow] = field(default_factory=list)  #: each at the end
     axes_groups: list[AxesGroupRow] = field(default_factory=list)  #: each at the end
     planar_tracks: list[PlanarTrackRow] = field(default_factory=list)  #: each at the end
+    #: (line, station) of every station line at the end (rail/stations.py)
+    stations: list[tuple[str, StationRow]] = field(default_factory=list)
 
     @property
     def passed(self) -> bool:
@@ -131,6 +135,8 @@ class ScenarioResult:
                    if self.planar_tracks else {}),
                 **({"axes_groups": [clean(row) for row in self.axes_groups]}
                    if self.axes_groups else {}),
+                **({"stations": [{"line": line, **clean(row)} for line, row in self.stations]}
+                   if self.stations else {}),
                 "trace": {"rows": len(self.trace), "columns": list(self.trace.columns)}}
 
     def _planar_mover(self, row: dict[str, Any]) -> dict[str, Any]:
@@ -179,6 +185,8 @@ class ScenarioResult:
         parts: list[RenderableType] = [header, commands]
         if self.ca_groups:
             parts += self._ca_renderables(digits)
+        if self.stations:
+            parts.append(station_table(self.stations))
         if self.planar_movers:
             parts.append(planar_table(self.planar_movers, _number))
         if self.planar_tracks:
@@ -452,6 +460,8 @@ class ScenarioRun:
             return command is not None and bool(getattr(command, attribute))
         value = self.planar.signal(condition.subject, condition.attribute)
         if value is None:
+            value = self.ca.station_signal(condition.subject, condition.attribute)
+        if value is None:
             value = self.coordinated.signal(condition.subject, condition.attribute)
         if value is None:
             value = read_signal(self.rt.axes[condition.subject], condition.attribute)
@@ -485,7 +495,8 @@ class ScenarioRun:
         return ScenarioResult(scenario, self.rows(), [c.row() for c in self.checks],
                               self.recorder.trace, rt.cycle, rt.now, self.ca.mover_rows(),
                               self.ca.group_rows(), self.planar.rows(),
-                              self.coordinated.rows(), self.planar.track_rows())
+                              self.coordinated.rows(), self.planar.track_rows(),
+                              self.ca.station_rows())
 
     def finished(self) -> bool:
         """``duration`` is over; or ``settle_time`` after all came to rest, or the cap."""
@@ -593,7 +604,9 @@ class _CheckState:
         self.detail = now + detail if not self.passed else detail
 
     def _signal(self, check: SignalCheck) -> tuple[bool, str]:
-        planar = self.run.planar.reading(check.signal)
+        planar = self.run.ca.station_reading(check.signal)
+        if planar is None:
+            planar = self.run.planar.reading(check.signal)
         if planar is None:
             planar = self.run.coordinated.reading(check.signal)
         if planar is not None:

@@ -72,6 +72,7 @@ from openmotion.core.special_values import (
     SPECIAL_VALUES,
     SpecialValue,
 )
+from openmotion.rail.stations import StationState
 from openmotion.scenario.queries import Query
 from openmotion.trace.record import AXIS_SIGNALS, MOVER_SIGNALS, default_signals, split_signal
 from openmotion.transport.enums import GroupState
@@ -102,6 +103,7 @@ class _Names:
         default_factory=dict)
     #: the axes that add_axis_to_group entries add to a CA group (movers from then on)
     added: set[str] = dataclasses.field(default_factory=set)
+    stations: Counter[str] = dataclasses.field(default_factory=Counter)  #: of the CA groups
 
     @classmethod
     def of(cls, data: object) -> _Names:
@@ -140,7 +142,9 @@ class _Names:
                    {item["axis"] for item in items("timeline")
                     if item.get("command") == "add_axis_to_group"
                     and isinstance(item.get("axis"), str)
-                    and item.get("group") in names("ca_groups", "name")})
+                    and item.get("group") in names("ca_groups", "name")},
+                   sum((names("stations", "name", group) for group in items("ca_groups")),
+                       Counter()))
 
 
 _NAMES: ContextVar[_Names | None] = ContextVar("openmotion_scenario_names", default=None)
@@ -234,6 +238,14 @@ def _enum_by_name(enum: type[Enum]) -> Any:
 
 
 def _signal(name: str) -> str:
+    names = _NAMES.get()
+    subject, _, prop = name.partition(".")
+    if names is not None and subject in names.stations:
+        station = StationState.MACHINE  # type: ignore[attr-defined]
+        if prop not in station.signal_names:
+            raise ValueError(f"{name!r}: a station's signal is one of "
+                             f"{', '.join(station.signal_names)}")
+        return name
     if is_planar(name.partition(".")[0]):
         return check_planar_signal(name)
     if is_axes_group(name.partition(".")[0]):

@@ -53,6 +53,7 @@ from openmotion.scenario.schema import (
     _parameter_type,
     _unique,
 )
+from openmotion.scenario.stations import RouteSpec, StationSpec, station_problems
 from openmotion.scenario.tracks import GeometrySpec, PartSpec, TemplateSpec, TrackSpec, problems
 from openmotion.transport.blocks import (
     MC_AddAxisToGroup,
@@ -157,12 +158,20 @@ class CaGroupSpec(_Model):
     """The starter-kit geometry (group.tracks.geo.set_geometry); templates need it."""
     templates: list[TemplateSpec] = []
     """Mover templates (group.tracks.geo.add_template); register_compensation names one."""
+    stations: list[StationSpec] = []
+    """Stations on the rail (scenario/stations.py); routes send movers round them."""
+    routes: list[RouteSpec] = []
+    """The stations movers of the group visit, in order (scenario/stations.py)."""
 
     @model_validator(mode="after")
     def _tracks_build(self) -> CaGroupSpec:
         """Parts, tracks, geometry and templates go onto a scratch group as the run will put
-        them onto the real one; each failure names its field."""
-        found = problems(self)
+        them onto the real one; each failure names its field. Stations and routes are checked
+        as the run will build them."""
+        parameters = self.parameters.build()
+        found = problems(self) + station_problems(
+            self.stations, self.routes, list(self.axes), parameters.rail_length,
+            parameters.rail_is_ring)
         if found:
             raise ValidationError.from_exception_data(type(self).__name__, [
                 InitErrorDetails(type=PydanticCustomError("value_error", message), loc=loc,
