@@ -321,6 +321,11 @@ class StationLine:
 
     # -- results ---------------------------------------------------------------------------
 
+    def layout(self) -> list[dict[str, Any]]:
+        """The stations as plain data for figures and the viewer: name, slot positions."""
+        return [{"name": s.name, "slots": [s.slot_position(k) for k in range(s.capacity)]}
+                for s in self.stations]
+
     def station(self, name: str) -> StationState:
         found = self._states.get(name)
         if found is None:

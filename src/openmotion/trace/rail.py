@@ -71,6 +71,13 @@ def _draw_group(rail: Axes, gaps: Axes, trace: Trace, name: str, group: dict[str
             for panel in (rail, gaps):
                 panel.axvline(event.time, color=RESULT_COLORS["ISSUED"], linestyle=":",
                               linewidth=0.8, gid=f"event:{event_text(event)}")
+    for station in group.get("stations", ()):
+        for slot, position in enumerate(station["slots"]):
+            rail.axhline(position, color="0.35", linestyle="--", linewidth=0.7,
+                         gid=f"station:{station['name']}:{slot}")
+        rail.annotate(station["name"], (1.0, station["slots"][0]),
+                      xycoords=("axes fraction", "data"), xytext=(-4, 2),
+                      textcoords="offset points", ha="right", fontsize="small", color="0.35")
     gaps.axhline(gap, color="tab:red", linestyle="--", linewidth=0.8,
                  label=f"default gap {gap:g} mm")
     largest = [float(np.max(values[np.isfinite(values)])) for values in

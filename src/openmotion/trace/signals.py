@@ -161,11 +161,13 @@ class AxisSignals(ModelSignals):
         if group is None or isinstance(group, AxesGroup):
             return {}
         parameters = group.parameters
+        stations = [station for line in group.station_lines for station in line.layout()]
         return {"ca_groups": {group.name: {
             "rail_length": float(parameters.rail_length),
             "rail_is_ring": bool(parameters.rail_is_ring),
             "default_gap": float(parameters.default_gap),
-            "movers": list(group.order)}}}
+            "movers": list(group.order),
+            **({"stations": stations} if stations else {})}}}
 
 
 class PlanarMoverSignals(ModelSignals):

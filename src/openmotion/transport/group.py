@@ -99,6 +99,8 @@ class CaGroup(GroupCycle, GroupFaults):
         self.error_id = ErrorId.NO_ERROR  #: GroupErrorId of the cyclic interface
         self._power_lost: str | None = None  #: a member lost power since the last cycle
         self.movers: list[Mover] = []  #: in CA order once enabled
+        #: the station lines on this rail (transport/stations.py): plots and viewer draw them
+        self.station_lines: list[Any] = []
         self._serial = 0
         self._stop: Command | None = None  #: MC_GroupStop holding the group
         self._halt: Command | None = None  #: MC_GroupHalt in progress

@@ -99,6 +99,7 @@ def station_line(runtime: Runtime, group: CaGroup, stations: Sequence[Station],
                               f"off the ring [0, {group.parameters.rail_length:g})")
     line = StationLine(stations, movers, runtime.cycle_time, name or f"{group.name}.stations")
     runtime.add_system(line)
+    group.station_lines.append(line)
     return line
 
 

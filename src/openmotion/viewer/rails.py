@@ -37,14 +37,25 @@ class RailLayer(Layer):
                            "wanted_gap": finite(mover.gap), "error": axis.error})
         parts = [{"id": part.part_id, "start": part.start, "end": part.end}
                  for part in group.tracks.parts.values()]
+        stations = [{**station, "queue": state.queue_length, "occupied": state.occupied,
+                     "processed": state.processed}
+                    for line in group.station_lines
+                    for station, state in zip(line.layout(), line.objects(), strict=True)]
         return {"length": parameters.rail_length, "ring": parameters.rail_is_ring,
-                "state": group.state.name, "movers": movers, "parts": parts}
+                "state": group.state.name, "movers": movers, "parts": parts,
+                "stations": stations}
 
     def rows(self) -> list[Row]:
         group = self._group
         rows = [Row("CA group", group.name, group.state.name.lower(),
                     detail=f"{len(group.movers)} movers",
                     error=error_text(group.error_id, ""))]
+        for line in group.station_lines:
+            for state in line.objects():
+                rows.append(Row("station", state.name, f"{state.occupied} busy",
+                                detail=f"queue {state.queue_length}, {state.processed} done, "
+                                       f"{60.0 * state.processed / state.elapsed:.1f}/min"
+                                       if state.elapsed > 0 else "starting"))
         for mover, gap in zip(group.movers, group.gaps().tolist(), strict=True):
             track = group.tracks.active_track(mover.axis)
             detail = f"gap {number(gap, 1)}" + (f", track {track.track_id}" if track else "")

@@ -387,6 +387,22 @@ function drawRail(ctx, panel, width, height) {
     label(ctx, `part ${part.id}`, x + Math.sin(angle) * 26, y - Math.cos(angle) * 26, MUTED,
       "center", "10px");
   });
+  for (const station of panel.stations || []) {
+    station.slots.forEach((position, slot) => {
+      const [x, y, angle] = path(position);
+      ctx.strokeStyle = MUTED;
+      ctx.lineWidth = 2;
+      ctx.beginPath();
+      ctx.moveTo(x - Math.sin(angle) * 12, y + Math.cos(angle) * 12);
+      ctx.lineTo(x - Math.sin(angle) * 22, y + Math.cos(angle) * 22);
+      ctx.stroke();
+      if (slot === 0) {
+        const queue = station.queue ? ` · queue ${station.queue}` : "";
+        label(ctx, `${station.name} (${station.processed})${queue}`,
+          x - Math.sin(angle) * 32, y + Math.cos(angle) * 32, MUTED, "center", "10px");
+      }
+    });
+  }
   for (const mover of panel.movers) {
     const wanted = mover.wanted_gap || 0;
     if (mover.gap === null || mover.position === null || mover.gap > 2 * wanted) {
