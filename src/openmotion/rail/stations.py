@@ -105,6 +105,10 @@ class MoverPort(Protocol):
     def queued(self) -> bool:
         """The mover stands short of where it was last sent: held up by the one ahead."""
 
+    def ready(self) -> bool:
+        """The mover may take the line's first move now (a planar mover: once on a track);
+        a port without ``ready`` is ready at once."""
+
 
 class FlowState(IntEnum):
     """Where a mover is in its route."""
@@ -230,6 +234,11 @@ class _Flow:
     starting: int = 0  #: cycles left in which standing counts as starting (START_CYCLES)
 
 
+def _ready(port: MoverPort) -> bool:
+    ready = getattr(port, "ready", None)
+    return True if ready is None else bool(ready())
+
+
 @dataclass(frozen=True)
 class StationRow:
     """One station after a run."""
@@ -265,7 +274,6 @@ class StationLine:
     name: str = "stations"
     _states: dict[str, StationState] = field(init=False, repr=False)
     _flows: list[_Flow] = field(init=False, repr=False)
-    _started: bool = field(default=False, init=False, repr=False)
     _sends: int = field(default=0, init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -292,22 +300,22 @@ class StationLine:
         return tuple(self._states.values())
 
     def start(self) -> None:
-        """Send every mover to the first station of its route (in the order given)."""
-        if self._started:
-            return
-        self._started = True
+        """Send every mover that is ready to the first station of its route (in the order
+        given); the others go once they are ready."""
         for flow in self._flows:
-            self._send(flow)
+            if flow.handle is None and _ready(flow.port):
+                self._send(flow)
 
     def advance(self, now: float) -> None:
         """Take arrivals, end process times, send movers on, count the queues."""
-        if not self._started:
-            self.start()
         dt = self.cycle_time
         for state in self._states.values():
             state.queue_length = 0
         for flow in self._flows:
-            if flow.state is FlowState.HEADING:
+            if flow.handle is None:
+                if _ready(flow.port):
+                    self._send(flow)
+            elif flow.state is FlowState.HEADING:
                 self._heading(flow, now, dt)
             elif flow.state is FlowState.PROCESSING:
                 station = self._station_of(flow)

@@ -202,20 +202,6 @@ class CaGroups:
                                      _finite(self.minimum_at[row])))
         return rows
 
-    def station_signal(self, subject: str, name: str) -> float | None:
-        """A station's signal (its machine-model declaration), or None for no station."""
-        for line in self.lines:
-            for state in line.objects():
-                if state.name == subject:
-                    return state.MACHINE.signal(name).read(state)
-        return None
-
-    def station_reading(self, signal: str) -> tuple[float, str, bool] | None:
-        """(value, shown, named) of a station's signal for a check, or None."""
-        subject, _, name = signal.partition(".")
-        value = self.station_signal(subject, name)
-        return None if value is None else (value, "", False)
-
     def station_rows(self) -> list[tuple[str, StationRow]]:
         """(line name, station row) of every station line."""
         return [(line.name, row) for line in self.lines for row in line.station_rows()]

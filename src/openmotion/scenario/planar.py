@@ -75,6 +75,11 @@ from openmotion.scenario.schema import (
     _signal_value,
     _unique,
 )
+from openmotion.scenario.stations import (
+    PlanarRouteSpec,
+    PlanarStationSpec,
+    planar_station_problems,
+)
 from openmotion.scenario.transport import _Timed
 from openmotion.trajectory.plan import Limits
 
@@ -403,6 +408,10 @@ class PlanarSpec(_Model):
     """Planar groups, created in this order."""
     tracks: list[TrackSpec] = []
     """Planar tracks (§6.2), created in this order after the groups (planar_tracks.py)."""
+    stations: list[PlanarStationSpec] = []
+    """Stations on the tracks (scenario/stations.py); routes send movers round them."""
+    routes: list[PlanarRouteSpec] = []
+    """The stations movers visit, in order, by MoveOnTrack (scenario/stations.py)."""
 
     #: the run hands each planar command an MC_PlanarFeedback, which the object updates
     blocks = ("MC_PlanarFeedback.update", "MC_PlanarFeedbackBase.update")
@@ -413,7 +422,10 @@ class PlanarSpec(_Model):
         from openmotion.scenario.planar_machine import PlanarMachine  # it builds on the specs
 
         problems = [*self._membership_problems(), *self._track_membership_problems(),
-                    *self._part_problems(), *order_problems(self.tracks)]
+                    *self._part_problems(), *order_problems(self.tracks),
+                    *planar_station_problems(self.stations, self.routes,
+                                             [mover.name for mover in self.movers],
+                                             [track.name for track in self.tracks])]
         if not problems:
             problems = PlanarMachine(Runtime(), self).set_up()
         _raise(self, problems)

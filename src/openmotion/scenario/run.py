@@ -21,7 +21,7 @@ from openmotion.axis.commands import Command, CommandStatus
 from openmotion.axis.probe import InputRef, abort_probe, arm_probe
 from openmotion.core.enums import AxisState
 from openmotion.core.errors import ConfigError, ErrorId
-from openmotion.rail.stations import StationRow
+from openmotion.rail.stations import StationLine, StationRow
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.coordinated_machine import AxesGroupRow, AxesGroups, axes_group_table
 from openmotion.scenario.cyclic import BlockEntry
@@ -45,7 +45,7 @@ from openmotion.scenario.schema import (
     SignalCheck,
     TouchProbe,
 )
-from openmotion.scenario.stations import station_table
+from openmotion.scenario.stations import build_planar_line, station_table
 from openmotion.scenario.transport import CA_ENTRIES, SetGap
 from openmotion.trace.plot import figure_signals
 from openmotion.trace.record import Trace, TraceRecorder
@@ -340,6 +340,10 @@ class ScenarioRun:
                 spec.probe.build(axis)
         #: the CA groups, built after the axes (and enabled before the first cycle)
         self.ca = CaGroups(rt, scenario.ca_groups)
+        #: stations on planar tracks: a line after the planar system (scenario/stations.py)
+        self.planar_line = None if scenario.planar is None else build_planar_line(
+            rt, self.planar.movers, self.planar.tracks, scenario.planar.stations,
+            scenario.planar.routes)
         #: the axes groups (Part 4), built after the CA groups
         self.coordinated = AxesGroups(rt, scenario.axes_groups)
         self.entries = list(scenario.entries())
@@ -460,7 +464,7 @@ class ScenarioRun:
             return command is not None and bool(getattr(command, attribute))
         value = self.planar.signal(condition.subject, condition.attribute)
         if value is None:
-            value = self.ca.station_signal(condition.subject, condition.attribute)
+            value = self.station_signal(condition.subject, condition.attribute)
         if value is None:
             value = self.coordinated.signal(condition.subject, condition.attribute)
         if value is None:
@@ -496,7 +500,24 @@ class ScenarioRun:
                               self.recorder.trace, rt.cycle, rt.now, self.ca.mover_rows(),
                               self.ca.group_rows(), self.planar.rows(),
                               self.coordinated.rows(), self.planar.track_rows(),
-                              self.ca.station_rows())
+                              self.station_rows())
+
+    @property
+    def station_lines(self) -> list[StationLine]:
+        """Every station line, the CA groups' first."""
+        return [*self.ca.lines, *filter(None, [self.planar_line])]
+
+    def station_rows(self) -> list[tuple[str, StationRow]]:
+        """(line, station row) of every station line."""
+        return [(line.name, row) for line in self.station_lines for row in line.station_rows()]
+
+    def station_signal(self, subject: str, name: str) -> float | None:
+        """A station's signal (its machine-model declaration), or None for no station."""
+        for line in self.station_lines:
+            for state in line.objects():
+                if state.name == subject:
+                    return state.MACHINE.signal(name).read(state)
+        return None
 
     def finished(self) -> bool:
         """``duration`` is over; or ``settle_time`` after all came to rest, or the cap."""
@@ -523,6 +544,8 @@ class ScenarioRun:
         cycle = self.rt.cycle
         if any(self.fire_cycle[i] is not None and self.fire_cycle[i] > cycle
                for i in self.pending) or any(c.waiting(cycle) for c in self.checks):
+            return False
+        if self.planar_line is not None and self.planar_line.busy:
             return False
         if self.blocks.busy or self.ca.busy or self.planar.busy or self.coordinated.busy or any(
                 not (c.finished or c.in_velocity and c.kind not in _UNTIL_FINISHED)
@@ -604,7 +627,8 @@ class _CheckState:
         self.detail = now + detail if not self.passed else detail
 
     def _signal(self, check: SignalCheck) -> tuple[bool, str]:
-        planar = self.run.ca.station_reading(check.signal)
+        station = self.run.station_signal(*check.signal.split(".", 1))
+        planar = None if station is None else (station, "", False)
         if planar is None:
             planar = self.run.planar.reading(check.signal)
         if planar is None:

@@ -144,7 +144,7 @@ class _Names:
                     and isinstance(item.get("axis"), str)
                     and item.get("group") in names("ca_groups", "name")},
                    sum((names("stations", "name", group) for group in items("ca_groups")),
-                       Counter()))
+                       names("stations", "name", planar)))
 
 
 _NAMES: ContextVar[_Names | None] = ContextVar("openmotion_scenario_names", default=None)

@@ -7,6 +7,7 @@ adds the line after the group, and the summary shows a table of the stations' me
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Annotated, Any
 
 from pydantic import AfterValidator, Field, StrictInt, StrictStr
@@ -44,7 +45,6 @@ def _not_an_axis(name: str) -> str:
 class StationSpec(_Model):
     """A station on the group's rail (rail/stations.py)."""
 
-    blocks = ("Station",)
     name: Annotated[Identifier, _unique("stations"), AfterValidator(_not_an_axis)]
     """Unique among the objects of the scenario; its signals are ``<name>.queue_length`` ..."""
     position: Number
@@ -63,7 +63,6 @@ class StationSpec(_Model):
 class RouteSpec(_Model):
     """Movers of the group that visit stations in order, round and round."""
 
-    blocks = ("Route",)
     stations: Annotated[list[StrictStr], Field(min_length=1)]
     """The stations in the order they are visited; after the last, the first again."""
     movers: list[StrictStr] | None = None
@@ -78,6 +77,67 @@ class RouteSpec(_Model):
 
     def build(self) -> Route:
         return Route(tuple(self.stations), self.laps)
+
+
+class PlanarStationSpec(StationSpec):
+    """A station on a planar track (its ``position`` is the arc length on ``track``)."""
+
+    track: StrictStr
+    """The planar track the station stands on."""
+
+    def build(self) -> Station:
+        return Station(self.name, self.position, self.process_time, self.capacity, self.pitch,
+                       self.track)
+
+
+class PlanarRouteSpec(_Model):
+    """Planar movers that visit stations in order with MoveOnTrack (TF5430 §6.2.2)."""
+
+    stations: Annotated[list[StrictStr], Field(min_length=1)]
+    """The stations in the order they are visited; after the last, the first again."""
+    movers: list[StrictStr] | None = None
+    """Planar movers on this route; default: every mover without a route."""
+    gap: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] = 200.0
+    """Gap to the mover ahead [mm] (ST_MoveOnTrackOptions.gap)."""
+    laps: Annotated[StrictInt, Field(ge=1)] | None = None
+    """Rounds through the route, then the mover stays; none: forever."""
+
+    def build(self) -> Route:
+        return Route(tuple(self.stations), self.laps)
+
+
+def planar_station_problems(stations: list[PlanarStationSpec], routes: list[PlanarRouteSpec],
+                            movers: list[str], tracks: list[str]) -> list[tuple[tuple, str]]:
+    """What would stop the run from building the planar line: (location, message) pairs."""
+    problems = [loc_message for loc_message in station_problems(
+        stations, routes, movers, 0.0, False)]  # type: ignore[arg-type]
+    for index, spec in enumerate(stations):
+        if spec.track not in tracks:
+            problems.append((("stations", index, "track"),
+                             f"no track {spec.track!r}; one of {', '.join(tracks) or 'none'}"))
+    return [(loc, message.replace("not a mover of the group", "not a planar mover"))
+            for loc, message in problems]
+
+
+def build_planar_line(rt: Runtime, movers: Mapping[str, Any], tracks: Mapping[str, Any],
+                      stations: list[PlanarStationSpec],
+                      routes: list[PlanarRouteSpec]) -> StationLine | None:
+    """The planar station line of a scenario, added to ``rt`` after the planar system."""
+    from openmotion.planar.options import ST_MoveOnTrackOptions
+    from openmotion.planar.stations import PlanarTrackPort
+
+    if not stations:
+        return None
+    ports = []
+    for route, names in routes_of(routes, list(movers)):  # type: ignore[arg-type]
+        for name in names:
+            options = ST_MoveOnTrackOptions(gap=route.gap)
+            ports.append((PlanarTrackPort(movers[name], tracks, options=options),
+                          route.build()))
+    line = StationLine([spec.build() for spec in stations], ports, rt.cycle_time,
+                       "planar.stations")
+    rt.add_system(line)
+    return line
 
 
 def station_problems(stations: list[StationSpec], routes: list[RouteSpec], axes: list[str],
