@@ -318,7 +318,7 @@ def derive_commands(cls: type, handles: Iterable[str],
                     levels: Iterable[str] = ()) -> tuple[CommandSpec, ...]:
     """The commands of ``cls``: its public methods (its own and inherited, in definition
     order) whose return annotation is one of ``handles`` (the kind's command handle type),
-    and the methods named in ``levels``, with their inputs from the signatures. ``units``
+    and after them the methods named in ``levels``, with their inputs from the signatures. ``units``
     overrides ``UNITS`` by input name or by ``"<command>.<input>"``."""
     levels = frozenset(levels)
     wanted = set(handles)
@@ -327,9 +327,10 @@ def derive_commands(cls: type, handles: Iterable[str],
         for name, value in vars(klass).items():
             if not name.startswith("_") and inspect.isfunction(value):
                 methods[name] = value
-    return tuple(_command(name, method, units or {}, name in levels)
-                 for name, method in methods.items()
-                 if _returns(method) in wanted or name in levels)
+    edges = [_command(name, method, units or {}) for name, method in methods.items()
+             if _returns(method) in wanted and name not in levels]
+    return (*edges, *(_command(name, method, units or {}, True)
+                      for name, method in methods.items() if name in levels))
 
 
 def _returns(method: Callable[..., Any]) -> str:
