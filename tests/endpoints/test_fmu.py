@@ -243,3 +243,48 @@ def test_cli_errors_exit_2_with_the_reason(tmp_path: Path, still_axis: Path) -> 
     assert good.exit_code == 0, good.output
     assert "fmu: written to" in good.output
     assert 'stopTime="0.2"' in _description(tmp_path / "a.fmu")
+
+
+# -- inputs of every wire kind ----------------------------------------------------------------
+
+def _set(unit: MachineUnit, **values: object) -> None:
+    variables = {v.name: v for v in unit.variables}
+    for name, value in values.items():
+        variables[name].set(value)  # type: ignore[misc]
+
+
+def test_vector_and_object_inputs_become_the_commands_arguments() -> None:
+    from openmotion.planar import PositionXYC
+
+    unit = MachineUnit(resolve_scenario("planar_two_movers"),
+                       commands=["one.move_to_position", "one.join_track"])
+    names = [v.name for v in unit.variables if v.causality == "input"]
+    assert names == ["one.move_to_position.Execute", "one.move_to_position.target.x",
+                     "one.move_to_position.target.y", "one.move_to_position.target.c",
+                     "one.move_to_position.target.reference_id", "one.join_track.Execute",
+                     "one.join_track.track"]
+    move, join = unit.ports
+    _set(unit, **{"one.move_to_position.target.x": 120.0, "one.move_to_position.target.y": 60.0})
+    arguments = move.command.arguments(move.inputs.given(), unit.model)
+    assert arguments["target"] == PositionXYC(120.0, 60.0, 0.0, 0)
+    # no track of that name: the command is not started, Error and a warning instead
+    warnings: list[str] = []
+    unit.log = warnings.append
+    _set(unit, **{"one.join_track.Execute": True, "one.join_track.track": "nowhere"})
+    unit.step(0.0, 0.001)
+    assert join.state.error and join.state.error_id == int(INPUT_ERROR)
+    assert warnings and "nowhere" in warnings[0]
+
+
+def test_an_axes_group_position_is_one_real_per_axis() -> None:
+    unit = MachineUnit(resolve_scenario("gantry_contour"),
+                       commands=["gantry.move_linear_absolute"])
+    (port,) = unit.ports
+    reals = [v for v in unit.variables if v.name.startswith(
+        "gantry.move_linear_absolute.position[")]
+    assert [v.name[-3:] for v in reals] == ["[1]", "[2]", "[3]"]
+    assert {v.unit for v in reals} == {"mm"}
+    _set(unit, **{v.name: float(i) for i, v in enumerate(reals, start=1)})
+    arguments = port.command.arguments(port.inputs.given(), unit.model)
+    assert arguments["position"] == [1.0, 2.0, 3.0]
+    assert "velocity" not in arguments  # NaN: MC_DEFAULT, left to the command

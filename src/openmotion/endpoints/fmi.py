@@ -229,7 +229,7 @@ class _Inputs:
             return self._enum(put, name, default if given else None)
         if kind is WireKind.OBJECT:
             start = getattr(default, "name", "") if given and default is not None else ""
-            self._variable(name, "String", start, description=f"the name of a {put.type}"
+            self._variable(name, "String", start, description=f"an object's name ({put.type})"
                            + ("; empty: the input's default" if given else ""))
             return lambda: None if given and not self.values[name] \
                 else (put.name, self.values[name])
@@ -308,12 +308,13 @@ class _EdgePort:
         self.seen_end = False
         try:
             arguments = self.command.arguments(self.inputs.given(), self.model)
-        except WireError as error:
+            self.handle = self.command.spec.start(**arguments)  # type: ignore[misc]
+        except (ConfigError, TypeError, ValueError) as error:  # WireError, or a refusal
+            # the machine raises rather than answers (a planar block's bad option): the FB's
+            # error outputs, never a dead FMU
             self.handle = None
             self.state = HandleState(error=True, error_id=int(INPUT_ERROR), message=str(error))
             unit.log(f"{self.command.owner.name}.{self.command.name}: {error}")
-            return
-        self.handle = self.command.spec.start(**arguments)  # type: ignore[misc]
 
     def observe(self) -> None:
         """The outputs after a step: the command's while Execute is TRUE. Execute FALSE
