@@ -152,6 +152,17 @@ def test_a_level_command_follows_its_input(tmp_path: Path, still_axis: Path) -> 
     assert status[time < 0.2 - 1e-9].all() and not status[time > 0.2 + 1e-9].any()
 
 
+def test_the_default_experiment_ends_on_the_traces_last_row(tmp_path: Path,
+                                                            still_axis: Path) -> None:
+    sparse = tmp_path / "sparse.yaml"  # 601 cycles recorded every 7th: the last row at 0.595 s
+    sparse.write_text(STILL_AXIS.replace("duration: 0.6", "duration: 0.601").replace(
+        "record:", "record:\n  every: 7"), encoding="utf-8")
+    experiment = fmpy.read_model_description(
+        str(export_fmu(sparse, tmp_path / "sparse.fmu"))).defaultExperiment
+    assert float(experiment.stepSize) == 0.007
+    assert float(experiment.stopTime) == 85 * 7 * 0.001
+
+
 def test_all_signals_gives_every_signal_of_the_model(tmp_path: Path, still_axis: Path) -> None:
     recorded = MachineUnit(still_axis, signals=["x.set_position", "x.position", "x.state"])
     every = MachineUnit(still_axis)

@@ -360,7 +360,7 @@ class FmuOptions:
 
     commands: list[str] = field(default_factory=list)
     signals: list[str] | None = None  #: None: every signal of the machine model
-    stop_time: float = 1.0  #: the default experiment: the end of ``openmotion run`` [s]
+    stop_time: float = 1.0  #: the default experiment: the last row of the run's trace [s]
     step_size: float = 0.001  #: the default experiment: the trace's sampling period [s]
     description: str = ""
 
@@ -376,11 +376,13 @@ def export_fmu(scenario: str | Path, output: str | Path, *, commands: Sequence[s
 
     Outputs are the signals the scenario records (all of the machine model's with
     ``all_signals``), inputs the ``commands`` named ``OBJECT.COMMAND``. The FMU's default
-    experiment runs to ``stop_time``: by default the scenario's ``duration``, or where
-    ``openmotion run`` ends it (found by running it once). Raises ``ConfigError`` for a bad
+    experiment steps at the trace's period and runs to ``stop_time``: by default the time of
+    the last row of ``openmotion run``'s trace (the scenario's ``duration``, or where the run
+    ends it, found by running it once). Raises ``ConfigError`` for a bad
     scenario or an unknown command before anything is written.
     """
     from openmotion.scenario.load import load_scenario
+    from openmotion.scenario.programs import cycle_of
     from openmotion.scenario.run import run_scenario
 
     source, target = Path(scenario), Path(output)
@@ -393,10 +395,13 @@ def export_fmu(scenario: str | Path, output: str | Path, *, commands: Sequence[s
     MachineUnit(source, commands, signals)  # every ConfigError now, not in the importer
     if stop_time is not None and not (math.isfinite(stop_time) and stop_time > 0):
         raise ConfigError(f"stop time must be a number > 0 [s], not {stop_time!r}")
-    stop = stop_time if stop_time is not None else model.duration \
-        if model.duration is not None else run_scenario(model).end_time
-    options = FmuOptions(list(dict.fromkeys(commands)), signals, float(stop),
-                         model.cycle_time * model.record.every,
+    every, cycle = model.record.every, model.cycle_time
+    if stop_time is None:  # the trace's last row: where the run ends, on the trace's period
+        cycles = cycle_of(model.duration, cycle) if model.duration is not None else \
+            run_scenario(model).cycles
+        stop_time = cycles // every * every * cycle
+    options = FmuOptions(list(dict.fromkeys(commands)), signals, float(stop_time),
+                         cycle * every,
                          f"openmotion scenario {model.name!r}"
                          + (f": {model.description.strip()}" if model.description else ""))
     from pythonfmu import FmuBuilder
