@@ -41,6 +41,7 @@ from openmotion.endpoints.wire import (
     WireError,
     WireInput,
     WireKind,
+    default_of,
     handle_state,
     wire_commands,
 )
@@ -210,12 +211,14 @@ class _Inputs:
         given = default is not REQUIRED
         kind = put.kind
         if kind is WireKind.NUMBER:
-            start = float(default) if isinstance(default, int | float) and given else \
-                math.nan if given else 0.0
-            self._variable(name, "Real", start, put.input.unit,
-                           "NaN: the input's default" + (f" ({default.name})" if given and
-                                                         hasattr(default, "name") else "")
-                           if given else "required")
+            if not given:
+                start, note = 0.0, "required"
+            elif isinstance(default, int | float):
+                start, note = float(default), "NaN: the input's default"
+            else:  # MC_DEFAULT and its kin, or None: no number stands for them
+                shown = "" if default is None else f" ({default_of(put)})"
+                start, note = math.nan, f"NaN: the input's default{shown}"
+            self._variable(name, "Real", start, put.input.unit, note)
             return lambda: None if given and math.isnan(self.values[name]) \
                 else (put.name, self.values[name])
         if kind is WireKind.INTEGER:
