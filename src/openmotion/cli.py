@@ -326,6 +326,45 @@ def view(
         raise _fail(f"error: cannot listen on {host}:{port}: {exc.strerror or exc}") from None
 
 
+@app.command()
+def fmu(
+    scenario: ScenarioArgument = None,
+    output: Annotated[Path | None, typer.Option(
+        "--output", "-o", help="The FMU file to write (.fmu). Default: the scenario's name "
+        "with .fmu, in the current directory.", show_default=False)] = None,
+    command: Annotated[list[str] | None, typer.Option(
+        "--command", "-c", metavar="OBJECT.COMMAND", help="A command the FMU takes as "
+        "inputs (x.move_absolute: Execute, its inputs; Done, Busy, Error ... out); repeat "
+        "for more.", show_default=False)] = None,
+    all_signals: Annotated[bool, typer.Option(
+        "--all-signals", help="Every signal of the machine model as an output, not only "
+        "those the scenario records.")] = False,
+    stop_time: Annotated[float | None, typer.Option(
+        metavar="SECONDS", help="The default experiment's stop "
+        "time. Default: the scenario's duration, or where 'openmotion run' ends it.",
+        show_default=False)] = None,
+) -> None:
+    """Export a scenario as an FMI 2.0 co-simulation FMU: its signals as outputs, chosen
+    commands as inputs, doStep in whole cycles (docs/endpoints.md)."""
+    _started()
+    path = _scenario_path(scenario)
+    target = output if output is not None else Path(f"{path.stem}.fmu")
+    try:
+        from openmotion.endpoints.fmi import export_fmu
+
+        written = export_fmu(path, target, commands=command or (), all_signals=all_signals,
+                             stop_time=stop_time)
+    except ConfigError as exc:
+        raise _fail(f"ConfigError: {exc}") from None
+    except ImportError as exc:
+        raise _fail(f"error: exporting an FMU needs pythonfmu ({exc}); install it with "
+                    "pip install 'openmotion[fmi]'") from None
+    except OSError as exc:
+        raise _fail(f"error: cannot write {exc.filename or target}: "
+                    f"{exc.strerror or exc}") from None
+    typer.echo(f"fmu: written to {written}", err=True)
+
+
 def _scenario_path(argument: str | None) -> Path:
     """The file a scenario argument names (a path, or a shipped example's name); exit 2 with
     a hint when it names neither."""
