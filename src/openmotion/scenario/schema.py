@@ -18,7 +18,7 @@ import dataclasses
 import math
 import re
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator, Mapping
 from contextvars import ContextVar
 from enum import Enum
 from typing import (
@@ -426,6 +426,25 @@ def _parameter_type(annotation: Any) -> Any:
     if isinstance(annotation, type) and issubclass(annotation, Enum):
         return _enum_by_name(annotation)
     return _PARAMETER_TYPES.get(annotation, annotation)
+
+
+#: an option that also takes MC_DEFAULT, MC_IGNORE ... (core.special_values.InputValue)
+_OPTION_TYPES: dict[Any, Any] = {float | SpecialValue: InputValue}
+
+
+def option_fields(options: type, skip: Iterable[str] = (),
+                  types: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """The fields of an options struct (a dataclass such as ST_GearInPosCAOptions) as fields
+    of a scenario entry (``create_model``): the same names and defaults, the type from the
+    annotation (an enum by its lower-case name, a float a finite number, an input that takes
+    MC_DEFAULT an InputValue); ``types`` by name where the annotation says too little,
+    ``skip`` the fields the entry has already. A field added to the struct is a field of the
+    entry (D-235)."""
+    hints = get_type_hints(options)
+    given = types or {}
+    return {f.name: (given.get(f.name) or _OPTION_TYPES.get(hints[f.name])
+                     or _parameter_type(hints[f.name]), f.default)
+            for f in dataclasses.fields(options) if f.name not in set(skip)}
 
 
 _HINTS = get_type_hints(AxisParameters)
