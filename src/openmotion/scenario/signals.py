@@ -141,6 +141,9 @@ def check_signal(name: str, names: Any) -> str:
             raise ValueError(f"{name!r}: {section.what}'s signal is one of "
                              f"{', '.join(kind.signal_names)}")
         return name
+    if names is not None and _PART.match(subject):
+        known = ", ".join(part_name(oid) for oid in sorted(names.planar_parts)) or "none"
+        raise ValueError(f"unknown planar part {subject!r} (planar.environment.parts: {known})")
     if match is None or prop not in AXIS_CHOICES:
         raise ValueError(f"{name!r} is not '<axis>.<signal>' with a signal among "
                          f"{', '.join(AXIS_CHOICES)}")
