@@ -1,5 +1,6 @@
 """Scenario entries of options structs take their fields from the struct (D-235): a field added
-to ST_GearInPosCAOptions (or the CA move and halt options) is reachable from files at once."""
+to ST_GearInPosCAOptions (the CA move and halt options, the gear-ins on planar tracks) is
+reachable from files at once."""
 
 from __future__ import annotations
 
@@ -9,6 +10,8 @@ import pytest
 from pydantic import ValidationError, create_model
 
 from openmotion.core.special_values import MC_DEFAULT, InputValue
+from openmotion.planar import ST_GearInPosOnTrackOptions, ST_GearInPosOnTrackWithMasterMoverOptions
+from openmotion.scenario.planar_gearing import GearInPosOnTrack, GearInPosOnTrackWithMasterMover
 from openmotion.scenario.schema import _Model, option_fields
 from openmotion.scenario.transport import GearInPosCa, HaltCa, MoveAbsoluteCa, MoveRelativeCa
 from openmotion.transport.blocks import (
@@ -22,7 +25,9 @@ from openmotion.transport.gear_blocks import ST_GearInPosCAOptions
 
 @pytest.mark.parametrize(("entry", "options"), [
     (GearInPosCa, ST_GearInPosCAOptions), (MoveAbsoluteCa, ST_MoveAbsoluteCAOptions),
-    (MoveRelativeCa, ST_MoveRelativeCAOptions), (HaltCa, ST_HaltCAOptions)])
+    (MoveRelativeCa, ST_MoveRelativeCAOptions), (HaltCa, ST_HaltCAOptions),
+    (GearInPosOnTrack, ST_GearInPosOnTrackOptions),
+    (GearInPosOnTrackWithMasterMover, ST_GearInPosOnTrackWithMasterMoverOptions)])
 def test_every_option_is_a_field_of_its_entry_with_the_struct_default(entry: type,
                                                                       options: type) -> None:
     for field in dataclasses.fields(options):
