@@ -74,6 +74,10 @@ SECTIONS = (
     Section("planar_tracks", "a planar track", PLANAR_TRACK),
 )
 _PARTS = Section("planar_parts", "a planar part", PLANAR_PART)
+#: which object a name means where objects of several kinds share it: the one validation
+#: takes it for (an axis first, with the CA mover it is; then SECTIONS' order)
+_PRECEDENCE = (AXIS.name, CA_MOVER.name, *(section.kind.name for section in SECTIONS),
+               PLANAR_PART.name)
 
 
 def part_name(oid: int) -> str:
@@ -280,6 +284,9 @@ class RunSignals:
             self._objects = {}
             for obj in machine(self.runtime):
                 self._objects.setdefault(obj.name, []).append(obj)
+            for objects in self._objects.values():
+                objects.sort(key=lambda obj: _PRECEDENCE.index(obj.kind)
+                             if obj.kind in _PRECEDENCE else len(_PRECEDENCE))
         return self._objects
 
     def reading(self, name: str) -> tuple[float, str, bool]:
