@@ -65,7 +65,7 @@ class Section:
 
 
 #: every kind of object a scenario declares besides axes and planar parts, in the order a
-#: name is looked up (the model's: its systems in the order they run)
+#: name is looked up after the axes
 SECTIONS = (
     Section("groups", "a CA group", CA_GROUP),
     Section("axes_groups", "an axes group", AXES_GROUP),
@@ -100,37 +100,37 @@ def _is_mover(subject: str, names: Any) -> bool:
     return names is None or subject in names.members or subject in names.added
 
 
-def declared(subject: str, names: Any) -> tuple[Section, tuple[Kind, ...]] | None:
-    """What ``subject`` is in the file being validated (``names``): its section and the kinds
-    whose signals it shows; None for an axis (or a name the file does not declare: it is
-    taken for an axis, whose checks name the axes)."""
+def declared(subject: str, names: Any) -> Section | None:
+    """The section of the file being validated (``names``) that declares ``subject``; None
+    for an axis (or a name the file does not declare: it is taken for an axis, whose checks
+    name the axes)."""
     if names is None or subject in names.axes:
         return None
     for section in SECTIONS:
         if subject in getattr(names, section.names):
-            return section, (section.kind,)
+            return section
     match = _PART.match(subject)
     if match is not None and int(match.group(1), 16) in names.planar_parts:
-        return _PARTS, (PLANAR_PART,)
+        return _PARTS
     return None
 
 
 def _kinds(subject: str, names: Any) -> tuple[Kind, ...]:
-    found = declared(subject, names)
-    if found is not None:
-        return found[1]
+    """The kinds whose signals ``subject`` shows: an axis's and, for a CA mover, a mover's."""
+    section = declared(subject, names)
+    if section is not None:
+        return (section.kind,)
     return (AXIS, CA_MOVER) if _is_mover(subject, names) else (AXIS,)
 
 
 def scenario_signals(names: Any) -> dict[str, tuple[str, ...]]:
     """Every object the file declares, with the signals a scenario may name of it: what
     ``check_signal`` accepts, object by object."""
-    found = {axis: tuple(name for kind in _kinds(axis, names) for name in kind.signal_names)
-             for axis in names.axes}
-    for section in SECTIONS:
-        found.update((name, section.kind.signal_names) for name in getattr(names, section.names))
-    found.update((part_name(oid), PLANAR_PART.signal_names) for oid in sorted(names.planar_parts))
-    return found
+    objects = [*names.axes, *(name for section in SECTIONS
+                              for name in getattr(names, section.names)),
+               *(part_name(oid) for oid in sorted(names.planar_parts))]
+    return {name: tuple(prop for kind in _kinds(name, names) for prop in kind.signal_names)
+            for name in dict.fromkeys(objects)}
 
 
 def check_signal(name: str, names: Any) -> str:
@@ -138,12 +138,11 @@ def check_signal(name: str, names: Any) -> str:
     choices otherwise (or the axes, or the CA groups, for an axis that has none of them)."""
     match = _SIGNAL.match(name)
     subject, prop = match.groups() if match is not None else (name.partition(".")[0], "")
-    found = declared(subject, names)
-    if found is not None:
-        section, (kind, *_) = found
-        if prop not in kind.signal_names:
+    section = declared(subject, names)
+    if section is not None:
+        if prop not in section.kind.signal_names:
             raise ValueError(f"{name!r}: {section.what}'s signal is one of "
-                             f"{', '.join(kind.signal_names)}")
+                             f"{', '.join(section.kind.signal_names)}")
         return name
     if names is not None and _PART.match(subject):
         known = ", ".join(part_name(oid) for oid in sorted(names.planar_parts)) or "none"
