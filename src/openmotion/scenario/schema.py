@@ -294,6 +294,8 @@ ErrorIdName = Annotated[ErrorId, PlainValidator(_error_id),
 
 # -- conditions ----------------------------------------------------------------------------
 
+#: the outputs of an entry's command handle a condition may name (``<id>.done``): not
+#: signals of the machine model, which ``<object>.<signal> <op> <value>`` compares (signals.py)
 COMMAND_FLAGS = ("done", "error", "aborted", "busy", "active", "in_velocity", "finished",
                  "in_gear", "in_sync")
 #: the entries whose rows have ``in_sync``: the gear-ins on planar tracks (planar_gearing.py)
