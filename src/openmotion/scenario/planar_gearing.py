@@ -21,7 +21,7 @@ from __future__ import annotations
 from dataclasses import fields
 from typing import Annotated, Any, ClassVar, Literal, NamedTuple
 
-from pydantic import AfterValidator, Field, StrictStr, create_model, model_validator
+from pydantic import AfterValidator, Field, StrictStr, model_validator
 
 from openmotion.planar import (
     MC_PlanarFeedbackGearInPosOnTrack,
@@ -32,7 +32,7 @@ from openmotion.planar import (
 from openmotion.planar.feedback import MC_PlanarFeedbackInSync
 from openmotion.scenario.planar import _check_planar_mover, _Constrained
 from openmotion.scenario.planar_tracks import TrackName, TrackRef, starts_where_ends
-from openmotion.scenario.schema import Number, _check_axis, option_fields
+from openmotion.scenario.schema import Number, _check_axis, with_options
 
 #: a trail (``trail``) is built for each entry: Clear, then AddTrack for each track
 TRAIL_METHODS = ("MC_PlanarTrackTrail.clear", "MC_PlanarTrackTrail.add_track")
@@ -72,7 +72,7 @@ Trail = Annotated[list[TrackName], Field(min_length=1), AfterValidator(_check_tr
 
 class _GearIn(_Constrained):
     """The fields both gear-ins share: the path and the slave's sync. Each gear-in takes the
-    fields of its options struct from the struct (schema.option_fields, D-235)."""
+    fields of its options struct from the struct (schema.with_options, D-235)."""
 
     feedback: ClassVar[type[MC_PlanarFeedbackInSync]]  #: what the run passes for in_sync
     options: ClassVar[type]  #: the options struct, whose fields the entry has
@@ -129,10 +129,7 @@ class _GearInPosOnTrack(_GearIn):
 #: mover ahead [mm]), in_sync_tolerance_distance [mm], direction_slave_sync_position (which
 #: occurrence of the sync position on a closed-loop track counts, as MoveC picks its
 #: target), modulo_tolerance_slave_sync_position [mm], allowed_slave_sync_directions
-GearInPosOnTrack = create_model(
-    "GearInPosOnTrack", __base__=_GearInPosOnTrack, __doc__=_GearInPosOnTrack.__doc__,
-    __module__=__name__, **option_fields(ST_GearInPosOnTrackOptions,
-                                         skip=_GearInPosOnTrack.model_fields))
+GearInPosOnTrack = with_options(_GearInPosOnTrack, ST_GearInPosOnTrackOptions)
 
 
 class _GearInPosOnTrackWithMasterMover(_GearIn):
@@ -169,9 +166,6 @@ class _GearInPosOnTrackWithMasterMover(_GearIn):
 #: the master's direction_master_sync_position and modulo_tolerance_master_sync_position,
 #: and follow_mover (the slave goes the shortest way to master_sync_track and then the
 #: master's way; the trail then only leads it there)
-GearInPosOnTrackWithMasterMover = create_model(
-    "GearInPosOnTrackWithMasterMover", __base__=_GearInPosOnTrackWithMasterMover,
-    __doc__=_GearInPosOnTrackWithMasterMover.__doc__, __module__=__name__,
-    **option_fields(ST_GearInPosOnTrackWithMasterMoverOptions,
-                    skip=_GearInPosOnTrackWithMasterMover.model_fields))
+GearInPosOnTrackWithMasterMover = with_options(_GearInPosOnTrackWithMasterMover,
+                                               ST_GearInPosOnTrackWithMasterMoverOptions)
 

@@ -449,6 +449,18 @@ def option_fields(options: type, skip: Iterable[str] = (),
             for f in dataclasses.fields(options) if f.name not in set(skip)}
 
 
+def with_options(base: type[BaseModel], options: type,
+                 types: Mapping[str, Any] | None = None) -> Any:
+    """The entry ``base`` (an entry with the block's other inputs, named ``_<Entry>``) with
+    the fields of the struct ``options`` it lacks (``option_fields``), named ``<Entry>``, with
+    ``base``'s docstring and its own ``blocks`` (scenario/coverage.py reads a model's own)."""
+    own = {"blocks": (ClassVar[tuple[str, ...]], vars(base)["blocks"])} \
+        if "blocks" in vars(base) else {}
+    return create_model(base.__name__.lstrip("_"), __base__=base, __doc__=base.__doc__,
+                        __module__=base.__module__, **own,
+                        **option_fields(options, skip=base.model_fields, types=types))
+
+
 _HINTS = get_type_hints(AxisParameters)
 AxisParametersSpec = create_model(
     "AxisParametersSpec",

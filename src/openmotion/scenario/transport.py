@@ -52,7 +52,7 @@ from openmotion.scenario.schema import (
     _Model,
     _parameter_type,
     _unique,
-    option_fields,
+    with_options,
 )
 from openmotion.scenario.tracks import GeometrySpec, PartSpec, TemplateSpec, TrackSpec, problems
 from openmotion.transport.blocks import (
@@ -206,12 +206,12 @@ class _CaMove(CaEntry):
     """A ``set_gap`` entry may change the gap while the command runs."""
 
 
-def _options(options: type, entry: type[_Model]) -> dict[str, Any]:
-    """The fields of a CA options struct that ``entry`` lacks (schema.option_fields, D-235).
-    A reference system is an OTCID: 0 = the motor path; the template the mover registered
+def _with_options(entry: type[_Model], options: type) -> Any:
+    """``entry`` with the fields of a CA options struct (schema.with_options, D-235). A
+    reference system is an OTCID: 0 = the motor path; the template the mover registered
     (register_compensation): a position or distance on its TCP path, dynamics the TCP keeps
     (in a move that meets a curve every limit is scaled by R / (R + y_shift), D-072)."""
-    return option_fields(options, skip=entry.model_fields, types={
+    return with_options(entry, options, types={
         f.name: OidInput for f in dataclasses.fields(options)
         if f.name.endswith("_reference_system")})
 
@@ -229,9 +229,7 @@ class _MoveAbsoluteCa(_CaMove):
 
 #: with the fields of ST_MoveAbsoluteCAOptions (additional_turns: whole extra laps of a modulo
 #: move; the reference systems)
-MoveAbsoluteCa = create_model("MoveAbsoluteCa", __base__=_MoveAbsoluteCa,
-                              __doc__=_MoveAbsoluteCa.__doc__, __module__=__name__,
-                              **_options(ST_MoveAbsoluteCAOptions, _MoveAbsoluteCa))
+MoveAbsoluteCa = _with_options(_MoveAbsoluteCa, ST_MoveAbsoluteCAOptions)
 
 
 class _MoveRelativeCa(_CaMove):
@@ -244,9 +242,7 @@ class _MoveRelativeCa(_CaMove):
 
 
 #: with the fields of ST_MoveRelativeCAOptions (the reference systems)
-MoveRelativeCa = create_model("MoveRelativeCa", __base__=_MoveRelativeCa,
-                              __doc__=_MoveRelativeCa.__doc__, __module__=__name__,
-                              **_options(ST_MoveRelativeCAOptions, _MoveRelativeCa))
+MoveRelativeCa = _with_options(_MoveRelativeCa, ST_MoveRelativeCAOptions)
 
 
 class _GearInPosCa(_CaMove):
@@ -286,8 +282,7 @@ class _GearInPosCa(_CaMove):
 #: gear_in_pos_default_dynamics_after_sync), the restrictions of the profile driven while it
 #: syncs (D-204), override_slave_dynamic_restrictions (D-206), master_signal_correction
 #: (D-205), the reference systems (0 only, D-207)
-GearInPosCa = create_model("GearInPosCa", __base__=_GearInPosCa, __doc__=_GearInPosCa.__doc__,
-                           __module__=__name__, **_options(ST_GearInPosCAOptions, _GearInPosCa))
+GearInPosCa = _with_options(_GearInPosCa, ST_GearInPosCAOptions)
 
 
 class _HaltCa(CaEntry):
@@ -307,8 +302,7 @@ class _HaltCa(CaEntry):
 
 #: with the fields of ST_HaltCAOptions (dynamics_reference_system: the registered template: a
 #: stop that meets a curve brakes at R / (R + y_shift) of deceleration and jerk)
-HaltCa = create_model("HaltCa", __base__=_HaltCa, __doc__=_HaltCa.__doc__, __module__=__name__,
-                      **_options(ST_HaltCAOptions, _HaltCa))
+HaltCa = _with_options(_HaltCa, ST_HaltCAOptions)
 
 
 class ActivateTrack(CaEntry):
