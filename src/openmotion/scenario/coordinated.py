@@ -10,8 +10,9 @@ and the transforms. The five group commands both kinds of group share (``group_e
 ``group_disable``, ``group_reset``, ``group_halt``, ``group_stop``: the same FBs,
 transport/blocks.py) are scenario/transport.py's and take an axes group too.
 
-Signals of a group (``<group>.x`` ...) are those of ``trace.signals.GROUP_SIGNALS``; a
-condition on a group compares one of them, or its state (``<group>.state == standby``).
+Signals of a group (``<group>.x`` ...) are its kind's in the machine model
+(coordinated/kind.py, scenario/signals.py); a condition on a group compares one of them, or
+its state (``<group>.state == standby``).
 schema.py puts the list into ``Scenario`` and the entries into ``TIMELINE_COMMANDS``; they
 share its value types, conditions and name checks.
 """
@@ -81,8 +82,8 @@ from openmotion.scenario.schema import (
     _signal_value,
     _unique,
 )
+from openmotion.scenario.signals import check_signal, spec_of, value_of_name
 from openmotion.scenario.transport import _Timed
-from openmotion.trace.signals import DEFAULT_GROUP_SIGNALS, GROUP_SIGNALS
 
 CoordSystemName = _enum_by_name(CoordSystem)
 TransitionModeName = _enum_by_name(TransitionMode)
@@ -98,12 +99,6 @@ _STATES = ", ".join(state.name.lower() for state in AxesGroupState)
 _TRANSFORM = "trans_x, trans_y, trans_z [mm], rot_angle1, rot_angle2, rot_angle3 [°]"
 
 # -- names ---------------------------------------------------------------------------------
-
-
-def is_axes_group(subject: str) -> bool:
-    """Whether ``subject`` names an axes group of the scenario being validated."""
-    names = _NAMES.get()
-    return names is not None and subject in names.axes_groups
 
 
 def _check_axes_group(name: str) -> str:
@@ -139,40 +134,23 @@ def _in_one_group(name: str) -> str:
     return name
 
 
-def check_group_signal(name: str) -> str:
-    """``<group>.<signal>`` with a signal of GROUP_SIGNALS."""
-    _, _, prop = name.partition(".")
-    if prop not in GROUP_SIGNALS:
-        raise ValueError(f"{name!r}: an axes group's signal is one of {', '.join(GROUP_SIGNALS)}")
-    return name
-
-
-def group_named_value(signal: str, name: str) -> float | None:
-    """The AxesGroupState number of ``name`` for the ``state`` signal, else None."""
-    if signal == "state" and name.upper() in AxesGroupState.__members__:
-        return float(AxesGroupState[name.upper()])
-    return None
-
-
 def axes_group_condition(text: str, subject: str, attribute: str, operator: str,
                          raw: str) -> Condition | None:
     """``<group>.<signal> <op> <number>`` or ``<group>.state == <state>``; None when
     ``subject`` is no axes group."""
-    if not is_axes_group(subject):
+    names = _NAMES.get()
+    if names is None or subject not in names.axes_groups:
         return None
-    check_group_signal(f"{subject}.{attribute}")
+    signal = f"{subject}.{attribute}"
+    check_signal(signal, names)
     if attribute == "state":
-        value = group_named_value(attribute, raw)
+        value = value_of_name(spec_of(signal, names), raw, names)
         if operator != "==" or value is None:
             raise ValueError(f"{text!r}: an axes group's state condition is '<group>.state == "
                              f"<state>' (states: {_STATES})")
         return Condition(text.strip(), subject, attribute, operator, value)
     return Condition(text.strip(), subject, attribute, operator,
-                     _signal_value(attribute, raw, text))
-
-
-def default_group_signals(specs: Iterable[AxesGroupSpec]) -> list[str]:
-    return [f"{spec.name}.{prop}" for spec in specs for prop in DEFAULT_GROUP_SIGNALS]
+                     _signal_value(signal, raw, text))
 
 
 def _raise(model: _Model, problems: Iterable[tuple[Loc, str]]) -> None:

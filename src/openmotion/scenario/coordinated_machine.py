@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.coordinated.group import AxesGroup
+from openmotion.coordinated.kind import AXES_GROUP
 from openmotion.coordinated.path_table import (
     MC_PATH_DATA_REF,
     MC_BlockerPreparation,
@@ -41,7 +42,6 @@ from openmotion.scenario.coordinated import (
 from openmotion.scenario.programs import cycle_of
 from openmotion.scenario.queries import Called
 from openmotion.scenario.transport import GroupEntry, GroupStop
-from openmotion.trace.signals import read_group_signal
 
 if TYPE_CHECKING:
     from rich.table import Table
@@ -148,26 +148,9 @@ class AxesGroups:
         not keep the run going (the group's and the axes' motion do)."""
         return command in self.background
 
-    # -- signals -----------------------------------------------------------------------------
-
-    def signal(self, subject: str, prop: str) -> float | None:
-        """A group's signal; None when ``subject`` is no axes group."""
-        group = self.groups.get(subject)
-        return None if group is None else read_group_signal(group, prop)
-
-    def reading(self, name: str) -> tuple[float, str, bool] | None:
-        """(value, its text, whether it is a name) of a group signal; None for others."""
-        subject, _, prop = name.partition(".")
-        value = self.signal(subject, prop)
-        if value is None:
-            return None
-        if prop == "state":
-            return value, AxesGroupState(int(value)).name.lower(), True
-        return value, "", False
-
     def rows(self) -> list[AxesGroupRow]:
         return [AxesGroupRow(name, group.state.name.lower(),
-                             *(read_group_signal(group, prop) for prop in "xyz"),
+                             *(AXES_GROUP.signal(prop).read(group) for prop in "xyz"),
                              tuple((axis.name, axis.set_position) for axis in group.axes))
                 for name, group in self.groups.items()]
 

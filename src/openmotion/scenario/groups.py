@@ -24,7 +24,6 @@ from openmotion.rail.stations import StationLine, StationRow
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.programs import cycle_of
 from openmotion.scenario.queries import Called
-from openmotion.scenario.schema import Condition
 from openmotion.scenario.stations import build_line
 from openmotion.scenario.tracks import configure
 from openmotion.scenario.transport import (
@@ -152,12 +151,6 @@ class CaGroups:
         for due in [due for due in self.releases if due[0] <= cycle]:
             due[1].release()
             self.releases.remove(due)
-
-    def holds(self, condition: Condition) -> bool | None:
-        """``<group>.state == <state>``; None when the condition is not about a group."""
-        if condition.subject not in self.groups or condition.subject in self.rt.axes:
-            return None
-        return float(self.groups[condition.subject].state) == condition.value
 
     # -- rest --------------------------------------------------------------------------------
 

@@ -9,7 +9,8 @@ whose geometry the engine refuses.
 Timeline entries name the mover in ``mover`` (or the planar group in ``group``) and call the
 MC_PlanarMover (MC_PlanarGroup) method of the same name; ``arguments()`` gives the method's
 inputs after the feedback (the run passes none: PLC 0). Signals of a mover (``<mover>.x``
-...) read its published set values; see ``PLANAR_SIGNALS``. schema.py puts the block into its
+...) are its kind's in the machine model (planar/kind.py, scenario/signals.py). schema.py
+puts the block into its
 ``Scenario`` and the entries into ``TIMELINE_COMMANDS``; they share its value types,
 conditions and name checks. Parts and coordinate systems (the environment's ``parts``, the
 ``activate_part_position`` entry) are in planar_parts.py, the external setpoint entries in
@@ -61,9 +62,8 @@ from openmotion.scenario.planar_parts import (
     is_static,
     layout_problems,
     oid_text,
-    parse_oid,
 )
-from openmotion.scenario.planar_tracks import TrackName, TrackSpec, order_problems, track_number
+from openmotion.scenario.planar_tracks import TrackName, TrackSpec, order_problems
 from openmotion.scenario.schema import (
     _NAMES,
     Condition,
@@ -75,6 +75,7 @@ from openmotion.scenario.schema import (
     _signal_value,
     _unique,
 )
+from openmotion.scenario.signals import check_signal, spec_of, value_of_name
 from openmotion.scenario.stations import (
     PlanarRouteSpec,
     PlanarStationSpec,
@@ -83,13 +84,6 @@ from openmotion.scenario.stations import (
 from openmotion.scenario.transport import _Timed
 from openmotion.trajectory.plan import Limits
 
-#: what a trace, a check or a condition reads of a planar mover: the set position x, y, z
-#: [mm], a, b, c [°], the path velocity |(vx, vy)| [mm/s], the PlanarState number, the OID
-#: of the coordinate system the position is in (PhysicalAreaID; 0 without parts), the track
-#: it is on (its number in planar.tracks; 0: none) and its arc length s there [mm]
-PLANAR_SIGNALS = ("x", "y", "z", "a", "b", "c", "velocity", "state", "coordinate_system",
-                  "track", "s")
-DEFAULT_PLANAR_SIGNALS = ("x", "y", "c")  #: recorded for every mover when none are named
 Loc = tuple[str | int, ...]
 ModuloDirectionName = _enum_by_name(ModuloDirection)
 
@@ -127,21 +121,6 @@ def _own_name(*kinds: str) -> Any:
 _KINDS = {"axes": "an axis", "groups": "a CA group", "planar_movers": "a planar mover"}
 
 
-def is_planar(subject: str) -> bool:
-    """Whether ``subject`` names a planar mover of the scenario being validated."""
-    names = _NAMES.get()
-    return names is not None and subject in names.planar_movers
-
-
-def check_planar_signal(name: str) -> str:
-    """``<mover>.<signal>`` with a signal of PLANAR_SIGNALS."""
-    _, _, prop = name.partition(".")
-    if prop not in PLANAR_SIGNALS:
-        raise ValueError(f"{name!r}: a planar mover's signal is one of "
-                         f"{', '.join(PLANAR_SIGNALS)}")
-    return name
-
-
 def planar_condition(text: str, subject: str, attribute: str, operator: str,
                      raw: str) -> Condition | None:
     """``<mover>.<signal> <op> <value>`` or ``<group>.state == <state>``; None when
@@ -153,30 +132,17 @@ def planar_condition(text: str, subject: str, attribute: str, operator: str,
                              f"<state>' (states: {_STATES})")
         return Condition(text.strip(), subject, attribute, operator,
                          float(PlanarState[raw.upper()]))
-    if not is_planar(subject):
+    if names is None or subject not in names.planar_movers:
         return None
-    check_planar_signal(f"{subject}.{attribute}")
-    named = planar_named_value(attribute, raw)
+    signal = f"{subject}.{attribute}"
+    check_signal(signal, names)
+    named = value_of_name(spec_of(signal, names), raw, names)
     if attribute == "state" and named is None:
         raise ValueError(f"{text!r}: {raw!r} is not a planar state ({_STATES})")
     if attribute == "track" and named is None and not _is_number(raw):
         raise ValueError(f"{text!r}: {raw!r} is not a planar track ({_tracks()})")
-    value = named if named is not None else _signal_value(attribute, raw, text)
+    value = named if named is not None else _signal_value(signal, raw, text)
     return Condition(text.strip(), subject, attribute, operator, value)
-
-
-def planar_named_value(signal: str, name: str) -> float | None:
-    """The PlanarState number of ``name`` for the ``state`` signal, the OID of ``16#...``
-    for ``coordinate_system``, the number of the track ``name`` (or ``none``: 0) for
-    ``track``, else None."""
-    if signal == "state" and name.upper() in PlanarState.__members__:
-        return float(PlanarState[name.upper()])
-    if signal == "track":
-        return track_number(name)
-    if signal == "coordinate_system" and name.startswith("16#") and \
-            (oid := parse_oid(name)) is not None:
-        return float(oid)
-    return None
 
 
 _STATES = ", ".join(state.name.lower() for state in PlanarState)
@@ -786,7 +752,3 @@ PLANAR_ENTRIES: tuple[type, ...] = (
 PLANAR_COMMANDS: dict[str, type] = {
     get_args(model.model_fields["command"].annotation)[0]: model for model in PLANAR_ENTRIES}
 
-
-def default_planar_signals(spec: PlanarSpec | None) -> list[str]:
-    return [] if spec is None else [f"{mover.name}.{prop}" for mover in spec.movers
-                                    for prop in DEFAULT_PLANAR_SIGNALS]

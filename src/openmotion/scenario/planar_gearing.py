@@ -18,26 +18,21 @@ issued, and the row ends with the engine's error, as for the other planar entrie
 
 from __future__ import annotations
 
+from dataclasses import fields
 from typing import Annotated, Any, ClassVar, Literal, NamedTuple
 
-from pydantic import AfterValidator, Field, StrictBool, StrictStr, model_validator
+from pydantic import AfterValidator, Field, StrictStr, model_validator
 
 from openmotion.planar import (
     MC_PlanarFeedbackGearInPosOnTrack,
     MC_PlanarFeedbackGearInPosOnTrackWithMasterMover,
-    ModuloDirection,
     ST_GearInPosOnTrackOptions,
     ST_GearInPosOnTrackWithMasterMoverOptions,
-    SyncDirections,
 )
 from openmotion.planar.feedback import MC_PlanarFeedbackInSync
-from openmotion.scenario.planar import ModuloDirectionName, _check_planar_mover, _Constrained
+from openmotion.scenario.planar import _check_planar_mover, _Constrained
 from openmotion.scenario.planar_tracks import TrackName, TrackRef, starts_where_ends
-from openmotion.scenario.schema import Number, _check_axis, _enum_by_name
-
-_GEAR = ST_GearInPosOnTrackOptions()  #: the options' defaults
-SyncDirectionsName = _enum_by_name(SyncDirections)
-
+from openmotion.scenario.schema import Number, _check_axis, with_options
 
 #: a trail (``trail``) is built for each entry: Clear, then AddTrack for each track
 TRAIL_METHODS = ("MC_PlanarTrackTrail.clear", "MC_PlanarTrackTrail.add_track")
@@ -76,9 +71,11 @@ Trail = Annotated[list[TrackName], Field(min_length=1), AfterValidator(_check_tr
 
 
 class _GearIn(_Constrained):
-    """The fields both gear-ins share: the path, the slave's sync and the options."""
+    """The fields both gear-ins share: the path and the slave's sync. Each gear-in takes the
+    fields of its options struct from the struct (schema.with_options, D-235)."""
 
     feedback: ClassVar[type[MC_PlanarFeedbackInSync]]  #: what the run passes for in_sync
+    options: ClassVar[type]  #: the options struct, whose fields the entry has
     trail: Trail | None = None
     """Track names of the MC_PlanarTrackTrail: the slave's track and the tracks after it that
     it may take (§6.8); omitted: the slave stays on its track."""
@@ -88,25 +85,10 @@ class _GearIn(_Constrained):
     """The slave's arc length on ``slave_sync_track`` [mm] at that moment."""
     slave_sync_track: TrackName
     """The track of the slave's sync position: its own track or one of its trail."""
-    gap: Number = _GEAR.gap
-    """Arc-length distance, centre to centre, kept to the mover ahead [mm]."""
-    in_sync_tolerance_distance: Number = _GEAR.in_sync_tolerance_distance
-    """[mm] a slave this close to its coupled position also counts as in sync."""
-    direction_slave_sync_position: ModuloDirectionName = (  # type: ignore[valid-type]
-        ModuloDirection.NON_MODULO)
-    """non_modulo, or on a closed-loop sync track positive, shortest_way, negative: which
-    occurrence of the sync position counts, as MoveC picks its target."""
-    modulo_tolerance_slave_sync_position: Number = 0.0
-    """[mm] a sync position this close behind (or ahead) counts as here (modulo only)."""
-    allowed_slave_sync_directions: SyncDirectionsName = (  # type: ignore[valid-type]
-        SyncDirections.POSITIVE)
-    """positive, negative or both: the ways the slave may move while it synchronises."""
 
-    def _options(self) -> dict[str, Any]:
-        """The option fields both gear-ins share, by the options' names (the same)."""
-        return {name: getattr(self, name) for name in (
-            "gap", "in_sync_tolerance_distance", "direction_slave_sync_position",
-            "modulo_tolerance_slave_sync_position", "allowed_slave_sync_directions")}
+    def _options(self) -> Any:
+        """The options struct, from the fields of the same names."""
+        return self.options(**{f.name: getattr(self, f.name) for f in fields(self.options)})
 
     def _trail(self) -> TrailRef | None:
         return None if self.trail is None else TrailRef(tuple(self.trail))
@@ -119,7 +101,7 @@ class _GearIn(_Constrained):
                              "it (§6.8)")
 
 
-class GearInPosOnTrack(_GearIn):
+class _GearInPosOnTrack(_GearIn):
     """GearInPosOnTrack (§7.2.2.8.5): couple 1:1 to the axis ``master`` (§6.2.8); in sync
     the slave's arc length is slave sync + (master - master sync)."""
 
@@ -128,21 +110,29 @@ class GearInPosOnTrack(_GearIn):
               *TRAIL_METHODS)
     command: Literal["gear_in_pos_on_track"]
     feedback = MC_PlanarFeedbackGearInPosOnTrack
+    options = ST_GearInPosOnTrackOptions
     master: Annotated[StrictStr, AfterValidator(_check_axis)]
     """Name of the master axis (one of axes): its set position drives the slave."""
 
     @model_validator(mode="after")
-    def _sync_track(self) -> GearInPosOnTrack:
+    def _sync_track(self) -> _GearInPosOnTrack:
         self._sync_on_trail()
         return self
 
     def arguments(self) -> tuple[Any, ...]:
         return (AxisRef(self.master), self._trail(), self.master_sync_position,
                 self.slave_sync_position, TrackRef(self.slave_sync_track), self.constraint(),
-                ST_GearInPosOnTrackOptions(**self._options()))
+                self._options())
 
 
-class GearInPosOnTrackWithMasterMover(_GearIn):
+#: with the fields of ST_GearInPosOnTrackOptions: gap (arc length, centre to centre, to the
+#: mover ahead [mm]), in_sync_tolerance_distance [mm], direction_slave_sync_position (which
+#: occurrence of the sync position on a closed-loop track counts, as MoveC picks its
+#: target), modulo_tolerance_slave_sync_position [mm], allowed_slave_sync_directions
+GearInPosOnTrack = with_options(_GearInPosOnTrack, ST_GearInPosOnTrackOptions)
+
+
+class _GearInPosOnTrackWithMasterMover(_GearIn):
     """GearInPosOnTrackWithMasterMover (§7.2.2.8.6): couple 1:1 to another mover on a track
     (§6.2.9); with ``follow_mover`` the slave takes the master's way (§6.2.12)."""
 
@@ -151,35 +141,31 @@ class GearInPosOnTrackWithMasterMover(_GearIn):
               "MC_PlanarFeedbackInSync.update", *TRAIL_METHODS)
     command: Literal["gear_in_pos_on_track_with_master_mover"]
     feedback = MC_PlanarFeedbackGearInPosOnTrackWithMasterMover
+    options = ST_GearInPosOnTrackWithMasterMoverOptions
     master_mover: Annotated[StrictStr, AfterValidator(_check_planar_mover)]
     """Name of the master mover (one of planar.movers, not the slave); its path coordinate
     drives the slave."""
     master_sync_track: TrackName
     """The track of the master's sync position."""
-    direction_master_sync_position: ModuloDirectionName = (  # type: ignore[valid-type]
-        ModuloDirection.NON_MODULO)
-    """As direction_slave_sync_position, along the master's way."""
-    modulo_tolerance_master_sync_position: Number = 0.0
-    """[mm], as modulo_tolerance_slave_sync_position."""
-    follow_mover: StrictBool = False
-    """The slave goes the shortest way to master_sync_track and then the master's way; the
-    trail then only leads it there."""
 
     @model_validator(mode="after")
-    def _master_and_path(self) -> GearInPosOnTrackWithMasterMover:
+    def _master_and_path(self) -> _GearInPosOnTrackWithMasterMover:
         if self.master_mover == self.mover:
             raise ValueError(f"master_mover: {self.mover!r} cannot be its own master (§6.2.9)")
-        if not self.follow_mover:
+        if not self.follow_mover:  # type: ignore[attr-defined]  # an option field
             self._sync_on_trail()
         return self
 
     def arguments(self) -> tuple[Any, ...]:
         return (MoverRef(self.master_mover), self._trail(), self.master_sync_position,
                 TrackRef(self.master_sync_track), self.slave_sync_position,
-                TrackRef(self.slave_sync_track), self.constraint(),
-                ST_GearInPosOnTrackWithMasterMoverOptions(
-                    **self._options(), direction_master_sync_position=(
-                        self.direction_master_sync_position),
-                    modulo_tolerance_master_sync_position=(
-                        self.modulo_tolerance_master_sync_position),
-                    follow_mover=self.follow_mover))
+                TrackRef(self.slave_sync_track), self.constraint(), self._options())
+
+
+#: with the fields of ST_GearInPosOnTrackWithMasterMoverOptions: those of GearInPosOnTrack,
+#: the master's direction_master_sync_position and modulo_tolerance_master_sync_position,
+#: and follow_mover (the slave goes the shortest way to master_sync_track and then the
+#: master's way; the trail then only leads it there)
+GearInPosOnTrackWithMasterMover = with_options(_GearInPosOnTrackWithMasterMover,
+                                               ST_GearInPosOnTrackWithMasterMoverOptions)
+

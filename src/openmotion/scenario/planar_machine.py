@@ -52,6 +52,7 @@ from openmotion.planar import (
     Pose,
 )
 from openmotion.planar.feedback import MC_PlanarFeedbackInSync
+from openmotion.planar.kind import PLANAR_MOVER
 from openmotion.planar.track import MC_PlanarTrack
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.planar import (
@@ -69,7 +70,6 @@ from openmotion.scenario.planar_setpoints import COORDINATES, StartExternalSetpo
 from openmotion.scenario.planar_tracks import PlanarTrackRow, TrackRef, build_order
 from openmotion.scenario.programs import _motion_cycle, cycle_of
 from openmotion.scenario.queries import Query
-from openmotion.trace.signals import read_planar_signal
 
 if TYPE_CHECKING:
     from rich.table import Table
@@ -355,30 +355,7 @@ class PlanarMachine:
         master = self._masters.get(command)
         return master is None or _stands(master)
 
-    # -- signals -----------------------------------------------------------------------------
-
-    def signal(self, subject: str, prop: str) -> float | None:
-        """A mover's signal or a planar group's ``state``; None when ``subject`` is not
-        planar."""
-        group = self.groups.get(subject)
-        if group is not None:
-            return float(group.state)
-        mover = self.movers.get(subject)
-        return None if mover is None else read_planar_signal(mover, prop)
-
-    def reading(self, name: str) -> tuple[float, str, bool] | None:
-        """(value, its text, whether it is a name) of a planar signal; None for others."""
-        subject, _, prop = name.partition(".")
-        value = self.signal(subject, prop)
-        if value is None:
-            return None
-        if prop == "state":
-            return value, PlanarState(int(value)).name.lower(), True
-        if prop == "coordinate_system":
-            return value, oid_text(int(value)), True
-        if prop == "track":
-            return value, self._track_name(value) or "none", True
-        return value, "", False
+    # -- the summary ---------------------------------------------------------------------------
 
     def _track_name(self, number: float) -> str:
         """The name of the track with this ``track`` signal value; "" for 0."""
@@ -389,7 +366,7 @@ class PlanarMachine:
         rows = []
         for name, mover in self.movers.items():
             p = mover.position
-            track = self._track_name(read_planar_signal(mover, "track"))
+            track = self._track_name(_TRACK.read(mover))
             rows.append(PlanarMoverRow(name, mover.oid,
                                        self._group_names.get(mover.mc_to_plc.std.group_oid, ""),
                                        mover.state.name.lower(), p.x, p.y, p.z, p.a, p.b, p.c,
@@ -528,6 +505,7 @@ def _queued(mover: MC_PlanarMover) -> bool:
 
 _STATUS = {CommandPhase.DONE: CommandStatus.DONE, CommandPhase.ABORTED: CommandStatus.ABORTED,
            CommandPhase.ERROR: CommandStatus.ERROR}
+_TRACK = PLANAR_MOVER.signal("track")  #: the number of a mover's track, for its row
 _TRANSITIONAL = (PlanarState.ENABLING, PlanarState.DISABLING, PlanarState.RESETTING,
                  PlanarState.ERROR_PENDING)
 

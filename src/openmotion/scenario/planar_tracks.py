@@ -101,17 +101,6 @@ def starts_where_ends(first: str, second: str) -> bool:
     return root((first, "end")) == root((second, "start"))
 
 
-def track_number(name: str) -> float | None:
-    """The ``track`` signal's value for the track ``name`` (its 1-based place in
-    planar.tracks), ``none`` -> 0; None when ``name`` names no track."""
-    names = _NAMES.get()
-    if name == "none":
-        return 0.0
-    if names is None or name not in names.planar_tracks:
-        return None
-    return float(list(names.planar_tracks).index(name) + 1)
-
-
 # -- planar.tracks ------------------------------------------------------------------------------
 
 

@@ -19,7 +19,6 @@ from typing import TYPE_CHECKING, Any
 
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.axis.probe import InputRef, abort_probe, arm_probe
-from openmotion.core.enums import AxisState
 from openmotion.core.errors import ConfigError, ErrorId
 from openmotion.rail.stations import StationLine, StationRow
 from openmotion.runtime.runtime import Runtime
@@ -45,11 +44,12 @@ from openmotion.scenario.schema import (
     SignalCheck,
     TouchProbe,
 )
+from openmotion.scenario.signals import RunSignals
 from openmotion.scenario.stations import build_planar_line, station_table
 from openmotion.scenario.transport import CA_ENTRIES, SetGap
 from openmotion.trace.plot import figure_signals
 from openmotion.trace.record import Trace, TraceRecorder
-from openmotion.trace.signals import describe, read_signal, split_signal
+from openmotion.trace.signals import describe
 
 if TYPE_CHECKING:
     from rich.console import RenderableType
@@ -367,6 +367,8 @@ class ScenarioRun:
             signals += [name for name in needed if name not in signals]
         self.recorder = TraceRecorder(rt, signals, scenario.record.every, objects=objects,
                                       title=scenario.name, **(trace_mode or {}))
+        #: the signals conditions and checks read: the machine model's, by name
+        self.signals = RunSignals(rt, lambda: list(planar.tracks))
         self.checks = [_CheckState(check, self) for check in scenario.checks]
         self.quiet_since: int | None = None  #: first cycle of the current rest
 
@@ -451,9 +453,6 @@ class ScenarioRun:
     def holds(self, condition: Condition | None) -> bool:
         if condition is None:
             return False
-        group = self.ca.holds(condition)
-        if group is not None:
-            return group
         if condition.operator is None:
             command = self.by_id.get(condition.subject)
             if condition.attribute == "in_gear" and command in self.ca.commands:
@@ -462,13 +461,7 @@ class ScenarioRun:
                 return command is not None and self.planar.in_sync(command)
             attribute = "active" if condition.attribute == "in_gear" else condition.attribute
             return command is not None and bool(getattr(command, attribute))
-        value = self.planar.signal(condition.subject, condition.attribute)
-        if value is None:
-            value = self.station_signal(condition.subject, condition.attribute)
-        if value is None:
-            value = self.coordinated.signal(condition.subject, condition.attribute)
-        if value is None:
-            value = read_signal(self.rt.axes[condition.subject], condition.attribute)
+        value = self.signals.read(condition.signal)
         return _OPERATORS[condition.operator](value, condition.value)
 
     def observe(self, runtime: Runtime) -> None:
@@ -510,14 +503,6 @@ class ScenarioRun:
     def station_rows(self) -> list[tuple[str, StationRow]]:
         """(line, station row) of every station line."""
         return [(line.name, row) for line in self.station_lines for row in line.station_rows()]
-
-    def station_signal(self, subject: str, name: str) -> float | None:
-        """A station's signal (its machine-model declaration), or None for no station."""
-        for line in self.station_lines:
-            for state in line.objects():
-                if state.name == subject:
-                    return state.MACHINE.signal(name).read(state)
-        return None
 
     def finished(self) -> bool:
         """``duration`` is over; or ``settle_time`` after all came to rest, or the cap."""
@@ -627,21 +612,8 @@ class _CheckState:
         self.detail = now + detail if not self.passed else detail
 
     def _signal(self, check: SignalCheck) -> tuple[bool, str]:
-        station = self.run.station_signal(*check.signal.split(".", 1))
-        planar = None if station is None else (station, "", False)
-        if planar is None:
-            planar = self.run.planar.reading(check.signal)
-        if planar is None:
-            planar = self.run.coordinated.reading(check.signal)
-        if planar is not None:
-            value, shown, named = planar
-            shown = shown or _number(value)
-        else:
-            axis, prop = split_signal(check.signal)
-            value = read_signal(self.run.rt.axes[axis], prop)
-            named = prop in ("state", "axis_error_id")
-            shown = AxisState(int(value)).name.lower() if prop == "state" else \
-                ErrorId(int(value)).name if prop == "axis_error_id" else _number(value)
+        value, shown, named = self.run.signals.reading(check.signal)
+        shown = shown or _number(value)
         expected = check.expected
         if expected is not None and not abs(value - expected) <= check.tolerance:
             return False, shown if named else f"{shown}, off by {_number(value - expected)}"

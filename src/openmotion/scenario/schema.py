@@ -18,7 +18,7 @@ import dataclasses
 import math
 import re
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator, Mapping
 from contextvars import ContextVar
 from enum import Enum
 from typing import (
@@ -53,11 +53,12 @@ from pydantic import (
 from pydantic_core import InitErrorDetails, PydanticCustomError
 
 from openmotion.axis.drive import DriveModel
+from openmotion.axis.kind import AXIS
 from openmotion.axis.parameters import AxisParameters
 from openmotion.axis.probe import InputRef, ProbeSignal, SignalEdge, TouchProbeSource
 from openmotion.axis.probe import _intervals as _probe_intervals
+from openmotion.coordinated.kind import AXES_GROUP
 from openmotion.core.enums import (
-    AxisState,
     BufferMode,
     DecoupleMode,
     Direction,
@@ -72,9 +73,20 @@ from openmotion.core.special_values import (
     SPECIAL_VALUES,
     SpecialValue,
 )
-from openmotion.rail.stations import StationState
+from openmotion.planar.kind import PLANAR_MOVER
 from openmotion.scenario.queries import Query
-from openmotion.trace.record import AXIS_SIGNALS, MOVER_SIGNALS, default_signals, split_signal
+from openmotion.scenario.signals import (
+    AXIS_CHOICES,
+    SUBJECT,
+    check_axis,
+    check_mover,
+    check_signal,
+    declared,
+    default_signals,
+    expect_hint,
+    spec_of,
+    value_of_name,
+)
 from openmotion.transport.enums import GroupState
 
 if TYPE_CHECKING:
@@ -150,21 +162,21 @@ class _Names:
 _NAMES: ContextVar[_Names | None] = ContextVar("openmotion_scenario_names", default=None)
 
 
+def names_in(data: object) -> _Names:
+    """The names raw scenario data declares: what its references are checked against (and
+    what signals.scenario_signals lists the signals of)."""
+    return _Names.of(data)
+
+
 def _check_axis(name: str) -> str:
-    names = _NAMES.get()
-    if names is not None and name not in names.axes:
-        known = ", ".join(sorted(names.axes)) or "none"
-        raise ValueError(f"unknown axis {name!r} (axes: {known})")
+    check_axis(name, _NAMES.get())
     return name
 
 
 def _check_mover(name: str) -> str:
     """An axis that one of the ``ca_groups`` lists, or that an add_axis_to_group entry adds
     to one."""
-    _check_axis(name)
-    names = _NAMES.get()
-    if names is not None and name not in names.members and name not in names.added:
-        raise ValueError(f"{name!r} is in no CA group (ca_groups[].axes)")
+    check_mover(name, _NAMES.get())
     return name
 
 
@@ -238,24 +250,8 @@ def _enum_by_name(enum: type[Enum]) -> Any:
 
 
 def _signal(name: str) -> str:
-    names = _NAMES.get()
-    subject, _, prop = name.partition(".")
-    if names is not None and subject in names.stations:
-        station = StationState.MACHINE  # type: ignore[attr-defined]
-        if prop not in station.signal_names:
-            raise ValueError(f"{name!r}: a station's signal is one of "
-                             f"{', '.join(station.signal_names)}")
-        return name
-    if is_planar(name.partition(".")[0]):
-        return check_planar_signal(name)
-    if is_axes_group(name.partition(".")[0]):
-        return check_group_signal(name)
-    axis, prop = split_signal(name)
-    if prop in MOVER_SIGNALS:
-        _check_mover(axis)
-    else:
-        _check_axis(axis)
-    return name
+    """A signal of the machine model (signals.py)."""
+    return check_signal(name, _NAMES.get())
 
 
 def _unique(kind: str) -> Any:
@@ -301,27 +297,35 @@ ErrorIdName = Annotated[ErrorId, PlainValidator(_error_id),
 
 # -- conditions ----------------------------------------------------------------------------
 
+#: the outputs of an entry's command handle a condition may name (``<id>.done``): not
+#: signals of the machine model, which ``<object>.<signal> <op> <value>`` compares (signals.py)
 COMMAND_FLAGS = ("done", "error", "aborted", "busy", "active", "in_velocity", "finished",
                  "in_gear", "in_sync")
 #: the entries whose rows have ``in_sync``: the gear-ins on planar tracks (planar_gearing.py)
 _IN_SYNC_COMMANDS = ("gear_in_pos_on_track", "gear_in_pos_on_track_with_master_mover")
 OPERATORS = ("<=", ">=", "==", "<", ">")
-_CONDITION = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\.([a-z_]+)\s*"
+_CONDITION = re.compile(rf"^\s*({SUBJECT.pattern[4:-2]})\.([a-z_]+)\s*"
                         r"(?:(<=|>=|==|<|>)\s*(\S+))?\s*$")
 
 
 @dataclasses.dataclass(frozen=True)
 class Condition:
-    """``<id>.<flag>`` (a command's output) or ``<axis>.<signal> <op> <number>``."""
+    """``<id>.<flag>`` (a command's output, COMMAND_FLAGS) or ``<object>.<signal> <op>
+    <number>`` (a signal of the machine model, signals.py)."""
 
     text: str
-    subject: str  #: entry id or axis name
-    attribute: str  #: command flag or axis signal
-    operator: str | None = None
+    subject: str  #: entry id or object name
+    attribute: str  #: command flag or signal
+    operator: str | None = None  #: None: a command flag
     value: float | None = None
 
     def __str__(self) -> str:
         return self.text
+
+    @property
+    def signal(self) -> str:
+        """``<object>.<signal>`` of a signal condition."""
+        return f"{self.subject}.{self.attribute}"
 
 
 def parse_condition(text: object) -> Condition:
@@ -337,7 +341,7 @@ def parse_condition(text: object) -> Condition:
     subject, attribute, operator, raw = match.groups()
     if operator is None:
         if attribute not in COMMAND_FLAGS:
-            hint = (" needs a comparison, e.g. 'x.position >= 50'" if attribute in AXIS_SIGNALS
+            hint = (" needs a comparison, e.g. 'x.position >= 50'" if attribute in AXIS_CHOICES
                     else f": the flag must be one of {', '.join(COMMAND_FLAGS)}")
             raise ValueError(f"{text!r}{hint}")
         _check_id(subject)
@@ -365,27 +369,21 @@ def parse_condition(text: object) -> Condition:
     group = axes_group_condition(text, subject, attribute, operator, raw)
     if group is not None:
         return group
-    if attribute not in AXIS_SIGNALS:
-        raise ValueError(f"{text!r}: the signal must be one of {', '.join(AXIS_SIGNALS)}")
-    if attribute in MOVER_SIGNALS:
-        _check_mover(subject)
-    _check_axis(subject)
+    if declared(subject, names) is not None:  # a planar track or part: any of its signals
+        check_signal(f"{subject}.{attribute}", names)
+    elif attribute not in AXIS_CHOICES:
+        raise ValueError(f"{text!r}: the signal must be one of {', '.join(AXIS_CHOICES)}")
+    else:
+        check_signal(f"{subject}.{attribute}", names)
     return Condition(text.strip(), subject, attribute, operator,
-                     _signal_value(attribute, raw, text))
-
-
-def named_value(signal: str, name: str) -> float | None:
-    """The number behind a name: a state name for ``state`` (``standstill``), an ErrorId name
-    for ``axis_error_id`` (``STEPPER_STALL``); None when ``name`` is none of them."""
-    if signal == "state" and name.upper() in AxisState.__members__:
-        return float(AxisState[name.upper()])
-    if signal == "axis_error_id" and name.upper() in ErrorId.__members__:
-        return float(ErrorId[name.upper()])
-    return None
+                     _signal_value(f"{subject}.{attribute}", raw, text))
 
 
 def _signal_value(signal: str, raw: str, text: str) -> float:
-    named = named_value(signal, raw)
+    """What a condition on ``signal`` (``<object>.<signal>``) compares with: a number, or a
+    name its type takes (a state, an ErrorId ...: signals.value_of_name)."""
+    names = _NAMES.get()
+    named = value_of_name(spec_of(signal, names), raw, names)
     if named is not None:
         return named
     try:
@@ -433,6 +431,37 @@ def _parameter_type(annotation: Any) -> Any:
     if isinstance(annotation, type) and issubclass(annotation, Enum):
         return _enum_by_name(annotation)
     return _PARAMETER_TYPES.get(annotation, annotation)
+
+
+#: an option that also takes MC_DEFAULT, MC_IGNORE ... (core.special_values.InputValue)
+_OPTION_TYPES: dict[Any, Any] = {float | SpecialValue: InputValue}
+
+
+def option_fields(options: type, skip: Iterable[str] = (),
+                  types: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """The fields of an options struct (a dataclass such as ST_GearInPosCAOptions) as fields
+    of a scenario entry (``create_model``): the same names and defaults, the type from the
+    annotation (an enum by its lower-case name, a float a finite number, an input that takes
+    MC_DEFAULT an InputValue); ``types`` by name where the annotation says too little,
+    ``skip`` the fields the entry has already. A field added to the struct is a field of the
+    entry (D-235)."""
+    hints = get_type_hints(options)
+    given = types or {}
+    return {f.name: (given.get(f.name) or _OPTION_TYPES.get(hints[f.name])
+                     or _parameter_type(hints[f.name]), f.default)
+            for f in dataclasses.fields(options) if f.name not in set(skip)}
+
+
+def with_options(base: type[BaseModel], options: type,
+                 types: Mapping[str, Any] | None = None) -> Any:
+    """The entry ``base`` (an entry with the block's other inputs, named ``_<Entry>``) with
+    the fields of the struct ``options`` it lacks (``option_fields``), named ``<Entry>``, with
+    ``base``'s docstring and its own ``blocks`` (scenario/coverage.py reads a model's own)."""
+    own = {"blocks": (ClassVar[tuple[str, ...]], vars(base)["blocks"])} \
+        if "blocks" in vars(base) else {}
+    return create_model(base.__name__.lstrip("_"), __base__=base, __doc__=base.__doc__,
+                        __module__=base.__module__, **own,
+                        **option_fields(options, skip=base.model_fields, types=types))
 
 
 _HINTS = get_type_hints(AxisParameters)
@@ -907,10 +936,6 @@ from openmotion.scenario.coordinated import (  # noqa: E402 - needs Entry and th
     COORDINATED_COMMANDS,
     AxesGroupSpec,
     axes_group_condition,
-    check_group_signal,
-    default_group_signals,
-    group_named_value,
-    is_axes_group,
 )
 
 # The entries that a function block carries out (jog, external setpoints, override filter,
@@ -932,11 +957,7 @@ from openmotion.scenario.cyclic import (  # noqa: E402 - needs Entry and the typ
 from openmotion.scenario.planar import (  # noqa: E402 - needs Entry and the types above
     PLANAR_COMMANDS,
     PlanarSpec,
-    check_planar_signal,
-    default_planar_signals,
-    is_planar,
     planar_condition,
-    planar_named_value,
 )
 from openmotion.scenario.planar_parts import part_oids  # noqa: E402 - as planar above
 
@@ -1040,7 +1061,7 @@ class SignalCheck(_Check):
     """A signal must equal ``expect`` (± ``tolerance``) and/or lie in [min, max]."""
 
     signal: SignalName
-    """``<axis>.<signal>`` or ``<planar mover>.<signal>``."""
+    """``<object>.<signal>``: a signal of the machine model (signals.py)."""
     expect: Annotated[float | str, PlainValidator(_expect_value)] | None = None
     """Expected value; for ``.state`` also a state name such as standstill (a planar mover's:
     enabled), for ``.axis_error_id`` an ErrorId name such as STEPPER_STALL."""
@@ -1056,19 +1077,12 @@ class SignalCheck(_Check):
     def _something_to_check(self) -> SignalCheck:
         if self.expect is None and self.min is None and self.max is None:
             raise ValueError("give 'expect', 'min' or 'max'")
-        subject, _, signal = self.signal.partition(".")
-        planar, group = is_planar(subject), is_axes_group(subject)
+        names = _NAMES.get()
+        spec = spec_of(self.signal, names)
         self._expected = self.expect if not isinstance(self.expect, str) else \
-            planar_named_value(signal, self.expect) if planar else \
-            group_named_value(signal, self.expect) if group else \
-            named_value(signal, self.expect)
+            value_of_name(spec, self.expect, names)
         if isinstance(self.expect, str) and self._expected is None:
-            raise ValueError(f"expect: {self.expect!r} is not a number" + (
-                {"state": " or a planar state name", "track": " or a planar track name"}
-                if planar else
-                {"state": " or an axes group state name"} if group else
-                {"state": " or a state name", "axis_error_id": " or an ErrorId name"}).get(
-                    signal, ""))
+            raise ValueError(f"expect: {self.expect!r} is not a number{expect_hint(spec)}")
         return self
 
     @property
@@ -1190,8 +1204,10 @@ class Scenario(_Model):
         """The recorded signals (the default set when ``record.signals`` is not given)."""
         if self.record.signals is not None:
             return list(self.record.signals)
-        return default_signals(axis.name for axis in self.axes) + \
-            default_planar_signals(self.planar) + default_group_signals(self.axes_groups)
+        movers = [mover.name for mover in self.planar.movers] if self.planar else []
+        return default_signals(AXIS, (axis.name for axis in self.axes)) + \
+            default_signals(PLANAR_MOVER, movers) + \
+            default_signals(AXES_GROUP, (group.name for group in self.axes_groups))
 
     def entries(self) -> Iterator[tuple[str, Entry]]:
         """(label, entry) in timeline order; the label is the id or ``#<number>``."""

@@ -52,6 +52,7 @@ from openmotion.scenario.schema import (
     _Model,
     _parameter_type,
     _unique,
+    with_options,
 )
 from openmotion.scenario.stations import RouteSpec, StationSpec, station_problems
 from openmotion.scenario.tracks import GeometrySpec, PartSpec, TemplateSpec, TrackSpec, problems
@@ -61,6 +62,9 @@ from openmotion.transport.blocks import (
     MC_GroupReadStatus,
     MC_RemoveAxisFromGroup,
     MC_UngroupAllAxes,
+    ST_HaltCAOptions,
+    ST_MoveAbsoluteCAOptions,
+    ST_MoveRelativeCAOptions,
 )
 from openmotion.transport.enums import (
     GapControlMode,
@@ -69,6 +73,7 @@ from openmotion.transport.enums import (
     SyncMode,
     SyncStrategy,
 )
+from openmotion.transport.gear_blocks import ST_GearInPosCAOptions
 from openmotion.transport.group import UDINT_TO_IDENTINGROUP, CaGroup
 from openmotion.transport.parameters import CaGroupParameters
 from openmotion.transport.track_blocks import MC_ReadTrackPositions, MC_TransformPosition
@@ -210,16 +215,17 @@ class _CaMove(CaEntry):
     """A ``set_gap`` entry may change the gap while the command runs."""
 
 
-class _Referenced(_CaMove):
-    position_reference_system: OidInput = 0
-    """ST_MoveAbsoluteCAOptions: 0 = the motor path; a mover template the mover registered
-    (register_compensation): the position or distance is on that template's TCP path."""
-    dynamics_reference_system: OidInput = 0
-    """0 = the motor path; the registered template: the TCP keeps within the dynamics (in a
-    move that meets a curve every limit is scaled by R / (R + y_shift), D-072)."""
+def _with_options(entry: type[_Model], options: type) -> Any:
+    """``entry`` with the fields of a CA options struct (schema.with_options, D-235). A
+    reference system is an OTCID: 0 = the motor path; the template the mover registered
+    (register_compensation): a position or distance on its TCP path, dynamics the TCP keeps
+    (in a move that meets a curve every limit is scaled by R / (R + y_shift), D-072)."""
+    return with_options(entry, options, types={
+        f.name: OidInput for f in dataclasses.fields(options)
+        if f.name.endswith("_reference_system")})
 
 
-class MoveAbsoluteCa(_Referenced):
+class _MoveAbsoluteCa(_CaMove):
     """MC_MoveAbsoluteCA (TF5410 §9.1.1.1.1): Done only at the target."""
 
     method = "move_absolute"
@@ -228,11 +234,14 @@ class MoveAbsoluteCa(_Referenced):
     """Target [mm]; a modulo position (0 <= position < rail_length) with a modulo direction."""
     direction: ModuloDirectionName = ModuloDirection.NON_MODULO
     """non_modulo, positive, shortest_way or negative (modulo directions: ring rails only)."""
-    additional_turns: StrictInt = 0
-    """Whole extra laps of a modulo move."""
 
 
-class MoveRelativeCa(_Referenced):
+#: with the fields of ST_MoveAbsoluteCAOptions (additional_turns: whole extra laps of a modulo
+#: move; the reference systems)
+MoveAbsoluteCa = _with_options(_MoveAbsoluteCa, ST_MoveAbsoluteCAOptions)
+
+
+class _MoveRelativeCa(_CaMove):
     """MC_MoveRelativeCA (TF5410 §9.1.1.1.2): Done once the distance is travelled."""
 
     method = "move_relative"
@@ -241,7 +250,11 @@ class MoveRelativeCa(_Referenced):
     """From the set position where the move starts [mm]."""
 
 
-class GearInPosCa(_CaMove):
+#: with the fields of ST_MoveRelativeCAOptions (the reference systems)
+MoveRelativeCa = _with_options(_MoveRelativeCa, ST_MoveRelativeCAOptions)
+
+
+class _GearInPosCa(_CaMove):
     """MC_GearInPosCA (TF5410 §9.1.1.1.4): couple the mover to ``master``'s set values.
 
     Never Done (another command decouples); a ``<id>.in_gear`` condition holds while in sync.
@@ -266,34 +279,6 @@ class GearInPosCa(_CaMove):
     from the mover in that direction."""
     master_start_distance: InputValue = MC_IGNORE
     """MC_IGNORE: sync at once; > 0: once master >= MSP - d; < 0: once master <= MSP - d."""
-    # ST_GearInPosCAOptions (§9.1.2.1); gap_control_mode comes from _CaMove
-    after_sync_velocity: InputValue = MC_DEFAULT
-    """[mm/s] after the first sync; MC_DEFAULT: the group's
-    gear_in_pos_default_dynamics_after_sync (job_dynamics or maximum_slave_dynamics)."""
-    after_sync_acceleration: InputValue = MC_DEFAULT
-    """[mm/s²] after the first sync."""
-    after_sync_deceleration: InputValue = MC_DEFAULT
-    """[mm/s²] after the first sync."""
-    after_sync_jerk: InputValue = MC_DEFAULT
-    """[mm/s³] after the first sync."""
-    master_velocity_undershoot_allowed: StrictBool = True
-    """false: the slave never slower than the master while it syncs."""
-    master_velocity_overshoot_allowed: StrictBool = True
-    """false: the slave never faster than the master while it syncs (not both false)."""
-    minimal_slave_position: InputValue = MC_IGNORE
-    """[mm] the slave stays at or above it while it syncs; MC_IGNORE: no bound."""
-    direction_reversal_allowed: StrictBool = True
-    """false: the slave never moves against the sync direction while it syncs (D-204)."""
-    override_slave_dynamic_restrictions: StrictBool = False
-    """Late and Slow: a master changing speed stretches or compresses the profile (D-206)."""
-    master_signal_correction: MasterSignalCorrectionName = (  # type: ignore[valid-type]
-        MasterSignalCorrection.AUTO)
-    """auto or none: correct a master signal whose velocity does not fit its positions
-    (D-205)."""
-    slave_sync_position_reference_system: OidInput = 0
-    """0 = the motor path (others: INVALID_MODE, D-207)."""
-    dynamics_reference_system: OidInput = 0
-    """0 = the motor path (others: INVALID_MODE, D-207)."""
 
     def arguments(self) -> dict[str, Any]:
         arguments = super().arguments()
@@ -301,7 +286,15 @@ class GearInPosCa(_CaMove):
         return arguments
 
 
-class HaltCa(CaEntry):
+#: with the fields of ST_GearInPosCAOptions (§9.1.2.1; gap_control_mode is _CaMove's):
+#: after_sync_velocity ... jerk (MC_DEFAULT: the group's
+#: gear_in_pos_default_dynamics_after_sync), the restrictions of the profile driven while it
+#: syncs (D-204), override_slave_dynamic_restrictions (D-206), master_signal_correction
+#: (D-205), the reference systems (0 only, D-207)
+GearInPosCa = _with_options(_GearInPosCa, ST_GearInPosCAOptions)
+
+
+class _HaltCa(CaEntry):
     """MC_HaltCA (TF5410 §9.1.1.1.3): brake to rest, keeping the gap."""
 
     method = "halt_axis"
@@ -314,9 +307,11 @@ class HaltCa(CaEntry):
     """Minimum gap to the predecessor [mm]."""
     gap_control_mode: GapControlModeName = GapControlMode.GROUP_DEFAULT
     """group_default, standard, fast or none."""
-    dynamics_reference_system: OidInput = 0
-    """ST_HaltCAOptions: 0 = the motor path; the registered template: a stop that meets a
-    curve brakes at R / (R + y_shift) of deceleration and jerk, so the TCP keeps them."""
+
+
+#: with the fields of ST_HaltCAOptions (dynamics_reference_system: the registered template: a
+#: stop that meets a curve brakes at R / (R + y_shift) of deceleration and jerk)
+HaltCa = _with_options(_HaltCa, ST_HaltCAOptions)
 
 
 class ActivateTrack(CaEntry):
