@@ -1,0 +1,183 @@
+"""Where the points run: a local process pool (the default) or a Ray cluster.
+
+Both yield ``(point, row)`` as points finish, in any order; the sweep orders the table by
+point index, so the executor never shows in the result. A point whose worker process dies is
+run again, ``retries`` times at most; after that its row says the worker died (D-252).
+
+The pool is our own, one pipe per worker process: unlike ``concurrent.futures``, whose pool
+breaks as a whole when one worker dies, it knows which point was in the dead process and
+starts a new worker in its place. Workers are forked (where the platform can): they start
+in milliseconds with the runner and its compiled loops already loaded, and never import the
+caller's ``__main__`` again as spawned processes do.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import multiprocessing
+import multiprocessing.connection
+import os
+from collections import Counter, deque
+from collections.abc import Iterator
+from typing import Any
+
+from openmotion.sweep.metrics import Metric
+from openmotion.sweep.points import Point
+from openmotion.sweep.worker import PointHook, failed_row, run_point
+
+DEFAULT_RETRIES = 2  #: new attempts for a point whose worker died
+STOP_TIMEOUT = 2.0  #: seconds a worker gets to stop before it is terminated
+RAY_OBJECT_STORE_BYTES = 100 * 1024 * 1024  #: a local cluster's object store (rows are tiny)
+RAY_IN_FLIGHT_PER_CPU = 2  #: tasks submitted per cluster CPU ahead of the results
+Results = Iterator[tuple[Point, dict[str, Any]]]
+
+
+def default_workers() -> int:
+    """The CPUs this process may use."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
+
+
+def _died(code: int | None, attempts: int) -> dict[str, Any]:
+    return {**failed_row(f"worker died (exit code {code}) on each of {attempts} attempts"),
+            "lost": True}
+
+
+class _Worker:
+    def __init__(self, context: Any, metrics: list[Metric], on_point: PointHook | None) -> None:
+        self.connection, child = context.Pipe()
+        self.process = context.Process(target=_serve, args=(child, metrics, on_point),
+                                       daemon=True, name="openmotion-sweep-worker")
+        self.process.start()
+        child.close()
+
+    def stop(self) -> None:
+        with contextlib.suppress(OSError):
+            self.connection.send(None)
+        self.process.join(STOP_TIMEOUT)
+        if self.process.is_alive():
+            self.process.terminate()
+            self.process.join()
+        self.connection.close()
+
+
+def _serve(connection: Any, metrics: list[Metric], on_point: PointHook | None) -> None:
+    """A pool process: run the points it is sent until it is sent None."""
+    while (point := connection.recv()) is not None:
+        connection.send(run_point(point, metrics, on_point))
+
+
+class ProcessPool:
+    """``workers`` local processes, one point each at a time."""
+
+    def __init__(self, metrics: list[Metric], workers: int | None = None,
+                 retries: int = DEFAULT_RETRIES, on_point: PointHook | None = None) -> None:
+        self.metrics, self.on_point, self.retries = metrics, on_point, retries
+        self.workers = workers or default_workers()
+        methods = multiprocessing.get_all_start_methods()
+        self._context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+        self._started: list[_Worker] = []
+
+    def _start(self) -> _Worker:
+        worker = _Worker(self._context, self.metrics, self.on_point)
+        self._started.append(worker)
+        return worker
+
+    def results(self, points: list[Point]) -> Results:
+        waiting = deque(points)
+        idle = [self._start() for _ in range(min(self.workers, len(points)))]
+        busy: dict[_Worker, Point] = {}
+        attempts: Counter[int] = Counter()
+        while waiting or busy:
+            while idle and waiting:
+                worker, point = idle.pop(), waiting.popleft()
+                worker.connection.send(point)
+                busy[worker] = point
+            ready = multiprocessing.connection.wait(
+                [w.connection for w in busy] + [w.process.sentinel for w in busy])
+            for worker in [w for w in busy if w.connection in ready
+                           or w.process.sentinel in ready]:
+                point = busy.pop(worker)
+                row = self._receive(worker)
+                if row is not None:
+                    idle.append(worker)
+                    yield point, row
+                    continue
+                attempts[point.index] += 1
+                idle.append(self._start())
+                if attempts[point.index] > self.retries:
+                    yield point, _died(worker.process.exitcode, attempts[point.index])
+                else:
+                    waiting.appendleft(point)
+
+    @staticmethod
+    def _receive(worker: _Worker) -> dict[str, Any] | None:
+        """The worker's row, or None when it died (and is then joined)."""
+        try:
+            if worker.connection.poll():
+                return worker.connection.recv()
+        except (EOFError, OSError):
+            pass
+        worker.process.join()
+        worker.connection.close()
+        return None
+
+    def close(self) -> None:
+        for worker in self._started:
+            if worker.process.exitcode is None:
+                worker.stop()
+        self._started.clear()
+
+
+class RayExecutor:
+    """Points as Ray tasks. ``address`` None starts a local cluster on 127.0.0.1 with
+    ``workers`` CPUs; an address (``auto``, ``ray://host:10001``, ``host:6379``) joins one.
+    A Ray session already running in this process is used as it is, and left running."""
+
+    def __init__(self, metrics: list[Metric], address: str | None = None,
+                 workers: int | None = None, retries: int = DEFAULT_RETRIES,
+                 on_point: PointHook | None = None) -> None:
+        import ray
+
+        self.metrics, self.on_point, self.retries = metrics, on_point, retries
+        self._ray = ray
+        self._pending: dict[Any, Point] = {}
+        self._started = not ray.is_initialized()
+        if not self._started:
+            return
+        options: dict[str, Any] = {"include_dashboard": False, "log_to_driver": False,
+                                   "configure_logging": False}
+        if address is None:
+            ray.init(num_cpus=workers or default_workers(), _node_ip_address="127.0.0.1",
+                     object_store_memory=RAY_OBJECT_STORE_BYTES, **options)
+        else:
+            ray.init(address=address, **options)
+
+    def results(self, points: list[Point]) -> Results:
+        ray = self._ray
+        task = ray.remote(num_cpus=1, max_retries=self.retries)(run_point)
+        metrics, on_point = ray.put(self.metrics), ray.put(self.on_point)
+        window = max(1, int(ray.cluster_resources().get("CPU", 1)) * RAY_IN_FLIGHT_PER_CPU)
+        waiting = deque(points)
+        while waiting or self._pending:
+            while waiting and len(self._pending) < window:
+                point = waiting.popleft()
+                self._pending[task.remote(point, metrics, on_point)] = point
+            ready, _ = ray.wait(list(self._pending), num_returns=1)
+            for reference in ready:
+                point = self._pending.pop(reference)
+                try:
+                    row = ray.get(reference)
+                except ray.exceptions.RayError as exc:  # the worker died every attempt
+                    row = {**failed_row(f"worker died on each of {self.retries + 1} attempts: "
+                                        f"{type(exc).__name__}"), "lost": True}
+                yield point, row
+
+    def close(self) -> None:
+        for reference in self._pending:
+            self._ray.cancel(reference, force=True)
+        self._pending.clear()
+        if self._started:
+            self._ray.shutdown()
