@@ -274,9 +274,9 @@ def _document(text: str, file: str) -> tuple[yaml.Node | None, Any]:
 
 
 def _problem(error: Any, root: yaml.Node, file: str) -> Problem:
-    loc = tuple(part for part in error["loc"]
-                if not (isinstance(part, str) and (part in METRIC_KINDS
-                                                   or part.startswith("function-"))))
+    loc = tuple(error["loc"])
+    if len(loc) > 2 and loc[0] == "metrics" and loc[2] in METRIC_KINDS:
+        loc = loc[:2] + loc[3:]  # the union's tag
     kind, message = error["type"], str(error["msg"])
     if kind == "extra_forbidden":
         message = f"unknown field {loc[-1]!r}"
