@@ -128,3 +128,16 @@ def test_a_missing_extra_names_what_to_install(write_sweep, monkeypatch) -> None
     monkeypatch.setitem(sys.modules, "ray", None)
     with pytest.raises(MissingExtra, match="sweeps need pyarrow, ray"):
         run_sweep(write_sweep(parameters=[VELOCITY]), ray=True)
+
+
+def test_the_sweep_extra_and_the_test_extra_install_what_sweeps_import() -> None:
+    """CI installs ``.[test]``: the Ray tests need what the ``sweep`` extra holds."""
+    import tomllib
+
+    from openmotion.sweep.run import EXTRA, RAY_MODULES, TABLE_MODULES
+
+    extras = tomllib.loads((Path(__file__).parents[2] / "pyproject.toml").read_text(
+        encoding="utf-8"))["project"]["optional-dependencies"]
+    names = {requirement.split(">")[0].split("[")[0] for requirement in extras[EXTRA]}
+    assert names == set(TABLE_MODULES + RAY_MODULES)
+    assert set(extras[EXTRA]) <= set(extras["test"])
