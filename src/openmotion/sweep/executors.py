@@ -14,6 +14,7 @@ caller's ``__main__`` again as spawned processes do.
 from __future__ import annotations
 
 import contextlib
+import gc
 import multiprocessing
 import multiprocessing.connection
 import os
@@ -26,6 +27,7 @@ from openmotion.sweep.points import Point
 from openmotion.sweep.worker import PointHook, failed_row, run_point
 
 DEFAULT_RETRIES = 2  #: new attempts for a point whose worker died
+POOL_QUEUE_DEPTH = 2  #: points sent to a pool worker ahead: it never waits for the parent
 STOP_TIMEOUT = 2.0  #: seconds a worker gets to stop before it is terminated
 RAY_OBJECT_STORE_BYTES = 100 * 1024 * 1024  #: a local cluster's object store (rows are tiny)
 RAY_IN_FLIGHT_PER_CPU = 2  #: tasks submitted per cluster CPU ahead of the results
@@ -65,12 +67,15 @@ class _Worker:
 
 def _serve(connection: Any, metrics: list[Metric], on_point: PointHook | None) -> None:
     """A pool process: run the points it is sent until it is sent None."""
+    gc.freeze()  # the heap inherited from the parent: no collection walks (and copies) it
     while (point := connection.recv()) is not None:
         connection.send(run_point(point, metrics, on_point))
 
 
 class ProcessPool:
-    """``workers`` local processes, one point each at a time."""
+    """``workers`` local processes, each running its points in the order sent. Each has the
+    next point waiting in its pipe, so that it never idles while the parent, on a loaded
+    machine, waits to be scheduled."""
 
     def __init__(self, metrics: list[Metric], workers: int | None = None,
                  retries: int = DEFAULT_RETRIES, on_point: PointHook | None = None) -> None:
@@ -87,42 +92,50 @@ class ProcessPool:
 
     def results(self, points: list[Point]) -> Results:
         waiting = deque(points)
-        idle = [self._start() for _ in range(min(self.workers, len(points)))]
-        busy: dict[_Worker, Point] = {}
+        queued = {self._start(): deque() for _ in range(min(self.workers, len(points)))}
         attempts: Counter[int] = Counter()
-        while waiting or busy:
-            while idle and waiting:
-                worker, point = idle.pop(), waiting.popleft()
-                worker.connection.send(point)
-                busy[worker] = point
-            ready = multiprocessing.connection.wait(
-                [w.connection for w in busy] + [w.process.sentinel for w in busy])
-            for worker in [w for w in busy if w.connection in ready
-                           or w.process.sentinel in ready]:
-                point = busy.pop(worker)
-                row = self._receive(worker)
-                if row is not None:
-                    idle.append(worker)
-                    yield point, row
+        while waiting or any(queued.values()):
+            for worker, sent in queued.items():
+                while waiting and len(sent) < POOL_QUEUE_DEPTH:
+                    sent.append(waiting.popleft())
+                    worker.connection.send(sent[-1])
+            busy = [worker for worker, sent in queued.items() if sent]
+            ready = set(multiprocessing.connection.wait(
+                [w.connection for w in busy] + [w.process.sentinel for w in busy]))
+            for worker in busy:
+                if worker.connection not in ready and worker.process.sentinel not in ready:
                     continue
+                rows, alive = self._receive(worker)
+                for row in rows:
+                    yield queued[worker].popleft(), row
+                if alive:
+                    continue
+                lost = queued.pop(worker)
+                queued[self._start()] = deque()
+                if not lost:
+                    continue
+                point = lost.popleft()  # the one it was running; the rest never started
+                waiting.extendleft(reversed(lost))
                 attempts[point.index] += 1
-                idle.append(self._start())
                 if attempts[point.index] > self.retries:
                     yield point, _died(worker.process.exitcode, attempts[point.index])
                 else:
                     waiting.appendleft(point)
 
     @staticmethod
-    def _receive(worker: _Worker) -> dict[str, Any] | None:
-        """The worker's row, or None when it died (and is then joined)."""
+    def _receive(worker: _Worker) -> tuple[list[dict[str, Any]], bool]:
+        """The rows the worker has sent, and whether it lives (a dead one is joined)."""
+        rows = []
         try:
-            if worker.connection.poll():
-                return worker.connection.recv()
+            while worker.connection.poll():
+                rows.append(worker.connection.recv())
+            if worker.process.is_alive():
+                return rows, True
         except (EOFError, OSError):
             pass
         worker.process.join()
         worker.connection.close()
-        return None
+        return rows, False
 
     def close(self) -> None:
         for worker in self._started:
