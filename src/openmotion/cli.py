@@ -26,7 +26,6 @@ app = typer.Typer(name="openmotion", no_args_is_help=True, add_completion=False,
 JsonFlag = Annotated[bool, typer.Option("--json", help="Print one JSON object: no colour, "
                                                         "no progress bar.")]
 WALL_DELAY = 1.0  #: seconds of wall time before a progress bar appears
-RAY_LOCAL = "local"  #: ``--ray`` alone: start a local Ray cluster (Ray's own word for it)
 SHOWN_FAILURES = 10  #: failed points listed in the sweep summary
 ScenarioArgument = Annotated[str | None, typer.Argument(
     metavar="SCENARIO", show_default=False,
@@ -299,6 +298,8 @@ class _OptionalRayAddress(TyperCommand):
     value out): a bare ``--ray`` is the last argument or followed by another option."""
 
     def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
+        from openmotion.sweep.run import RAY_LOCAL
+
         args = list(args)
         for number, arg in enumerate(args):
             if arg == "--":
@@ -346,12 +347,14 @@ def sweep(
     bar = _SweepBar(enabled=not json_output)
     try:
         table = run_sweep(loaded, directory, workers=workers, retries=retries, figure=figure,
-                          ray=False if ray is None else True if ray == RAY_LOCAL else ray,
+                          ray=False if ray is None else ray,
                           progress=bar)
     except KeyboardInterrupt:
         bar.close()
         raise _fail(f"interrupted: {bar.done} of {bar.total} points are stored in "
                     f"{directory}; the same command again resumes", 130) from None
+    except ConnectionError as exc:
+        raise _fail(f"error: cannot join the Ray cluster at {ray}: {exc}") from None
     except OSError as exc:
         raise _fail(f"error: cannot write {exc.filename}: {exc.strerror}") from None
     finally:

@@ -90,7 +90,8 @@ def test_a_missing_extra_is_named_and_exits_2(in_tmp: Path, monkeypatch) -> None
 
 
 @pytest.mark.parametrize(("arguments", "expected"), [
-    ([], False), (["--ray"], True), (["--ray", "--json"], True), (["--ray", "local"], True),
+    ([], False), (["--ray"], "local"), (["--ray", "--json"], "local"),
+    (["--ray", "local"], "local"),
     (["--ray", "auto"], "auto"), (["--ray", "10.0.0.2:6379", "--json"], "10.0.0.2:6379"),
     (["--ray=ray://head:10001"], "ray://head:10001")])
 def test_ray_alone_starts_a_local_cluster_and_an_address_joins_one(

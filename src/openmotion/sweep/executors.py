@@ -18,6 +18,7 @@ import gc
 import multiprocessing
 import multiprocessing.connection
 import os
+import signal
 from collections import Counter, deque
 from collections.abc import Iterator
 from typing import Any
@@ -68,6 +69,7 @@ class _Worker:
 def _serve(connection: Any, metrics: list[Metric], on_point: PointHook | None) -> None:
     """A pool process: run the points it is sent until it is sent None."""
     gc.freeze()  # the heap inherited from the parent: no collection walks (and copies) it
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl+C is the parent's to handle
     while (point := connection.recv()) is not None:
         connection.send(run_point(point, metrics, on_point))
 

@@ -28,6 +28,7 @@ if TYPE_CHECKING:
 EXTRA = "sweep"  #: pyproject's optional dependencies for sweeps
 TABLE_MODULES = ("pandas", "pyarrow")  #: what every sweep needs
 RAY_MODULES = ("ray",)  #: what ``ray=`` needs
+RAY_LOCAL = "local"  #: ``ray=`` for a new local cluster, as True (Ray's own word for it)
 
 
 class MissingExtra(ImportError):
@@ -67,11 +68,11 @@ def run_sweep(sweep: str | Path | Sweep, output: str | Path | None = None, *,
     ``output``: a directory for the finished points (a sweep run again with it resumes), the
     table (``results.parquet``) and, with ``figure``, the summary figure (``summary.png``);
     None keeps nothing. ``workers``: processes, or the CPUs of a local Ray cluster (default:
-    the CPUs this process may use). ``ray``: False runs a local process pool, True starts a
-    local Ray cluster, a string is the address of one to join. ``retries``: new attempts for
-    a point whose worker died. ``progress`` is called after each point; an exception from it
-    (KeyboardInterrupt) stops the sweep with every finished point stored. ``on_point`` is
-    called in the worker before each point runs.
+    the CPUs this process may use). ``ray``: False runs a local process pool; True or
+    ``"local"`` starts a local Ray cluster; any other string is the address of one to join.
+    ``retries``: new attempts for a point whose worker died. ``progress`` is called after
+    each point; an exception from it (KeyboardInterrupt) stops the sweep with every finished
+    point stored. ``on_point`` is called in the worker before each point runs.
     """
     require_extra(ray=ray is not False)
     if not isinstance(sweep, Sweep):
@@ -109,8 +110,8 @@ def _compute(todo: list[Point], rows: dict[int, dict[str, Any]], store: ResultSt
     if ray is False:
         executor = ProcessPool(sweep.metrics, workers, retries, on_point)
     else:
-        executor = RayExecutor(sweep.metrics, None if ray is True else str(ray), workers,
-                               retries, on_point)
+        address = None if ray is True or ray == RAY_LOCAL else str(ray)
+        executor = RayExecutor(sweep.metrics, address, workers, retries, on_point)
     try:
         for point, row in executor.results(todo):
             store.save(point, row)
