@@ -287,6 +287,8 @@ def bench(
     bar = _ProgressBar(enabled=not json_output)
     try:
         result = runner.run_benchmark(name, quick=quick, progress=bar.message, cycles=cycles)
+    except ImportError as exc:  # an optional extra (the sweep benchmark's) is missing
+        raise _fail(f"error: {exc}") from None
     finally:
         bar.close()
     typer.echo(json.dumps(result, indent=2, default=str) if json_output

@@ -119,3 +119,11 @@ def test_an_interrupted_sweep_says_how_to_resume(monkeypatch) -> None:
     assert result.exit_code == 130
     assert result.stderr == "interrupted: 2 of 6 points are stored in out; the same command " \
                             "again resumes\n"
+
+
+def test_the_sweep_benchmark_without_the_extra_exits_2(monkeypatch) -> None:
+    monkeypatch.setitem(sys.modules, "pyarrow", None)
+    result = runner.invoke(app, ["bench", "sweep", "--quick"])
+    assert result.exit_code == 2
+    assert result.stderr == "error: sweeps need pyarrow: install them with pip install " \
+                            "'openmotion[sweep]'\n"

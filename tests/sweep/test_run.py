@@ -57,6 +57,17 @@ def test_a_run_that_raises_is_recorded_as_failed_with_its_message(write_sweep) -
                                  "matches (recorded: x.set_position, x.set_velocity)")
 
 
+def _refuse_point_one(point) -> None:
+    if point.index == 1:
+        raise RuntimeError("hook refused point 1")
+
+
+def test_a_point_hook_that_raises_fails_that_point_only(write_sweep) -> None:
+    table = run_sweep(write_sweep(parameters=[VELOCITY]), workers=1, on_point=_refuse_point_one)
+    assert list(table["status"]) == ["done", "failed", "done"]
+    assert table["error"][1] == "RuntimeError: hook refused point 1"
+
+
 def test_a_point_whose_worker_dies_is_run_again(write_sweep, tmp_path: Path) -> None:
     markers = tmp_path / "markers"
     markers.mkdir()

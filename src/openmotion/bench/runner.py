@@ -114,6 +114,9 @@ def _startup(quick: bool, progress: Progress) -> dict[str, Any]:
 
 
 def _sweep(quick: bool, progress: Progress) -> dict[str, Any]:
+    from openmotion.sweep import require_extra
+
+    require_extra(ray=not quick)
     if quick:
         return run_sweep_bench(points=QUICK_SWEEP_POINTS, ray=False, progress=progress)
     return run_sweep_bench(progress=progress)

@@ -27,9 +27,9 @@ PointHook = Callable[[Point], Any]
 def run_point(point: Point, metrics: list[Metric], on_point: PointHook | None = None) \
         -> dict[str, Any]:
     """The point's row: status, error, and the metrics' values (none when it failed)."""
-    if on_point is not None:
-        on_point(point)
     try:
+        if on_point is not None:
+            on_point(point)
         scenario = _scenario(point.document)
         started = time.process_time()
         result = run_scenario(scenario)
