@@ -24,10 +24,12 @@ def test_quick_runs_serial_and_pool_on_twenty_points(result: dict) -> None:
     for name in ("serial", "pool"):
         assert r[name]["wall_s"] > 0 and r[name]["points_per_s"] > 0
     assert r["serial"]["efficiency_per_worker"] == 1.0 and r["pool"]["failed"] == 0
+    assert r["serial"]["cpu_s_per_point"] > 0 and r["pool"]["cpu_s_per_point"] > 0
     assert set(result["goals"]) == {"pool"}
     json.loads(json.dumps(result, allow_nan=False))
     text = render(result)
     assert "points/s" in text and "efficiency/worker" in text and "load average" in text
+    assert "cpu ms/point" in text
 
 
 def test_the_figures_follow_from_the_wall_times() -> None:

@@ -644,13 +644,14 @@ def _render_startup(results: dict[str, Any]) -> list[str]:
 def _render_sweep(results: dict[str, Any]) -> list[str]:
     rows = [[name, results[name]["wall_s"], results[name]["points_per_s"],
              results[name]["s_per_point"] * 1000, results[name]["overhead_s_per_point"] * 1000,
-             results[name]["efficiency_per_worker"]]
+             results[name]["efficiency_per_worker"],
+             results[name].get("cpu_s_per_point", math.nan) * 1000]
             for name in ("serial", "pool", "ray") if results[name] is not None]
     lines = [f"{results['points']} short points; pool and Ray with {results['workers']} "
              "workers; overhead = worker ms per point beyond the serial ms; load average "
              f"{_fmt(results['load_average'], 2)} at the start",
              *_table(["executor", "wall s", "points/s", "ms/point", "overhead ms",
-                      "efficiency/worker"], rows)]
+                      "efficiency/worker", "cpu ms/point"], rows)]
     if results["ray"] is not None:
         lines.append(f"Ray cluster start (not in its wall time): {_fmt(results['ray']['start_s'])}"
                      " s")

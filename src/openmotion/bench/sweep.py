@@ -11,7 +11,9 @@ the simulation) run three ways:
 
 Per executor: points per second, seconds per point, the overhead per point (worker seconds
 spent per point beyond the serial seconds: ``wall * workers / points - serial``) and the
-efficiency per worker (``rate / (workers * serial rate)``; 1 is perfect scaling). Wall
+efficiency per worker (``rate / (workers * serial rate)``; 1 is perfect scaling). For serial
+and the pool also the CPU seconds per point (this process and the pool's workers), which the
+machine's load does not change: their difference is the pool's own cost. Wall
 times on a shared machine depend on its load: the one-minute load average at the start is
 part of the result.
 """
@@ -19,6 +21,7 @@ part of the result.
 from __future__ import annotations
 
 import os
+import resource
 import tempfile
 import time
 from collections.abc import Callable
@@ -68,18 +71,20 @@ def run_sweep_bench(points: int = POINTS, workers: int = WORKERS, ray: bool = Tr
     expanded = expand(sweep)
     run_point(expanded[0], sweep.metrics)  # loads the compiled loops: not a point's cost
     _say(progress, f"sweep: {points} points one after another in this process")
-    started = time.perf_counter()
+    started, cpu = time.perf_counter(), _cpu()
     for point in expanded:
         run_point(point, sweep.metrics)
     serial = time.perf_counter() - started
     results: dict[str, Any] = {"points": points, "workers": workers,
                                "load_average": os.getloadavg()[0],
-                               "serial": _figures(points, serial, 1, serial)}
+                               "serial": {**_figures(points, serial, 1, serial),
+                                          "cpu_s_per_point": (_cpu() - cpu) / points}}
     _say(progress, f"sweep: the process pool, {workers} workers")
-    started = time.perf_counter()
+    started, cpu = time.perf_counter(), _cpu()
     pool = run_sweep(sweep, workers=workers)
-    results["pool"] = _figures(points, time.perf_counter() - started, workers, serial)
-    results["pool"]["failed"] = int((pool["status"] != "done").sum())
+    results["pool"] = {**_figures(points, time.perf_counter() - started, workers, serial),
+                       "cpu_s_per_point": (_cpu() - cpu) / points,
+                       "failed": int((pool["status"] != "done").sum())}
     results["ray"] = None
     if ray:
         results["ray"] = _ray(sweep, points, workers, serial, progress)
@@ -117,6 +122,13 @@ def _figures(points: int, wall: float, workers: int, serial: float) -> dict[str,
     return {"wall_s": wall, "points_per_s": rate, "s_per_point": wall / points,
             "overhead_s_per_point": wall * workers / points - serial / points,
             "efficiency_per_worker": rate / (workers * serial_rate)}
+
+
+def _cpu() -> float:
+    """CPU seconds of this process and of its finished children (the pool's workers)."""
+    own, children = resource.getrusage(resource.RUSAGE_SELF), \
+        resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
 def _say(progress: Progress, text: str) -> None:
