@@ -20,8 +20,8 @@ LAYERS: tuple[frozenset[str], ...] = (
     frozenset({"axis"}),  # the single-axis engine every axis-based system builds on
     frozenset({"runtime"}),  # the runtime users make: the kernel with its axes
     frozenset({"plcopen", "transport", "coordinated", "planar"}),  # the systems
-    frozenset({"trace", "scenario", "viewer", "endpoints", "bench", "examples", "testing",
-               "warm", "cli", "__main__", "__init__"}),  # the edges
+    frozenset({"trace", "scenario", "sweep", "viewer", "endpoints", "bench", "examples",
+               "testing", "warm", "cli", "__main__", "__init__"}),  # the edges
 )
 SYSTEMS = LAYERS[5]
 

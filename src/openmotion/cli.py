@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Annotated, Any
 
 import typer
+from typer.core import TyperCommand
 
 from openmotion.core.errors import ConfigError
 
@@ -25,6 +26,7 @@ app = typer.Typer(name="openmotion", no_args_is_help=True, add_completion=False,
 JsonFlag = Annotated[bool, typer.Option("--json", help="Print one JSON object: no colour, "
                                                         "no progress bar.")]
 WALL_DELAY = 1.0  #: seconds of wall time before a progress bar appears
+SHOWN_FAILURES = 10  #: failed points listed in the sweep summary
 ScenarioArgument = Annotated[str | None, typer.Argument(
     metavar="SCENARIO", show_default=False,
     help="A scenario file, or the name of a shipped example (see 'openmotion examples'). "
@@ -285,10 +287,148 @@ def bench(
     bar = _ProgressBar(enabled=not json_output)
     try:
         result = runner.run_benchmark(name, quick=quick, progress=bar.message, cycles=cycles)
+    except ImportError as exc:  # an optional extra (the sweep benchmark's) is missing
+        raise _fail(f"error: {exc}") from None
     finally:
         bar.close()
     typer.echo(json.dumps(result, indent=2, default=str) if json_output
                else runner.render(result))
+
+
+class _OptionalRayAddress(TyperCommand):
+    """``--ray`` without a value means ``--ray local`` (typer's options cannot leave their
+    value out): a bare ``--ray`` is the last argument or followed by another option."""
+
+    def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
+        from openmotion.sweep.run import RAY_LOCAL
+
+        args = list(args)
+        for number, arg in enumerate(args):
+            if arg == "--":
+                break
+            if arg == "--ray" and (number + 1 == len(args) or args[number + 1].startswith("-")):
+                args[number] = f"--ray={RAY_LOCAL}"
+        return super().parse_args(ctx, args)
+
+
+@app.command(cls=_OptionalRayAddress)
+def sweep(
+    sweep_file: Annotated[Path, typer.Argument(metavar="SWEEP", help="A sweep file: base "
+                                                                   "scenario, parameters, "
+                                                                   "metrics (docs/sweeps.md).")],
+    output: Annotated[Path | None, typer.Option(
+        "--output", "-o", help="Directory for the finished points, results.parquet and "
+        "summary.png; the same command again resumes from it. Default: the sweep file's name "
+        "with '.sweep', in the working directory.", show_default=False)] = None,
+    workers: Annotated[int | None, typer.Option(
+        min=1, help="Worker processes, or the CPUs of a local Ray cluster. Default: the CPUs "
+        "this process may use.", show_default=False)] = None,
+    ray: Annotated[str | None, typer.Option(
+        "--ray", metavar="[ADDRESS]", help="Run the points on Ray: alone (or 'local') starts a "
+        "local cluster on 127.0.0.1; an address (auto, HOST:6379, ray://HOST:10001) joins a "
+        "running one.", show_default=False)] = None,
+    retries: Annotated[int, typer.Option(min=0, help="New attempts for a point whose worker "
+                                                     "process died.")] = 2,
+    figure: Annotated[bool, typer.Option("--figure/--no-figure",
+                                         help="Draw summary.png.")] = True,
+    json_output: JsonFlag = False,
+) -> None:
+    """Run a scenario many times with parameters varied: one row per point in a Parquet
+    table, a summary figure. Exit 1 when a point failed."""
+    from openmotion.sweep import MissingExtra, load_sweep, require_extra, run_sweep
+
+    _started()
+    try:
+        require_extra(ray=ray is not None)
+        loaded = load_sweep(sweep_file)
+    except MissingExtra as exc:
+        raise _fail(f"error: {exc}") from None
+    except ConfigError as exc:
+        raise _fail(f"ConfigError: {exc}") from None
+    directory = output or Path(f"{sweep_file.stem}.sweep")
+    bar = _SweepBar(enabled=not json_output)
+    try:
+        table = run_sweep(loaded, directory, workers=workers, retries=retries, figure=figure,
+                          ray=False if ray is None else ray,
+                          progress=bar)
+    except KeyboardInterrupt:
+        bar.close()
+        raise _fail(f"interrupted: {bar.done} of {bar.total} points are stored in "
+                    f"{directory}; the same command again resumes", 130) from None
+    except ConnectionError as exc:
+        raise _fail(f"error: cannot join the Ray cluster at {ray}: {exc}") from None
+    except OSError as exc:
+        raise _fail(f"error: cannot write {exc.filename}: {exc.strerror}") from None
+    finally:
+        bar.close()
+    _report_sweep(table, directory, bar.reused, figure, json_output)
+    if (table["status"] != "done").any():
+        raise typer.Exit(1)
+
+
+class _SweepBar:
+    """The sweep's progress on stderr: points done of all, failed, time left."""
+
+    def __init__(self, enabled: bool) -> None:
+        from rich.console import Console
+
+        self.console = Console(stderr=True)
+        self.enabled = enabled and self.console.is_terminal
+        self.done = self.total = self.reused = 0
+        self.bar: Any = None
+        self.task: Any = None
+
+    def __call__(self, progress: Any) -> None:
+        self.done, self.total, self.reused = progress.done, progress.total, progress.reused
+        if not self.enabled:
+            return
+        if self.bar is None:
+            from rich.progress import (
+                BarColumn,
+                MofNCompleteColumn,
+                Progress,
+                TextColumn,
+                TimeRemainingColumn,
+            )
+
+            self.bar = Progress(TextColumn("points"), BarColumn(), MofNCompleteColumn(),
+                                TextColumn("failed {task.fields[failed]}"),
+                                TextColumn("left"), TimeRemainingColumn(),
+                                console=self.console, transient=True)
+            self.bar.start()
+            self.task = self.bar.add_task("sweep", total=progress.total,
+                                          completed=progress.done, failed=progress.failed)
+        self.bar.update(self.task, completed=progress.done, failed=progress.failed)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+            self.bar = None
+
+
+def _report_sweep(table: Any, directory: Path, reused: int, figure: bool,
+                  json_output: bool) -> None:
+    from openmotion.sweep import TABLE_FILE
+
+    failed = table[table["status"] != "done"]
+    files = {"table": str(directory / TABLE_FILE),
+             "figure": str(directory / "summary.png") if figure else None}
+    if json_output:
+        typer.echo(json.dumps({
+            "output": str(directory), **files, "points": len(table),
+            "done": len(table) - len(failed), "failed": len(failed), "reused": reused,
+            "failures": [{"index": int(row["index"]), "point_id": row["point_id"],
+                          "error": row["error"]} for _, row in failed.iterrows()]}, indent=2))
+        return
+    typer.echo(f"{len(table)} points: {len(table) - len(failed)} done, {len(failed)} failed, "
+               f"{reused} reused from {directory}")
+    for _, row in failed.head(SHOWN_FAILURES).iterrows():
+        typer.echo(f"  point {row['index']} ({row['point_id'][:12]}): {row['error']}")
+    if len(failed) > SHOWN_FAILURES:
+        typer.echo(f"  ... and {len(failed) - SHOWN_FAILURES} more (the table's error column)")
+    typer.echo(f"table: written to {files['table']}", err=True)
+    if figure:
+        typer.echo(f"figure: written to {files['figure']}", err=True)
 
 
 @app.command()

@@ -26,6 +26,7 @@ from openmotion.bench.otg import run_otg
 from openmotion.bench.path import run_path
 from openmotion.bench.planar import run_planar
 from openmotion.bench.startup import run_startup
+from openmotion.bench.sweep import run_sweep_bench
 from openmotion.bench.trace import FLAT_MB, MEMORY_CYCLES, run_trace
 from openmotion.bench.tracks import run_tracks
 
@@ -52,6 +53,9 @@ STARTUP_CHECK_GOAL_S = 1.0  #: issue #18: warm `openmotion check` of the default
 STARTUP_RUN_GOAL_S = 1.5  #: warm `openmotion run` of the default example
 STARTUP_LARGE_GOAL_S = 2.0  #: warm `openmotion check` of a 1 MB scenario
 STARTUP_FIRST_GOAL_S = 10.0  #: first run of any shipped example, with the package's cache
+SWEEP_POOL_GOAL_EFFICIENCY = 0.5  #: issue #23: the pool's points/s per worker over serial's
+SWEEP_RAY_GOAL_EFFICIENCY = 0.25  #: the same on Ray, whose tasks cost more to dispatch
+QUICK_SWEEP_POINTS = 20  #: --quick: points, and no Ray cluster
 
 
 def _axes(quick: bool, progress: Progress) -> dict[str, Any]:
@@ -109,6 +113,15 @@ def _startup(quick: bool, progress: Progress) -> dict[str, Any]:
     return run_startup(progress=progress)
 
 
+def _sweep(quick: bool, progress: Progress) -> dict[str, Any]:
+    from openmotion.sweep import require_extra
+
+    require_extra(ray=not quick)
+    if quick:
+        return run_sweep_bench(points=QUICK_SWEEP_POINTS, ray=False, progress=progress)
+    return run_sweep_bench(progress=progress)
+
+
 #: the benchmarks that take ``cycles`` (the length of their long run)
 LONG_RUNS = ("trace",)
 BENCHMARKS: dict[str, Callable[..., dict[str, Any]]] = {
@@ -121,6 +134,7 @@ BENCHMARKS: dict[str, Callable[..., dict[str, Any]]] = {
     "tracks": _tracks,
     "trace": _trace,
     "startup": _startup,
+    "sweep": _sweep,
 }
 
 
@@ -317,6 +331,23 @@ def goals_startup(results: dict[str, Any]) -> dict[str, Any]:
     }
 
 
+def goals_sweep(results: dict[str, Any]) -> dict[str, Any]:
+    workers = results["workers"]
+    pool = results["pool"]["efficiency_per_worker"]
+    goals = {"pool": _goal(f"process pool, {workers} workers: efficiency per worker >= "
+                           f"{SWEEP_POOL_GOAL_EFFICIENCY:g} (points/s over {workers} x "
+                           "serial)", pool, pool >= SWEEP_POOL_GOAL_EFFICIENCY)}
+    ray = results["ray"]
+    if ray is not None:
+        efficiency = ray["efficiency_per_worker"]
+        goals["ray"] = _goal(f"Ray, {workers} CPUs: efficiency per worker >= "
+                             f"{SWEEP_RAY_GOAL_EFFICIENCY:g}", efficiency,
+                             efficiency >= SWEEP_RAY_GOAL_EFFICIENCY)
+        goals["same_table"] = _goal("Ray's table equals the pool's (timing columns aside)",
+                                    ray["same_table"], ray["same_table"])
+    return goals
+
+
 GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "axes": goals_axes,
     "otg": goals_otg,
@@ -327,6 +358,7 @@ GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "tracks": goals_tracks,
     "trace": goals_trace,
     "startup": goals_startup,
+    "sweep": goals_sweep,
 }
 
 
@@ -609,9 +641,27 @@ def _render_startup(results: dict[str, Any]) -> list[str]:
     return lines
 
 
+def _render_sweep(results: dict[str, Any]) -> list[str]:
+    rows = [[name, results[name]["wall_s"], results[name]["points_per_s"],
+             results[name]["s_per_point"] * 1000, results[name]["overhead_s_per_point"] * 1000,
+             results[name]["efficiency_per_worker"],
+             results[name].get("cpu_s_per_point", math.nan) * 1000]
+            for name in ("serial", "pool", "ray") if results[name] is not None]
+    lines = [f"{results['points']} short points; pool and Ray with {results['workers']} "
+             "workers; overhead = worker ms per point beyond the serial ms; load average "
+             f"{_fmt(results['load_average'], 2)} at the start",
+             *_table(["executor", "wall s", "points/s", "ms/point", "overhead ms",
+                      "efficiency/worker", "cpu ms/point"], rows)]
+    if results["ray"] is not None:
+        lines.append(f"Ray cluster start (not in its wall time): {_fmt(results['ray']['start_s'])}"
+                     " s")
+    return lines
+
+
 _RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
            "ca": _render_ca, "planar": _render_planar, "path": _render_path,
-           "tracks": _render_tracks, "trace": _render_trace, "startup": _render_startup}
+           "tracks": _render_tracks, "trace": _render_trace, "startup": _render_startup,
+           "sweep": _render_sweep}
 
 
 def render(result: dict[str, Any]) -> str:
