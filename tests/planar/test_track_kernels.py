@@ -209,7 +209,7 @@ def test_rooms_neighbours_and_pair_gaps_are_the_numpy_ones(seed: int, n: int):
 
 def _clear_stretch_reference(traffic, k: int, low: float, high: float,
                              others: list[tuple[int, float, float]]) -> tuple:
-    """``Traffic._clear_stretch`` as numpy and one ``frame_at`` per leg computed it."""
+    """``SwitchZones.clear_stretch`` as numpy and one ``frame_at`` per leg computed it."""
     step, count = 2.0, 32
 
     def samples(lo: float, hi: float) -> np.ndarray:
@@ -228,7 +228,7 @@ def _clear_stretch_reference(traffic, k: int, low: float, high: float,
                 np.clip(q[here] - bases[i], 0.0, track.length))
             curvature = max(curvature, track.path.max_curvature)
         if not traffic.oriented[j]:
-            c[:] = math.radians(traffic._turn(j))
+            c[:] = math.radians(traffic.zones.turn(j))
             curvature = 0.0
         hx, hy = rider.half
         margin = 0.5 * step * (1.0 + math.hypot(hx, hy) * curvature)
@@ -258,7 +258,7 @@ def test_the_footprint_search_at_a_switch_answers_as_numpy_did(monkeypatch):
     branch and an arc that stays in its hose): one moves towards the other, so the search
     of the stretch it may use runs every cycle, with footprints that meet."""
     from openmotion.planar import MC_PlanarMover, MoverVector, PlanarMoverParameters
-    from openmotion.planar.traffic import Traffic
+    from openmotion.planar.switch_zones import SwitchZones
 
     rt = om.Runtime(0.001)
     trunk, straight, curve = (MC_PlanarTrack(rt, n) for n in ("trunk", "straight", "curve"))
@@ -284,15 +284,15 @@ def test_the_footprint_search_at_a_switch_answers_as_numpy_did(monkeypatch):
     joins = [m.join_track(t) for m, t in zip(movers, (straight, curve), strict=True)]
     assert rt.run_until(lambda: all(j.done for j in joins), timeout=1.0)
     searched = []
-    compiled = Traffic._clear_stretch
+    compiled = SwitchZones.clear_stretch
 
     def both(self, k, low, high, others):
         got = compiled(self, k, low, high, others)
-        assert got == _clear_stretch_reference(self, k, low, high, others)
+        assert got == _clear_stretch_reference(self.traffic, k, low, high, others)
         searched.append(got)
         return got
 
-    monkeypatch.setattr(Traffic, "_clear_stretch", both)
+    monkeypatch.setattr(SwitchZones, "clear_stretch", both)
     movers[0].move_on_track(None, 250.0)
     rt.run(1.0)
     assert len(searched) > 10

@@ -109,8 +109,8 @@ from openmotion.planar import (
     ST_MoveOnTrackOptions,
 )
 from openmotion.planar.feedback import CommandPhase, PlanarCommand
+from openmotion.planar.riders import Rider, ahead_legs, backwards
 from openmotion.planar.track import traffic_of
-from openmotion.planar.traffic import Rider, ahead_legs, backwards
 
 SIDE = 155.0  #: [mm] mover width and height (the defaults)
 HALF = SIDE / 2

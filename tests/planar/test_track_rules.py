@@ -215,7 +215,7 @@ def _check_limits(rt: om.Runtime, mover: MC_PlanarMover,
                   log: list[tuple[float, float, float, float]]) -> None:
     """Velocity and acceleration along the path stay within the command's limits, and the
     path coordinate runs on without a jump."""
-    limits = traffic_of(mover._system).lim[:, mover._rider.slot]
+    limits = traffic_of(mover._system).limits[:, mover._rider.slot]
     q, v, a = (np.array(column) for column in list(zip(*log, strict=True))[:3])
     assert np.abs(v).max() <= limits[0] * (1 + 1e-9)
     assert np.abs(a).max() <= max(limits[1], limits[2]) * (1 + 1e-9)

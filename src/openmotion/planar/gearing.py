@@ -39,9 +39,9 @@ from openmotion.planar.options import (
     command_dynamics,
 )
 from openmotion.planar.positions import finite
+from openmotion.planar.riders import Leg, Rider, ahead_legs
 from openmotion.planar.states import MoverCommand, check_track_accepts
 from openmotion.planar.track import MC_PlanarTrack
-from openmotion.planar.traffic import Leg, Rider, ahead_legs
 from openmotion.rail.enums import SyncStrategy
 from openmotion.rail.gear import GearSync
 
@@ -328,9 +328,9 @@ def _prime(coupling: Coupling, traffic: Any) -> None:
     cycle back along its jerk."""
     mp, mv, ma, mj = master_state(coupling, traffic)
     if coupling.axis is not None:
-        dt = traffic.dt
-        mp, mv, ma = (mp - dt * (mv - dt * (ma / 2.0 - dt * mj / 6.0)),
-                      mv - dt * (ma - dt * mj / 2.0), ma - dt * mj)
+        cycle_time = traffic.cycle_time
+        mp, mv, ma = (mp - cycle_time * (mv - cycle_time * (ma / 2.0 - cycle_time * mj / 6.0)),
+                      mv - cycle_time * (ma - cycle_time * mj / 2.0), ma - cycle_time * mj)
     coupling.sync.prime((mp, mv, ma, mj))
 
 

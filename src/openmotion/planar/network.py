@@ -13,7 +13,7 @@ import itertools
 import math
 from typing import TYPE_CHECKING
 
-from openmotion.planar.traffic import Leg
+from openmotion.planar.riders import Leg
 
 if TYPE_CHECKING:
     from openmotion.planar.track import MC_PlanarTrack

@@ -22,11 +22,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from openmotion.core.compiled import compiled, true_indices
+from openmotion.planar.tolerances import LIMIT_PRECISION, REST_PRECISION, TRACK_END_PRECISION
 from openmotion.planar.track_atlas import frames_on
+from openmotion.rail.gap_control import TOLERANCE
 from openmotion.rail.kernels import brake_states, candidates, envelope
 
-TOLERANCE = 1e-9  #: [mm] as gap_control.TOLERANCE
-_SLACK = 1 + 1e-12  #: relative float slack of the limit checks (as in Traffic._track)
+_SLACK = 1 + LIMIT_PRECISION  #: relative float slack of the limit checks of a held rider
 
 Floats = NDArray[np.float64]
 Ints = NDArray[np.int64]
@@ -48,7 +49,7 @@ def _maximum(a: float, b: float) -> float:
 @compiled
 def rooms(n: int, succ: Ints, pred: Ints, offset: Floats, gap: Floats, lo: Floats,
           hi: Floats, stopped: Ints, low: Floats, high: Floats) -> tuple[Floats, Floats]:
-    """``Traffic._room``: where each of ``n`` riders may stop given its neighbours' brake
+    """``RiderPairs.room``: where each of ``n`` riders may stop given its neighbours' brake
     envelopes (lo, hi): behind its predecessor's low end less the gap, ahead of its
     successor's high end plus the gap, and within the stop lines (low, high) of the riders
     ``stopped`` (kept out of a switch zone)."""
@@ -70,8 +71,8 @@ def rooms(n: int, succ: Ints, pred: Ints, offset: Floats, gap: Floats, lo: Float
 def extensions(queued: Ints, target: Floats, goal: Floats, room_lo: Floats, room_hi: Floats,
                ahead: Ints, v: Floats, a: Floats, mode: Ints, held: int, extend: float
                ) -> tuple[Floats, Bools]:
-    """``Traffic._extend`` for the riders ``queued`` (following a profile that ends short of
-    their target): how far each may go now (``reach``: the target, or the end of its room)
+    """``Traffic._extend_queued`` for the riders ``queued`` (following a profile that ends
+    short of their target): how far each may go now (``reach``: the target, or the end of its room)
     and whether it gets a profile to there: the way to the target is free, or the room grew
     by more than ``extend`` with the rider ahead standing. One whose room grew while the
     rider ahead drives on becomes ``held`` (its tracking step follows that rider)."""
@@ -105,12 +106,12 @@ def neighbours(n: int, succ: Ints, pred: Ints) -> tuple[Ints, Ints]:
 
 
 @compiled
-def held_plans(held: Ints, p: Floats, v: Floats, a: Floats, target: Floats, lim: Floats,
+def held_plans(held: Ints, p: Floats, v: Floats, a: Floats, target: Floats, limits: Floats,
                room_lo: Floats, room_hi: Floats, mode: Ints, idle: int, ahead: Ints,
                behind: Ints, nxt_p: Floats, nxt_v: Floats, nxt_a: Floats, nxt_j: Floats,
                known: Bools, known_lo: Floats, known_hi: Floats
                ) -> tuple[Floats, Floats, Bools, Bools]:
-    """First half of ``Traffic._track`` for the held riders: the direction to the target
+    """First half of ``Traffic._track_held``: the direction of each held rider to its target
     (``sign``), the goal (the target, or the end of the room), the riders that wait (at
     rest in a queue, or head on: their step is standing, written into ``nxt`` and
     ``known``), those that ``fit`` a fresh profile (the command's dynamics take the state
@@ -122,7 +123,7 @@ def held_plans(held: Ints, p: Floats, v: Floats, a: Floats, target: Floats, lim:
     for i in range(count):
         k = held[i]
         pk, vk, ak, tk = p[k], v[k], a[k], target[k]
-        vmax, acc, dec, jerk = lim[0, k], lim[1, k], lim[2, k], lim[3, k]
+        vmax, acc, dec, jerk = limits[0, k], limits[1, k], limits[2, k], limits[3, k]
         s = 1.0 if tk >= pk else -1.0
         g = _minimum(tk, room_hi[k]) if s > 0 else _maximum(tk, room_lo[k])
         sign[i], goal[i] = s, g
@@ -137,7 +138,7 @@ def held_plans(held: Ints, p: Floats, v: Floats, a: Floats, target: Floats, lim:
             continue
         u, b = s * vk, s * ak
         gentle = (b <= acc * _SLACK and b >= -dec * _SLACK and u >= 0.0
-                  and u + b * abs(b) / (2.0 * jerk) >= -1e-9 * vmax
+                  and u + b * abs(b) / (2.0 * jerk) >= -REST_PRECISION * vmax
                   and abs(vk) <= vmax * _SLACK)
         settled = g == tk
         if not settled:
@@ -152,12 +153,13 @@ def held_plans(held: Ints, p: Floats, v: Floats, a: Floats, target: Floats, lim:
 
 
 @compiled
-def held_steps(held: Ints, sign: Floats, rest: Bools, dt: float, p: Floats, v: Floats,
-               a: Floats, target: Floats, lim: Floats, bdec: Floats, bjerk: Floats,
-               room_lo: Floats, room_hi: Floats, lo: Floats, hi: Floats, nxt_p: Floats,
-               nxt_v: Floats, nxt_a: Floats, nxt_j: Floats, known: Bools, known_lo: Floats,
-               known_hi: Floats) -> None:
-    """Second half of ``Traffic._track``: the ``rest`` of the held riders take the most
+def held_steps(held: Ints, sign: Floats, rest: Bools, cycle_time: float, p: Floats,
+               v: Floats, a: Floats, target: Floats, limits: Floats,
+               brake_deceleration: Floats, brake_jerk: Floats, room_lo: Floats,
+               room_hi: Floats, lo: Floats, hi: Floats, nxt_p: Floats, nxt_v: Floats,
+               nxt_a: Floats, nxt_j: Floats, known: Bools, known_lo: Floats, known_hi: Floats
+               ) -> None:
+    """Second half of ``Traffic._track_held``: the ``rest`` of the held riders take the most
     progressive constant-jerk step that keeps their brake in their room (``candidates``,
     the room widened to their own envelope), else a brake: the command's, or gap control's
     where that brakes harder than the command's takes back without turning round. Float
@@ -177,8 +179,9 @@ def held_steps(held: Ints, sign: Floats, rest: Bools, dt: float, p: Floats, v: F
     for k in range(n):
         wide_lo[k], wide_hi[k] = _minimum(room_lo[k], lo[k]), _maximum(room_hi[k], hi[k])
     out, env = np.empty((4, n)), np.empty((2, n))
-    fitted = candidates(rows, dt, p, v, a, signs, target, lim[0], lim[1], lim[2], lim[3],
-                        bdec, bjerk, wide_lo, wide_hi, out, env)
+    fitted = candidates(rows, cycle_time, p, v, a, signs, target, limits[0], limits[1],
+                        limits[2], limits[3], brake_deceleration, brake_jerk, wide_lo,
+                        wide_hi, out, env)
     lost = np.empty(rows.size, dtype=np.int64)  # rows[~fitted]
     count = 0
     for i in range(rows.size):
@@ -197,15 +200,16 @@ def held_steps(held: Ints, sign: Floats, rest: Bools, dt: float, p: Floats, v: F
             k = lost[i]
             lp[i], lv[i], la[i] = p[k], v[k], a[k]
             u, b = signs[k] * v[k], signs[k] * a[k]
-            d, j = lim[2, k], lim[3, k]
+            d, j = limits[2, k], limits[3, k]
             hard = (b < -d) or (u + b * abs(b) / (2.0 * j) < 0.0)
-            dec[i], jerk[i] = (bdec[k], bjerk[k]) if hard else (d, j)
-        step = brake_states(lp, lv, la, dec, jerk, dt)
+            dec[i], jerk[i] = (brake_deceleration[k], brake_jerk[k]) if hard else (d, j)
+        step = brake_states(lp, lv, la, dec, jerk, cycle_time)
         for i in range(lost.size):
             k = lost[i]
             nxt_p[k], nxt_v[k], nxt_a[k], nxt_j[k] = step[0][i], step[1][i], step[2][i], step[3][i]
     for k in rows:
-        if abs(nxt_v[k]) <= 1e-9 * lim[0, k] and abs(nxt_a[k]) <= 1e-9 * lim[1, k]:
+        if abs(nxt_v[k]) <= REST_PRECISION * limits[0, k] and \
+                abs(nxt_a[k]) <= REST_PRECISION * limits[1, k]:
             nxt_v[k], nxt_a[k], nxt_j[k] = 0.0, 0.0, 0.0
             known[k] = False
 
@@ -272,8 +276,8 @@ def touching(ax: Floats, ay: Floats, ca: Floats, sa: Floats, ahx: float, ahy: fl
 
 @compiled
 def write_setpoints(mode: Ints, idle: int, p: Floats, v: Floats, a: Floats, base: Floats,
-                    rested: Bools, track: Ints, xr: Ints, yr: Ints, cr: Ints,
-                    oriented: Bools, cdeg: Floats, p_all: Floats, v_all: Floats,
+                    rested: Bools, track: Ints, x_rows: Ints, y_rows: Ints, c_rows: Ints,
+                    oriented: Bools, c_deg: Floats, p_all: Floats, v_all: Floats,
                     a_all: Floats, j_all: Floats, tables: tuple) -> Ints:
     """``Traffic._write``: x, y (and c where it follows the track) of every rider that moves,
     or came to rest this cycle, from its track's curve (``track_atlas.frames_on``) into the
@@ -307,17 +311,17 @@ def write_setpoints(mode: Ints, idle: int, p: Floats, v: Floats, a: Floats, base
         vk, ak, heading, curvature = v[k], a[k], frame[2, i], frame[3, i]
         cos, sin = math.cos(heading), math.sin(heading)
         normal = curvature * vk * vk
-        rx, ry = xr[k], yr[k]
+        rx, ry = x_rows[k], y_rows[k]
         p_all[rx], p_all[ry] = frame[0, i], frame[1, i]
         v_all[rx], v_all[ry] = cos * vk, sin * vk
         a_all[rx] = cos * ak - sin * normal
         a_all[ry] = sin * ak + cos * normal
         j_all[rx] = j_all[ry] = 0.0
         if oriented[k]:
-            c = cdeg[k]
+            c = c_deg[k]
             c = c + ((math.degrees(heading) - c + 180.0) % 360.0 - 180.0)
-            cdeg[k] = c
-            rc = cr[k]
+            c_deg[k] = c
+            rc = c_rows[k]
             p_all[rc] = c
             v_all[rc] = math.degrees(curvature * vk)
             a_all[rc] = math.degrees(curvature * ak)
@@ -327,7 +331,7 @@ def write_setpoints(mode: Ints, idle: int, p: Floats, v: Floats, a: Floats, base
 
 @compiled
 def gap_filter(p: Floats, v: Floats, a: Floats, lo_cur: Floats, hi_cur: Floats,
-               nxt_p: Floats, nxt_v: Floats, nxt_a: Floats, nxt_j: Floats, dt: float,
+               nxt_p: Floats, nxt_v: Floats, nxt_a: Floats, nxt_j: Floats, cycle_time: float,
                dec: Floats, jerk: Floats, succ: Ints, pred: Ints, offset: Floats, gap: Floats,
                known: Bools, known_lo: Floats, known_hi: Floats
                ) -> tuple[Bools, Floats, Floats]:
@@ -365,11 +369,12 @@ def gap_filter(p: Floats, v: Floats, a: Floats, lo_cur: Floats, hi_cur: Floats,
         if count == 0:
             return braking, lo, hi  # only pairs that were unsafe before and do not get worse
         bp, bv, ba = np.empty(count), np.empty(count), np.empty(count)
-        bdec, bjerk = np.empty(count), np.empty(count)
+        blamed_deceleration, blamed_jerk = np.empty(count), np.empty(count)
         for i in range(count):
             k = blamed[i]
-            bp[i], bv[i], ba[i], bdec[i], bjerk[i] = p[k], v[k], a[k], dec[k], jerk[k]
-        step = brake_states(bp, bv, ba, bdec, bjerk, dt)
+            bp[i], bv[i], ba[i] = p[k], v[k], a[k]
+            blamed_deceleration[i], blamed_jerk[i] = dec[k], jerk[k]
+        step = brake_states(bp, bv, ba, blamed_deceleration, blamed_jerk, cycle_time)
         for i in range(blamed.size):
             k = blamed[i]
             braking[k] = True
@@ -380,10 +385,10 @@ def gap_filter(p: Floats, v: Floats, a: Floats, lo_cur: Floats, hi_cur: Floats,
 
 
 @compiled
-def zone_holders(base: Floats, length: Floats, crs: Floats, cre: Floats, zgap: Floats,
-                 sws: Ints, swe: Ints, lo: Floats, hi: Floats
+def zone_holders(base: Floats, length: Floats, start_range: Floats, end_range: Floats,
+                 zone_gap: Floats, start_switch: Ints, end_switch: Ints, lo: Floats, hi: Floats
                  ) -> tuple[Floats, Floats, Bools, Bools, Ints, Bools, Ints]:
-    """``Traffic._holding`` before the conflicts: each rider's zone boundaries (the odometer
+    """``SwitchZones.holding`` before the conflicts: each rider's zone boundaries (the odometer
     of the end zone's start and of the start zone's end: max(collision range, zone gap) from
     the switch), whether its envelope (lo, hi) reaches into the zone at its track's end and
     at its start (or the zone covers the track), and the holders: rider, at the end (else
@@ -392,18 +397,20 @@ def zone_holders(base: Floats, length: Floats, crs: Floats, cre: Floats, zgap: F
     end_line, start_line = np.empty(n), np.empty(n)
     in_end, in_start = np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_)
     for k in range(n):
-        end_line[k] = base[k] + length[k] - _maximum(cre[k], zgap[k])
-        start_line[k] = base[k] + _maximum(crs[k], zgap[k])
-        in_end[k] = swe[k] >= 0 and (hi[k] > end_line[k] + TOLERANCE
-                                     or end_line[k] <= base[k] + TOLERANCE)
-        in_start[k] = sws[k] >= 0 and (lo[k] < start_line[k] - TOLERANCE
-                                       or start_line[k] >= base[k] + length[k] - TOLERANCE)
-    k_out, end, switch = _sides(in_end, in_start, sws, swe)
+        end_line[k] = base[k] + length[k] - _maximum(end_range[k], zone_gap[k])
+        start_line[k] = base[k] + _maximum(start_range[k], zone_gap[k])
+        in_end[k] = end_switch[k] >= 0 and (hi[k] > end_line[k] + TOLERANCE
+                                            or end_line[k] <= base[k] + TOLERANCE)
+        in_start[k] = start_switch[k] >= 0 and (
+            lo[k] < start_line[k] - TOLERANCE
+            or start_line[k] >= base[k] + length[k] - TOLERANCE)
+    k_out, end, switch = _sides(in_end, in_start, start_switch, end_switch)
     return end_line, start_line, in_end, in_start, k_out, end, switch
 
 
 @compiled
-def _sides(at_end: Bools, at_start: Bools, sws: Ints, swe: Ints) -> tuple[Ints, Bools, Ints]:
+def _sides(at_end: Bools, at_start: Bools, start_switch: Ints, end_switch: Ints
+           ) -> tuple[Ints, Bools, Ints]:
     """The riders of ``at_end`` then those of ``at_start`` (each in rider order), whether
     each is at its track's end, and the switch id there."""
     ends, starts = 0, 0
@@ -416,27 +423,28 @@ def _sides(at_end: Bools, at_start: Bools, sws: Ints, swe: Ints) -> tuple[Ints, 
     i, j = 0, ends
     for k in range(at_end.size):
         if at_end[k]:
-            k_out[i], end[i], switch[i] = k, True, swe[k]
+            k_out[i], end[i], switch[i] = k, True, end_switch[k]
             i += 1
         if at_start[k]:
-            k_out[j], switch[j] = k, sws[k]
+            k_out[j], switch[j] = k, start_switch[k]
             j += 1
     return k_out, end, switch
 
 
 @compiled
-def zone_entries(sws: Ints, swe: Ints, in_end: Bools, in_start: Bools, end_line: Floats,
-                 start_line: Floats, lo: Floats, hi: Floats, lookahead: float
+def zone_entries(start_switch: Ints, end_switch: Ints, in_end: Bools, in_start: Bools,
+                 end_line: Floats, start_line: Floats, lo: Floats, hi: Floats, lookahead: float
                  ) -> tuple[Ints, Bools, Ints, Floats, Floats, Bools]:
-    """``Traffic._zone_lines``: the riders near a zone they are not in (their envelope (lo,
+    """``SwitchZones.keep_out``: the riders near a zone they are not in (their envelope (lo,
     hi) within ``lookahead`` of it), as ``_sides`` lists them, with the odometer bounds that
     keep them out (low, high) and whether their envelope passes them (``wanting`` in)."""
-    n = sws.size
+    n = start_switch.size
     near_end, near_start = np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_)
     for k in range(n):
-        near_end[k] = swe[k] >= 0 and not in_end[k] and hi[k] > end_line[k] - lookahead
-        near_start[k] = sws[k] >= 0 and not in_start[k] and lo[k] < start_line[k] + lookahead
-    k_out, end, switch = _sides(near_end, near_start, sws, swe)
+        near_end[k] = end_switch[k] >= 0 and not in_end[k] and hi[k] > end_line[k] - lookahead
+        near_start[k] = start_switch[k] >= 0 and not in_start[k] and \
+            lo[k] < start_line[k] + lookahead
+    k_out, end, switch = _sides(near_end, near_start, start_switch, end_switch)
     low, high = np.empty(k_out.size), np.empty(k_out.size)
     wanting = np.empty(k_out.size, dtype=np.bool_)
     for i in range(k_out.size):
@@ -449,7 +457,7 @@ def zone_entries(sws: Ints, swe: Ints, in_end: Bools, in_start: Bools, end_line:
 
 @compiled
 def going_back(v: Floats, a: Floats, jerk: Floats) -> Bools:
-    """``Traffic._going_back``: moving back, or in a state that even the rider's own brake
+    """Per rider: moving back, or in a state that even the rider's own brake
     (``jerk``) turns round (a forward motion braked harder than it needs to stop)."""
     out = np.empty(v.size, dtype=np.bool_)
     for k in range(v.size):
@@ -519,7 +527,7 @@ def _linspace(out: Floats, start: float, stop: float) -> None:
 def stretch_samples(low: float, high: float, start: float, end: float, step: float,
                     count: int, own: int, lows: Floats, highs: Floats, sizes: Ints
                     ) -> tuple[Floats, Ints]:
-    """The odometer positions ``Traffic._clear_stretch`` samples: a rider's envelope [low,
+    """The odometer positions ``SwitchZones.clear_stretch`` samples: a rider's envelope [low,
     high] in ``own`` samples, ``count`` steps ahead of it (up to ``end``) and behind it (down
     to ``start``), then each other rider's envelope [lows, highs] in its ``sizes`` samples
     (numpy.linspace each). Returns them and where each rider's begin (and the last end)."""
@@ -540,7 +548,7 @@ def stretch_samples(low: float, high: float, start: float, end: float, step: flo
 @compiled
 def stretch_hits(x: Floats, y: Floats, cos: Floats, sin: Floats, at: Ints, hx: Floats,
                  hy: Floats, radius: Floats, own: int, count: int) -> tuple[bool, int, int]:
-    """Of ``Traffic._clear_stretch``'s samples (x, y, cos and sin of the turn; rider r's
+    """Of ``SwitchZones.clear_stretch``'s samples (x, y, cos and sin of the turn; rider r's
     from ``at[r]`` to ``at[r + 1]``, half sides hx, hy, half diagonal ``radius``): whether a
     footprint on the envelope (the first ``own``) meets another rider's anywhere, and the
     first step ahead and behind (of ``count``) that does (``count``: none)."""
@@ -655,7 +663,7 @@ def zone_stops(n: int, k: Ints, low: Floats, high: Floats, wanting: Bools, block
 def out_of_bounds(riders: Ints, lows: Floats, highs: Floats, skip: Bools, braking: Bools,
                   lo: Floats, hi: Floats) -> Ints:
     """The ``riders`` (not ``skip``-ped, not ``braking``) whose envelope (lo, hi) passes their
-    bounds (lows, highs): they brake instead (``Traffic._keep_out``)."""
+    bounds (lows, highs): they brake instead (``SwitchZones.keep_out``)."""
     out = np.empty(riders.size, dtype=np.int64)
     count = 0
     for i in range(riders.size):
@@ -683,13 +691,13 @@ def turning_gaps(nxt_v: Floats, nxt_a: Floats, jerk: Floats, going: Bools, succ:
 
 @compiled
 def past_ends(p: Floats, base: Floats, length: Floats) -> Ints:
-    """Riders whose arc length reached the end of their track (to 1e-12 mm) or fell below
-    its start (a route back over a loop's seam goes on there, D-147)."""
+    """Riders whose arc length reached the end of their track (to ``TRACK_END_PRECISION``) or
+    fell below its start (a route back over a loop's seam goes on there, D-147)."""
     out = np.empty(p.size, dtype=np.int64)
     count = 0
     for k in range(p.size):
         s = p[k] - base[k]
-        if s >= length[k] - 1e-12 or s < 0.0:
+        if s >= length[k] - TRACK_END_PRECISION or s < 0.0:
             out[count] = k
             count += 1
     return out[:count]
@@ -722,7 +730,7 @@ def ended(mode: Ints, follow: int, end: Floats, rows: Ints, now: float) -> Ints:
 @compiled
 def _conflict(r: int, at_end: bool, h: int, their_end: bool, track_of: Ints, next_of: Ints,
               seam: Bools, back: Bools) -> bool:
-    """``Traffic._conflicts`` of rider ``r`` (at the end of its track, else its start) and
+    """``SwitchZones.conflicts`` of rider ``r`` (at the end of its track, else its start) and
     holder ``h`` at their switch. ``back``: the rider's route goes back over its loop's
     seam (nobody passes onto its track behind it there)."""
     mine, theirs = track_of[r], track_of[h]
@@ -739,7 +747,7 @@ def _conflict(r: int, at_end: bool, h: int, their_end: bool, track_of: Ints, nex
 @compiled
 def conflicts(slots: Ints, ends: Bools, holders: Ints, holder_ends: Bools, track_of: Ints,
               next_of: Ints, seam: Bools, back: Bools) -> NDArray[np.bool_]:
-    """``Traffic._conflicts``: whether each of ``slots`` may meet each of ``holders`` at
+    """``SwitchZones.conflicts``: whether each of ``slots`` may meet each of ``holders`` at
     their switch, a matrix (``_conflict``)."""
     out = np.zeros((slots.size, holders.size), dtype=np.bool_)
     for i in range(slots.size):
@@ -750,23 +758,26 @@ def conflicts(slots: Ints, ends: Bools, holders: Ints, holder_ends: Bools, track
 
 
 @compiled
-def zone_lines(sws: Ints, swe: Ints, in_end: Bools, in_start: Bools, end_line: Floats,
-               start_line: Floats, lo: Floats, hi: Floats, lookahead: float, hk: Ints,
-               he: Bools, hs: Ints, track_of: Ints, next_of: Ints, seam: Bools, back: Bools
+def zone_lines(start_switch: Ints, end_switch: Ints, in_end: Bools, in_start: Bools,
+               end_line: Floats, start_line: Floats, lo: Floats, hi: Floats, lookahead: float,
+               holders: Ints, holder_ends: Bools, holder_switches: Ints, track_of: Ints,
+               next_of: Ints, seam: Bools, back: Bools
                ) -> tuple[Ints, Floats, Floats, Ints]:
-    """``Traffic._zone_lines`` in one pass: ``zone_entries``, each entry blocked where a
-    holder (hk at the end of its track he, of switch hs) at its switch conflicts with it,
-    then ``zone_stops``."""
-    k, end, switch, low, high, wanting = zone_entries(sws, swe, in_end, in_start, end_line,
-                                                      start_line, lo, hi, lookahead)
+    """The stop lines of ``SwitchZones.keep_out`` in one pass: ``zone_entries``, each entry
+    blocked where a holder (``holders[j]``, at the end of its track where ``holder_ends[j]``,
+    of switch ``holder_switches[j]``) at its switch conflicts with it, then ``zone_stops``."""
+    k, end, switch, low, high, wanting = zone_entries(start_switch, end_switch, in_end,
+                                                      in_start, end_line, start_line, lo, hi,
+                                                      lookahead)
     blocked = np.zeros(k.size, dtype=np.bool_)
     for i in range(k.size):
-        for j in range(hk.size):
-            if switch[i] == hs[j] and _conflict(k[i], end[i], hk[j], he[j], track_of,
-                                                next_of, seam, back):
+        for j in range(holders.size):
+            if switch[i] == holder_switches[j] and _conflict(k[i], end[i], holders[j],
+                                                             holder_ends[j], track_of,
+                                                             next_of, seam, back):
                 blocked[i] = True
                 break
-    return zone_stops(sws.size, k, low, high, wanting, blocked)
+    return zone_stops(start_switch.size, k, low, high, wanting, blocked)
 
 
 def warm() -> None:

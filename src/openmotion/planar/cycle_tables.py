@@ -1,0 +1,218 @@
+"""The traffic's cycle tables: what its cycle derives from the riders and the network and
+keeps while they stay (traffic.py), in one object with one rule for forgetting.
+
+Three lifetimes:
+
+* per cycle: the tracks' placements for the atlas and each rider's room (``new_cycle``);
+* until a rider moves otherwise than its proposal (a new origin, a coupling): the brake
+  envelopes of the riders' states (``forget_motion``);
+* until a rider changes track or route, couples or uncouples, or the network changes: the
+  geometry of the riders' tracks, the pair list and what the switch zones derive from
+  the routes (``forget_routes``; a new :class:`Geometry` forgets the zones' answers).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from openmotion.planar.track_atlas import Atlas
+from openmotion.planar.traffic_kernels import group_by_track
+from openmotion.rail.braking import brake_envelope
+
+if TYPE_CHECKING:
+    from openmotion.planar.riders import Rail
+    from openmotion.planar.traffic import Traffic
+    from openmotion.rail.gap_control import Pairs
+
+
+@dataclass
+class Geometry:
+    """Per rider, what changes only with a track transition or a coupling."""
+
+    rows: np.ndarray  #: the table row of its odometer profile
+    x_rows: np.ndarray  #: ... and of x, y and c
+    y_rows: np.ndarray
+    c_rows: np.ndarray
+    length: np.ndarray  #: its track's length [mm]
+    start_switch: np.ndarray  #: the switch id at its track's start (-1: none)
+    end_switch: np.ndarray  #: ... and at its end
+    start_range: np.ndarray  #: the collision range at its track's start [mm]
+    end_range: np.ndarray  #: ... and at its end
+    by_track: list[tuple[Any, np.ndarray]]  #: each track with riders and its riders
+
+
+@dataclass
+class TrackInfo:
+    """The network's answers about one track, kept until its version changes."""
+
+    start_switch: Any  #: the switch at its start (None: none)
+    end_switch: Any  #: ... and at its end
+    closed: bool  #: it ends where it starts
+    way_on: int  #: the index of the one track after it (-1: none or several)
+
+
+class CycleTables:
+    """What the traffic's cycle keeps between cycles, and when it forgets it."""
+
+    def __init__(self, traffic: Traffic) -> None:
+        self.traffic = traffic
+        self.geometry: Geometry | None = None  #: (``geometry_now``)
+        #: the riders' table rows: odometer, x, y, c (fixed from the coupling on)
+        self.table_rows: tuple[np.ndarray, ...] | None = None
+        self.track_infos: dict[int, TrackInfo] = {}  #: ``track_info`` of the version ...
+        self.track_infos_version = -1  #: ... this
+        self.network_version = -1  #: the network's version the geometry was built for
+        #: per rider, its track's place in ``Geometry.by_track``
+        self.place = np.empty(0, dtype=np.int64)
+        #: the riders grouped by ``place`` and where each group ends
+        self.grouped = (np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64))
+        #: per rider: its track's index, the next track of its route (-1: none), whether its
+        #: track is closed (a seam) and whether its route goes back over that seam (D-147);
+        #: the switch-conflict kernels take them in this order
+        self.route_arrays: tuple[np.ndarray, ...] = ()
+        self.path_next = np.empty(0, dtype=np.int64)  #: next track of each path (or -1)
+        self.atlas: Atlas | None = None  #: the curves of the network's tracks (``atlas_now``)
+        self.atlas_version = -1  #: the network's version the atlas was checked at
+        self.atlas_tables: tuple | None = None  #: the atlas's kernel arguments this cycle
+        #: the brake envelopes (lo, hi) of the riders' states
+        self.envelopes: tuple[np.ndarray, np.ndarray] | None = None
+        self.rooms: tuple[np.ndarray, np.ndarray] | None = None  #: this cycle's rooms
+        #: the pair list the neighbours came from, the rider ahead of and behind each
+        self.neighbours: tuple[Pairs, np.ndarray, np.ndarray] | None = None
+        self.pairs: Pairs | None = None  #: each rider with the one ahead on its path
+        self.merges: dict[tuple, list[list[int]]] = {}  #: riders holding one merge together
+        self.merged: tuple[tuple, Pairs] | None = None  #: and the pair list with them
+        #: ``SwitchZones.clash``'s answers and what derives from them
+        self.clashes: dict[tuple, Any] = {}
+        #: per rider holding a switch with others: the question asked and
+        #: ``SwitchZones.clear_stretch``'s answer
+        self.stretches: dict[int, tuple[tuple, tuple]] = {}
+
+    # -- forgetting ------------------------------------------------------------------------------
+
+    def renew(self) -> None:
+        """New rider arrays (a coupling or uncoupling): nothing derived stays."""
+        self.geometry = None
+        self.table_rows = None
+        self.track_infos, self.track_infos_version = {}, -1
+
+    def forget(self) -> None:
+        """A rider starts, stops or leaves a profile: envelopes, pairs and geometry go."""
+        self.pairs = None
+        self.envelopes = None
+        self.geometry = None
+
+    def forget_routes(self) -> None:
+        """A rider's track or route changed: its pairs and its geometry go."""
+        self.pairs = None
+        self.geometry = None
+
+    def forget_motion(self) -> None:
+        """A rider's odometer has a new origin: envelopes and pair offsets go."""
+        self.envelopes = None
+        self.pairs = None
+
+    def new_cycle(self) -> None:
+        """What holds for one cycle only."""
+        self.rooms = None
+        self.atlas_tables = None
+
+    # -- the tables ------------------------------------------------------------------------------
+
+    def envelope(self) -> tuple[np.ndarray, np.ndarray]:
+        """The brake envelopes (lo, hi) of the riders' states."""
+        if self.envelopes is None:
+            t = self.traffic
+            self.envelopes = brake_envelope(t.p, t.v, t.a, t.brake_deceleration, t.brake_jerk)
+        return self.envelopes
+
+    def geometry_now(self) -> Geometry:
+        """The riders' :class:`Geometry` (built again after ``forget_routes``)."""
+        if self.geometry is None:
+            t = self.traffic
+            riders, network = t.riders, t.network
+            if self.table_rows is None:  # fixed from the coupling on (``Traffic._rebuild``)
+                xyc = np.array([r.rows for r in riders], dtype=np.int64).reshape(-1, 3)
+                self.table_rows = (np.array([r.row for r in riders], dtype=np.int64),
+                                   *(np.ascontiguousarray(x) for x in xyc.T))
+            rows, x_rows, y_rows, c_rows = self.table_rows
+            # what belongs to a track, once per track (riders' tracks in the order first met)
+            track_of = t.track_index.copy()
+            mine, ranked, ends = group_by_track(track_of)  # mine: each rider's track's place
+            tails = ends.tolist()
+            heads = [0, *tails[:-1]] if tails else []
+            on = [riders[k].track for k in ranked[heads].tolist()]
+            count = len(on)
+            t_length, t_start_range, t_end_range = (np.empty(count), np.empty(count),
+                                                    np.empty(count))
+            t_start_switch = np.full(count, -1, dtype=np.int64)
+            t_end_switch = np.full(count, -1, dtype=np.int64)
+            t_closed = np.zeros(count, dtype=bool)
+            t_next = np.full(count, -1, dtype=np.int64)  #: the one way on (-1: none or many)
+            ids: dict[Any, int] = {}
+            for i, track in enumerate(on):
+                t_length[i] = track.length
+                info = self.track_info(track)
+                t_closed[i], t_next[i] = info.closed, info.way_on
+                if info.start_switch is not None:
+                    t_start_switch[i] = ids.setdefault(info.start_switch, len(ids))
+                if info.end_switch is not None:
+                    t_end_switch[i] = ids.setdefault(info.end_switch, len(ids))
+                t_start_range[i], t_end_range[i] = network.collision_ranges(track)
+            by_track = [(track, ranked[head:tail]) for track, head, tail
+                        in zip(on, heads, tails, strict=True)]
+            self.place, self.grouped = mine, (ranked, ends)
+            # the next track of each rider's route (-1: none): a rider that passes a switch
+            # onto another rider's track keeps its gap to it as a pair (a route that comes
+            # round a loop to that track much later does not relate them there); seam: the
+            # rider's track is closed, so its riders meet at its switch when one leaves it;
+            # back: its route goes back over that seam (it leaves at its start, D-147)
+            next_of = t.next_index.copy()
+            seam = t_closed[mine]
+            back = t.back.copy()
+            path_next = np.where(next_of >= 0, next_of, t_next[mine])  #: or the one way on
+            path_next[back] = -1  # it goes back: no way on from the end of its track
+            self.route_arrays = (track_of, next_of, seam, back)
+            self.path_next = path_next
+            self.stretches, self.clashes, self.merges, self.merged = {}, {}, {}, None
+            self.geometry = Geometry(rows, x_rows, y_rows, c_rows, t_length[mine],
+                                     t_start_switch[mine], t_end_switch[mine],
+                                     t_start_range[mine], t_end_range[mine], by_track)
+        return self.geometry
+
+    def track_info(self, track: Rail) -> TrackInfo:
+        """The switches at the start and at the end of ``track``, whether it is closed, and
+        the one way on after it: the network's answers, kept until its version changes."""
+        network = self.traffic.network
+        if self.track_infos_version != network.version:
+            self.track_infos, self.track_infos_version = {}, network.version
+        found = self.track_infos.get(track.index)
+        if found is None:
+            start, end = network.switches(track)
+            following = network.successors(track)
+            if track in following:
+                following = [track]
+            found = self.track_infos[track.index] = TrackInfo(
+                start, end, network.closed_loop(track),
+                following[0].index if len(following) == 1 else -1)
+        return found
+
+    def atlas_now(self) -> Atlas:
+        """The atlas of the network's tracks (atlas id: the track's index), built again when
+        a track or a table changed (a geometry changes only with the network's version)."""
+        network = self.traffic.network
+        if self.atlas is None or self.atlas_version != network.version:
+            if self.atlas is None or not self.atlas.matches(network.tracks):
+                self.atlas = Atlas(network.tracks)
+            self.atlas_version = network.version
+        return self.atlas
+
+    def placed_tables(self) -> tuple:
+        """The atlas's kernel arguments with the tracks' placements of this cycle (parts
+        change position only between cycles; ``new_cycle`` forgets them)."""
+        if self.atlas_tables is None:
+            self.atlas_tables = self.atlas_now().tables(self.traffic.network.placed())
+        return self.atlas_tables
