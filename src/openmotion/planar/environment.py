@@ -22,12 +22,13 @@ from openmotion.planar.group import planar_group
 from openmotion.planar.kind import PLANAR_ENVIRONMENT
 from openmotion.planar.motion import sample_path
 from openmotion.planar.options import CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD
-from openmotion.planar.parts import TOLERANCE, Part, PartLayout, PartPosition
+from openmotion.planar.parts import Part, PartLayout, PartPosition
 from openmotion.planar.positions import PositionXYC, finite
 from openmotion.planar.reservation import MemberId, footprint, grown_surface, path_on_surface
 from openmotion.planar.states import ErrorReaction
 from openmotion.planar.stators import Boundary, StatorField
 from openmotion.planar.system import PlanarObject, PlanarSystem
+from openmotion.planar.tolerances import PART_TOLERANCE
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -64,7 +65,7 @@ def _busy(mover: MC_PlanarMover) -> bool:
 
 def _overlap(area: BaseGeometry, footprints: list[BaseGeometry]) -> bool:
     """Whether any footprint covers part of ``area``; touching edges do not count."""
-    return bool((shapely.area(shapely.intersection(area, footprints)) > TOLERANCE).any())
+    return bool((shapely.area(shapely.intersection(area, footprints)) > PART_TOLERANCE).any())
 
 
 def _oid_text(oid: object) -> str:

@@ -105,6 +105,7 @@ from openmotion.planar.states import (
     check_accepts,
 )
 from openmotion.planar.system import PlanarSystem, StatefulObject
+from openmotion.planar.tolerances import VELOCITY_PRECISION
 from openmotion.planar.track import MC_PlanarTrack
 from openmotion.planar.traffic import Rider, traffic_of
 from openmotion.trajectory.plan import Limits
@@ -716,7 +717,7 @@ class MC_PlanarMover(StatefulObject):
             if not all(math.isfinite(v[k]) for v in values):
                 raise CommandRejected(ErrorId.PLANAR_EXT_SETPOINT,
                                       f"external setpoint {name} is not finite")
-            if abs(values[1][k]) > top.velocity * (1 + 1e-9):
+            if abs(values[1][k]) > top.velocity * (1 + VELOCITY_PRECISION):
                 raise CommandRejected(ErrorId.PLANAR_EXT_SETPOINT,
                                       f"external setpoint velocity {name} {values[1][k]:g} above "
                                       f"the maximum {top.velocity:g} (§6.1.6)")

@@ -13,6 +13,7 @@ import itertools
 import math
 from typing import TYPE_CHECKING
 
+from openmotion.planar.tolerances import MEET_DISTANCE
 from openmotion.planar.traffic import Leg
 
 if TYPE_CHECKING:
@@ -248,7 +249,6 @@ class TrackNetwork:
         return None
 
 
-_MEET = 1e-3  #: [mm] track ends on two parts this close meet (the parts' boundaries touch)
 
 
 def _holds(a: MC_PlanarTrack, a_side: int, b: MC_PlanarTrack, b_side: int, link: object,
@@ -264,7 +264,7 @@ def _holds(a: MC_PlanarTrack, a_side: int, b: MC_PlanarTrack, b_side: int, link:
         return False
     ax, ay, _, _ = a.frame_at(_at(a, a_side))
     bx, by, _, _ = b.frame_at(_at(b, b_side))
-    return abs(float(ax[0] - bx[0])) <= _MEET and abs(float(ay[0] - by[0])) <= _MEET
+    return abs(float(ax[0] - bx[0])) <= MEET_DISTANCE and abs(float(ay[0] - by[0])) <= MEET_DISTANCE
 
 
 def _at(track: MC_PlanarTrack, side: int) -> object:

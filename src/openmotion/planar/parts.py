@@ -29,9 +29,9 @@ from openmotion.kernel.model import Kind
 from openmotion.planar.enums import PlanarState
 from openmotion.planar.frames import Pose
 from openmotion.planar.kind import PLANAR_PART
+from openmotion.planar.tolerances import PART_TOLERANCE
 
 STATOR_SIZE = 240.0  #: side of a square stator [mm] (§5.1)
-TOLERANCE = 1e-6  #: a point this close [mm] is on a part; a smaller overlap [mm²] is none
 _MAX_OID = 0xFFFF_FFFF  #: an OTCID is a UDINT
 _ERROR_STATES = (PlanarState.ERROR_PENDING, PlanarState.ERROR, PlanarState.RESETTING)
 
@@ -122,10 +122,10 @@ class Part:
     def covers(self, x: float, y: float, position_index: int | None = None) -> bool:
         """Whether a point of the position's coordinate system is on the part (edges count)."""
         low_x, low_y, high_x, high_y = self.surface(position_index).bounds
-        if not (low_x - TOLERANCE <= x <= high_x + TOLERANCE
-                and low_y - TOLERANCE <= y <= high_y + TOLERANCE):
+        if not (low_x - PART_TOLERANCE <= x <= high_x + PART_TOLERANCE
+                and low_y - PART_TOLERANCE <= y <= high_y + PART_TOLERANCE):
             return False  # far off (also no overflow in the distance of a huge coordinate)
-        return shapely.dwithin(self.surface(position_index), Point(x, y), TOLERANCE)
+        return shapely.dwithin(self.surface(position_index), Point(x, y), PART_TOLERANCE)
 
     def allow_enable(self) -> None:
         """AllowEnable: the part may be enabled again after a ForceDisable (§6.6)."""
@@ -202,7 +202,7 @@ def _stator_cells(name: str, stators: Iterable[tuple[float, float]]) -> list[tup
 
 def _grid_cell(name: str, x: float, y: float) -> tuple[int, int]:
     col, row = round(x / STATOR_SIZE), round(y / STATOR_SIZE)
-    if abs(x - col * STATOR_SIZE) > TOLERANCE or abs(y - row * STATOR_SIZE) > TOLERANCE:
+    if abs(x - col * STATOR_SIZE) > PART_TOLERANCE or abs(y - row * STATOR_SIZE) > PART_TOLERANCE:
         raise ConfigError(f"{name}: stators: corner ({x}, {y}) is not on the "
                           f"{STATOR_SIZE:g} mm grid of the part frame")
     return col, row
@@ -409,8 +409,8 @@ class PartLayout:
     def _overlapping(self, part: Part, position_index: int) -> Part | None:
         system = part.positions[position_index - 1].coordinate_system
         surface = part.surface(position_index)
-        return next((other for other in self.parts_in(system) if other is not part
-                     and shapely.intersection(other.surface(), surface).area > TOLERANCE), None)
+        return next((other for other in self.parts_in(system) if other is not part and
+                     shapely.intersection(other.surface(), surface).area > PART_TOLERANCE), None)
 
     def _check_positions(self, part: Part) -> None:
         for index, position in enumerate(part.positions, start=1):
@@ -429,10 +429,10 @@ def _check_unique(oids: list[int]) -> None:
 
 def _reach(parts: list[Part], segment: LineString, start: set[int]) -> set[int]:
     """The parts under the segment's end that can be reached from ``start`` along it."""
-    if segment.length <= TOLERANCE:
+    if segment.length <= PART_TOLERANCE:
         return start
     pieces = [_Piece(part, lo, hi) for part in parts for lo, hi in _intervals(part, segment)]
-    reached = [piece for piece in pieces if piece.part.oid in start and piece.lo <= TOLERANCE]
+    reached = [piece for piece in pieces if piece.part.oid in start and piece.lo <= PART_TOLERANCE]
     todo = list(reached)
     while todo:
         piece = todo.pop()
@@ -440,7 +440,7 @@ def _reach(parts: list[Part], segment: LineString, start: set[int]) -> set[int]:
             if other not in reached and _joined(piece, other, segment):
                 reached.append(other)
                 todo.append(other)
-    return {piece.part.oid for piece in reached if piece.hi >= segment.length - TOLERANCE}
+    return {piece.part.oid for piece in reached if piece.hi >= segment.length - PART_TOLERANCE}
 
 
 def _intervals(part: Part, segment: LineString) -> list[tuple[float, float]]:
@@ -454,16 +454,16 @@ def _intervals(part: Part, segment: LineString) -> list[tuple[float, float]]:
 def _joined(piece: _Piece, other: _Piece, segment: LineString) -> bool:
     """Whether the path passes from one piece to the other across a shared edge."""
     lo, hi = max(piece.lo, other.lo), min(piece.hi, other.hi)
-    if lo > hi + TOLERANCE:
+    if lo > hi + PART_TOLERANCE:
         return False
     if piece.part is other.part:
         return True
     return shapely.dwithin(_shared_edges(piece.part, other.part),
-                           segment.interpolate((lo + hi) / 2), TOLERANCE)
+                           segment.interpolate((lo + hi) / 2), PART_TOLERANCE)
 
 
 def _shared_edges(part: Part, other: Part) -> BaseGeometry:
     """Where two parts meet along a line; a corner contact (a point) is left out."""
-    near = shapely.intersection(part.surface().boundary, other.surface().buffer(TOLERANCE))
+    near = shapely.intersection(part.surface().boundary, other.surface().buffer(PART_TOLERANCE))
     return shapely.union_all([line for line in shapely.get_parts(near)
-                              if line.length > 10 * TOLERANCE])
+                              if line.length > 10 * PART_TOLERANCE])
