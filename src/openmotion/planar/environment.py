@@ -168,7 +168,7 @@ class MC_PlanarEnvironment(PlanarObject):
         elif kind.startswith("Part."):
             self._part_command(command)
             return
-        command.finished()
+        command.finish()
 
     def _create_boundary(self) -> None:
         try:
@@ -340,7 +340,7 @@ class MC_PlanarEnvironment(PlanarObject):
             part.force_disable()
         elif kind == "Reset":
             part.reset()
-        command.finished()
+        command.finish()
 
     def _activate_position(self, part: Part, index: int) -> None:
         """ActivatePosition (§7.2.2.9.2): the part moves with the movers standing on it
@@ -497,7 +497,7 @@ class MC_PlanarPart:
         to send to: the command ends at once with INVALID_REFERENCE_ID (part OID 0)."""
         if self._environment is None:
             command = PlanarCommand(f"Part.{kind}", feedback, args)
-            command.rejected(ErrorId.INVALID_REFERENCE_ID, "MC_PlanarPart is not initialized "
+            command.reject(ErrorId.INVALID_REFERENCE_ID, "MC_PlanarPart is not initialized "
                              "(part OID 0): call initialize(part_oid, environment) first "
                              "(§7.2.2.9.1)")
             command.publish()

@@ -529,7 +529,7 @@ class MC_PlanarMover(StatefulObject):
                 raise Collision(blocker, "the new position")
         for name, value in start.items():
             self._install(name, Profile.hold(KinematicState(value)), self._system.previous)
-        command.finished()
+        command.finish()
 
     def _add_to_group(self, command: PlanarCommand) -> None:
         (group,) = command.args
@@ -542,14 +542,14 @@ class MC_PlanarMover(StatefulObject):
             else self._standing_area()
         group._admit(self, area, self._member)  # a moving mover holds its whole way on
         self._group = group
-        command.finished()
+        command.finish()
 
     def _remove_from_group(self, command: PlanarCommand) -> None:
         if self._group is None:
             raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP, f"{self.name} is in no group")
         self._group._leave(self._member)
         self._group = None
-        command.finished()
+        command.finish()
 
     def _start_external(self, command: PlanarCommand) -> None:
         (options,) = command.args
@@ -558,21 +558,21 @@ class MC_PlanarMover(StatefulObject):
         if kind is _C.START_EXTERNAL_SETPOINT_GENERATION:
             self._abort_all()  # external setpoints take over
         self._modes.started(kind)
-        self._stream = ExternalSetpointStream()
+        self._stream = ExternalSetpointStream(self._system.clock)
         self._started_external = True
-        command.started()
+        command.start()
         self._external_command = command
         self._reschedule()
 
     def _feed(self, command: PlanarCommand) -> None:
         position, velocity, acceleration, reference, feedback = command.args
         stream = self._stream
-        command.finished()  # SetExternalSetpoint has no feedback of its own
+        command.finish()  # SetExternalSetpoint has no feedback of its own
         if self._modes.external is ExternalSetPositionMode.NONE:
             if stream is not None:  # the stream ended (Stop or an error): it keeps its result
                 stream.call(feedback)
             elif feedback is not None:
-                other = ExternalSetpointStream()
+                other = ExternalSetpointStream(self._system.clock)
                 other.report(ErrorId.PLANAR_WRONG_MODE, "no external setpoint generation runs "
                              "(§6.1.6)")
                 other.call(feedback)
@@ -666,7 +666,7 @@ class MC_PlanarMover(StatefulObject):
 
     def _stop_external(self, command: PlanarCommand) -> None:
         self._end_external(self._external_kind())
-        command.finished()
+        command.finish()
 
     def _external_kind(self) -> MoverCommand:
         """The start command of the external setpoint generation that runs."""
@@ -703,11 +703,11 @@ class MC_PlanarMover(StatefulObject):
         command = self._external_command
         if command is not None:
             if aborted:
-                command.aborted()
+                command.abort()
             elif failure is None:
-                command.finished()
+                command.finish()
             else:
-                command.rejected(*failure)
+                command.reject(*failure)
             self._external_command = None
 
     def _check_setpoint(self, values: list[np.ndarray]) -> None:
@@ -759,7 +759,7 @@ class MC_PlanarMover(StatefulObject):
                                      releases, on_end))
         if c_motion:
             self._modes.c_motion_started(profiles["c"])
-        command.started()
+        command.start()
         self._reschedule()
 
     def _check_carried(self, profiles: dict[str, Profile], straight: Profile | None,
@@ -825,7 +825,7 @@ class MC_PlanarMover(StatefulObject):
         for motion in list(self._motions):
             if motion.coordinates & coordinates:
                 if motion.command is not None:
-                    motion.command.aborted()
+                    motion.command.abort()
                 motion.command = None
                 if motion.on_end is not None:
                     motion.on_end(False)
@@ -884,7 +884,7 @@ class MC_PlanarMover(StatefulObject):
                 if motion.on_end is not None:
                     motion.on_end(True)
                 if motion.command is not None:
-                    motion.command.finished()
+                    motion.command.finish()
                 if motion.c_motion or "c" in motion.coordinates:
                     self._modes.c_at_rest(self._system.value(self._rows["c"])[0])
                 if motion.coordinates & _AREA and self._group is not None and \
@@ -903,7 +903,7 @@ class MC_PlanarMover(StatefulObject):
         self._awake = True
         release_bands(self)
         if command is not None:
-            command.finished()
+            command.finish()
 
     def _admit_way(self, tracks: list[MC_PlanarTrack]) -> None:
         """The traffic: the mover's geared way goes on over ``tracks`` it did not hold at the

@@ -43,7 +43,7 @@ class PlanarObject:
     def __init__(self, system: PlanarSystem, oid: int) -> None:
         self._system = system
         self.oid = oid
-        self._queue = CommandQueue()
+        self._queue = CommandQueue(system.clock)
         self._awake = True
 
     def _send(self, kind: str, feedback: MC_PlanarFeedbackBase | None,
@@ -57,7 +57,7 @@ class PlanarObject:
         try:
             self._execute(command)
         except CommandRejected as rejected:
-            command.rejected(rejected.error_id, rejected.message,
+            command.reject(rejected.error_id, rejected.message,
                              getattr(rejected, "object_info", None))
 
     def _execute(self, command: PlanarCommand) -> None:
@@ -135,6 +135,10 @@ class PlanarSystem:
 
     @property
     def now(self) -> float:
+        return self.runtime.now
+
+    def clock(self) -> float:
+        """The runtime's time: the commands' ``issued_at`` and ``ended_at`` (feedback.py)."""
         return self.runtime.now
 
     @property

@@ -372,7 +372,7 @@ class MC_PlanarTrack(StatefulObject):
             self._group, self.band = None, False
         else:
             self._edit(kind, command.args)
-        command.finished()
+        command.finish()
 
     def _edit(self, kind: str, args: tuple) -> None:
         """A geometry command. Only a track that is not Enabled changes (movers may be on an

@@ -511,7 +511,7 @@ class Traffic:
             self._dirty()
         else:
             self._follow(rider, profile, target, now)
-        command.started()
+        command.start()
 
     def _check_stops_on_way(self, k: int, start: KinematicState, profile: Profile | None,
                             route: list[Leg]) -> None:
@@ -547,7 +547,7 @@ class Traffic:
         self._load(rider)
         self._follow(rider, profile, rider.target, now)
         if command is not None:
-            command.started()
+            command.start()
 
     def _stop_profile(self, rider: Rider, limits: Limits) -> Profile:
         """A stop from the rider's state with ``limits``' deceleration and jerk (or its gap
@@ -641,13 +641,13 @@ class Traffic:
         self._load(rider)
         self.mode[k] = GEAR
         self._dirty()
-        command.started()
+        command.start()
 
     def _abort(self, rider: Rider, message: str) -> None:
         del message
         rider.gear = None
         if rider.command is not None:
-            rider.command.aborted()
+            rider.command.abort()
             rider.command = None
 
     def _rebase(self, k: int, shift: float) -> None:
@@ -1557,7 +1557,7 @@ class Traffic:
                 command, rider.command = rider.command, None
                 rider.halting = False
                 if rider.gear is not None and rider.gear.failed is not None and command:
-                    command.rejected(*rider.gear.failed)
+                    command.reject(*rider.gear.failed)
                 rider.gear = None
                 if len(rider.route) > 1:  # its pairs and switch relations came from the route
                     rider.route = rider.route[:1]
@@ -1574,7 +1574,7 @@ class Traffic:
                 command, rider.command = rider.command, None
                 rider.halting = False
                 if rider.gear is not None and rider.gear.failed is not None and command:
-                    command.rejected(*rider.gear.failed)  # held by the gap filter meanwhile
+                    command.reject(*rider.gear.failed)  # held by the gap filter meanwhile
                 rider.gear = None
                 self._hold(rider, values)
                 rider.owner._on_track_finished(command)
