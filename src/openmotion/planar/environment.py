@@ -48,7 +48,7 @@ def _keeps_parts_on(mover: MC_PlanarMover) -> bool:
     """§6.6: parts stay on while a mover of their system is on, is being switched off, or is
     in an error with the QuickStop reaction (through the error and its Reset). The Abort
     reaction, also one a Disable forces during the error, lets them go off."""
-    states = mover._states
+    states = mover.states
     if states.current in _ACTIVE:
         return True
     return states.current in _FAILED and states.reaction is ErrorReaction.QUICK_STOP
@@ -57,10 +57,10 @@ def _keeps_parts_on(mover: MC_PlanarMover) -> bool:
 def _busy(mover: MC_PlanarMover) -> bool:
     """Not at standstill: a motion runs (a brake too), it rides a track, or external
     setpoints drive it."""
-    if mover._motions or mover._modes.external is not ExternalSetPositionMode.NONE:
+    if mover.in_motion or mover.modes.external is not ExternalSetPositionMode.NONE:
         return True
-    traffic = mover._system.traffic
-    return mover._rider is not None and traffic is not None and traffic.moving(mover._rider)
+    traffic = mover.system.traffic
+    return mover.rider is not None and traffic is not None and traffic.moving(mover.rider)
 
 
 def _overlap(area: BaseGeometry, footprints: list[BaseGeometry]) -> bool:
@@ -100,7 +100,7 @@ class MC_PlanarEnvironment(PlanarObject):
         system.environments.append(self)
         system.register(self)
         for mover in system.movers:
-            self._place(mover)
+            self.place(mover)
 
     def __repr__(self) -> str:
         return f"<MC_PlanarEnvironment 16#{self.oid:08X} {len(self.field)} stators>"
@@ -163,7 +163,7 @@ class MC_PlanarEnvironment(PlanarObject):
             if self._group is None:
                 raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP, "the environment is in no "
                                       "group")
-            self._group._leave(self.member)
+            self._group.leave(self.member)
             self._group = None
         elif kind.startswith("Part."):
             self._part_command(command)
@@ -197,7 +197,7 @@ class MC_PlanarEnvironment(PlanarObject):
         if self._group is not None:
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                                   f"the environment is in group 16#{self._group.oid:08X} already")
-        group._admit(self, self.surface, self.member)
+        group.admit(self, self.surface, self.member)
         self._group = group
 
     def _surface_changed(self) -> None:
@@ -223,31 +223,31 @@ class MC_PlanarEnvironment(PlanarObject):
         assert self.layout is not None
         return self.layout.coordinate_systems[0]
 
-    def _publish(self) -> bool:
+    def publish_status(self) -> bool:
         """Parts follow the movers of their coordinate system, and a part that fails or is
         force-disabled takes the movers on it into error (§6.6): checked every cycle."""
         if self.layout is not None:
-            active = {m.coordinate_system for m in self._system.movers if _keeps_parts_on(m)}
+            active = {m.coordinate_system for m in self.system.movers if _keeps_parts_on(m)}
             self.layout.follow_movers(active)
             self.layout.update()
-            for mover in self._system.movers:
+            for mover in self.system.movers:
                 part = self._part_of(mover)
-                if mover._states.current is PlanarState.ENABLED and part is not None and \
+                if mover.states.current is PlanarState.ENABLED and part is not None and \
                         (part.disable_forced or part.state in _FAILED):
                     why = "is force-disabled" if part.disable_forced else "has an error"
-                    mover._states.fail(ErrorId.PLANAR_PART_NOT_ENABLED, ErrorReaction.ABORT,
+                    mover.states.fail(ErrorId.PLANAR_PART_NOT_ENABLED, ErrorReaction.ABORT,
                                        f"part 16#{part.oid:08X} under the mover {why} (§6.6)")
-                    mover._awake = True
-        self._queue.publish()
+                    mover.awake = True
+        self.commands.publish()
         return self.layout is not None
 
     def _part_of(self, mover: MC_PlanarMover) -> Part | None:
         """The part under the mover's centre, in its coordinate system."""
         if self.layout is None:
             return None
-        return self.layout._part_under(mover.coordinate_system, mover.pose)
+        return self.layout.part_under(mover.coordinate_system, mover.pose)
 
-    def _part_ready(self, mover: MC_PlanarMover) -> bool:
+    def part_ready(self, mover: MC_PlanarMover) -> bool:
         """Enable and Reset of a mover wait for the part under it (§6.6): Enable, and a Reset
         that ends Enabled (QuickStop), need the part Enabled; a Reset that ends Disabled
         (Abort) needs it only free of errors. A part that cannot get there fails the mover's
@@ -259,8 +259,8 @@ class MC_PlanarEnvironment(PlanarObject):
             return False
         if part.state in _PART_ERRORS:
             return self._part_refuses(mover, part, "has an error")
-        if mover._states.current is PlanarState.RESETTING and \
-                mover._states.reaction is ErrorReaction.ABORT:
+        if mover.states.current is PlanarState.RESETTING and \
+                mover.states.reaction is ErrorReaction.ABORT:
             return True
         if part.disable_forced:
             return self._part_refuses(mover, part, "is force-disabled")
@@ -268,11 +268,11 @@ class MC_PlanarEnvironment(PlanarObject):
 
     @staticmethod
     def _part_refuses(mover: MC_PlanarMover, part: Part, why: str) -> bool:
-        mover._states.fail(ErrorId.PLANAR_PART_NOT_ENABLED, ErrorReaction.ABORT,
+        mover.states.fail(ErrorId.PLANAR_PART_NOT_ENABLED, ErrorReaction.ABORT,
                            f"part 16#{part.oid:08X} under the mover {why} (§6.6)")
         return False
 
-    def _reset_parts(self, coordinate_system: int) -> None:
+    def reset_parts(self, coordinate_system: int) -> None:
         """A mover's Reset first resets the failed parts of its coordinate system (§6.6)."""
         if self.layout is None:
             return
@@ -290,7 +290,7 @@ class MC_PlanarEnvironment(PlanarObject):
 
     # -- reference ids and parts (§5.3, §6.6) ----------------------------------------------------
 
-    def _resolve(self, target: PositionXYC, coordinate_system: int) -> tuple[int, Pose]:
+    def resolve(self, target: PositionXYC, coordinate_system: int) -> tuple[int, Pose]:
         """A target in the frame its reference id names, as (coordinate system, pose)."""
         if self.layout is None:
             if target.reference_id != 0:
@@ -302,7 +302,7 @@ class MC_PlanarEnvironment(PlanarObject):
         return self.layout.resolve_target(target.reference_id, target.pose,
                                           coordinate_system or None)
 
-    def _place(self, mover: MC_PlanarMover) -> None:
+    def place(self, mover: MC_PlanarMover) -> None:
         """Put a new mover into the coordinate system of its initial part (§6.1.1)."""
         layout = self.layout
         if layout is None:
@@ -313,9 +313,14 @@ class MC_PlanarEnvironment(PlanarObject):
             mover.coordinate_system = position.coordinate_system
             start = mover.parameters.initial_position
             pose = position.pose.compose(Pose(start.x, start.y, start.c))
-            mover._place(pose)
+            mover.port.place(pose)
         elif layout.is_static or len(layout.coordinate_systems) == 1:
             mover.coordinate_system = layout.coordinate_systems[0]
+
+    def send_part_command(self, kind: str, feedback: MC_PlanarFeedbackBase | None,
+                          *args: object) -> PlanarCommand:
+        """An MC_PlanarPart's command: it travels through the environment (§6.6.1)."""
+        return self._send(kind, feedback, *args)
 
     def _part_command(self, command: PlanarCommand) -> None:
         part_oid, *args = command.args
@@ -330,8 +335,7 @@ class MC_PlanarEnvironment(PlanarObject):
         kind = command.kind.removeprefix("Part.")
         if kind == "Initialize":
             (handle,) = args
-            if handle.part_oid == part_oid and handle._environment is self:  # not re-aimed
-                handle._initialized = True
+            handle.initialized_by(self, part_oid)
         elif kind == "ActivatePosition":
             self._activate_position(part, *args)
         elif kind == "AllowEnable":
@@ -352,7 +356,7 @@ class MC_PlanarEnvironment(PlanarObject):
         layout.check_activation(part.oid, index)
         before, area = part.active_position, part.surface()
         if part.positions[index - 1] == before:
-            part._position_index = index
+            part.position_index = index
             return
         old_index = part.position_index
         self._check_movers(part, index)
@@ -362,7 +366,7 @@ class MC_PlanarEnvironment(PlanarObject):
             try:
                 field = self._layout_field()
             except ConfigError as bad:  # the parts would leave the stator grid
-                part._position_index = old_index
+                part.position_index = old_index
                 raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT, str(bad)) from None
         self._carry(before, part.active_position, area)
         if field is not None:
@@ -378,7 +382,7 @@ class MC_PlanarEnvironment(PlanarObject):
         before, after = part.active_position, part.positions[index - 1]
         places = ((before.coordinate_system, part.surface()),
                   (after.coordinate_system, part.surface(index)))
-        for mover in self._system.movers:
+        for mover in self.system.movers:
             busy = _busy(mover)
             if not busy and mover.coordinate_system == before.coordinate_system and \
                     places[0][1].covers(mover.footprint().centroid):
@@ -400,11 +404,11 @@ class MC_PlanarEnvironment(PlanarObject):
     def _footprints_ahead(self, mover: MC_PlanarMover) -> list[BaseGeometry]:
         """The footprints of a moving mover now and along the rest of its free motion (on a
         track the traffic drives it: only where it is now counts)."""
-        if mover._rider is not None:
+        if mover.rider is not None:
             return [mover.footprint()]
-        previous = self._system.previous
-        _, path = sample_path(mover._future_plans({}, previous), previous,
-                              self._system.cycle_time * _SAMPLE_CYCLES)
+        previous = self.system.previous
+        _, path = sample_path(mover.port.future_plans({}, previous), previous,
+                              self.system.cycle_time * _SAMPLE_CYCLES)
         width, height = mover.parameters.mover_width, mover.parameters.mover_height
         return [mover.footprint(), *(footprint(x, y, c, width, height)
                                      for x, y, c in path.tolist())]
@@ -413,14 +417,14 @@ class MC_PlanarEnvironment(PlanarObject):
         """Movers standing on a part that changes position ride along (§6.6.1); in a group
         their footprint goes with them."""
         move = after.pose.compose(before.pose.inverse())
-        for mover in self._system.movers:
+        for mover in self.system.movers:
             if mover.coordinate_system == before.coordinate_system and \
                     area.covers(mover.footprint().centroid):
                 pose = move.compose(mover.pose)
                 mover.coordinate_system = after.coordinate_system
-                mover._place(pose)
-                if mover._group is not None:
-                    mover._group.registry.settle(mover.member, mover._standing_area(pose))
+                mover.port.place(pose)
+                if mover.group is not None:
+                    mover.group.registry.settle(mover.member, mover.port.standing_area(pose))
 
 
 class MC_PlanarPart:
@@ -431,6 +435,12 @@ class MC_PlanarPart:
         self.part_oid = 0
         self._environment: MC_PlanarEnvironment | None = None
         self._initialized = False  #: set by the environment when it knows the part
+
+    def initialized_by(self, environment: MC_PlanarEnvironment, part_oid: int) -> None:
+        """Told by ``environment`` that it ran Initialize for ``part_oid``: the handle is
+        initialized, unless it has been aimed at another part or environment since."""
+        if self.part_oid == part_oid and self._environment is environment:
+            self._initialized = True
 
     @property
     def is_initialized(self) -> bool:
@@ -449,7 +459,7 @@ class MC_PlanarPart:
         self.part_oid = part_oid
         self._environment = environment
         self._initialized = False
-        return environment._send("Part.Initialize", feedback, part_oid, self)
+        return environment.send_part_command("Part.Initialize", feedback, part_oid, self)
 
     @property
     def position_index(self) -> int:
@@ -502,4 +512,4 @@ class MC_PlanarPart:
                              "(§7.2.2.9.1)")
             command.publish()
             return command
-        return self._environment._send(f"Part.{kind}", feedback, self.part_oid, *args)
+        return self._environment.send_part_command(f"Part.{kind}", feedback, self.part_oid, *args)

@@ -38,7 +38,7 @@ class MC_PlanarGroup(StatefulObject):
         super().__init__(system, system.next_oid("object"))
         self.name = name or f"group{self.oid & 0xFFF:x}"
         self.registry = ReservationRegistry()
-        self._states = PlanarStateMachine()
+        self.states = PlanarStateMachine()
         system.register(self)
 
     def __repr__(self) -> str:
@@ -47,12 +47,12 @@ class MC_PlanarGroup(StatefulObject):
     @property
     def mc_to_plc_std(self) -> CDT_MCTOPLC_PLANAR_GROUP_STD:
         """GroupOID, State and the member count, as the last motion phase left them."""
-        return CDT_MCTOPLC_PLANAR_GROUP_STD(group_oid=self.oid, state=self._states.state,
+        return CDT_MCTOPLC_PLANAR_GROUP_STD(group_oid=self.oid, state=self.states.state,
                                             group_object_count=len(self.registry.members))
 
     @property
     def state(self) -> PlanarState:
-        return self._states.state
+        return self.states.state
 
     @property
     def members(self) -> tuple[MemberId, ...]:
@@ -64,34 +64,35 @@ class MC_PlanarGroup(StatefulObject):
 
     # -- for the members (motion phase) ----------------------------------------------------------
 
-    def _check_enabled(self, what: str) -> None:
-        if self._states.current is not PlanarState.ENABLED:
+    def check_enabled(self, what: str) -> None:
+        if self.states.current is not PlanarState.ENABLED:
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                                   f"{what}: group 16#{self.oid:08X} is "
-                                  f"{title(self._states.current)}, not Enabled (§6.3)")
+                                  f"{title(self.states.current)}, not Enabled (§6.3)")
 
-    def _admit(self, obj: PlanarObject, area: SweptArea | BaseGeometry | None,
+    def admit(self, obj: PlanarObject, area: SweptArea | BaseGeometry | None,
                member: MemberId) -> None:
         """AddToGroup: ``obj`` joins with ``area`` or is refused with the blocker (§6.3)."""
         from openmotion.planar.mover import Collision
 
-        self._check_enabled("AddToGroup")
+        self.check_enabled("AddToGroup")
         blocker = self.registry.add_member(member, area)
         if blocker is not None:
             raise Collision(blocker, "its footprint")
 
-    def _leave(self, member: MemberId) -> None:
+    def leave(self, member: MemberId) -> None:
+        """RemoveFromGroup: ``member`` gives back its area."""
         self.registry.remove_member(member)
 
     # -- cycle -----------------------------------------------------------------------------------
 
     def _execute(self, command: PlanarCommand) -> None:
-        self._states.request(command)
+        self.states.request(command)
 
-    def _publish(self) -> bool:
-        self._states.update()
-        self._queue.publish()
-        return not self._states.settled
+    def publish_status(self) -> bool:
+        self.states.update()
+        self.commands.publish()
+        return not self.states.settled
 
 
 def planar_group(group: object) -> MC_PlanarGroup:

@@ -72,7 +72,7 @@ class TrackNetwork:
 
     def _layout(self) -> object:
         for track in self.tracks:
-            environment = track._system.environment()
+            environment = track.system.environment()
             return None if environment is None else environment.layout
         return None
 
@@ -84,7 +84,7 @@ class TrackNetwork:
             self._parent = {}
             self._positions = self._part_positions()
             for track in self.tracks:
-                for a, b, link in track._links:
+                for a, b, link in track.links:
                     ta, tb = self.tracks[a[0]], self.tracks[b[0]]
                     if ta.path.empty or tb.path.empty:
                         continue  # cleared since
@@ -182,7 +182,7 @@ class TrackNetwork:
         automatic ones from the tracks that meet it now (§6.2.2, the 2R hose). Which tracks
         meet at a vertex depends on where the parts stand (§6.2.3), so automatic ranges are
         kept only until the network changes."""
-        manual = track._manual_ranges
+        manual = track.manual_collision_ranges
         if manual is not None:
             return manual
         found = self._ranges.get(track.index)

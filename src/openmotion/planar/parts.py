@@ -106,6 +106,11 @@ class Part:
         """The active position, 1-based as ActivatePosition counts (§6.6.1)."""
         return self._position_index
 
+    @position_index.setter
+    def position_index(self, index: int) -> None:
+        """Move the part (ActivatePosition: the layout and the environment check first)."""
+        self._position_index = index
+
     @property
     def active_position(self) -> PartPosition:
         """What MC_PlanarPart.GetPosition reports: the system and the pose of the part frame."""
@@ -305,7 +310,7 @@ class PartLayout:
             raise CommandRejected(ErrorId.INVALID_REFERENCE_ID, f"coordinate system {_hex(system)}"
                                   f" is not the mover's ({_hex(coordinate_system)}): "
                                   "coordinate systems are not connected (§5.1)")
-        if self._part_under(system, target) is None:
+        if self.part_under(system, target) is None:
             raise self._not_on_active_part(system, target)
         return system, target
 
@@ -316,7 +321,7 @@ class PartLayout:
         On an edge shared by two parts ``current_part`` wins, so that a mover belongs to its
         old part until it has crossed; otherwise the first part in configuration order.
         """
-        part = self._part_under(coordinate_system, pose, current_part)
+        part = self.part_under(coordinate_system, pose, current_part)
         if part is None:
             raise self._not_on_active_part(coordinate_system, pose)
         return part.oid, part.active_position.pose.inverse().compose(pose)
@@ -339,7 +344,7 @@ class PartLayout:
         """ActivatePosition (§7.2.2.9.2): move a part. The movers on it are the environment's
         business (it carries them, §6.6.1)."""
         self.check_activation(part_oid, position_index)
-        self.parts[part_oid]._position_index = position_index
+        self.parts[part_oid].position_index = position_index
 
     def check_activation(self, part_oid: int, position_index: int) -> Part:
         """The part, if it may go to ``position_index``; else ``CommandRejected``. Split from
@@ -392,7 +397,7 @@ class PartLayout:
                                   f"{target.y:g}) lies off {part.name}: give the part it lies on"
                                   " or the coordinate system (§6.1.7)")
 
-    def _part_under(self, system: int, pose: Pose, preferred: int | None = None) -> Part | None:
+    def part_under(self, system: int, pose: Pose, preferred: int | None = None) -> Part | None:
         under = [part for part in self.parts_in(system) if part.covers(pose.x, pose.y)]
         return next((part for part in under if part.oid == preferred), under[0] if under else None)
 

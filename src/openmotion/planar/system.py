@@ -35,37 +35,39 @@ _OID_STEP = 0x10
 class PlanarObject:
     """What every planar object has: an OID, a command queue and the cyclic hooks.
 
-    An object is *awake* while it has something to publish (a command ran, a motion ended,
-    a state transition runs); the system publishes only awake objects, so that a hundred
-    standing movers cost next to nothing per cycle.
+    Its contract with the ``PlanarSystem``: the system queues calls on ``commands``, hands
+    each to ``run_command`` in call order and calls ``publish_status`` while the object is
+    ``awake``. An object is *awake* while it has something to publish (a command ran, a
+    motion ended, a state transition runs); the system publishes only awake objects, so that
+    a hundred standing movers cost next to nothing per cycle.
     """
 
     def __init__(self, system: PlanarSystem, oid: int) -> None:
-        self._system = system
+        self.system = system  #: the PlanarSystem that runs it
         self.oid = oid
-        self._queue = CommandQueue(system.clock)
-        self._awake = True
+        self.commands = CommandQueue(system.clock)
+        self.awake = True
 
     def _send(self, kind: str, feedback: MC_PlanarFeedbackBase | None,
               *args: Any) -> PlanarCommand:
         """Record a method call; the system executes it in this cycle's motion phase."""
-        return self._system.send(self, kind, feedback, *args)
+        return self.system.send(self, kind, feedback, *args)
 
-    def _run(self, command: PlanarCommand) -> None:
+    def run_command(self, command: PlanarCommand) -> None:
         """Execute one command; a rejection ends it with its error id, never raises."""
-        self._awake = True
+        self.awake = True
         try:
             self._execute(command)
         except CommandRejected as rejected:
             command.reject(rejected.error_id, rejected.message,
-                             getattr(rejected, "object_info", None))
+                           getattr(rejected, "object_info", None))
 
     def _execute(self, command: PlanarCommand) -> None:
         raise NotImplementedError
 
-    def _publish(self) -> bool:
+    def publish_status(self) -> bool:
         """Show the new status (read in the next cycle); returns whether to stay awake."""
-        self._queue.publish()
+        self.commands.publish()
         return False
 
     def update(self) -> None:
@@ -78,19 +80,19 @@ class StatefulObject(PlanarObject):
     """A planar object with the planar state machine (§4.1): Enable, Disable, Reset, and the
     FB outputs Error and ErrorId (with openmotion's readable ``message``)."""
 
-    _states: PlanarStateMachine
+    states: PlanarStateMachine  #: its planar state machine (§4.1)
 
     @property
     def error(self) -> bool:
-        return self._states.error
+        return self.states.error
 
     @property
     def error_id(self) -> ErrorId:
-        return self._states.error_id
+        return self.states.error_id
 
     @property
     def message(self) -> str:
-        return self._states.message
+        return self.states.message
 
     def enable(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         return self._send(StateCommand.ENABLE, feedback)
@@ -172,6 +174,11 @@ class PlanarSystem:
         p, v, a, _ = self._values
         return float(p[row]), float(v[row]), float(a[row])
 
+    def values(self, which: int, first: int, count: int) -> np.ndarray:
+        """Position (0), velocity (1) or acceleration (2) of ``count`` consecutive rows from
+        ``first`` at the last evaluation (a view: read it before the next cycle)."""
+        return self._values[which][first:first + count]
+
     def set_value(self, row: int, position: float) -> None:
         """Show ``row`` standing at ``position`` before the next evaluation (a relocation)."""
         p, v, a, _ = self._values
@@ -179,7 +186,7 @@ class PlanarSystem:
 
     def send(self, obj: PlanarObject, kind: str, feedback: MC_PlanarFeedbackBase | None,
              *args: Any) -> PlanarCommand:
-        command = obj._queue.send(kind, feedback, *args)
+        command = obj.commands.send(kind, feedback, *args)
         self._sent.append((obj, command))
         return command
 
@@ -191,17 +198,17 @@ class PlanarSystem:
         """The motion phase: run the commands sent, evaluate, move on tracks, publish."""
         sent, self._sent = self._sent, []
         for obj, _ in sent:
-            obj._queue.take()
+            obj.commands.take()
         for obj, command in sent:  # call order across all objects (§6.3.2)
-            obj._run(command)
+            obj.run_command(command)
         if self.table.size:
             self.table.evaluate(now, *self._values)
         if self.traffic is not None:
             self.traffic.advance(now, self._values)
         for mover in self.movers:
-            if mover._next_event <= now:
-                mover._after_motion(now)
+            if mover.next_event <= now:
+                mover.after_motion(now)
         for obj in self._objects:
-            if obj._awake:
-                obj._awake = obj._publish()
+            if obj.awake:
+                obj.awake = obj.publish_status()
         self.published += 1

@@ -160,11 +160,11 @@ class Owner(Protocol):
     """The mover a rider belongs to: told when its command ends, asked before its geared
     way goes on over tracks it did not hold at the start (followMover, D-149)."""
 
-    _awake: bool  #: publish its status at the end of this cycle
+    awake: bool  #: publish its status at the end of this cycle
 
-    def _on_track_finished(self, command: PlanarCommand | None) -> None: ...
+    def on_track_finished(self, command: PlanarCommand | None) -> None: ...
 
-    def _admit_way(self, tracks: list[Any]) -> None:
+    def admit_way(self, tracks: list[Any]) -> None:
         """Raises ``CommandRejected`` when the mover may not move onto ``tracks``."""
         ...
 
@@ -625,7 +625,7 @@ class Traffic:
         self._follow(rider, profile, rider.target, now)
         if rider.command is not None:
             rider.command.in_sync = False
-            rider.owner._awake = True
+            rider.owner.awake = True
 
     def gear(self, rider: Rider, route: list[Leg], coupling: Any, gap: float,
              command: PlanarCommand) -> None:
@@ -995,7 +995,7 @@ class Traffic:
             coupling.tolerance > 0.0 and abs(state[0] - cp) <= coupling.tolerance)
         if in_sync != rider.command.in_sync:
             rider.command.in_sync = in_sync
-            rider.owner._awake = True
+            rider.owner.awake = True
 
     def _no_room(self, k: int, velocity: float, pairs: Pairs) -> bool:
         """Whether a rider at rest has less than ``_CREEP`` room the way ``velocity`` goes
@@ -1108,7 +1108,7 @@ class Traffic:
             field_[k] = value
         if rider.command is not None and rider.command.in_sync:
             rider.command.in_sync = False
-            rider.owner._awake = True  # the feedback shows it next cycle
+            rider.owner.awake = True  # the feedback shows it next cycle
 
     def _extend_follow(self, rider: Rider, coupling: Any) -> None:
         """followMover: the master's way is the slave's too. A leg of the master lies on the
@@ -1190,7 +1190,7 @@ class Traffic:
         if any(leg.track is track for leg in rider.route):
             return True
         try:
-            rider.owner._admit_way([*(leg.track for leg in rider.route), track])
+            rider.owner.admit_way([*(leg.track for leg in rider.route), track])
         except CommandRejected as refused:
             coupling.blocked = refused
             return False
@@ -1564,7 +1564,7 @@ class Traffic:
                     self._routed(rider)
                     self._pairs = self._geo = None
                 self._hold(rider, values)
-                rider.owner._on_track_finished(command)
+                rider.owner.on_track_finished(command)
             else:
                 self.mode[k] = HELD  # queued behind a rider: wait for room
         for k in resting(self.mode, HELD, self.v, self.a).tolist():
@@ -1577,7 +1577,7 @@ class Traffic:
                     command.reject(*rider.gear.failed)  # held by the gap filter meanwhile
                 rider.gear = None
                 self._hold(rider, values)
-                rider.owner._on_track_finished(command)
+                rider.owner.on_track_finished(command)
 
     def _hold(self, rider: Rider, values: list[np.ndarray]) -> None:
         """A rider at rest: its x, y and c rows hold where it stands (cycles in which no
