@@ -508,8 +508,8 @@ class MC_PlanarPart:
         if self._environment is None:
             command = PlanarCommand(f"Part.{kind}", feedback, args)
             command.reject(ErrorId.INVALID_REFERENCE_ID, "MC_PlanarPart is not initialized "
-                             "(part OID 0): call initialize(part_oid, environment) first "
-                             "(§7.2.2.9.1)")
+                           "(part OID 0): call initialize(part_oid, environment) first "
+                           "(§7.2.2.9.1)")
             command.publish()
             return command
         return self._environment.send_part_command(f"Part.{kind}", feedback, self.part_oid, *args)

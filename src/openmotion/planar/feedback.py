@@ -261,7 +261,7 @@ class ExternalSetpointStream:
         elif feedback is not None and feedback is not self._feedback:
             other = PlanarCommand(self.KIND, feedback, clock=self._clock)
             other.reject(ErrorId.PLANAR_EXT_SETPOINT,
-                           "pass the same feedback with every call (§6.1.7)")
+                         "pass the same feedback with every call (§6.1.7)")
             other.publish()
             return
         if self._pending is not None:

@@ -139,7 +139,7 @@ class PlanarStateMachine:
     def _enable(self, command: PlanarCommand) -> None:
         if self.current in _ERROR_STATES:
             command.reject(ErrorId.PLANAR_WRONG_STATE, f"Enable is not accepted in "
-                             f"{title(self.current)}: Reset the error first (§4.1)")
+                           f"{title(self.current)}: Reset the error first (§4.1)")
         elif self.current is _S.ENABLED:
             command.finish()
         else:
@@ -159,7 +159,7 @@ class PlanarStateMachine:
             self._begin(_S.RESETTING, command)
         elif self.current is _S.ERROR_PENDING:
             command.reject(ErrorId.PLANAR_WRONG_STATE, "Reset is not accepted in "
-                             "ErrorPending: wait until the state is Error (§4.1)")
+                           "ErrorPending: wait until the state is Error (§4.1)")
         else:
             command.finish()
 
