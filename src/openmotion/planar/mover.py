@@ -149,7 +149,7 @@ class MotionPort:
     mover's commands, never the port.
     """
 
-    #: start ``profiles`` for a command (admitted in a group), ``MC_PlanarMover._begin``
+    #: start profiles for a command: admitted in a group, the motions they replace aborted
     begin: Callable[..., None]
     #: x, y, c [mm, mm, °] of the last published setpoint
     set_pose: Callable[[], Pose]

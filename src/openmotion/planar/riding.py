@@ -6,6 +6,7 @@ where a mover joins; every example fits the nearest point, docs/decisions.md) an
 the mover there: its x, y (and c, with ``use_orientation``) then follow the track (traffic.py).
 LeaveTrack uncouples at once and is a free move to its target. MoveOnTrack plans one
 profile along the route to its target and leaves gap keeping and switches to the traffic.
+They start and place the mover's motion through its ``MotionPort`` (``mover.port``, D-239).
 """
 
 from __future__ import annotations
