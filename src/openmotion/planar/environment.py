@@ -8,6 +8,8 @@ commands of MC_PlanarPart (§6.6.1) and resolves the reference ids of targets (�
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
@@ -27,7 +29,7 @@ from openmotion.planar.positions import PositionXYC, finite
 from openmotion.planar.reservation import MemberId, footprint, grown_surface, path_on_surface
 from openmotion.planar.states import ErrorReaction
 from openmotion.planar.stators import Boundary, StatorField
-from openmotion.planar.system import PlanarObject, PlanarSystem
+from openmotion.planar.system import ObjectPort, PlanarObject, PlanarSystem
 from openmotion.planar.tolerances import PART_TOLERANCE
 
 if TYPE_CHECKING:
@@ -75,6 +77,19 @@ def _oid_text(oid: object) -> str:
     return repr(oid)
 
 
+@dataclass(frozen=True)
+class EnvironmentPort(ObjectPort):
+    """What the movers and the MC_PlanarPart handles call on the environment (D-239)."""
+
+    place: Callable[[MC_PlanarMover], None]  #: a new mover into its initial part's system
+    #: a PositionXYC target and the mover's coordinate system -> (system OID, pose in it)
+    resolve: Callable[[PositionXYC, int], tuple[int, Pose]]
+    part_ready: Callable[[MC_PlanarMover], bool]  #: its parts are on: Enable/Reset may end
+    reset_parts: Callable[[int], None]  #: Reset of a mover: the parts of its system first
+    #: an MC_PlanarPart's command: (kind, feedback, part OID, *args) -> its PlanarCommand
+    send_part_command: Callable[..., PlanarCommand]
+
+
 class MC_PlanarEnvironment(PlanarObject):
     """The stator surface. ``layout`` switches the part feature on (§5.2): the stators are
     then the parts' in their active positions, and reference ids name parts and coordinate
@@ -97,10 +112,15 @@ class MC_PlanarEnvironment(PlanarObject):
         self._group: MC_PlanarGroup | None = None
         self.error = False  #: the environment has no state machine (§7.2.2.1)
         self.error_id = ErrorId.NO_ERROR
+        #: what the movers and the part handles call on it besides the system's hooks
+        self.port = EnvironmentPort(self._run, self._publish, place=self._place,
+                                    resolve=self._resolve, part_ready=self._part_ready,
+                                    reset_parts=self._reset_parts,
+                                    send_part_command=self._send_part_command)
         system.environments.append(self)
         system.register(self)
         for mover in system.movers:
-            self.place(mover)
+            self._place(mover)
 
     def __repr__(self) -> str:
         return f"<MC_PlanarEnvironment 16#{self.oid:08X} {len(self.field)} stators>"
@@ -163,7 +183,7 @@ class MC_PlanarEnvironment(PlanarObject):
             if self._group is None:
                 raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP, "the environment is in no "
                                       "group")
-            self._group.leave(self.member)
+            self._group.port.leave(self.member)
             self._group = None
         elif kind.startswith("Part."):
             self._part_command(command)
@@ -197,7 +217,7 @@ class MC_PlanarEnvironment(PlanarObject):
         if self._group is not None:
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                                   f"the environment is in group 16#{self._group.oid:08X} already")
-        group.admit(self, self.surface, self.member)
+        group.port.admit(self, self.surface, self.member)
         self._group = group
 
     def _surface_changed(self) -> None:
@@ -223,7 +243,7 @@ class MC_PlanarEnvironment(PlanarObject):
         assert self.layout is not None
         return self.layout.coordinate_systems[0]
 
-    def publish_status(self) -> bool:
+    def _publish(self) -> bool:
         """Parts follow the movers of their coordinate system, and a part that fails or is
         force-disabled takes the movers on it into error (§6.6): checked every cycle."""
         if self.layout is not None:
@@ -247,7 +267,7 @@ class MC_PlanarEnvironment(PlanarObject):
             return None
         return self.layout.part_under(mover.coordinate_system, mover.pose)
 
-    def part_ready(self, mover: MC_PlanarMover) -> bool:
+    def _part_ready(self, mover: MC_PlanarMover) -> bool:
         """Enable and Reset of a mover wait for the part under it (§6.6): Enable, and a Reset
         that ends Enabled (QuickStop), need the part Enabled; a Reset that ends Disabled
         (Abort) needs it only free of errors. A part that cannot get there fails the mover's
@@ -272,7 +292,7 @@ class MC_PlanarEnvironment(PlanarObject):
                            f"part 16#{part.oid:08X} under the mover {why} (§6.6)")
         return False
 
-    def reset_parts(self, coordinate_system: int) -> None:
+    def _reset_parts(self, coordinate_system: int) -> None:
         """A mover's Reset first resets the failed parts of its coordinate system (§6.6)."""
         if self.layout is None:
             return
@@ -290,7 +310,7 @@ class MC_PlanarEnvironment(PlanarObject):
 
     # -- reference ids and parts (§5.3, §6.6) ----------------------------------------------------
 
-    def resolve(self, target: PositionXYC, coordinate_system: int) -> tuple[int, Pose]:
+    def _resolve(self, target: PositionXYC, coordinate_system: int) -> tuple[int, Pose]:
         """A target in the frame its reference id names, as (coordinate system, pose)."""
         if self.layout is None:
             if target.reference_id != 0:
@@ -302,7 +322,7 @@ class MC_PlanarEnvironment(PlanarObject):
         return self.layout.resolve_target(target.reference_id, target.pose,
                                           coordinate_system or None)
 
-    def place(self, mover: MC_PlanarMover) -> None:
+    def _place(self, mover: MC_PlanarMover) -> None:
         """Put a new mover into the coordinate system of its initial part (§6.1.1)."""
         layout = self.layout
         if layout is None:
@@ -317,7 +337,7 @@ class MC_PlanarEnvironment(PlanarObject):
         elif layout.is_static or len(layout.coordinate_systems) == 1:
             mover.coordinate_system = layout.coordinate_systems[0]
 
-    def send_part_command(self, kind: str, feedback: MC_PlanarFeedbackBase | None,
+    def _send_part_command(self, kind: str, feedback: MC_PlanarFeedbackBase | None,
                           *args: object) -> PlanarCommand:
         """An MC_PlanarPart's command: it travels through the environment (§6.6.1)."""
         return self._send(kind, feedback, *args)
@@ -335,7 +355,8 @@ class MC_PlanarEnvironment(PlanarObject):
         kind = command.kind.removeprefix("Part.")
         if kind == "Initialize":
             (handle,) = args
-            handle.initialized_by(self, part_oid)
+            (confirm,) = args  # the handle's own confirmation, as it sent it
+            confirm(self, part_oid)
         elif kind == "ActivatePosition":
             self._activate_position(part, *args)
         elif kind == "AllowEnable":
@@ -436,7 +457,7 @@ class MC_PlanarPart:
         self._environment: MC_PlanarEnvironment | None = None
         self._initialized = False  #: set by the environment when it knows the part
 
-    def initialized_by(self, environment: MC_PlanarEnvironment, part_oid: int) -> None:
+    def _initialized_by(self, environment: MC_PlanarEnvironment, part_oid: int) -> None:
         """Told by ``environment`` that it ran Initialize for ``part_oid``: the handle is
         initialized, unless it has been aimed at another part or environment since."""
         if self.part_oid == part_oid and self._environment is environment:
@@ -459,7 +480,8 @@ class MC_PlanarPart:
         self.part_oid = part_oid
         self._environment = environment
         self._initialized = False
-        return environment.send_part_command("Part.Initialize", feedback, part_oid, self)
+        return environment.port.send_part_command("Part.Initialize", feedback, part_oid,
+                                                  self._initialized_by)
 
     @property
     def position_index(self) -> int:
@@ -512,4 +534,5 @@ class MC_PlanarPart:
                            "(§7.2.2.9.1)")
             command.publish()
             return command
-        return self._environment.send_part_command(f"Part.{kind}", feedback, self.part_oid, *args)
+        return self._environment.port.send_part_command(f"Part.{kind}", feedback,
+                                                        self.part_oid, *args)

@@ -25,7 +25,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from enum import IntEnum
-from typing import Any
+from typing import Any, ClassVar
 
 from openmotion.core.errors import ErrorId
 from openmotion.kernel.command import Command, CommandStatus
@@ -80,8 +80,9 @@ class PlanarCommand(Command):
         self._accepted = False
         self._clock = clock  #: the runtime's time for ``ended_at``; None: ``issued_at``
         self._feedback = feedback
-        if feedback is not None:
-            feedback.follow(self)
+        if feedback is not None:  # from now on it shows this command (Busy), not an older one
+            feedback.command = self
+            show(feedback, self)
 
     @property
     def phase(self) -> CommandPhase:
@@ -122,7 +123,7 @@ class PlanarCommand(Command):
 
     def publish(self) -> None:
         """Show the status on the feedback, unless a newer command has taken it over."""
-        if self._feedback is not None and self._feedback.follows(self):
+        if self._feedback is not None and self._feedback.command is self:
             self._feedback.update()
 
     def _now(self) -> float:
@@ -162,12 +163,23 @@ class CommandQueue:
         self._open = [command for command in self._open if command.busy]
 
 
+def show(feedback: MC_PlanarFeedbackBase, command: PlanarCommand) -> None:
+    """Set the outputs of ``feedback`` (its ``SHOWS``) from ``command``'s status."""
+    for name in feedback.SHOWS:
+        setattr(feedback, name, getattr(command, name))
+
+
 class MC_PlanarFeedbackBase:
     """What every feedback shows (§7.2.2.3): Active, Busy, Aborted, Error, ErrorId and
     objectInfo. ``message`` is openmotion's readable reason for an error."""
 
+    #: its outputs, each the command attribute of the same name (``show``)
+    SHOWS: ClassVar[tuple[str, ...]] = ("busy", "active", "aborted", "error", "error_id",
+                                        "object_info", "message")
+
     def __init__(self) -> None:
-        self._command: PlanarCommand | None = None
+        #: the command it shows: the one it was last passed with (openmotion's link, no output)
+        self.command: PlanarCommand | None = None
         self.active = False
         self.busy = False
         self.aborted = False
@@ -178,51 +190,29 @@ class MC_PlanarFeedbackBase:
 
     def update(self) -> None:
         """Show the status of the command this feedback follows (§7.2.2.2.1)."""
-        if self._command is not None:
-            self._show(self._command)
-
-    def follow(self, command: PlanarCommand) -> None:
-        """Attach a newly sent command: from now on it shows that one (Busy), not an older."""
-        self._command = command
-        self._show(command)
-
-    def follows(self, command: PlanarCommand) -> bool:
-        """Whether ``command`` is the one this feedback shows (no newer one took it over)."""
-        return self._command is command
-
-    def _show(self, command: PlanarCommand) -> None:
-        self.busy = command.busy
-        self.active = command.active
-        self.aborted = command.aborted
-        self.error = command.error
-        self.error_id = command.error_id
-        self.object_info = command.object_info
-        self.message = command.message
+        if self.command is not None:
+            show(self, self.command)
 
 
 class MC_PlanarFeedback(MC_PlanarFeedbackBase):
     """The general feedback (§7.2.2.2), accepted by most commands; adds Done."""
 
+    SHOWS = (*MC_PlanarFeedbackBase.SHOWS, "done")
+
     def __init__(self) -> None:
         super().__init__()
         self.done = False
-
-    def _show(self, command: PlanarCommand) -> None:
-        super()._show(command)
-        self.done = command.done
 
 
 class MC_PlanarFeedbackInSync(MC_PlanarFeedbackBase):
     """Base of the feedbacks with inSync (§7.2.2.6). They have no Done: a gear command runs
     until another command or an error ends it (§6.2.8)."""
 
+    SHOWS = (*MC_PlanarFeedbackBase.SHOWS, "in_sync")
+
     def __init__(self) -> None:
         super().__init__()
         self.in_sync = False
-
-    def _show(self, command: PlanarCommand) -> None:
-        super()._show(command)
-        self.in_sync = command.in_sync
 
 
 class MC_PlanarFeedbackGearInPosOnTrack(MC_PlanarFeedbackInSync):

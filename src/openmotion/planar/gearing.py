@@ -176,7 +176,7 @@ def admit_way(mover: MC_PlanarMover, tracks: list[MC_PlanarTrack], kind: MoverCo
     so the group's collision avoidance keeps other movers off them (§6.5); the bands go back
     when the gear ends (riding.release_bands). Refused with PLANAR_COLLISION naming the
     member in the way. Asked at the start for the whole path, and by the traffic for each
-    track a follower's way goes on to later (``MC_PlanarMover.admit_way``, D-149)."""
+    track a follower's way goes on to later (``MotionPort.admit_way``, D-149)."""
     from openmotion.planar.riding import _reserve_bands, check_route_accepts
 
     check_route_accepts(tracks, kind)

@@ -10,6 +10,8 @@ avoidance is then not in force (docs/decisions.md).
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
 from openmotion.core.errors import CommandRejected, ErrorId
@@ -20,12 +22,22 @@ from openmotion.planar.kind import PLANAR_GROUP
 from openmotion.planar.options import CDT_MCTOPLC_PLANAR_GROUP_STD
 from openmotion.planar.reservation import MemberId, ReservationRegistry, SweptArea
 from openmotion.planar.states import PlanarStateMachine, title
-from openmotion.planar.system import PlanarObject, PlanarSystem, StatefulObject
+from openmotion.planar.system import ObjectPort, PlanarObject, PlanarSystem, StatefulObject
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
     from openmotion.runtime.runtime import Runtime
+
+
+@dataclass(frozen=True)
+class GroupPort(ObjectPort):
+    """What a group's members (movers, tracks, the environment) call on it (D-239)."""
+
+    #: AddToGroup: an object joins with its area, or is refused naming the blocker (§6.3)
+    admit: Callable[[PlanarObject, SweptArea | BaseGeometry | None, MemberId], None]
+    leave: Callable[[MemberId], None]  #: RemoveFromGroup: the member gives back its area
+    check_enabled: Callable[[str], None]  #: refuse ``what`` unless the group is Enabled
 
 
 class MC_PlanarGroup(StatefulObject):
@@ -39,6 +51,9 @@ class MC_PlanarGroup(StatefulObject):
         self.name = name or f"group{self.oid & 0xFFF:x}"
         self.registry = ReservationRegistry()
         self.states = PlanarStateMachine()
+        #: what its members call on it besides the system's hooks
+        self.port = GroupPort(self._run, self._publish, self._admit, self._leave,
+                              self._check_enabled)
         system.register(self)
 
     def __repr__(self) -> str:
@@ -64,23 +79,23 @@ class MC_PlanarGroup(StatefulObject):
 
     # -- for the members (motion phase) ----------------------------------------------------------
 
-    def check_enabled(self, what: str) -> None:
+    def _check_enabled(self, what: str) -> None:
         if self.states.current is not PlanarState.ENABLED:
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                                   f"{what}: group 16#{self.oid:08X} is "
                                   f"{title(self.states.current)}, not Enabled (§6.3)")
 
-    def admit(self, obj: PlanarObject, area: SweptArea | BaseGeometry | None,
+    def _admit(self, obj: PlanarObject, area: SweptArea | BaseGeometry | None,
                member: MemberId) -> None:
         """AddToGroup: ``obj`` joins with ``area`` or is refused with the blocker (§6.3)."""
         from openmotion.planar.mover import Collision
 
-        self.check_enabled("AddToGroup")
+        self._check_enabled("AddToGroup")
         blocker = self.registry.add_member(member, area)
         if blocker is not None:
             raise Collision(blocker, "its footprint")
 
-    def leave(self, member: MemberId) -> None:
+    def _leave(self, member: MemberId) -> None:
         """RemoveFromGroup: ``member`` gives back its area."""
         self.registry.remove_member(member)
 
@@ -89,7 +104,7 @@ class MC_PlanarGroup(StatefulObject):
     def _execute(self, command: PlanarCommand) -> None:
         self.states.request(command)
 
-    def publish_status(self) -> bool:
+    def _publish(self) -> bool:
         self.states.update()
         self.commands.publish()
         return not self.states.settled

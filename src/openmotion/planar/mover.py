@@ -93,7 +93,7 @@ from openmotion.planar.states import (
     StateCommand,
     check_accepts,
 )
-from openmotion.planar.system import PlanarSystem, StatefulObject
+from openmotion.planar.system import ObjectPort, PlanarSystem, StatefulObject
 from openmotion.planar.tolerances import VELOCITY_PRECISION
 from openmotion.planar.track import MC_PlanarTrack
 from openmotion.planar.traffic import Rider, traffic_of
@@ -140,8 +140,9 @@ class _Motion:
 
 
 @dataclass(frozen=True)
-class MotionPort:
-    """A mover's motion as its track commands, the environment and the system use it.
+class MotionPort(ObjectPort):
+    """A mover's motion as its track commands, the environment, the traffic and the system
+    use it.
 
     The track commands (riding.py, gearing.py) are functions of their own modules; they
     start, check and place the mover's motion only through this port, which the mover makes
@@ -173,6 +174,12 @@ class MotionPort:
     couple: Callable[[Rider | None], None]
     #: the table rows of x, y, z, a, b, c
     rows: Mapping[str, int]
+    #: the system: a motion ended, a piece of area is behind, or external setpoints run
+    after_motion: Callable[[float], None]
+    #: the traffic (``Owner``): its track command ended at its target, or its halt did
+    track_finished: Callable[[PlanarCommand | None], None]
+    #: the traffic: may its geared way go on over these tracks (raises if not, D-149)
+    admit_way: Callable[[list[MC_PlanarTrack]], None]
 
 
 class MC_PlanarMover(StatefulObject):
@@ -212,20 +219,24 @@ class MC_PlanarMover(StatefulObject):
         self._fed = False  #: an external setpoint came this cycle
         self._started_external = False
         self._status: tuple[int, CDT_MCTOPLC_PLANAR_MOVER] | None = None
-        self.next_event = math.inf  #: [s] when ``after_motion`` has work
+        self.next_event = math.inf  #: [s] when ``port.after_motion`` has work
         self._member = MemberId(PlanarObjectType.MOVER, self.oid)
         self._rider: Rider | None = None  #: coupled to a track (traffic.py)
         self._odometer: int | None = None  #: table row of the arc length on a track
         #: what track commands, the environment and the system use of its motion
-        self.port = MotionPort(self._begin, self._set_pose, self._start_states,
-                               self._check_carried, self._resolve, self._move_c,
-                               self._standing_area, self._future_plans, self._place,
-                               self._odometer_row, self._couple, MappingProxyType(self._rows))
+        self.port = MotionPort(
+            self._run, self._publish, begin=self._begin, set_pose=self._set_pose,
+            start_states=self._start_states, check_carried=self._check_carried,
+            resolve=self._resolve, move_c=self._move_c, standing_area=self._standing_area,
+            future_plans=self._future_plans, place=self._place,
+            odometer_row=self._odometer_row, couple=self._couple,
+            rows=MappingProxyType(self._rows), after_motion=self._after_motion,
+            track_finished=self._on_track_finished, admit_way=self._admit_way)
         system.movers.append(self)
         system.register(self)
         environment = system.environment()
         if environment is not None:
-            environment.place(self)
+            environment.port.place(self)
 
     def __repr__(self) -> str:
         return f"<MC_PlanarMover {self.name} 16#{self.oid:08X} {self.mc_to_plc.std.state.name}>"
@@ -448,7 +459,7 @@ class MC_PlanarMover(StatefulObject):
         if kind in _STATE_COMMANDS:
             environment = self.system.environment()
             if kind == StateCommand.RESET and environment is not None:
-                environment.reset_parts(self.coordinate_system)  # §6.6: parts first
+                environment.port.reset_parts(self.coordinate_system)  # §6.6: parts first
             if kind == StateCommand.ENABLE and environment is not None and \
                     self.states.current is PlanarState.DISABLED and not environment.carries(
                         self.coordinate_system, np.array([self.pose[:2]])):
@@ -584,14 +595,14 @@ class MC_PlanarMover(StatefulObject):
         moving = any(m.coordinates & _AREA for m in self._motions)
         area = self._future_area({}, self.system.previous, None)[1] if moving \
             else self._standing_area()
-        group.admit(self, area, self._member)  # a moving mover holds its whole way on
+        group.port.admit(self, area, self._member)  # a moving mover holds its whole way on
         self._group = group
         command.finish()
 
     def _remove_from_group(self, command: PlanarCommand) -> None:
         if self._group is None:
             raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP, f"{self.name} is in no group")
-        self._group.leave(self._member)
+        self._group.port.leave(self._member)
         self._group = None
         command.finish()
 
@@ -783,7 +794,7 @@ class MC_PlanarMover(StatefulObject):
         if _AREA & profiles.keys() and self._group is not None:
             samples, area = self._future_area(profiles, previous, straight)
             if admit:
-                self._group.check_enabled(what)
+                self._group.port.check_enabled(what)
                 blocker = self._group.registry.request(self._member, area)
                 if blocker is not None:
                     raise Collision(blocker, what)
@@ -905,7 +916,7 @@ class MC_PlanarMover(StatefulObject):
             p, _, _ = self.system.value(self._rows[name])
             self._install(name, Profile.hold(KinematicState(p)), now)
 
-    def after_motion(self, now: float) -> None:
+    def _after_motion(self, now: float) -> None:
         """A motion ended, a piece of area is behind the mover, or external setpoints run."""
         self.awake = True
         if self.modes.external is not ExternalSetPositionMode.NONE:
@@ -945,7 +956,7 @@ class MC_PlanarMover(StatefulObject):
             self._odometer = self.system.add_rows([s])[0]
         return self._odometer
 
-    def on_track_finished(self, command: PlanarCommand | None) -> None:
+    def _on_track_finished(self, command: PlanarCommand | None) -> None:
         """Told by the traffic (its ``Owner``): the mover's track command ended at its target
         (or its halt)."""
         self.awake = True
@@ -953,7 +964,7 @@ class MC_PlanarMover(StatefulObject):
         if command is not None:
             command.finish()
 
-    def admit_way(self, tracks: list[MC_PlanarTrack]) -> None:
+    def _admit_way(self, tracks: list[MC_PlanarTrack]) -> None:
         """Asked by the traffic (its ``Owner``): the mover's geared way goes on over ``tracks``
         it did not hold at the start (followMover, the master's later tracks): admitted as
         the gear path's tracks are at the start (their state, their bands in a group; D-149).
@@ -962,7 +973,7 @@ class MC_PlanarMover(StatefulObject):
         admit_way(self, tracks, MoverCommand.GEAR_IN_POS_ON_TRACK_WITH_MASTER_MOVER)
 
     def _reschedule(self) -> None:
-        """When ``after_motion`` must run next: an end, a release, or every cycle."""
+        """When ``_after_motion`` must run next: an end, a release, or every cycle."""
         if self.modes.external is not ExternalSetPositionMode.NONE:
             self.next_event = -math.inf
             return
@@ -970,7 +981,7 @@ class MC_PlanarMover(StatefulObject):
         events += [m.releases[0] for m in self._motions if m.releases]
         self.next_event = min(events, default=math.inf)
 
-    def publish_status(self) -> bool:
+    def _publish(self) -> bool:
         self.states.update()
         self.commands.publish()
         self._status = None
@@ -1031,7 +1042,7 @@ class MC_PlanarMover(StatefulObject):
             return not self._motions and not riding
         if state in (PlanarState.ENABLING, PlanarState.RESETTING):
             environment = self.system.environment()
-            return environment is None or environment.part_ready(self)
+            return environment is None or environment.port.part_ready(self)
         return True
 
     # -- helpers ---------------------------------------------------------------------------------
@@ -1064,7 +1075,7 @@ class MC_PlanarMover(StatefulObject):
                                       f"reference id 16#{target.reference_id:08X} names no part "
                                       "or coordinate system: there are none (§5.3)")
             return 0, target.pose
-        return environment.resolve(target, self.coordinate_system)
+        return environment.port.resolve(target, self.coordinate_system)
 
     def _move_c_anywhere(self, command: PlanarCommand) -> None:
         """MoveC: on a track (its C then no longer follows the track) or free."""

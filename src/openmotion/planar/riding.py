@@ -193,7 +193,7 @@ def _reserve_bands(mover: MC_PlanarMover, tracks: list[MC_PlanarTrack],
             blocker = _moving_blocker(group.registry, track, riders + static)
         if blocker is not None:
             raise Collision(blocker, f"the surface of {track.name}")
-    group.check_enabled(what)
+    group.port.check_enabled(what)
     for track in needed:
         group.registry.settle(track.member, track.surface())
         track.band = True

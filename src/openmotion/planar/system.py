@@ -12,6 +12,8 @@ calls ``update()`` of every object: a user who calls it as well sees nothing new
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -32,11 +34,20 @@ _OBJECT_OIDS = 0x05120000  #: tracks, groups and environments share 16#0512xxxx 
 _OID_STEP = 0x10
 
 
+@dataclass(frozen=True)
+class ObjectPort:
+    """What the ``PlanarSystem`` calls on a planar object (D-239). The object makes it from its
+    own operations; it is no PLC method (programs call the manual's methods only)."""
+
+    run: Callable[[PlanarCommand], None]  #: execute one command; a rejection ends it
+    publish: Callable[[], bool]  #: show the new status; returns whether to stay awake
+
+
 class PlanarObject:
     """What every planar object has: an OID, a command queue and the cyclic hooks.
 
     Its contract with the ``PlanarSystem``: the system queues calls on ``commands``, hands
-    each to ``run_command`` in call order and calls ``publish_status`` while the object is
+    each to ``port.run`` in call order and calls ``port.publish`` while the object is
     ``awake``. An object is *awake* while it has something to publish (a command ran, a
     motion ended, a state transition runs); the system publishes only awake objects, so that
     a hundred standing movers cost next to nothing per cycle.
@@ -47,13 +58,15 @@ class PlanarObject:
         self.oid = oid
         self.commands = CommandQueue(system.clock)
         self.awake = True
+        #: what the system (and, for some kinds, the other planar objects) call on it
+        self.port = ObjectPort(self._run, self._publish)
 
     def _send(self, kind: str, feedback: MC_PlanarFeedbackBase | None,
               *args: Any) -> PlanarCommand:
         """Record a method call; the system executes it in this cycle's motion phase."""
         return self.system.send(self, kind, feedback, *args)
 
-    def run_command(self, command: PlanarCommand) -> None:
+    def _run(self, command: PlanarCommand) -> None:
         """Execute one command; a rejection ends it with its error id, never raises."""
         self.awake = True
         try:
@@ -65,7 +78,7 @@ class PlanarObject:
     def _execute(self, command: PlanarCommand) -> None:
         raise NotImplementedError
 
-    def publish_status(self) -> bool:
+    def _publish(self) -> bool:
         """Show the new status (read in the next cycle); returns whether to stay awake."""
         self.commands.publish()
         return False
@@ -200,15 +213,15 @@ class PlanarSystem:
         for obj, _ in sent:
             obj.commands.take()
         for obj, command in sent:  # call order across all objects (§6.3.2)
-            obj.run_command(command)
+            obj.port.run(command)
         if self.table.size:
             self.table.evaluate(now, *self._values)
         if self.traffic is not None:
             self.traffic.advance(now, self._values)
         for mover in self.movers:
             if mover.next_event <= now:
-                mover.after_motion(now)
+                mover.port.after_motion(now)
         for obj in self._objects:
             if obj.awake:
-                obj.awake = obj.publish_status()
+                obj.awake = obj.port.publish()
         self.published += 1

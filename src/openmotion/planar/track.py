@@ -373,7 +373,7 @@ class MC_PlanarTrack(StatefulObject):
         elif kind == "RemoveFromGroup":
             if self._group is None:
                 raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP, f"{self.name} is in no group")
-            self._group.leave(self.member)
+            self._group.port.leave(self.member)
             self._group, self.band = None, False
         else:
             self._edit(kind, command.args)
@@ -475,7 +475,7 @@ class MC_PlanarTrack(StatefulObject):
         if self._group is not None:
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                                   f"{self.name} is in group 16#{self._group.oid:08X} already")
-        group.admit(self, None, self.member)
+        group.port.admit(self, None, self.member)
         self._group = group
 
     def surface(self):  # noqa: ANN201 - a shapely Polygon
@@ -487,7 +487,7 @@ class MC_PlanarTrack(StatefulObject):
         half = math.hypot(self.max_mover_width, self.max_mover_height) / 2.0
         return shapely.LineString(np.column_stack((x, y))).buffer(half)
 
-    def publish_status(self) -> bool:
+    def _publish(self) -> bool:
         self.states.update()
         self.commands.publish()
         self.network.touch()  # a state change makes the track usable or not

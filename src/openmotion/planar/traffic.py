@@ -162,11 +162,9 @@ class Owner(Protocol):
 
     awake: bool  #: publish its status at the end of this cycle
 
-    def on_track_finished(self, command: PlanarCommand | None) -> None: ...
-
-    def admit_way(self, tracks: list[Any]) -> None:
-        """Raises ``CommandRejected`` when the mover may not move onto ``tracks``."""
-        ...
+    #: ``track_finished(command)``: its track command ended (or its halt);
+    #: ``admit_way(tracks)``: raises ``CommandRejected`` when it may not move onto ``tracks``
+    port: Any
 
 
 @dataclass
@@ -1190,7 +1188,7 @@ class Traffic:
         if any(leg.track is track for leg in rider.route):
             return True
         try:
-            rider.owner.admit_way([*(leg.track for leg in rider.route), track])
+            rider.owner.port.admit_way([*(leg.track for leg in rider.route), track])
         except CommandRejected as refused:
             coupling.blocked = refused
             return False
@@ -1564,7 +1562,7 @@ class Traffic:
                     self._routed(rider)
                     self._pairs = self._geo = None
                 self._hold(rider, values)
-                rider.owner.on_track_finished(command)
+                rider.owner.port.track_finished(command)
             else:
                 self.mode[k] = HELD  # queued behind a rider: wait for room
         for k in resting(self.mode, HELD, self.v, self.a).tolist():
@@ -1577,7 +1575,7 @@ class Traffic:
                     command.reject(*rider.gear.failed)  # held by the gap filter meanwhile
                 rider.gear = None
                 self._hold(rider, values)
-                rider.owner.on_track_finished(command)
+                rider.owner.port.track_finished(command)
 
     def _hold(self, rider: Rider, values: list[np.ndarray]) -> None:
         """A rider at rest: its x, y and c rows hold where it stands (cycles in which no
