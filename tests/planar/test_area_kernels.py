@@ -9,7 +9,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from openmotion.planar.area_kernels import convex_hull, interiors_meet, line_piece_hull
-from openmotion.planar.reservation import NOISE, footprint, footprint_area
+from openmotion.planar.reservation import footprint, footprint_area
+from openmotion.planar.tolerances import DISTANCE_NOISE as NOISE
 
 HALF = 77.5
 coordinate = st.floats(-500.0, 500.0)

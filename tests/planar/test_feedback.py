@@ -59,11 +59,11 @@ def test_lifecycle_busy_active_done_each_one_update_after_the_change():
     assert outputs(feedback) == "busy"  # sent: being processed
     command = processed(queue)
     assert command.args == ((1000.0, 1000.0),)
-    command.started()
+    command.start()
     assert outputs(feedback) == "busy"  # the object's update has not published yet
     queue.publish()
     assert outputs(feedback) == "busy active"
-    command.finished()
+    command.finish()
     assert outputs(feedback) == "busy active"
     queue.publish()
     assert outputs(feedback) == "done"  # §6.7.1: Done, not Active, not Busy
@@ -73,11 +73,11 @@ def test_an_accepted_command_that_waits_is_busy_but_not_active():
     queue, feedback = CommandQueue(), MC_PlanarFeedback()
     queue.send("MoveOnTrack", feedback)
     command = processed(queue)
-    command.accepted()
+    command.accept()
     queue.publish()
     assert command.phase is CommandPhase.ACCEPTED and outputs(feedback) == "busy"
-    command.started()
-    command.accepted()  # no way back
+    command.start()
+    command.accept()  # no way back
     queue.publish()
     assert command.phase is CommandPhase.ACTIVE and outputs(feedback) == "busy active"
 
@@ -86,7 +86,7 @@ def test_collision_rejection_names_the_partner():
     """§6.7.2: 33158 (16#8186) with the environment 16#05120010 (85065744) as partner."""
     queue, feedback = CommandQueue(), MC_PlanarFeedback()
     queue.send("MoveToPosition", feedback)
-    processed(queue).rejected(ErrorId.PLANAR_COLLISION, "area reserved", ENVIRONMENT)
+    processed(queue).reject(ErrorId.PLANAR_COLLISION, "area reserved", ENVIRONMENT)
     queue.publish()
     assert outputs(feedback) == "error"
     assert feedback.error_id == 33158
@@ -98,7 +98,7 @@ def test_collision_rejection_names_the_partner():
 def test_a_rejection_without_partner_keeps_the_reset_object_info():
     queue, feedback = CommandQueue(), MC_PlanarFeedback()
     queue.send("JoinTrack", feedback)
-    processed(queue).rejected(ErrorId.PLANAR_WRONG_MODE, "on a track")
+    processed(queue).reject(ErrorId.PLANAR_WRONG_MODE, "on a track")
     queue.publish()
     assert feedback.error and feedback.object_info == PlanarObjectInfo()
 
@@ -107,12 +107,12 @@ def test_a_newer_command_aborts_the_running_one():
     queue, first, second = CommandQueue(), MC_PlanarFeedback(), MC_PlanarFeedback()
     queue.send("MoveToPosition", first)
     running = processed(queue)
-    running.started()
+    running.start()
     queue.publish()
     queue.send("MoveToPosition", second)
     newer = processed(queue)
-    running.aborted()
-    newer.started()
+    running.abort()
+    newer.start()
     queue.publish()
     assert outputs(first) == "aborted" and outputs(second) == "busy active"
 
@@ -122,15 +122,15 @@ def test_a_reused_feedback_resets_at_once_and_follows_only_the_new_command():
     queue, feedback = CommandQueue(), MC_PlanarFeedback()
     queue.send("Enable", feedback)
     enable = processed(queue)
-    enable.finished()
+    enable.finish()
     queue.publish()
     assert outputs(feedback) == "done"
     queue.send("MoveToPosition", feedback)
     assert outputs(feedback) == "busy"  # the old Done is gone with the call
     move = processed(queue)
-    move.started()
+    move.start()
     queue.publish()
-    enable.aborted()  # ignored: it ended already
+    enable.abort()  # ignored: it ended already
     enable.publish()  # ignored: the feedback follows the move now
     assert outputs(feedback) == "busy active"
 
@@ -139,12 +139,12 @@ def test_the_old_command_no_longer_writes_to_a_reused_feedback():
     queue, feedback = CommandQueue(), MC_PlanarFeedback()
     queue.send("MoveToPosition", feedback)
     old = processed(queue)
-    old.started()
+    old.start()
     queue.publish()
     queue.send("MoveToPosition", feedback)
     new = processed(queue)
-    old.aborted()
-    new.rejected(ErrorId.PLANAR_COLLISION, "reserved", ENVIRONMENT)
+    old.abort()
+    new.reject(ErrorId.PLANAR_COLLISION, "reserved", ENVIRONMENT)
     queue.publish()
     assert outputs(feedback) == "error" and feedback.error_id is ErrorId.PLANAR_COLLISION
     assert old.phase is CommandPhase.ABORTED
@@ -152,10 +152,10 @@ def test_the_old_command_no_longer_writes_to_a_reused_feedback():
 
 def test_the_first_end_wins():
     command = PlanarCommand("Halt")
-    command.finished()
-    command.aborted()
-    command.rejected(ErrorId.PLANAR_WRONG_STATE, "late")
-    command.started()
+    command.finish()
+    command.abort()
+    command.reject(ErrorId.PLANAR_WRONG_STATE, "late")
+    command.start()
     assert (command.phase, command.error_id, command.busy) == (
         CommandPhase.DONE, ErrorId.NO_ERROR, False)
 
@@ -164,9 +164,9 @@ def test_no_feedback_is_plc_zero_and_the_command_still_keeps_its_status():
     queue = CommandQueue()
     queue.send("MoveZ", None, 5.0)
     command = processed(queue)
-    command.started()
+    command.start()
     queue.publish()
-    command.rejected(ErrorId.PLANAR_POSITION_LIMIT, "z above 6 mm")
+    command.reject(ErrorId.PLANAR_POSITION_LIMIT, "z above 6 mm")
     queue.publish()
     assert command.phase is CommandPhase.ERROR and command.message == "z above 6 mm"
 
@@ -174,7 +174,7 @@ def test_no_feedback_is_plc_zero_and_the_command_still_keeps_its_status():
 def test_the_user_update_shows_what_the_object_published():
     queue, feedback = CommandQueue(), MC_PlanarFeedback()
     queue.send("MoveC", feedback)
-    processed(queue).finished()
+    processed(queue).finish()
     queue.publish()
     feedback.update()
     feedback.update()
@@ -197,10 +197,10 @@ def test_publish_shows_taken_commands_until_they_end_then_drops_them():
     queue.publish()
     assert feedback.updates == 0  # sent, not taken: the object has not seen it
     command = processed(queue)
-    command.started()
+    command.start()
     queue.publish()
     queue.publish()
-    command.finished()
+    command.finish()
     queue.publish()
     queue.publish()
     assert feedback.updates == 3
@@ -222,7 +222,7 @@ def test_gear_feedbacks_show_in_sync_and_have_no_done(kind: type[MC_PlanarFeedba
     assert isinstance(feedback, MC_PlanarFeedbackInSync) and not hasattr(feedback, "done")
     queue.send("GearInPosOnTrack", feedback)
     command = processed(queue)
-    command.started()
+    command.start()
     command.in_sync = True
     queue.publish()
     assert outputs(feedback) == "busy active in_sync"
@@ -230,7 +230,7 @@ def test_gear_feedbacks_show_in_sync_and_have_no_done(kind: type[MC_PlanarFeedba
     queue.publish()
     assert outputs(feedback) == "busy active"
     command.in_sync = True
-    command.aborted()
+    command.abort()
     queue.publish()
     assert outputs(feedback) == "aborted"  # out of sync once it ended
 
@@ -238,7 +238,7 @@ def test_gear_feedbacks_show_in_sync_and_have_no_done(kind: type[MC_PlanarFeedba
 def test_a_finished_gear_command_only_stops_being_busy():
     queue, feedback = CommandQueue(), MC_PlanarFeedbackGearInPosOnTrack()
     queue.send("GearInPosOnTrack", feedback)
-    processed(queue).finished()
+    processed(queue).finish()
     queue.publish()
     assert outputs(feedback) == "-"
 
@@ -275,7 +275,7 @@ def test_stream_feedback_is_neither_done_on_stop_nor_aborted_by_halt():
     queue = CommandQueue()
     stream.call(feedback)
     queue.send("Halt", halt)
-    processed(queue).finished()
+    processed(queue).finish()
     queue.publish()
     feedback.update()
     assert outputs(feedback) == "busy active" and outputs(halt) == "done"

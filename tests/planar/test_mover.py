@@ -111,7 +111,7 @@ def test_a_moves_area_is_the_swept_area_of_its_sampled_path():
 
     def spy(mover, profiles, start, straight):  # noqa: ANN001, ANN202
         samples, area = original(mover, profiles, start, straight)
-        step = mover._system.cycle_time * 10
+        step = mover.system.cycle_time * 10
         expected_samples, path = sample_path(mover._future_plans(profiles, start), start, step)
         expected = swept_area(path)
         assert np.array_equal(samples, expected_samples)

@@ -650,7 +650,7 @@ class Run:
         rt.run_until(lambda: all(not j.busy for j in joins), timeout=2.0)
         assert all(j.done for j in joins), [(j.kind, j.message) for j in joins if not j.done]
         self.gaps = [gap for _, _, gap in scenario.movers]
-        self.system = self.tracks[0]._system
+        self.system = self.tracks[0].system
         self.traffic = traffic_of(self.system) if self.movers else None
         self.rows = np.array([[m._row0, m._row0 + 1, m._row0 + 5] for m in self.movers],
                              dtype=np.int64).reshape(-1, 3)

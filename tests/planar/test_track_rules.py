@@ -192,7 +192,7 @@ def _ride(rt: om.Runtime, *watched: MC_PlanarMover, until: object = None,
     """Cycles until ``until`` (a command) is no longer busy (or ``timeout``): per cycle and
     mover, its path coordinate, velocity and acceleration (``path_state``: the arc length
     summed over its way, §6.1.9) and its arc length on the track."""
-    traffic = traffic_of(watched[0]._system)
+    traffic = traffic_of(watched[0].system)
     log = []
     for _ in range(round(timeout / 0.001)):
         rt.step()
@@ -215,7 +215,7 @@ def _check_limits(rt: om.Runtime, mover: MC_PlanarMover,
                   log: list[tuple[float, float, float, float]]) -> None:
     """Velocity and acceleration along the path stay within the command's limits, and the
     path coordinate runs on without a jump."""
-    limits = traffic_of(mover._system).limits[:, mover._rider.slot]
+    limits = traffic_of(mover.system).limits[:, mover._rider.slot]
     q, v, a = (np.array(column) for column in list(zip(*log, strict=True))[:3])
     assert np.abs(v).max() <= limits[0] * (1 + 1e-9)
     assert np.abs(a).max() <= max(limits[1], limits[2]) * (1 + 1e-9)
@@ -232,7 +232,7 @@ def test_negative_moves_back_over_a_loops_seam_to_its_target():
     loop = enabled_loop(rt)
     length = loop.get_length()
     _joined(rt, loop, mover)
-    start = traffic_of(mover._system).path_state(mover._rider)[0]
+    start = traffic_of(mover.system).path_state(mover._rider)[0]
     move = mover.move_on_track(None, length - 200.0, options=ST_MoveOnTrackOptions(
         direction=ModuloDirection.NEGATIVE))
     log = [row[0] for row in _ride(rt, mover, until=move)]
@@ -257,7 +257,7 @@ def test_negative_with_additional_turns_travels_the_extra_laps_back(turns: int):
     loop = enabled_loop(rt)
     length = loop.get_length()
     _joined(rt, loop, mover)
-    start = traffic_of(mover._system).path_state(mover._rider)[0]
+    start = traffic_of(mover.system).path_state(mover._rider)[0]
     move = mover.move_on_track(None, 50.0, options=ST_MoveOnTrackOptions(
         direction=ModuloDirection.NEGATIVE, additional_turns=turns))
     log = [row[0] for row in _ride(rt, mover, until=move, timeout=30.0)]
@@ -278,7 +278,7 @@ def test_shortest_way_takes_the_shorter_way_round_the_seam_or_not(target: float,
     loop = enabled_loop(rt)
     length = loop.get_length()
     _joined(rt, loop, mover)
-    start = traffic_of(mover._system).path_state(mover._rider)[0]
+    start = traffic_of(mover.system).path_state(mover._rider)[0]
     position = target % length
     move = mover.move_on_track(None, position, options=ST_MoveOnTrackOptions(
         direction=ModuloDirection.SHORTEST_WAY))
@@ -301,7 +301,7 @@ def test_positive_within_the_modulo_tolerance_takes_the_near_way_back_over_the_s
     length = loop.get_length()
     _joined(rt, loop, mover)
     assert _s(mover) == pytest.approx(5.0)
-    start = traffic_of(mover._system).path_state(mover._rider)[0]
+    start = traffic_of(mover.system).path_state(mover._rider)[0]
     move = mover.move_on_track(None, length - 3.0, options=ST_MoveOnTrackOptions(
         direction=ModuloDirection.POSITIVE, additional_turns=turns, modulo_tolerance=10.0))
     log = [row[0] for row in _ride(rt, mover, until=move)]

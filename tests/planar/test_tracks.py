@@ -494,7 +494,7 @@ def test_6_5_a_track_in_a_group_is_refused_while_a_mover_stands_on_it():
 
 
 def _holders(group: MC_PlanarGroup) -> list[MC_PlanarTrack]:
-    return [t for t in group._system.network.tracks if not group.reserved(t.member).is_empty]
+    return [t for t in group.system.network.tracks if not group.reserved(t.member).is_empty]
 
 
 def test_a_free_move_across_a_moving_track_is_refused_naming_the_track():

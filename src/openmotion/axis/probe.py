@@ -223,12 +223,13 @@ class _ProbeCycle:
                 position %= self.period
             if self.window is None or self.window.contains(position):
                 self.command.value = position
-                self._end(CommandStatus.DONE, now, TouchProbeState.INACTIVE)
+                self.end(CommandStatus.DONE, now, TouchProbeState.INACTIVE)
                 return False
             self.rejected.append(position)  # the latch re-arms at once
         return True
 
-    def _end(self, status: CommandStatus, now: float, state: TouchProbeState) -> None:
+    def end(self, status: CommandStatus, now: float, state: TouchProbeState) -> None:
+        """Finish the cycle's command, show ``state`` on the TriggerInput and disarm."""
         self.command.end(status, now)
         self.ref.probe_state = state
         if _ARMED.get(self.ref) is self:
@@ -283,7 +284,7 @@ def arm_probe(axis: Axis, ref: InputRef, window_only: bool = False,
         command.end(CommandStatus.ERROR, rt.now, rejected.error_id, rejected.message)
         return command
     cycle = _ProbeCycle(axis, ref, window, command)
-    command.status = CommandStatus.ACTIVE
+    command.start()
     ref.probe_state = TouchProbeState.ACTIVATED
     _ARMED[ref] = cycle
     axis.system.watch(axis, cycle.step)
@@ -295,7 +296,7 @@ def abort_probe(ref: InputRef, now: float) -> bool:
     cycle = _ARMED.get(ref)
     if cycle is None or cycle.command.finished:
         return False
-    cycle._end(CommandStatus.ABORTED, now, TouchProbeState.ABORTED)
+    cycle.end(CommandStatus.ABORTED, now, TouchProbeState.ABORTED)
     return True
 
 

@@ -119,7 +119,7 @@ class TrackPath:
         if self.empty:
             return "TrackPath(empty)"
         shape = "closed" if self.closed else "open"
-        return f"TrackPath({len(self._table.kinds)} pieces, length={self.length:.6g}, {shape})"
+        return f"TrackPath({len(self.table.kinds)} pieces, length={self.length:.6g}, {shape})"
 
     # -- building (§7.2.2.10.2-§7.2.2.10.7) -------------------------------------------------
 
@@ -241,7 +241,7 @@ class TrackPath:
     @property
     def length(self) -> float:
         """[mm] including every transition (GetLength, §7.2.2.10.15)."""
-        return float(self._table.starts[-1])
+        return float(self.table.starts[-1])
 
     @property
     def pieces(self) -> tuple[TrackPiece, ...]:
@@ -276,7 +276,8 @@ class TrackPath:
         return self._nonempty()[0]
 
     @property
-    def _table(self) -> TrackTable:
+    def table(self) -> TrackTable:
+        """The pieces as arrays for the compiled kernels; a new object when the path changes."""
         return self._nonempty()[1]
 
     def _nonempty(self) -> tuple[list[Piece], TrackTable]:
@@ -315,7 +316,7 @@ class TrackPath:
         """x, y [mm], heading [rad, in (-π, π]] and curvature [1/mm] at the arc lengths ``s``
         [mm] (any shape; modulo the length on a closed loop, clamped on an open track)."""
         values = np.asarray(s, dtype=float)
-        flat, t = np.ascontiguousarray(values.reshape(-1)), self._table
+        flat, t = np.ascontiguousarray(values.reshape(-1)), self.table
         out = frames(flat, t.starts, t.kinds, t.rows, t.origins, t.coefficients, t.first,
                      t.second, t.tables, t.speeds, t.closed)
         return tuple(out[:, k].reshape(values.shape) for k in range(4))
@@ -350,7 +351,7 @@ class TrackPath:
 
     def _closest(self, points: ArrayLike) -> NDArray[np.float64]:
         array = np.ascontiguousarray(np.asarray(points, dtype=float).reshape(-1, 2))
-        t = self._table
+        t = self.table
         return closest(array, t.starts, t.kinds, t.rows, t.origins, t.coefficients, t.first,
                        t.second, t.tables, t.boxes, t.closed)
 

@@ -1,7 +1,9 @@
 """The command handle every system gives its callers: one status, one way to finish.
 
 Blocks and the Python layer read ``done``, ``busy``, ``active``, ``aborted``, ``error`` and
-``error_id``; the system that runs the command finishes it with ``end``.
+``error_id``; the system that runs the command starts it with ``start`` and finishes it with
+``end``. Every system hands out this type: the planar objects a subclass with the TF5430
+feedback's extra outputs (planar/feedback.py, D-238).
 """
 
 from __future__ import annotations
@@ -65,6 +67,11 @@ class Command:
     def finished(self) -> bool:
         """Done, aborted or failed: nothing more will happen."""
         return self.status > CommandStatus.ACTIVE
+
+    def start(self) -> None:
+        """The command controls its object now (Active); an active or ended one stays so."""
+        if self.status is CommandStatus.BUFFERED:
+            self.status = CommandStatus.ACTIVE
 
     def release(self) -> None:
         """End a held stop (the falling edge of MC_Stop.Execute)."""

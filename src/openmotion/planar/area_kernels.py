@@ -25,8 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from openmotion.core.compiled import compiled, search_right, sort_in_place
-
-_DEDUPE = 1e-12  #: [s] sample times closer than this to the one before are dropped
+from openmotion.planar.tolerances import SAMPLE_TIME_PRECISION
 
 
 @compiled
@@ -95,7 +94,7 @@ def straight_runs(s: NDArray[np.float64], x: NDArray[np.float64], x_t0: float, x
     samples = np.empty(n)
     kept = 0
     for i in range(n):
-        if i == 0 or times[i] - times[i - 1] > _DEDUPE:
+        if i == 0 or times[i] - times[i - 1] > SAMPLE_TIME_PRECISION:
             samples[kept] = times[i] - start
             kept += 1
     samples = samples[:kept]

@@ -8,6 +8,8 @@ commands of MC_PlanarPart (§6.6.1) and resolves the reference ids of targets (�
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
@@ -22,12 +24,13 @@ from openmotion.planar.group import planar_group
 from openmotion.planar.kind import PLANAR_ENVIRONMENT
 from openmotion.planar.motion import sample_path
 from openmotion.planar.options import CDT_MCTOPLC_PLANAR_ENVIRONMENT_STD
-from openmotion.planar.parts import TOLERANCE, Part, PartLayout, PartPosition
+from openmotion.planar.parts import Part, PartLayout, PartPosition
 from openmotion.planar.positions import PositionXYC, finite
 from openmotion.planar.reservation import MemberId, footprint, grown_surface, path_on_surface
 from openmotion.planar.states import ErrorReaction
 from openmotion.planar.stators import Boundary, StatorField
-from openmotion.planar.system import PlanarObject, PlanarSystem
+from openmotion.planar.system import ObjectPort, PlanarObject, PlanarSystem
+from openmotion.planar.tolerances import PART_TOLERANCE
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -47,7 +50,7 @@ def _keeps_parts_on(mover: MC_PlanarMover) -> bool:
     """§6.6: parts stay on while a mover of their system is on, is being switched off, or is
     in an error with the QuickStop reaction (through the error and its Reset). The Abort
     reaction, also one a Disable forces during the error, lets them go off."""
-    states = mover._states
+    states = mover.states
     if states.current in _ACTIVE:
         return True
     return states.current in _FAILED and states.reaction is ErrorReaction.QUICK_STOP
@@ -56,15 +59,15 @@ def _keeps_parts_on(mover: MC_PlanarMover) -> bool:
 def _busy(mover: MC_PlanarMover) -> bool:
     """Not at standstill: a motion runs (a brake too), it rides a track, or external
     setpoints drive it."""
-    if mover._motions or mover._modes.external is not ExternalSetPositionMode.NONE:
+    if mover.in_motion or mover.modes.external is not ExternalSetPositionMode.NONE:
         return True
-    traffic = mover._system.traffic
-    return mover._rider is not None and traffic is not None and traffic.moving(mover._rider)
+    traffic = mover.system.traffic
+    return mover.rider is not None and traffic is not None and traffic.moving(mover.rider)
 
 
 def _overlap(area: BaseGeometry, footprints: list[BaseGeometry]) -> bool:
     """Whether any footprint covers part of ``area``; touching edges do not count."""
-    return bool((shapely.area(shapely.intersection(area, footprints)) > TOLERANCE).any())
+    return bool((shapely.area(shapely.intersection(area, footprints)) > PART_TOLERANCE).any())
 
 
 def _oid_text(oid: object) -> str:
@@ -72,6 +75,19 @@ def _oid_text(oid: object) -> str:
     if isinstance(oid, int) and not isinstance(oid, bool) and 0 <= oid <= 0xFFFF_FFFF:
         return f"16#{oid:08X}"
     return repr(oid)
+
+
+@dataclass(frozen=True)
+class EnvironmentPort(ObjectPort):
+    """What the movers and the MC_PlanarPart handles call on the environment (D-239)."""
+
+    place: Callable[[MC_PlanarMover], None]  #: a new mover into its initial part's system
+    #: a PositionXYC target and the mover's coordinate system -> (system OID, pose in it)
+    resolve: Callable[[PositionXYC, int], tuple[int, Pose]]
+    part_ready: Callable[[MC_PlanarMover], bool]  #: its parts are on: Enable/Reset may end
+    reset_parts: Callable[[int], None]  #: Reset of a mover: the parts of its system first
+    #: an MC_PlanarPart's command: (kind, feedback, part OID, *args) -> its PlanarCommand
+    send_part_command: Callable[..., PlanarCommand]
 
 
 class MC_PlanarEnvironment(PlanarObject):
@@ -96,6 +112,11 @@ class MC_PlanarEnvironment(PlanarObject):
         self._group: MC_PlanarGroup | None = None
         self.error = False  #: the environment has no state machine (§7.2.2.1)
         self.error_id = ErrorId.NO_ERROR
+        #: what the movers and the part handles call on it besides the system's hooks
+        self.port = EnvironmentPort(self._run, self._publish, place=self._place,
+                                    resolve=self._resolve, part_ready=self._part_ready,
+                                    reset_parts=self._reset_parts,
+                                    send_part_command=self._send_part_command)
         system.environments.append(self)
         system.register(self)
         for mover in system.movers:
@@ -162,12 +183,12 @@ class MC_PlanarEnvironment(PlanarObject):
             if self._group is None:
                 raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP, "the environment is in no "
                                       "group")
-            self._group._leave(self.member)
+            self._group.port.leave(self.member)
             self._group = None
         elif kind.startswith("Part."):
             self._part_command(command)
             return
-        command.finished()
+        command.finish()
 
     def _create_boundary(self) -> None:
         try:
@@ -196,7 +217,7 @@ class MC_PlanarEnvironment(PlanarObject):
         if self._group is not None:
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                                   f"the environment is in group 16#{self._group.oid:08X} already")
-        group._admit(self, self.surface, self.member)
+        group.port.admit(self, self.surface, self.member)
         self._group = group
 
     def _surface_changed(self) -> None:
@@ -226,25 +247,25 @@ class MC_PlanarEnvironment(PlanarObject):
         """Parts follow the movers of their coordinate system, and a part that fails or is
         force-disabled takes the movers on it into error (§6.6): checked every cycle."""
         if self.layout is not None:
-            active = {m.coordinate_system for m in self._system.movers if _keeps_parts_on(m)}
+            active = {m.coordinate_system for m in self.system.movers if _keeps_parts_on(m)}
             self.layout.follow_movers(active)
             self.layout.update()
-            for mover in self._system.movers:
+            for mover in self.system.movers:
                 part = self._part_of(mover)
-                if mover._states.current is PlanarState.ENABLED and part is not None and \
+                if mover.states.current is PlanarState.ENABLED and part is not None and \
                         (part.disable_forced or part.state in _FAILED):
                     why = "is force-disabled" if part.disable_forced else "has an error"
-                    mover._states.fail(ErrorId.PLANAR_PART_NOT_ENABLED, ErrorReaction.ABORT,
+                    mover.states.fail(ErrorId.PLANAR_PART_NOT_ENABLED, ErrorReaction.ABORT,
                                        f"part 16#{part.oid:08X} under the mover {why} (§6.6)")
-                    mover._awake = True
-        self._queue.publish()
+                    mover.awake = True
+        self.commands.publish()
         return self.layout is not None
 
     def _part_of(self, mover: MC_PlanarMover) -> Part | None:
         """The part under the mover's centre, in its coordinate system."""
         if self.layout is None:
             return None
-        return self.layout._part_under(mover.coordinate_system, mover.pose)
+        return self.layout.part_under(mover.coordinate_system, mover.pose)
 
     def _part_ready(self, mover: MC_PlanarMover) -> bool:
         """Enable and Reset of a mover wait for the part under it (§6.6): Enable, and a Reset
@@ -258,8 +279,8 @@ class MC_PlanarEnvironment(PlanarObject):
             return False
         if part.state in _PART_ERRORS:
             return self._part_refuses(mover, part, "has an error")
-        if mover._states.current is PlanarState.RESETTING and \
-                mover._states.reaction is ErrorReaction.ABORT:
+        if mover.states.current is PlanarState.RESETTING and \
+                mover.states.reaction is ErrorReaction.ABORT:
             return True
         if part.disable_forced:
             return self._part_refuses(mover, part, "is force-disabled")
@@ -267,7 +288,7 @@ class MC_PlanarEnvironment(PlanarObject):
 
     @staticmethod
     def _part_refuses(mover: MC_PlanarMover, part: Part, why: str) -> bool:
-        mover._states.fail(ErrorId.PLANAR_PART_NOT_ENABLED, ErrorReaction.ABORT,
+        mover.states.fail(ErrorId.PLANAR_PART_NOT_ENABLED, ErrorReaction.ABORT,
                            f"part 16#{part.oid:08X} under the mover {why} (§6.6)")
         return False
 
@@ -312,9 +333,14 @@ class MC_PlanarEnvironment(PlanarObject):
             mover.coordinate_system = position.coordinate_system
             start = mover.parameters.initial_position
             pose = position.pose.compose(Pose(start.x, start.y, start.c))
-            mover._place(pose)
+            mover.port.place(pose)
         elif layout.is_static or len(layout.coordinate_systems) == 1:
             mover.coordinate_system = layout.coordinate_systems[0]
+
+    def _send_part_command(self, kind: str, feedback: MC_PlanarFeedbackBase | None,
+                          *args: object) -> PlanarCommand:
+        """An MC_PlanarPart's command: it travels through the environment (§6.6.1)."""
+        return self._send(kind, feedback, *args)
 
     def _part_command(self, command: PlanarCommand) -> None:
         part_oid, *args = command.args
@@ -329,8 +355,8 @@ class MC_PlanarEnvironment(PlanarObject):
         kind = command.kind.removeprefix("Part.")
         if kind == "Initialize":
             (handle,) = args
-            if handle.part_oid == part_oid and handle._environment is self:  # not re-aimed
-                handle._initialized = True
+            (confirm,) = args  # the handle's own confirmation, as it sent it
+            confirm(self, part_oid)
         elif kind == "ActivatePosition":
             self._activate_position(part, *args)
         elif kind == "AllowEnable":
@@ -339,7 +365,7 @@ class MC_PlanarEnvironment(PlanarObject):
             part.force_disable()
         elif kind == "Reset":
             part.reset()
-        command.finished()
+        command.finish()
 
     def _activate_position(self, part: Part, index: int) -> None:
         """ActivatePosition (§7.2.2.9.2): the part moves with the movers standing on it
@@ -351,7 +377,7 @@ class MC_PlanarEnvironment(PlanarObject):
         layout.check_activation(part.oid, index)
         before, area = part.active_position, part.surface()
         if part.positions[index - 1] == before:
-            part._position_index = index
+            part.position_index = index
             return
         old_index = part.position_index
         self._check_movers(part, index)
@@ -361,7 +387,7 @@ class MC_PlanarEnvironment(PlanarObject):
             try:
                 field = self._layout_field()
             except ConfigError as bad:  # the parts would leave the stator grid
-                part._position_index = old_index
+                part.position_index = old_index
                 raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT, str(bad)) from None
         self._carry(before, part.active_position, area)
         if field is not None:
@@ -377,7 +403,7 @@ class MC_PlanarEnvironment(PlanarObject):
         before, after = part.active_position, part.positions[index - 1]
         places = ((before.coordinate_system, part.surface()),
                   (after.coordinate_system, part.surface(index)))
-        for mover in self._system.movers:
+        for mover in self.system.movers:
             busy = _busy(mover)
             if not busy and mover.coordinate_system == before.coordinate_system and \
                     places[0][1].covers(mover.footprint().centroid):
@@ -399,11 +425,11 @@ class MC_PlanarEnvironment(PlanarObject):
     def _footprints_ahead(self, mover: MC_PlanarMover) -> list[BaseGeometry]:
         """The footprints of a moving mover now and along the rest of its free motion (on a
         track the traffic drives it: only where it is now counts)."""
-        if mover._rider is not None:
+        if mover.rider is not None:
             return [mover.footprint()]
-        previous = self._system.previous
-        _, path = sample_path(mover._future_plans({}, previous), previous,
-                              self._system.cycle_time * _SAMPLE_CYCLES)
+        previous = self.system.previous
+        _, path = sample_path(mover.port.future_plans({}, previous), previous,
+                              self.system.cycle_time * _SAMPLE_CYCLES)
         width, height = mover.parameters.mover_width, mover.parameters.mover_height
         return [mover.footprint(), *(footprint(x, y, c, width, height)
                                      for x, y, c in path.tolist())]
@@ -412,14 +438,14 @@ class MC_PlanarEnvironment(PlanarObject):
         """Movers standing on a part that changes position ride along (§6.6.1); in a group
         their footprint goes with them."""
         move = after.pose.compose(before.pose.inverse())
-        for mover in self._system.movers:
+        for mover in self.system.movers:
             if mover.coordinate_system == before.coordinate_system and \
                     area.covers(mover.footprint().centroid):
                 pose = move.compose(mover.pose)
                 mover.coordinate_system = after.coordinate_system
-                mover._place(pose)
-                if mover._group is not None:
-                    mover._group.registry.settle(mover.member, mover._standing_area(pose))
+                mover.port.place(pose)
+                if mover.group is not None:
+                    mover.group.registry.settle(mover.member, mover.port.standing_area(pose))
 
 
 class MC_PlanarPart:
@@ -430,6 +456,12 @@ class MC_PlanarPart:
         self.part_oid = 0
         self._environment: MC_PlanarEnvironment | None = None
         self._initialized = False  #: set by the environment when it knows the part
+
+    def _initialized_by(self, environment: MC_PlanarEnvironment, part_oid: int) -> None:
+        """Told by ``environment`` that it ran Initialize for ``part_oid``: the handle is
+        initialized, unless it has been aimed at another part or environment since."""
+        if self.part_oid == part_oid and self._environment is environment:
+            self._initialized = True
 
     @property
     def is_initialized(self) -> bool:
@@ -448,7 +480,8 @@ class MC_PlanarPart:
         self.part_oid = part_oid
         self._environment = environment
         self._initialized = False
-        return environment._send("Part.Initialize", feedback, part_oid, self)
+        return environment.port.send_part_command("Part.Initialize", feedback, part_oid,
+                                                  self._initialized_by)
 
     @property
     def position_index(self) -> int:
@@ -496,9 +529,10 @@ class MC_PlanarPart:
         to send to: the command ends at once with INVALID_REFERENCE_ID (part OID 0)."""
         if self._environment is None:
             command = PlanarCommand(f"Part.{kind}", feedback, args)
-            command.rejected(ErrorId.INVALID_REFERENCE_ID, "MC_PlanarPart is not initialized "
-                             "(part OID 0): call initialize(part_oid, environment) first "
-                             "(§7.2.2.9.1)")
+            command.reject(ErrorId.INVALID_REFERENCE_ID, "MC_PlanarPart is not initialized "
+                           "(part OID 0): call initialize(part_oid, environment) first "
+                           "(§7.2.2.9.1)")
             command.publish()
             return command
-        return self._environment._send(f"Part.{kind}", feedback, self.part_oid, *args)
+        return self._environment.port.send_part_command(f"Part.{kind}", feedback,
+                                                        self.part_oid, *args)

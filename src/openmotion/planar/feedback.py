@@ -22,11 +22,13 @@ The feedback of SetExternalSetpointReferenceId follows its own rules (§6.1.7):
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from enum import IntEnum
-from typing import Any
+from typing import Any, ClassVar
 
 from openmotion.core.errors import ErrorId
+from openmotion.kernel.command import Command, CommandStatus
 from openmotion.planar.enums import PlanarObjectType
 
 
@@ -39,7 +41,8 @@ class PlanarObjectInfo:
 
 
 class CommandPhase(IntEnum):
-    """Where a command is. SENT and ACCEPTED look the same on a feedback: Busy only."""
+    """Where a command is, as TF5430 tells it. SENT and ACCEPTED look the same on a feedback
+    (Busy only); both are the kernel's BUFFERED (``PlanarCommand.phase``)."""
 
     SENT = 0  #: called, not yet processed by the object
     ACCEPTED = 1  #: accepted, waits to execute
@@ -50,84 +53,81 @@ class CommandPhase(IntEnum):
 
 
 _NO_INFO = PlanarObjectInfo()
+_PHASES = {CommandStatus.ACTIVE: CommandPhase.ACTIVE, CommandStatus.DONE: CommandPhase.DONE,
+           CommandStatus.ABORTED: CommandPhase.ABORTED, CommandStatus.ERROR: CommandPhase.ERROR}
 
 
-class PlanarCommand:
-    """One command as the object that runs it sees it: the MC side of a feedback.
+class PlanarCommand(Command):
+    """The kernel's command handle with what a planar feedback shows besides (D-238).
 
-    The object reports progress with ``accepted()``, ``started()``, ``finished()``,
-    ``aborted()`` and ``rejected()``. The first report that ends the command wins and later
-    ones are ignored, so aborting a command that has just finished is harmless.
+    ``done``, ``busy``, ``active``, ``aborted``, ``error``, ``error_id``, ``message``,
+    ``issued_at`` and ``ended_at`` mean what they mean for every command; a planar command adds
+    the colliding ``object_info`` (§6.7.2), ``in_sync`` (§7.2.2.6), the call's ``args``, the
+    TF5430 ``phase`` and the feedback it shows its status on. The object reports progress with
+    ``accept()``, ``start()``, ``finish()``, ``abort()`` and ``reject()``. The first report
+    that ends the command wins and later ones are ignored, so aborting a command that has just
+    finished is harmless.
     """
 
-    __slots__ = ("kind", "args", "phase", "error_id", "message", "object_info", "in_sync",
-                 "warnings", "_feedback")
+    __slots__ = ("args", "object_info", "in_sync", "_accepted", "_feedback", "_clock")
 
     def __init__(self, kind: str, feedback: MC_PlanarFeedbackBase | None = None,
-                 args: tuple[Any, ...] = ()) -> None:
-        self.kind = kind  #: the manual's method name, e.g. "MoveToPosition"
+                 args: tuple[Any, ...] = (), clock: Callable[[], float] | None = None) -> None:
+        super().__init__(kind, clock() if clock is not None else 0.0)
         self.args = args  #: the call's arguments after the feedback, as given
-        self.phase = CommandPhase.SENT
-        self.error_id = ErrorId.NO_ERROR
-        self.message = ""
         self.object_info = _NO_INFO
         self.in_sync = False  #: shown by MC_PlanarFeedbackInSync feedbacks
-        self.warnings: list[str] = []  #: e.g. a clipped constraint (§6.1.9); no output shows it
+        self._accepted = False
+        self._clock = clock  #: the runtime's time for ``ended_at``; None: ``issued_at``
         self._feedback = feedback
-        if feedback is not None:
-            feedback._command = self
-            feedback._show(self)
+        if feedback is not None:  # from now on it shows this command (Busy), not an older one
+            feedback.command = self
+            show(feedback, self)
 
     @property
-    def busy(self) -> bool:
-        """Sent, waiting or executing: the command has not ended."""
-        return self.phase <= CommandPhase.ACTIVE
-
-    active = property(lambda self: self.phase is CommandPhase.ACTIVE)
-    done = property(lambda self: self.phase is CommandPhase.DONE)
-    error = property(lambda self: self.phase is CommandPhase.ERROR)
+    def phase(self) -> CommandPhase:
+        """The TF5430 view of ``status``: a buffered command is SENT or ACCEPTED."""
+        if self.status is CommandStatus.BUFFERED:
+            return CommandPhase.ACCEPTED if self._accepted else CommandPhase.SENT
+        return _PHASES[self.status]
 
     def __repr__(self) -> str:
         return f"<PlanarCommand {self.kind} {self.phase.name}>"
 
-    def accepted(self) -> None:
+    def accept(self) -> None:
         """The object took the command; it waits before it executes."""
-        if self.phase is CommandPhase.SENT:
-            self.phase = CommandPhase.ACCEPTED
+        self._accepted = True
 
-    def started(self) -> None:
-        """The command executes now (Active)."""
-        if self.phase < CommandPhase.ACTIVE:
-            self.phase = CommandPhase.ACTIVE
-
-    def finished(self) -> None:
+    def finish(self) -> None:
         """The command ended as it should (Done)."""
-        self._end(CommandPhase.DONE)
+        self.end(CommandStatus.DONE, self._now())
 
-    def aborted(self) -> None:
+    def abort(self) -> None:
         """Another command took over (Aborted)."""
-        self._end(CommandPhase.ABORTED)
+        self.end(CommandStatus.ABORTED, self._now())
 
-    def rejected(self, error_id: ErrorId, message: str,
-                 object_info: PlanarObjectInfo | None = None) -> None:
+    def reject(self, error_id: ErrorId, message: str,
+               object_info: PlanarObjectInfo | None = None) -> None:
         """The command was refused, or could not go on (Error). ``object_info`` names the
         collision partner (§6.7.2); without one it keeps its reset value (Invalid, 0)."""
-        self._end(CommandPhase.ERROR, error_id, message, object_info or _NO_INFO)
+        self.end(CommandStatus.ERROR, self._now(), error_id, message, object_info or _NO_INFO)
+
+    def end(self, status: CommandStatus, now: float, error_id: ErrorId = ErrorId.NO_ERROR,
+            message: str = "", object_info: PlanarObjectInfo = _NO_INFO) -> None:
+        """``Command.end`` that also sets ``object_info`` and drops ``in_sync``."""
+        if self.finished:
+            return
+        super().end(status, now, error_id, message)
+        self.object_info = object_info
+        self.in_sync = False
 
     def publish(self) -> None:
         """Show the status on the feedback, unless a newer command has taken it over."""
-        if self._feedback is not None and self._feedback._command is self:
+        if self._feedback is not None and self._feedback.command is self:
             self._feedback.update()
 
-    def _end(self, phase: CommandPhase, error_id: ErrorId = ErrorId.NO_ERROR, message: str = "",
-             object_info: PlanarObjectInfo = _NO_INFO) -> None:
-        if not self.busy:
-            return
-        self.phase = phase
-        self.error_id = error_id
-        self.message = message
-        self.object_info = object_info
-        self.in_sync = False
+    def _now(self) -> float:
+        return self._clock() if self._clock is not None else self.issued_at
 
 
 class CommandQueue:
@@ -135,17 +135,19 @@ class CommandQueue:
 
     The object's ``update()`` takes them (``take()``), processes them and ends with
     ``publish()``. That shows every command taken so far and still running, or ended since
-    the last publish, on its feedback. Ended commands are then dropped.
+    the last publish, on its feedback. Ended commands are then dropped. ``clock`` gives the
+    runtime's time for the commands' ``issued_at`` and ``ended_at``.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, clock: Callable[[], float] | None = None) -> None:
         self._sent: list[PlanarCommand] = []
         self._open: list[PlanarCommand] = []
+        self._clock = clock
 
     def send(self, kind: str, feedback: MC_PlanarFeedbackBase | None = None,
              *args: Any) -> PlanarCommand:
         """Record a method call; the object processes it in its next ``update()``."""
-        command = PlanarCommand(kind, feedback, args)
+        command = PlanarCommand(kind, feedback, args, self._clock)
         self._sent.append(command)
         return command
 
@@ -161,12 +163,23 @@ class CommandQueue:
         self._open = [command for command in self._open if command.busy]
 
 
+def show(feedback: MC_PlanarFeedbackBase, command: PlanarCommand) -> None:
+    """Set the outputs of ``feedback`` (its ``SHOWS``) from ``command``'s status."""
+    for name in feedback.SHOWS:
+        setattr(feedback, name, getattr(command, name))
+
+
 class MC_PlanarFeedbackBase:
     """What every feedback shows (§7.2.2.3): Active, Busy, Aborted, Error, ErrorId and
     objectInfo. ``message`` is openmotion's readable reason for an error."""
 
+    #: its outputs, each the command attribute of the same name (``show``)
+    SHOWS: ClassVar[tuple[str, ...]] = ("busy", "active", "aborted", "error", "error_id",
+                                        "object_info", "message")
+
     def __init__(self) -> None:
-        self._command: PlanarCommand | None = None
+        #: the command it shows: the one it was last passed with (openmotion's link, no output)
+        self.command: PlanarCommand | None = None
         self.active = False
         self.busy = False
         self.aborted = False
@@ -177,43 +190,29 @@ class MC_PlanarFeedbackBase:
 
     def update(self) -> None:
         """Show the status of the command this feedback follows (§7.2.2.2.1)."""
-        if self._command is not None:
-            self._show(self._command)
-
-    def _show(self, command: PlanarCommand) -> None:
-        phase = command.phase
-        self.busy = command.busy
-        self.active = phase is CommandPhase.ACTIVE
-        self.aborted = phase is CommandPhase.ABORTED
-        self.error = phase is CommandPhase.ERROR
-        self.error_id = command.error_id
-        self.object_info = command.object_info
-        self.message = command.message
+        if self.command is not None:
+            show(self, self.command)
 
 
 class MC_PlanarFeedback(MC_PlanarFeedbackBase):
     """The general feedback (§7.2.2.2), accepted by most commands; adds Done."""
 
+    SHOWS = (*MC_PlanarFeedbackBase.SHOWS, "done")
+
     def __init__(self) -> None:
         super().__init__()
         self.done = False
-
-    def _show(self, command: PlanarCommand) -> None:
-        super()._show(command)
-        self.done = command.phase is CommandPhase.DONE
 
 
 class MC_PlanarFeedbackInSync(MC_PlanarFeedbackBase):
     """Base of the feedbacks with inSync (§7.2.2.6). They have no Done: a gear command runs
     until another command or an error ends it (§6.2.8)."""
 
+    SHOWS = (*MC_PlanarFeedbackBase.SHOWS, "in_sync")
+
     def __init__(self) -> None:
         super().__init__()
         self.in_sync = False
-
-    def _show(self, command: PlanarCommand) -> None:
-        super()._show(command)
-        self.in_sync = command.in_sync
 
 
 class MC_PlanarFeedbackGearInPosOnTrack(MC_PlanarFeedbackInSync):
@@ -236,7 +235,8 @@ class ExternalSetpointStream:
 
     KIND = "SetExternalSetpointReferenceId"
 
-    def __init__(self) -> None:
+    def __init__(self, clock: Callable[[], float] | None = None) -> None:
+        self._clock = clock  #: the runtime's time, for the commands' ``issued_at``/``ended_at``
         self._command: PlanarCommand | None = None
         self._feedback: MC_PlanarFeedbackBase | None = None
         self._pending: tuple[ErrorId, str, PlanarObjectInfo | None] | None = None
@@ -246,16 +246,16 @@ class ExternalSetpointStream:
         command = self._command
         if command is None:
             self._feedback = feedback
-            command = self._command = PlanarCommand(self.KIND, feedback)
-            command.started()
+            command = self._command = PlanarCommand(self.KIND, feedback, clock=self._clock)
+            command.start()
         elif feedback is not None and feedback is not self._feedback:
-            other = PlanarCommand(self.KIND, feedback)
-            other.rejected(ErrorId.PLANAR_EXT_SETPOINT,
-                           "pass the same feedback with every call (§6.1.7)")
+            other = PlanarCommand(self.KIND, feedback, clock=self._clock)
+            other.reject(ErrorId.PLANAR_EXT_SETPOINT,
+                         "pass the same feedback with every call (§6.1.7)")
             other.publish()
             return
         if self._pending is not None:
-            command.rejected(*self._pending)
+            command.reject(*self._pending)
             self._pending = None
         command.publish()
 

@@ -62,7 +62,7 @@ class GearedRiders:
         t.load(rider)
         t.mode[k] = GEAR
         self.tables.forget()
-        command.started()
+        command.start()
 
     def master_gone(self, rider: Rider, now: float) -> None:
         """``rider``'s master mover leaves the traffic (LeaveTrack): the coupling ends. The
@@ -83,7 +83,7 @@ class GearedRiders:
         t.follow(rider, profile, rider.target, now)
         if rider.command is not None:
             rider.command.in_sync = False
-            rider.owner._awake = True
+            rider.owner.awake = True
 
     def master(self, coupling: Any, proposal: list[np.ndarray] | None = None
                ) -> tuple[float, float, float, float]:
@@ -324,7 +324,7 @@ class GearedRiders:
         self.traffic.follow_from_last_cycle(rider, profile, rider.target, proposal)
         if rider.command is not None and rider.command.in_sync:
             rider.command.in_sync = False
-            rider.owner._awake = True  # the feedback shows it next cycle
+            rider.owner.awake = True  # the feedback shows it next cycle
 
     def _extend_follow(self, rider: Rider, coupling: Any) -> None:
         """followMover: the master's way is the slave's too. A leg of the master lies on the
@@ -408,7 +408,7 @@ def _admit(rider: Rider, coupling: Any, track: Rail) -> bool:
     if any(leg.track is track for leg in rider.route):
         return True
     try:
-        rider.owner._admit_way([*(leg.track for leg in rider.route), track])
+        rider.owner.port.admit_way([*(leg.track for leg in rider.route), track])
     except CommandRejected as refused:
         coupling.blocked = refused
         return False
@@ -426,7 +426,7 @@ def _show_in_sync(rider: Rider, coupling: Any, state: tuple[float, float, float]
         coupling.tolerance > 0.0 and abs(state[0] - cp) <= coupling.tolerance)
     if in_sync != rider.command.in_sync:
         rider.command.in_sync = in_sync
-        rider.owner._awake = True
+        rider.owner.awake = True
 
 
 def _waits(coupling: Any, state: tuple[float, float, float], step: tuple[float, ...],

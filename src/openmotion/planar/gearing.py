@@ -140,7 +140,7 @@ def gear_in_pos_on_track_with_master_mover(mover: MC_PlanarMover, command: Plana
     options = options or ST_GearInPosOnTrackWithMasterMoverOptions()
     options.check()
     rider, traffic = _slave(mover, _C.GEAR_IN_POS_ON_TRACK_WITH_MASTER_MOVER)
-    master_rider = getattr(master_mover, "_rider", None)
+    master_rider = getattr(master_mover, "rider", None)
     if master_mover is mover or master_rider is None:
         raise CommandRejected(ErrorId.PLANAR_WRONG_MODE,
                               "GearInPosOnTrackWithMasterMover: the master must be another "
@@ -176,7 +176,7 @@ def admit_way(mover: MC_PlanarMover, tracks: list[MC_PlanarTrack], kind: MoverCo
     so the group's collision avoidance keeps other movers off them (§6.5); the bands go back
     when the gear ends (riding.release_bands). Refused with PLANAR_COLLISION naming the
     member in the way. Asked at the start for the whole path, and by the traffic for each
-    track a follower's way goes on to later (``MC_PlanarMover._admit_way``, D-149)."""
+    track a follower's way goes on to later (``MotionPort.admit_way``, D-149)."""
     from openmotion.planar.riding import _reserve_bands, check_route_accepts
 
     check_route_accepts(tracks, kind)
@@ -249,8 +249,8 @@ def _slave(mover: MC_PlanarMover, kind: MoverCommand) -> tuple[Rider, Any]:
     from openmotion.planar.track import traffic_of
 
     rider = _rider(mover)
-    check_track_accepts(rider.track._states.current, rider.track.operation_mode, kind)
-    return rider, traffic_of(mover._system)
+    check_track_accepts(rider.track.states.current, rider.track.operation_mode, kind)
+    return rider, traffic_of(mover.system)
 
 
 def _trail_legs(rider: Rider, trail: MC_PlanarTrackTrail | None, slave_track: MC_PlanarTrack,

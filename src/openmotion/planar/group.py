@@ -10,6 +10,8 @@ avoidance is then not in force (docs/decisions.md).
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
 from openmotion.core.errors import CommandRejected, ErrorId
@@ -20,12 +22,22 @@ from openmotion.planar.kind import PLANAR_GROUP
 from openmotion.planar.options import CDT_MCTOPLC_PLANAR_GROUP_STD
 from openmotion.planar.reservation import MemberId, ReservationRegistry, SweptArea
 from openmotion.planar.states import PlanarStateMachine, title
-from openmotion.planar.system import PlanarObject, PlanarSystem, StatefulObject
+from openmotion.planar.system import ObjectPort, PlanarObject, PlanarSystem, StatefulObject
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
     from openmotion.runtime.runtime import Runtime
+
+
+@dataclass(frozen=True)
+class GroupPort(ObjectPort):
+    """What a group's members (movers, tracks, the environment) call on it (D-239)."""
+
+    #: AddToGroup: an object joins with its area, or is refused naming the blocker (§6.3)
+    admit: Callable[[PlanarObject, SweptArea | BaseGeometry | None, MemberId], None]
+    leave: Callable[[MemberId], None]  #: RemoveFromGroup: the member gives back its area
+    check_enabled: Callable[[str], None]  #: refuse ``what`` unless the group is Enabled
 
 
 class MC_PlanarGroup(StatefulObject):
@@ -38,7 +50,10 @@ class MC_PlanarGroup(StatefulObject):
         super().__init__(system, system.next_oid("object"))
         self.name = name or f"group{self.oid & 0xFFF:x}"
         self.registry = ReservationRegistry()
-        self._states = PlanarStateMachine()
+        self.states = PlanarStateMachine()
+        #: what its members call on it besides the system's hooks
+        self.port = GroupPort(self._run, self._publish, self._admit, self._leave,
+                              self._check_enabled)
         system.register(self)
 
     def __repr__(self) -> str:
@@ -47,12 +62,12 @@ class MC_PlanarGroup(StatefulObject):
     @property
     def mc_to_plc_std(self) -> CDT_MCTOPLC_PLANAR_GROUP_STD:
         """GroupOID, State and the member count, as the last motion phase left them."""
-        return CDT_MCTOPLC_PLANAR_GROUP_STD(group_oid=self.oid, state=self._states.state,
+        return CDT_MCTOPLC_PLANAR_GROUP_STD(group_oid=self.oid, state=self.states.state,
                                             group_object_count=len(self.registry.members))
 
     @property
     def state(self) -> PlanarState:
-        return self._states.state
+        return self.states.state
 
     @property
     def members(self) -> tuple[MemberId, ...]:
@@ -65,10 +80,10 @@ class MC_PlanarGroup(StatefulObject):
     # -- for the members (motion phase) ----------------------------------------------------------
 
     def _check_enabled(self, what: str) -> None:
-        if self._states.current is not PlanarState.ENABLED:
+        if self.states.current is not PlanarState.ENABLED:
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                                   f"{what}: group 16#{self.oid:08X} is "
-                                  f"{title(self._states.current)}, not Enabled (§6.3)")
+                                  f"{title(self.states.current)}, not Enabled (§6.3)")
 
     def _admit(self, obj: PlanarObject, area: SweptArea | BaseGeometry | None,
                member: MemberId) -> None:
@@ -81,17 +96,18 @@ class MC_PlanarGroup(StatefulObject):
             raise Collision(blocker, "its footprint")
 
     def _leave(self, member: MemberId) -> None:
+        """RemoveFromGroup: ``member`` gives back its area."""
         self.registry.remove_member(member)
 
     # -- cycle -----------------------------------------------------------------------------------
 
     def _execute(self, command: PlanarCommand) -> None:
-        self._states.request(command)
+        self.states.request(command)
 
     def _publish(self) -> bool:
-        self._states.update()
-        self._queue.publish()
-        return not self._states.settled
+        self.states.update()
+        self.commands.publish()
+        return not self.states.settled
 
 
 def planar_group(group: object) -> MC_PlanarGroup:

@@ -36,7 +36,7 @@ def _track_number(mover: MC_PlanarMover) -> float:
     oid = mover.mc_to_plc.set_on_track.track_oid
     if not oid:
         return 0.0
-    tracks = mover._system.network.tracks  # creation order, as the numbers count
+    tracks = mover.system.network.tracks  # creation order, as the numbers count
     return float(next(k for k, track in enumerate(tracks, start=1) if track.oid == oid))
 
 

@@ -39,18 +39,20 @@ from openmotion.core.compiled import compiled
 from openmotion.core.enums import ModuloDirection
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.planar.rotation import CWindows, monotonic, move_c_target
+from openmotion.planar.tolerances import (
+    ACROSS_PRECISION,
+    PATH_PRECISION,
+    PREDICTION_DISTANCE,
+    PREDICTION_MARGIN,
+    PREDICTION_TIME,
+    REST_PRECISION,
+    SYNC_TIME_PRECISION,
+)
 from openmotion.trajectory.double_s import rest_to_rest, synchronised
 from openmotion.trajectory.plan import Limits, plan_position, plan_position_in, plan_stop
 from openmotion.trajectory.segments import KinematicState, Profile
 
-_REST = 1e-12  #: relative to its limit, a smaller velocity or acceleration is rest
-_ACROSS = 1e-9  #: relative to its limit, a smaller component across the line is float residue
-_SYNC_TOLERANCE = 1e-9  #: [s] path and C ending this close together end together
 _SYNC_ROUNDS = 4  #: at most this many stretching rounds until path and C agree
-_PREDICTION_MARGIN = 1e-6  #: [s] closed-form durations further apart tell the faster motion
-_PREDICTION_DISTANCE = 1e-6  #: [mm], [°] shorter moves are planned both ways (no prediction)
-_PREDICTION_TIME = 1e-3  #: [s] so are moves quicker than this
-_PATH_TOLERANCE = 1e-9  #: relative: float residue of an extremum is no position-limit breach
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,7 +74,7 @@ class PositionLimits:
                                   f"[{self.minimum:g}, {self.maximum:g}]")
         start = float(profile.p[0])
         low, high = profile.position_extrema()
-        slack = _PATH_TOLERANCE * max(1.0, abs(low), abs(high))
+        slack = PATH_PRECISION * max(1.0, abs(low), abs(high))
         if low < min(self.minimum, start) - slack or high > max(self.maximum, start) + slack:
             raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
                                   f"{coordinate} path reaches [{low:g}, {high:g}], outside "
@@ -284,14 +286,14 @@ def _on_line(x: KinematicState, y: KinematicState, tx: float, ty: float, limits:
         return False
     across_v = (dx * y.velocity - dy * x.velocity) / length
     across_a = (dx * y.acceleration - dy * x.acceleration) / length
-    return (abs(across_v) <= _ACROSS * limits.velocity
-            and abs(across_a) <= _ACROSS * max(limits.acceleration, limits.deceleration))
+    return (abs(across_v) <= ACROSS_PRECISION * limits.velocity
+            and abs(across_a) <= ACROSS_PRECISION * max(limits.acceleration, limits.deceleration))
 
 
 def _at_rest(x: KinematicState, y: KinematicState, limits: Limits) -> bool:
-    return (math.hypot(x.velocity, y.velocity) <= _REST * limits.velocity
+    return (math.hypot(x.velocity, y.velocity) <= REST_PRECISION * limits.velocity
             and math.hypot(x.acceleration, y.acceleration)
-            <= _REST * max(limits.acceleration, limits.deceleration))
+            <= REST_PRECISION * max(limits.acceleration, limits.deceleration))
 
 
 def _xy_brake(x: KinematicState, y: KinematicState, limits: Limits) -> tuple[Profile, Profile]:
@@ -304,13 +306,13 @@ def _xy_brake(x: KinematicState, y: KinematicState, limits: Limits) -> tuple[Pro
     if _at_rest(x, y, limits):
         return Profile.hold(KinematicState(x.position)), Profile.hold(KinematicState(y.position))
     speed = math.hypot(x.velocity, y.velocity)
-    if speed > _REST * limits.velocity:
+    if speed > REST_PRECISION * limits.velocity:
         ux, uy = x.velocity / speed, y.velocity / speed
     else:
         size = math.hypot(x.acceleration, y.acceleration)
         ux, uy = x.acceleration / size, y.acceleration / size
     across = ux * y.acceleration - uy * x.acceleration
-    if abs(across) <= _ACROSS * max(limits.acceleration, limits.deceleration):
+    if abs(across) <= ACROSS_PRECISION * max(limits.acceleration, limits.deceleration):
         s = KinematicState(0.0, ux * x.velocity + uy * y.velocity,
                            ux * x.acceleration + uy * y.acceleration)
         brake = plan_stop(s, limits.deceleration, limits.jerk)
@@ -334,17 +336,17 @@ def _rest_move(line: _Line, limits: Limits, c: KinematicState, c_target: float |
     """The arc length and C profiles (C: None without a C target) of a move from rest with
     acceleration equal to deceleration, in closed form (``double_s``): the slower of path and
     C is time-optimal and the other lasts as long. None outside that case, or for moves
-    shorter than ``_PREDICTION_DISTANCE`` (ruckig plans those as before)."""
+    shorter than ``PREDICTION_DISTANCE`` (ruckig plans those as before)."""
     s = line.s_start
     if not (s.velocity == s.acceleration == 0.0 and limits.acceleration == limits.deceleration
-            and line.length >= _PREDICTION_DISTANCE):
+            and line.length >= PREDICTION_DISTANCE):
         return None
     v, a, j = limits.velocity, limits.acceleration, limits.jerk
     if c_target is None:
         return Profile.from_data(rest_to_rest(0.0, line.length, v, a, j, 0.0)), None
     if not (c_limits is not None and c.velocity == c.acceleration == 0.0
             and c_limits.acceleration == c_limits.deceleration
-            and abs(c_target - c.position) >= _PREDICTION_DISTANCE):
+            and abs(c_target - c.position) >= PREDICTION_DISTANCE):
         return None
     path, rotation = synchronised(line.length, v, a, j, c.position, c_target,
                                   c_limits.velocity, c_limits.acceleration, c_limits.jerk)
@@ -372,11 +374,11 @@ def _synchronise(line: _Line, limits: Limits, lead_time: float, c: KinematicStat
         rotation = plan_position(c, c_target, c_limits)
     for _ in range(_SYNC_ROUNDS - (faster is not None)):
         end = max(lead_time + s.duration, rotation.duration)
-        if s.duration > 0.0 and lead_time + s.duration < end - _SYNC_TOLERANCE:
+        if s.duration > 0.0 and lead_time + s.duration < end - SYNC_TIME_PRECISION:
             s = _plan_lasting(line.s_start, line.length, limits, end - lead_time)
-        if rotation.duration > 0.0 and rotation.duration < end - _SYNC_TOLERANCE:
+        if rotation.duration > 0.0 and rotation.duration < end - SYNC_TIME_PRECISION:
             rotation = _plan_lasting(c, c_target, c_limits, end)
-        if abs(lead_time + s.duration - rotation.duration) <= _SYNC_TOLERANCE:
+        if abs(lead_time + s.duration - rotation.duration) <= SYNC_TIME_PRECISION:
             break
     return s, rotation
 
@@ -384,24 +386,24 @@ def _synchronise(line: _Line, limits: Limits, lead_time: float, c: KinematicStat
 def _faster_from_rest(line: _Line, limits: Limits, lead_time: float, c: KinematicState,
                       c_target: float, c_limits: Limits) -> str | None:
     """"s" or "c" when both start at rest, acceleration equals deceleration, both move at
-    least ``_PREDICTION_DISTANCE`` for at least ``_PREDICTION_TIME`` (ruckig plans tinier
+    least ``PREDICTION_DISTANCE`` for at least ``PREDICTION_TIME`` (ruckig plans tinier
     moves as no move, or fails on them) and the closed-form durations differ by more than
-    ``_PREDICTION_MARGIN``; else None."""
+    ``PREDICTION_MARGIN``; else None."""
     s = line.s_start
-    if not (line.length >= _PREDICTION_DISTANCE
-            and abs(c_target - c.position) >= _PREDICTION_DISTANCE
+    if not (line.length >= PREDICTION_DISTANCE
+            and abs(c_target - c.position) >= PREDICTION_DISTANCE
             and s.velocity == s.acceleration == c.velocity == c.acceleration == 0.0
             and limits.acceleration == limits.deceleration
             and c_limits.acceleration == c_limits.deceleration):
         return None
     path_time = rest_to_rest_time(line.length, limits)
     turn = rest_to_rest_time(c_target - c.position, c_limits)
-    if min(path_time, turn) < _PREDICTION_TIME:
+    if min(path_time, turn) < PREDICTION_TIME:
         return None
     path = lead_time + path_time
-    if path < turn - _PREDICTION_MARGIN:
+    if path < turn - PREDICTION_MARGIN:
         return "s"
-    if turn < path - _PREDICTION_MARGIN:
+    if turn < path - PREDICTION_MARGIN:
         return "c"
     return None
 

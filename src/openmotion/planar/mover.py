@@ -15,15 +15,17 @@ behind it is released piece by piece; when it stands it keeps its footprint.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar, TypeVar
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
 import numpy as np
 
 from openmotion.axis.axis import Axis
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.kernel.model import Kind
+from openmotion.planar import gearing, riding
 from openmotion.planar.enums import (
     CoordinateMode,
     ExternalSetPositionMode,
@@ -38,12 +40,7 @@ from openmotion.planar.feedback import (
     PlanarObjectInfo,
 )
 from openmotion.planar.frames import Pose
-from openmotion.planar.gearing import (
-    MC_PlanarTrackTrail,
-    admit_way,
-    gear_in_pos_on_track,
-    gear_in_pos_on_track_with_master_mover,
-)
+from openmotion.planar.gearing import MC_PlanarTrackTrail, admit_way
 from openmotion.planar.group import MC_PlanarGroup, planar_group
 from openmotion.planar.kind import PLANAR_MOVER
 from openmotion.planar.motion import (
@@ -86,15 +83,7 @@ from openmotion.planar.reservation import (
     straight_run_area,
     swept_area,
 )
-from openmotion.planar.riding import (
-    adopt_track_orientation,
-    halt_on_track,
-    join_track,
-    leave_track,
-    move_c_on_track,
-    move_on_track,
-    release_bands,
-)
+from openmotion.planar.riding import halt_on_track, move_c_on_track, release_bands
 from openmotion.planar.rotation import monotonic
 from openmotion.planar.states import (
     CommandModes,
@@ -104,7 +93,8 @@ from openmotion.planar.states import (
     StateCommand,
     check_accepts,
 )
-from openmotion.planar.system import PlanarSystem, StatefulObject
+from openmotion.planar.system import ObjectPort, PlanarSystem, StatefulObject
+from openmotion.planar.tolerances import VELOCITY_PRECISION
 from openmotion.planar.track import MC_PlanarTrack
 from openmotion.planar.traffic import Rider, traffic_of
 from openmotion.trajectory.plan import Limits
@@ -149,6 +139,49 @@ class _Motion:
     on_end: Callable[[bool], None] | None = None  #: told whether the motion ended or was cut
 
 
+@dataclass(frozen=True)
+class MotionPort(ObjectPort):
+    """A mover's motion as its track commands, the environment, the traffic and the system
+    use it.
+
+    The track commands (riding.py, gearing.py) are functions of their own modules; they
+    start, check and place the mover's motion only through this port, which the mover makes
+    with its own operations (D-239). Nothing here is a PLC method: a program calls the
+    mover's commands, never the port.
+    """
+
+    #: start profiles for a command: admitted in a group, the motions they replace aborted
+    begin: Callable[..., None]
+    #: x, y, c [mm, mm, °] of the last published setpoint
+    set_pose: Callable[[], Pose]
+    #: the kinematic states new plans start from, by coordinate name
+    start_states: Callable[..., dict[str, KinematicState]]
+    #: refuse a motion whose centre path leaves the stator surface (D-163)
+    check_carried: Callable[[dict[str, Profile], Profile | None, float, str], None]
+    #: a PositionXYC target as (coordinate system OID, pose in it)
+    resolve: Callable[[PositionXYC], tuple[int, Pose]]
+    #: MoveC off a track
+    move_c: Callable[[PlanarCommand], None]
+    #: the footprint as a group holds it, at a pose (default: where it stands)
+    standing_area: Callable[..., SweptArea]
+    #: (profile, start time) of x, y and c from a time on, with new profiles
+    future_plans: Callable[[dict[str, Profile], float], list[tuple[Profile, float]]]
+    #: stand at a pose (a new coordinate system, a part that carried the mover)
+    place: Callable[[Pose], None]
+    #: the table row of its arc length on a track (made on the first join)
+    odometer_row: Callable[[float], int]
+    #: couple to a track's rider, or uncouple (None)
+    couple: Callable[[Rider | None], None]
+    #: the table rows of x, y, z, a, b, c
+    rows: Mapping[str, int]
+    #: the system: a motion ended, a piece of area is behind, or external setpoints run
+    after_motion: Callable[[float], None]
+    #: the traffic (``Owner``): its track command ended at its target, or its halt did
+    track_finished: Callable[[PlanarCommand | None], None]
+    #: the traffic: may its geared way go on over these tracks (raises if not, D-149)
+    admit_way: Callable[[list[MC_PlanarTrack]], None]
+
+
 class MC_PlanarMover(StatefulObject):
     """A planar mover. ``MC_PlanarMover(rt)`` makes one with the manual's default init
     parameters (``PlanarMoverParameters``); it starts Disabled at ``initial_position``.
@@ -173,9 +206,9 @@ class MC_PlanarMover(StatefulObject):
         self._rows = dict(zip(COORDINATES, rows, strict=True))
         self._row0 = rows[0]  #: the six rows are consecutive: x, y, z, a, b, c
         self._profiles: dict[str, tuple[Profile, float]] = {}  #: last plan per coordinate
-        self._states = PlanarStateMachine(transition_done=self._transition_done,
+        self.states = PlanarStateMachine(transition_done=self._transition_done,
                                           on_enter=self._on_enter)
-        self._modes = CommandModes(self.parameters.c_windows)
+        self.modes = CommandModes(self.parameters.c_windows)
         self._motions: list[_Motion] = []
         self._group: MC_PlanarGroup | None = None
         self._joining: MC_PlanarGroup | None = None
@@ -186,15 +219,24 @@ class MC_PlanarMover(StatefulObject):
         self._fed = False  #: an external setpoint came this cycle
         self._started_external = False
         self._status: tuple[int, CDT_MCTOPLC_PLANAR_MOVER] | None = None
-        self._next_event = math.inf  #: [s] when ``_after_motion`` has work
+        self.next_event = math.inf  #: [s] when ``port.after_motion`` has work
         self._member = MemberId(PlanarObjectType.MOVER, self.oid)
         self._rider: Rider | None = None  #: coupled to a track (traffic.py)
         self._odometer: int | None = None  #: table row of the arc length on a track
+        #: what track commands, the environment and the system use of its motion
+        self.port = MotionPort(
+            self._run, self._publish, begin=self._begin, set_pose=self._set_pose,
+            start_states=self._start_states, check_carried=self._check_carried,
+            resolve=self._resolve, move_c=self._move_c, standing_area=self._standing_area,
+            future_plans=self._future_plans, place=self._place,
+            odometer_row=self._odometer_row, couple=self._couple,
+            rows=MappingProxyType(self._rows), after_motion=self._after_motion,
+            track_finished=self._on_track_finished, admit_way=self._admit_way)
         system.movers.append(self)
         system.register(self)
         environment = system.environment()
         if environment is not None:
-            environment._place(self)
+            environment.port.place(self)
 
     def __repr__(self) -> str:
         return f"<MC_PlanarMover {self.name} 16#{self.oid:08X} {self.mc_to_plc.std.state.name}>"
@@ -346,7 +388,7 @@ class MC_PlanarMover(StatefulObject):
 
     def get_position_on_current_part(self) -> PositionXYC:
         """The set position in the frame of the part under the mover (§5.2)."""
-        environment = self._system.environment()
+        environment = self.system.environment()
         pose = self.pose
         if environment is None or environment.layout is None:
             return PositionXYC(*pose, self.coordinate_system)
@@ -378,12 +420,27 @@ class MC_PlanarMover(StatefulObject):
 
     def _vector(self, which: int) -> list[float]:
         """Set position (0), velocity (1) or acceleration (2) of the six coordinates."""
-        values = self._system._values[which][self._row0:self._row0 + 6]
+        values = self.system.values(which, self._row0, 6)
         return (values + self._offset if which == 0 else values).tolist()
 
     @property
     def member(self) -> MemberId:
         return self._member
+
+    @property
+    def group(self) -> MC_PlanarGroup | None:
+        """The planar group it is in (AddToGroup done); None for none."""
+        return self._group
+
+    @property
+    def rider(self) -> Rider | None:
+        """Its place in the traffic while it is coupled to a track (JoinTrack); else None."""
+        return self._rider
+
+    @property
+    def in_motion(self) -> bool:
+        """A motion of its own runs (a brake too); riding a track or being fed is not one."""
+        return bool(self._motions)
 
     def footprint(self, pose: Pose | None = None):  # noqa: ANN201 - a shapely Polygon
         x, y, c = pose or self.pose
@@ -400,24 +457,23 @@ class MC_PlanarMover(StatefulObject):
     def _execute(self, command: PlanarCommand) -> None:
         kind = command.kind
         if kind in _STATE_COMMANDS:
-            environment = self._system.environment()
+            environment = self.system.environment()
             if kind == StateCommand.RESET and environment is not None:
-                environment._reset_parts(self.coordinate_system)  # §6.6: parts first
+                environment.port.reset_parts(self.coordinate_system)  # §6.6: parts first
             if kind == StateCommand.ENABLE and environment is not None and \
-                    self._states.current is PlanarState.DISABLED and not environment.carries(
+                    self.states.current is PlanarState.DISABLED and not environment.carries(
                         self.coordinate_system, np.array([self.pose[:2]])):
                 raise _off_stators(environment, "Enable: the mover stands off the stator "
                                    "surface")
-            self._states.request(command)
+            self.states.request(command)
             return
         kind = MoverCommand(kind)
         if kind is _C.SET_EXTERNAL_SETPOINT:
             self._feed(command)
             return
-        check_accepts(self._states.current, self._modes.mode, kind,
-                      external=self._modes.external)
-        handler = _HANDLERS[kind]
-        handler(self, command)
+        check_accepts(self.states.current, self.modes.mode, kind,
+                      external=self.modes.external)
+        self._HANDLERS[kind](self, command)
 
     def _move_to_position(self, command: PlanarCommand) -> None:
         target, constraint, options = command.args
@@ -485,7 +541,7 @@ class MC_PlanarMover(StatefulObject):
         limits = self._limits("default")
         limits["xy"] = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
                                         command.warnings)
-        if self._modes.external is not ExternalSetPositionMode.NONE:  # the halt ends them
+        if self.modes.external is not ExternalSetPositionMode.NONE:  # the halt ends them
             self._end_external(self._external_kind(), brake=False, aborted=True)
         profiles = plan_halt(self._start_states(), limits)
         # a halt is never refused (D-084): without collision avoidance in force (a group
@@ -506,9 +562,9 @@ class MC_PlanarMover(StatefulObject):
             - {"x", "y"}
         if not running:
             return
-        previous = self._system.previous
+        previous = self.system.previous
         names = sorted(running, key=COORDINATES.index)
-        profiles = plan_halt(dict(zip(names, self._system.table.states(
+        profiles = plan_halt(dict(zip(names, self.system.table.states(
             [self._rows[name] for name in names], previous), strict=True)),
             self._limits("default"))
         self._abort(running)
@@ -527,8 +583,8 @@ class MC_PlanarMover(StatefulObject):
             if blocker is not None:
                 raise Collision(blocker, "the new position")
         for name, value in start.items():
-            self._install(name, Profile.hold(KinematicState(value)), self._system.previous)
-        command.finished()
+            self._install(name, Profile.hold(KinematicState(value)), self.system.previous)
+        command.finish()
 
     def _add_to_group(self, command: PlanarCommand) -> None:
         (group,) = command.args
@@ -537,18 +593,18 @@ class MC_PlanarMover(StatefulObject):
                                   f"{self.name} is in group 16#{self._group.oid:08X} already: "
                                   "RemoveFromGroup first (§6.3)")
         moving = any(m.coordinates & _AREA for m in self._motions)
-        area = self._future_area({}, self._system.previous, None)[1] if moving \
+        area = self._future_area({}, self.system.previous, None)[1] if moving \
             else self._standing_area()
-        group._admit(self, area, self._member)  # a moving mover holds its whole way on
+        group.port.admit(self, area, self._member)  # a moving mover holds its whole way on
         self._group = group
-        command.finished()
+        command.finish()
 
     def _remove_from_group(self, command: PlanarCommand) -> None:
         if self._group is None:
             raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP, f"{self.name} is in no group")
-        self._group._leave(self._member)
+        self._group.port.leave(self._member)
         self._group = None
-        command.finished()
+        command.finish()
 
     def _start_external(self, command: PlanarCommand) -> None:
         (options,) = command.args
@@ -556,22 +612,22 @@ class MC_PlanarMover(StatefulObject):
         kind = MoverCommand(command.kind)
         if kind is _C.START_EXTERNAL_SETPOINT_GENERATION:
             self._abort_all()  # external setpoints take over
-        self._modes.started(kind)
-        self._stream = ExternalSetpointStream()
+        self.modes.started(kind)
+        self._stream = ExternalSetpointStream(self.system.clock)
         self._started_external = True
-        command.started()
+        command.start()
         self._external_command = command
         self._reschedule()
 
     def _feed(self, command: PlanarCommand) -> None:
         position, velocity, acceleration, reference, feedback = command.args
         stream = self._stream
-        command.finished()  # SetExternalSetpoint has no feedback of its own
-        if self._modes.external is ExternalSetPositionMode.NONE:
+        command.finish()  # SetExternalSetpoint has no feedback of its own
+        if self.modes.external is ExternalSetPositionMode.NONE:
             if stream is not None:  # the stream ended (Stop or an error): it keeps its result
                 stream.call(feedback)
             elif feedback is not None:
-                other = ExternalSetpointStream()
+                other = ExternalSetpointStream(self.system.clock)
                 other.report(ErrorId.PLANAR_WRONG_MODE, "no external setpoint generation runs "
                              "(§6.1.6)")
                 other.call(feedback)
@@ -582,14 +638,14 @@ class MC_PlanarMover(StatefulObject):
         try:
             values = [np.array([getattr(v, k) for k in COORDINATES], dtype=float)
                       for v in (position, velocity, acceleration)]
-            if reference is not None and self._modes.external is ExternalSetPositionMode.RELATIVE:
+            if reference is not None and self.modes.external is ExternalSetPositionMode.RELATIVE:
                 self._turn_offset(values, reference)
             elif reference is not None:  # SetExternalSetpointReferenceId: 0 follows §5.3 too
                 pose = self._resolve(PositionXYC(values[0][0], values[0][1], values[0][5],
                                                  reference))[1]
                 values[0][0], values[0][1], values[0][5] = pose
             self._check_setpoint(values)
-            if self._modes.external is ExternalSetPositionMode.RELATIVE:
+            if self.modes.external is ExternalSetPositionMode.RELATIVE:
                 self._cover_offset(values[0])
         except (CommandRejected, TypeError, AttributeError) as bad:
             error_id = getattr(bad, "error_id", ErrorId.PLANAR_EXT_SETPOINT)
@@ -597,11 +653,11 @@ class MC_PlanarMover(StatefulObject):
             if stream is not None:
                 stream.report(error_id, message)
             self._end_external(self._external_kind(), (error_id, message))
-            self._states.fail(error_id, ErrorReaction.QUICK_STOP, message)
+            self.states.fail(error_id, ErrorReaction.QUICK_STOP, message)
             return
         self._fed = True
-        now = self._system.now
-        if self._modes.external is ExternalSetPositionMode.ABSOLUTE:
+        now = self.system.now
+        if self.modes.external is ExternalSetPositionMode.ABSOLUTE:
             for k, name in enumerate(COORDINATES):
                 state = (values[0][k], values[1][k], values[2][k])
                 self._install(name, Profile(np.zeros(1), [state[0]], [state[1]], [state[2]],
@@ -619,7 +675,7 @@ class MC_PlanarMover(StatefulObject):
         group = self._group
         if group is None or group.state is not PlanarState.ENABLED:
             return
-        now = self._system.now
+        now = self.system.now
         x, y, c = (self._state_at(name, now).position for name in "xyc")
         pose = Pose(x + offset[0], y + offset[1], c + offset[5])
         blocker = group.registry.cover(self._member, self._standing_area(pose))
@@ -629,7 +685,7 @@ class MC_PlanarMover(StatefulObject):
     def _turn_offset(self, values: list[np.ndarray], reference: int) -> None:
         """Relative setpoints given in the frame ``reference`` names: offsets, so they turn
         with the frame but do not move with its origin, and need not lie on a part (§4.2)."""
-        environment = self._system.environment()
+        environment = self.system.environment()
         layout = None if environment is None else environment.layout
         if layout is None:
             if reference != 0:
@@ -661,16 +717,16 @@ class MC_PlanarMover(StatefulObject):
         blocker = self._group.registry.request(self._member, area)
         if blocker is not None:
             message = Collision(blocker, "the way left by the offset").message
-            self._states.fail(ErrorId.PLANAR_COLLISION, ErrorReaction.QUICK_STOP, message)
+            self.states.fail(ErrorId.PLANAR_COLLISION, ErrorReaction.QUICK_STOP, message)
 
     def _stop_external(self, command: PlanarCommand) -> None:
         self._end_external(self._external_kind())
-        command.finished()
+        command.finish()
 
     def _external_kind(self) -> MoverCommand:
         """The start command of the external setpoint generation that runs."""
         return (_C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION
-                if self._modes.external is ExternalSetPositionMode.RELATIVE
+                if self.modes.external is ExternalSetPositionMode.RELATIVE
                 else _C.START_EXTERNAL_SETPOINT_GENERATION)
 
     def _end_external(self, kind: MoverCommand, failure: tuple[ErrorId, str] | None = None,
@@ -678,11 +734,11 @@ class MC_PlanarMover(StatefulObject):
         """Stop external setpoints; ``failure`` ends the start command with an error,
         ``aborted`` with CommandAborted (a Halt took over, which also does the braking when
         not ``brake``)."""
-        now = self._system.now
+        now = self.system.now
         if kind is _C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION:
             for k, name in enumerate(COORDINATES):  # the offset stays where it is
                 if self._offset[k]:
-                    self._system.table.shift(self._rows[name], float(self._offset[k]))
+                    self.system.table.shift(self._rows[name], float(self._offset[k]))
                     if name in self._profiles:
                         profile, start = self._profiles[name]
                         data = profile.data.copy()
@@ -698,15 +754,15 @@ class MC_PlanarMover(StatefulObject):
             end = now + max(p.duration for p in profiles.values())
             self._motions.append(_Motion(None, set(COORDINATES), end, now))
         self._reschedule()
-        self._modes.ended(kind, done=True, c=self._state_at("c", now).position)
+        self.modes.ended(kind, done=True, c=self._state_at("c", now).position)
         command = self._external_command
         if command is not None:
             if aborted:
-                command.aborted()
+                command.abort()
             elif failure is None:
-                command.finished()
+                command.finish()
             else:
-                command.rejected(*failure)
+                command.reject(*failure)
             self._external_command = None
 
     def _check_setpoint(self, values: list[np.ndarray]) -> None:
@@ -716,7 +772,7 @@ class MC_PlanarMover(StatefulObject):
             if not all(math.isfinite(v[k]) for v in values):
                 raise CommandRejected(ErrorId.PLANAR_EXT_SETPOINT,
                                       f"external setpoint {name} is not finite")
-            if abs(values[1][k]) > top.velocity * (1 + 1e-9):
+            if abs(values[1][k]) > top.velocity * (1 + VELOCITY_PRECISION):
                 raise CommandRejected(ErrorId.PLANAR_EXT_SETPOINT,
                                       f"external setpoint velocity {name} {values[1][k]:g} above "
                                       f"the maximum {top.velocity:g} (§6.1.6)")
@@ -731,14 +787,14 @@ class MC_PlanarMover(StatefulObject):
         coordinates are aborted. ``straight``: the arc length of x and y when they run forward
         on one line from the start (``PlanarMotion.s``). ``check_carried``: refuse a path
         off the stators (D-163); a halt is never refused (D-084)."""
-        previous = self._system.previous
+        previous = self.system.previous
         if check_carried and _XY & profiles.keys():
             self._check_carried(profiles, straight, previous, what)
         samples, releases = None, []
         if _AREA & profiles.keys() and self._group is not None:
             samples, area = self._future_area(profiles, previous, straight)
             if admit:
-                self._group._check_enabled(what)
+                self._group.port.check_enabled(what)
                 blocker = self._group.registry.request(self._member, area)
                 if blocker is not None:
                     raise Collision(blocker, what)
@@ -757,8 +813,8 @@ class MC_PlanarMover(StatefulObject):
         self._motions.append(_Motion(command, set(profiles), end, previous, samples, c_motion,
                                      releases, on_end))
         if c_motion:
-            self._modes.c_motion_started(profiles["c"])
-        command.started()
+            self.modes.c_motion_started(profiles["c"])
+        command.start()
         self._reschedule()
 
     def _check_carried(self, profiles: dict[str, Profile], straight: Profile | None,
@@ -766,7 +822,7 @@ class MC_PlanarMover(StatefulObject):
         """A motion whose centre path leaves the stator surface is refused (D-163): no
         stator would carry the mover there. A group holding the environment checks the
         whole footprint already (§6.3); halts and stops are never refused (D-084)."""
-        environment = self._system.environment()
+        environment = self.system.environment()
         if environment is None or environment.boundary is None or (
                 self._group is not None and self._group.registry.checks_surface):
             return
@@ -775,7 +831,7 @@ class MC_PlanarMover(StatefulObject):
             points = np.array([(x, y), (profiles["x"].p[-1], profiles["y"].p[-1])])
         else:
             _, path = sample_path(self._future_plans(profiles, start)[:2], start,
-                                  self._system.cycle_time * _SAMPLE_CYCLES)
+                                  self.system.cycle_time * _SAMPLE_CYCLES)
             points = path
         if not environment.carries(self.coordinate_system, points):
             raise _off_stators(environment, f"{what} leaves the stator surface")
@@ -788,7 +844,7 @@ class MC_PlanarMover(StatefulObject):
         and y, ``PlanarMotion.s``) is cut into runs by its arc length and only the run ends
         are evaluated: the same pieces, without sampling x, y and c."""
         plans = self._future_plans(profiles, start)
-        step = self._system.cycle_time * _SAMPLE_CYCLES
+        step = self.system.cycle_time * _SAMPLE_CYCLES
         width, height = self.parameters.mover_width, self.parameters.mover_height
         turning = running(plans[2], start)
         if straight is not None and ("c" in profiles or not turning or monotonic(plans[2][0])):
@@ -811,12 +867,12 @@ class MC_PlanarMover(StatefulObject):
     def _place(self, pose: Pose) -> None:
         """Stand at ``pose`` (a new coordinate system, a part that carried the mover)."""
         for name, value in zip(("x", "y", "c"), pose, strict=True):
-            self._install(name, Profile.hold(KinematicState(value)), self._system.previous)
-            self._system.set_value(self._rows[name], value)
+            self._install(name, Profile.hold(KinematicState(value)), self.system.previous)
+            self.system.set_value(self._rows[name], value)
         self._status = None
 
     def _install(self, name: str, profile: Profile, time: float) -> None:
-        self._system.table.install(self._rows[name], profile, time)
+        self.system.table.install(self._rows[name], profile, time)
         self._profiles[name] = (profile, time)
 
     def _abort(self, coordinates: set[str]) -> None:
@@ -824,7 +880,7 @@ class MC_PlanarMover(StatefulObject):
         for motion in list(self._motions):
             if motion.coordinates & coordinates:
                 if motion.command is not None:
-                    motion.command.aborted()
+                    motion.command.abort()
                 motion.command = None
                 if motion.on_end is not None:
                     motion.on_end(False)
@@ -842,9 +898,9 @@ class MC_PlanarMover(StatefulObject):
         hardest brake stays on the reserved path. On a track the mover brakes along it."""
         self._abort_all()  # the mover stops
         if self._rider is not None:
-            traffic_of(self._system).halt(self._rider, self._limits(dynamics)["xy"], None,
-                                          self._system.previous)
-        previous = self._system.previous
+            traffic_of(self.system).halt(self._rider, self._limits(dynamics)["xy"], None,
+                                          self.system.previous)
+        previous = self.system.previous
         profiles = plan_halt(self._start_states(), self._limits(dynamics))
         for name, profile in profiles.items():
             self._install(name, profile, previous)
@@ -855,21 +911,21 @@ class MC_PlanarMover(StatefulObject):
     def _freeze(self) -> None:
         """Abort reaction: the mover stops where it is (it lands, §4.1)."""
         self._abort_all()  # error
-        now = self._system.now
+        now = self.system.now
         for name in COORDINATES:
-            p, _, _ = self._system.value(self._rows[name])
+            p, _, _ = self.system.value(self._rows[name])
             self._install(name, Profile.hold(KinematicState(p)), now)
 
     def _after_motion(self, now: float) -> None:
         """A motion ended, a piece of area is behind the mover, or external setpoints run."""
-        self._awake = True
-        if self._modes.external is not ExternalSetPositionMode.NONE:
+        self.awake = True
+        if self.modes.external is not ExternalSetPositionMode.NONE:
             if not self._fed:
                 message = "no external setpoint in this cycle (§6.1.6)"
                 if self._stream is not None:
                     self._stream.report(ErrorId.PLANAR_EXT_SETPOINT, message)
                 self._end_external(self._external_kind(), (ErrorId.PLANAR_EXT_SETPOINT, message))
-                self._states.fail(ErrorId.PLANAR_EXT_SETPOINT, ErrorReaction.QUICK_STOP, message)
+                self.states.fail(ErrorId.PLANAR_EXT_SETPOINT, ErrorReaction.QUICK_STOP, message)
             self._fed = False
         for motion in list(self._motions):
             if motion.releases and now >= motion.releases[0] and self._group is not None:
@@ -883,71 +939,76 @@ class MC_PlanarMover(StatefulObject):
                 if motion.on_end is not None:
                     motion.on_end(True)
                 if motion.command is not None:
-                    motion.command.finished()
+                    motion.command.finish()
                 if motion.c_motion or "c" in motion.coordinates:
-                    self._modes.c_at_rest(self._system.value(self._rows["c"])[0])
+                    self.modes.c_at_rest(self.system.value(self._rows["c"])[0])
                 if motion.coordinates & _AREA and self._group is not None and \
                         not any(m.coordinates & _AREA for m in self._motions):
                     self._group.registry.settle(self._member, self._standing_area(self._set_pose()))
         self._reschedule()
 
+    def _couple(self, rider: Rider | None) -> None:
+        self._rider = rider
+
     def _odometer_row(self, s: float) -> int:
         """The table row of the mover's arc length on a track (made on its first join)."""
         if self._odometer is None:
-            self._odometer = self._system.add_rows([s])[0]
+            self._odometer = self.system.add_rows([s])[0]
         return self._odometer
 
     def _on_track_finished(self, command: PlanarCommand | None) -> None:
-        """The traffic: the mover's track command ended at its target (or its halt)."""
-        self._awake = True
+        """Told by the traffic (its ``Owner``): the mover's track command ended at its target
+        (or its halt)."""
+        self.awake = True
         release_bands(self)
         if command is not None:
-            command.finished()
+            command.finish()
 
     def _admit_way(self, tracks: list[MC_PlanarTrack]) -> None:
-        """The traffic: the mover's geared way goes on over ``tracks`` it did not hold at the
-        start (followMover, the master's later tracks): admitted as the gear path's tracks
-        are at the start (their state, their bands in a group; D-149). Raises
+        """Asked by the traffic (its ``Owner``): the mover's geared way goes on over ``tracks``
+        it did not hold at the start (followMover, the master's later tracks): admitted as
+        the gear path's tracks are at the start (their state, their bands in a group; D-149).
+        Raises
         ``CommandRejected`` (a ``Collision`` naming the member in the way)."""
         admit_way(self, tracks, MoverCommand.GEAR_IN_POS_ON_TRACK_WITH_MASTER_MOVER)
 
     def _reschedule(self) -> None:
         """When ``_after_motion`` must run next: an end, a release, or every cycle."""
-        if self._modes.external is not ExternalSetPositionMode.NONE:
-            self._next_event = -math.inf
+        if self.modes.external is not ExternalSetPositionMode.NONE:
+            self.next_event = -math.inf
             return
         events = [m.end for m in self._motions]
         events += [m.releases[0] for m in self._motions if m.releases]
-        self._next_event = min(events, default=math.inf)
+        self.next_event = min(events, default=math.inf)
 
     def _publish(self) -> bool:
-        self._states.update()
-        self._queue.publish()
+        self.states.update()
+        self.commands.publish()
         self._status = None
-        return not self._states.settled
+        return not self.states.settled
 
     @property
     def mc_to_plc(self) -> CDT_MCTOPLC_PLANAR_MOVER:
         """The cyclic interface as the last motion phase left it (§7.2.1.2.1)."""
-        stamp = self._system.published
+        stamp = self.system.published
         if self._status is None or self._status[0] != stamp:
             self._status = (stamp, self._snapshot())
         return self._status[1]
 
     def _snapshot(self) -> CDT_MCTOPLC_PLANAR_MOVER:
         rider = self._rider
-        riding = rider is not None and traffic_of(self._system).moving(rider)
+        riding = rider is not None and traffic_of(self.system).moving(rider)
         std = CDT_MCTOPLC_PLANAR_MOVER_STD(
             mover_oid=self.oid, group_oid=self._group.oid if self._group else 0,
-            state=self._states.state, command_mode=self._modes.mode,
+            state=self.states.state, command_mode=self.modes.mode,
             busy=MoverBusy(bool(self._motions) or riding,
                            any(m.coordinates & _AREA for m in self._motions) or riding),
-            error_code=int(self._states.error_id))
+            error_code=int(self.states.error_id))
         vectors = [MoverVector(*self._vector(which)) for which in range(3)]
         on_track = CDT_MCTOPLC_PLANAR_MOVER_TRACK()
         modes = CDT_MCTOPLC_PLANAR_MOVER_COORDMODE()
         if rider is not None:
-            track, s, v, a = traffic_of(self._system).position(rider)
+            track, s, v, a = traffic_of(self.system).position(rider)
             on_track = CDT_MCTOPLC_PLANAR_MOVER_TRACK(s, v, a, 0.0, track.oid)
             modes = CDT_MCTOPLC_PLANAR_MOVER_COORDMODE(
                 xy_coordinate_mode=CoordinateMode.DEPENDENT,
@@ -962,26 +1023,26 @@ class MC_PlanarMover(StatefulObject):
     # -- state machine hooks ---------------------------------------------------------------------
 
     def _on_enter(self, state: PlanarState) -> None:
-        if state is PlanarState.ENABLED and self._states.reaction is ErrorReaction.QUICK_STOP:
+        if state is PlanarState.ENABLED and self.states.reaction is ErrorReaction.QUICK_STOP:
             if not self._motions:
-                self._modes.enabled(self._set_pose().c)
+                self.modes.enabled(self._set_pose().c)
         elif state is PlanarState.DISABLING:
             self._brake("maximum")
         elif state is PlanarState.ERROR_PENDING:
-            if self._modes.external is not ExternalSetPositionMode.NONE:
-                self._modes.external = ExternalSetPositionMode.NONE  # the stream keeps its error
-            if self._states.reaction is ErrorReaction.ABORT:
+            if self.modes.external is not ExternalSetPositionMode.NONE:
+                self.modes.external = ExternalSetPositionMode.NONE  # the stream keeps its error
+            if self.states.reaction is ErrorReaction.ABORT:
                 self._freeze()
             else:
                 self._brake("maximum")
 
     def _transition_done(self, state: PlanarState) -> bool:
         if state in (PlanarState.DISABLING, PlanarState.ERROR_PENDING):
-            riding = self._rider is not None and traffic_of(self._system).moving(self._rider)
+            riding = self._rider is not None and traffic_of(self.system).moving(self._rider)
             return not self._motions and not riding
         if state in (PlanarState.ENABLING, PlanarState.RESETTING):
-            environment = self._system.environment()
-            return environment is None or environment._part_ready(self)
+            environment = self.system.environment()
+            return environment is None or environment.port.part_ready(self)
         return True
 
     # -- helpers ---------------------------------------------------------------------------------
@@ -991,30 +1052,61 @@ class MC_PlanarMover(StatefulObject):
         return {g: getattr(p, f"{which}_dynamic_{g}") for g in ("xy", "z", "a", "b", "c")}
 
     def _state_at(self, name: str, time: float) -> KinematicState:
-        return self._system.table.state(self._rows[name], time)
+        return self.system.table.state(self._rows[name], time)
 
     def _start_states(self, *names: str) -> dict[str, KinematicState]:
         """The states new plans start from (all coordinates unless ``names`` are given)."""
         names = names or COORDINATES
-        states = self._system.table.states([self._rows[name] for name in names],
-                                           self._system.previous)
+        states = self.system.table.states([self._rows[name] for name in names],
+                                           self.system.previous)
         return dict(zip(names, states, strict=True))
 
     def _set_pose(self) -> Pose:
-        x, y, c = (self._system.value(self._rows[k])[0] for k in ("x", "y", "c"))
+        x, y, c = (self.system.value(self._rows[k])[0] for k in ("x", "y", "c"))
         return Pose(x, y, c)
 
     def _resolve(self, target: PositionXYC) -> tuple[int, Pose]:
         for name in ("x", "y", "c"):
             finite(getattr(target, name), name)
-        environment = self._system.environment()
+        environment = self.system.environment()
         if environment is None:
             if target.reference_id != 0:
                 raise CommandRejected(ErrorId.INVALID_REFERENCE_ID,
                                       f"reference id 16#{target.reference_id:08X} names no part "
                                       "or coordinate system: there are none (§5.3)")
             return 0, target.pose
-        return environment._resolve(target, self.coordinate_system)
+        return environment.port.resolve(target, self.coordinate_system)
+
+    def _move_c_anywhere(self, command: PlanarCommand) -> None:
+        """MoveC: on a track (its C then no longer follows the track) or free."""
+        if self._rider is not None:
+            move_c_on_track(self, command)
+        else:
+            self._move_c(command)
+
+    #: the handler of each motion command: a method of this class, or a track command of
+    #: riding.py or gearing.py (which reach the mover through its ``port``)
+    _HANDLERS: ClassVar[dict[MoverCommand, Callable[[Any, PlanarCommand], None]]] = {
+        _C.MOVE_TO_POSITION: _move_to_position,
+        _C.MOVE_C: _move_c_anywhere,
+        _C.ADOPT_TRACK_ORIENTATION: riding.adopt_track_orientation,
+        _C.MOVE_Z: _move_aux,
+        _C.MOVE_A: _move_aux,
+        _C.MOVE_B: _move_aux,
+        _C.HALT: _halt,
+        _C.SET_POSITION: _set_position,
+        _C.JOIN_TRACK: riding.join_track,
+        _C.LEAVE_TRACK: riding.leave_track,
+        _C.MOVE_ON_TRACK: riding.move_on_track,
+        _C.GEAR_IN_POS_ON_TRACK: gearing.gear_in_pos_on_track,
+        _C.GEAR_IN_POS_ON_TRACK_WITH_MASTER_MOVER: gearing.gear_in_pos_on_track_with_master_mover,
+        _C.ADD_TO_GROUP: _add_to_group,
+        _C.REMOVE_FROM_GROUP: _remove_from_group,
+        _C.START_EXTERNAL_SETPOINT_GENERATION: _start_external,
+        _C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION: _start_external,
+        _C.STOP_EXTERNAL_SETPOINT_GENERATION: _stop_external,
+    }
+
 
 
 def _off_stators(environment: MC_PlanarEnvironment, problem: str) -> CommandRejected:
@@ -1064,24 +1156,3 @@ def _options(value: _T | None, kind: type[_T]) -> _T | None:
     return value
 
 
-_HANDLERS = {
-    _C.MOVE_TO_POSITION: MC_PlanarMover._move_to_position,
-    _C.MOVE_C: lambda mover, command: (move_c_on_track(mover, command)
-                                       if mover._rider is not None else mover._move_c(command)),
-    _C.ADOPT_TRACK_ORIENTATION: adopt_track_orientation,
-    _C.MOVE_Z: MC_PlanarMover._move_aux,
-    _C.MOVE_A: MC_PlanarMover._move_aux,
-    _C.MOVE_B: MC_PlanarMover._move_aux,
-    _C.HALT: MC_PlanarMover._halt,
-    _C.SET_POSITION: MC_PlanarMover._set_position,
-    _C.JOIN_TRACK: join_track,
-    _C.LEAVE_TRACK: leave_track,
-    _C.MOVE_ON_TRACK: move_on_track,
-    _C.GEAR_IN_POS_ON_TRACK: gear_in_pos_on_track,
-    _C.GEAR_IN_POS_ON_TRACK_WITH_MASTER_MOVER: gear_in_pos_on_track_with_master_mover,
-    _C.ADD_TO_GROUP: MC_PlanarMover._add_to_group,
-    _C.REMOVE_FROM_GROUP: MC_PlanarMover._remove_from_group,
-    _C.START_EXTERNAL_SETPOINT_GENERATION: MC_PlanarMover._start_external,
-    _C.START_RELATIVE_EXTERNAL_SETPOINT_GENERATION: MC_PlanarMover._start_external,
-    _C.STOP_EXTERNAL_SETPOINT_GENERATION: MC_PlanarMover._stop_external,
-}

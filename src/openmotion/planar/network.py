@@ -14,6 +14,7 @@ import math
 from typing import TYPE_CHECKING
 
 from openmotion.planar.riders import Leg
+from openmotion.planar.tolerances import MEET_DISTANCE
 
 if TYPE_CHECKING:
     from openmotion.planar.track import MC_PlanarTrack
@@ -71,7 +72,7 @@ class TrackNetwork:
 
     def _layout(self) -> object:
         for track in self.tracks:
-            environment = track._system.environment()
+            environment = track.system.environment()
             return None if environment is None else environment.layout
         return None
 
@@ -83,7 +84,7 @@ class TrackNetwork:
             self._parent = {}
             self._positions = self._part_positions()
             for track in self.tracks:
-                for a, b, link in track._links:
+                for a, b, link in track.links:
                     ta, tb = self.tracks[a[0]], self.tracks[b[0]]
                     if ta.path.empty or tb.path.empty:
                         continue  # cleared since
@@ -181,7 +182,7 @@ class TrackNetwork:
         automatic ones from the tracks that meet it now (§6.2.2, the 2R hose). Which tracks
         meet at a vertex depends on where the parts stand (§6.2.3), so automatic ranges are
         kept only until the network changes."""
-        manual = track._manual_ranges
+        manual = track.manual_collision_ranges
         if manual is not None:
             return manual
         found = self._ranges.get(track.index)
@@ -248,7 +249,6 @@ class TrackNetwork:
         return None
 
 
-_MEET = 1e-3  #: [mm] track ends on two parts this close meet (the parts' boundaries touch)
 
 
 def _holds(a: MC_PlanarTrack, a_side: int, b: MC_PlanarTrack, b_side: int, link: object,
@@ -264,7 +264,7 @@ def _holds(a: MC_PlanarTrack, a_side: int, b: MC_PlanarTrack, b_side: int, link:
         return False
     ax, ay, _, _ = a.frame_at(_at(a, a_side))
     bx, by, _, _ = b.frame_at(_at(b, b_side))
-    return abs(float(ax[0] - bx[0])) <= _MEET and abs(float(ay[0] - by[0])) <= _MEET
+    return abs(float(ax[0] - bx[0])) <= MEET_DISTANCE and abs(float(ay[0] - by[0])) <= MEET_DISTANCE
 
 
 def _at(track: MC_PlanarTrack, side: int) -> object:

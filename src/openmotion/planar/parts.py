@@ -29,9 +29,9 @@ from openmotion.kernel.model import Kind
 from openmotion.planar.enums import PlanarState
 from openmotion.planar.frames import Pose
 from openmotion.planar.kind import PLANAR_PART
+from openmotion.planar.tolerances import PART_TOLERANCE
 
 STATOR_SIZE = 240.0  #: side of a square stator [mm] (§5.1)
-TOLERANCE = 1e-6  #: a point this close [mm] is on a part; a smaller overlap [mm²] is none
 _MAX_OID = 0xFFFF_FFFF  #: an OTCID is a UDINT
 _ERROR_STATES = (PlanarState.ERROR_PENDING, PlanarState.ERROR, PlanarState.RESETTING)
 
@@ -106,6 +106,11 @@ class Part:
         """The active position, 1-based as ActivatePosition counts (§6.6.1)."""
         return self._position_index
 
+    @position_index.setter
+    def position_index(self, index: int) -> None:
+        """Move the part (ActivatePosition: the layout and the environment check first)."""
+        self._position_index = index
+
     @property
     def active_position(self) -> PartPosition:
         """What MC_PlanarPart.GetPosition reports: the system and the pose of the part frame."""
@@ -122,10 +127,10 @@ class Part:
     def covers(self, x: float, y: float, position_index: int | None = None) -> bool:
         """Whether a point of the position's coordinate system is on the part (edges count)."""
         low_x, low_y, high_x, high_y = self.surface(position_index).bounds
-        if not (low_x - TOLERANCE <= x <= high_x + TOLERANCE
-                and low_y - TOLERANCE <= y <= high_y + TOLERANCE):
+        if not (low_x - PART_TOLERANCE <= x <= high_x + PART_TOLERANCE
+                and low_y - PART_TOLERANCE <= y <= high_y + PART_TOLERANCE):
             return False  # far off (also no overflow in the distance of a huge coordinate)
-        return shapely.dwithin(self.surface(position_index), Point(x, y), TOLERANCE)
+        return shapely.dwithin(self.surface(position_index), Point(x, y), PART_TOLERANCE)
 
     def allow_enable(self) -> None:
         """AllowEnable: the part may be enabled again after a ForceDisable (§6.6)."""
@@ -202,7 +207,7 @@ def _stator_cells(name: str, stators: Iterable[tuple[float, float]]) -> list[tup
 
 def _grid_cell(name: str, x: float, y: float) -> tuple[int, int]:
     col, row = round(x / STATOR_SIZE), round(y / STATOR_SIZE)
-    if abs(x - col * STATOR_SIZE) > TOLERANCE or abs(y - row * STATOR_SIZE) > TOLERANCE:
+    if abs(x - col * STATOR_SIZE) > PART_TOLERANCE or abs(y - row * STATOR_SIZE) > PART_TOLERANCE:
         raise ConfigError(f"{name}: stators: corner ({x}, {y}) is not on the "
                           f"{STATOR_SIZE:g} mm grid of the part frame")
     return col, row
@@ -305,7 +310,7 @@ class PartLayout:
             raise CommandRejected(ErrorId.INVALID_REFERENCE_ID, f"coordinate system {_hex(system)}"
                                   f" is not the mover's ({_hex(coordinate_system)}): "
                                   "coordinate systems are not connected (§5.1)")
-        if self._part_under(system, target) is None:
+        if self.part_under(system, target) is None:
             raise self._not_on_active_part(system, target)
         return system, target
 
@@ -316,7 +321,7 @@ class PartLayout:
         On an edge shared by two parts ``current_part`` wins, so that a mover belongs to its
         old part until it has crossed; otherwise the first part in configuration order.
         """
-        part = self._part_under(coordinate_system, pose, current_part)
+        part = self.part_under(coordinate_system, pose, current_part)
         if part is None:
             raise self._not_on_active_part(coordinate_system, pose)
         return part.oid, part.active_position.pose.inverse().compose(pose)
@@ -339,7 +344,7 @@ class PartLayout:
         """ActivatePosition (§7.2.2.9.2): move a part. The movers on it are the environment's
         business (it carries them, §6.6.1)."""
         self.check_activation(part_oid, position_index)
-        self.parts[part_oid]._position_index = position_index
+        self.parts[part_oid].position_index = position_index
 
     def check_activation(self, part_oid: int, position_index: int) -> Part:
         """The part, if it may go to ``position_index``; else ``CommandRejected``. Split from
@@ -392,7 +397,7 @@ class PartLayout:
                                   f"{target.y:g}) lies off {part.name}: give the part it lies on"
                                   " or the coordinate system (§6.1.7)")
 
-    def _part_under(self, system: int, pose: Pose, preferred: int | None = None) -> Part | None:
+    def part_under(self, system: int, pose: Pose, preferred: int | None = None) -> Part | None:
         under = [part for part in self.parts_in(system) if part.covers(pose.x, pose.y)]
         return next((part for part in under if part.oid == preferred), under[0] if under else None)
 
@@ -409,8 +414,8 @@ class PartLayout:
     def _overlapping(self, part: Part, position_index: int) -> Part | None:
         system = part.positions[position_index - 1].coordinate_system
         surface = part.surface(position_index)
-        return next((other for other in self.parts_in(system) if other is not part
-                     and shapely.intersection(other.surface(), surface).area > TOLERANCE), None)
+        return next((other for other in self.parts_in(system) if other is not part and
+                     shapely.intersection(other.surface(), surface).area > PART_TOLERANCE), None)
 
     def _check_positions(self, part: Part) -> None:
         for index, position in enumerate(part.positions, start=1):
@@ -429,10 +434,10 @@ def _check_unique(oids: list[int]) -> None:
 
 def _reach(parts: list[Part], segment: LineString, start: set[int]) -> set[int]:
     """The parts under the segment's end that can be reached from ``start`` along it."""
-    if segment.length <= TOLERANCE:
+    if segment.length <= PART_TOLERANCE:
         return start
     pieces = [_Piece(part, lo, hi) for part in parts for lo, hi in _intervals(part, segment)]
-    reached = [piece for piece in pieces if piece.part.oid in start and piece.lo <= TOLERANCE]
+    reached = [piece for piece in pieces if piece.part.oid in start and piece.lo <= PART_TOLERANCE]
     todo = list(reached)
     while todo:
         piece = todo.pop()
@@ -440,7 +445,7 @@ def _reach(parts: list[Part], segment: LineString, start: set[int]) -> set[int]:
             if other not in reached and _joined(piece, other, segment):
                 reached.append(other)
                 todo.append(other)
-    return {piece.part.oid for piece in reached if piece.hi >= segment.length - TOLERANCE}
+    return {piece.part.oid for piece in reached if piece.hi >= segment.length - PART_TOLERANCE}
 
 
 def _intervals(part: Part, segment: LineString) -> list[tuple[float, float]]:
@@ -454,16 +459,16 @@ def _intervals(part: Part, segment: LineString) -> list[tuple[float, float]]:
 def _joined(piece: _Piece, other: _Piece, segment: LineString) -> bool:
     """Whether the path passes from one piece to the other across a shared edge."""
     lo, hi = max(piece.lo, other.lo), min(piece.hi, other.hi)
-    if lo > hi + TOLERANCE:
+    if lo > hi + PART_TOLERANCE:
         return False
     if piece.part is other.part:
         return True
     return shapely.dwithin(_shared_edges(piece.part, other.part),
-                           segment.interpolate((lo + hi) / 2), TOLERANCE)
+                           segment.interpolate((lo + hi) / 2), PART_TOLERANCE)
 
 
 def _shared_edges(part: Part, other: Part) -> BaseGeometry:
     """Where two parts meet along a line; a corner contact (a point) is left out."""
-    near = shapely.intersection(part.surface().boundary, other.surface().buffer(TOLERANCE))
+    near = shapely.intersection(part.surface().boundary, other.surface().buffer(PART_TOLERANCE))
     return shapely.union_all([line for line in shapely.get_parts(near)
-                              if line.length > 10 * TOLERANCE])
+                              if line.length > 10 * PART_TOLERANCE])

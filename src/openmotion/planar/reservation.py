@@ -78,6 +78,7 @@ from openmotion.core.errors import ConfigError
 from openmotion.planar import area_kernels as kernels
 from openmotion.planar.enums import PlanarObjectType
 from openmotion.planar.frames import cos_sin
+from openmotion.planar.tolerances import DISTANCE_NOISE, SURFACE_TOLERANCE
 
 if TYPE_CHECKING:
     from openmotion.trajectory.segments import Profile
@@ -85,8 +86,6 @@ if TYPE_CHECKING:
 MOVER_WIDTH = 155.0  #: default footprint extent in x at c = 0 [mm] (§6.1.1 "Mover width")
 MOVER_HEIGHT = 155.0  #: default footprint extent in y at c = 0 [mm] (§6.1.1 "Mover height")
 RELEASE_STEP = 100.0  #: travel covered by one releasable piece of a swept area [mm]
-SURFACE_TOLERANCE = 1e-6  #: how far a footprint may overhang the stators (rounding) [mm]
-NOISE = 1e-9  #: distances below this are rounding noise [mm]
 _STRAIGHT_SPAN = 20.0  #: [deg] the largest turn of a run the straight-move cover takes
 _DISC_TURN = 30.0  #: a run stepping this far [deg] between samples is covered by discs
 _SQUARE = np.array([(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)])
@@ -235,7 +234,7 @@ def swept_area(path: np.ndarray, width: float = MOVER_WIDTH, height: float = MOV
     radius = math.hypot(*half)
     turn = np.maximum.reduceat(np.abs(np.diff(c)), starts)  # [deg] largest step of each run
     grow = radius * np.radians(turn)
-    grow[grow <= NOISE] = 0.0
+    grow[grow <= DISTANCE_NOISE] = 0.0
     index = [np.arange(a, b + 1) for a, b in zip(starts.tolist(), ends.tolist(), strict=True)]
     disc = turn >= _DISC_TURN  # coarse turns: the disc around the centre holds any angle
     clouds = []
@@ -268,10 +267,10 @@ def _straight(xy: np.ndarray) -> bool:
         return bool((xy == xy[0]).all())
     offset = (xy - xy[0]) / length
     across = cx * offset[:, 1] - cy * offset[:, 0]
-    if not np.abs(across).max() <= NOISE:
+    if not np.abs(across).max() <= DISTANCE_NOISE:
         return False
     along = offset[:, 0] * cx + offset[:, 1] * cy  # no BLAS call for a handful of numbers
-    return bool((along[1:] - along[:-1]).min() >= -NOISE)
+    return bool((along[1:] - along[:-1]).min() >= -DISTANCE_NOISE)
 
 
 def straight_swept_area(poses: np.ndarray | list[list[float]], until: np.ndarray | list[int],
@@ -286,7 +285,7 @@ def straight_swept_area(poses: np.ndarray | list[list[float]], until: np.ndarray
     poses = np.ascontiguousarray(poses, dtype=float)
     hx, hy = width / 2 + margin, height / 2 + margin
     fits, low, high, bounds, keys, key = kernels.straight_pieces(poses, _STRAIGHT_SPAN, hx, hy,
-                                                                 NOISE)
+                                                                 DISTANCE_NOISE)
     if not fits:
         return None
     return SweptArea.from_keys(bounds, keys, key, until, _line_hulls(poses, low, high, hx, hy))
@@ -306,7 +305,7 @@ def straight_run_area(s: Profile, plans: Sequence[tuple[Profile, float]],
     hx, hy = width / 2, height / 2
     samples, ends, poses, fits, low, high, bounds, keys, key = kernels.straight_area_numbers(
         s.data, x.data, tx, moving[0], y.data, ty, moving[1], c.data, tc, moving[2],
-        c_in_grid, start, step, RELEASE_STEP, _STRAIGHT_SPAN, hx, hy, NOISE)
+        c_in_grid, start, step, RELEASE_STEP, _STRAIGHT_SPAN, hx, hy, DISTANCE_NOISE)
     if not fits:
         return None
     return samples, SweptArea.from_keys(bounds, keys, key, ends,
@@ -351,7 +350,7 @@ def _pieces_on_line(points: np.ndarray, low: np.ndarray, high: np.ndarray,
                     until: np.ndarray | list[int], half: tuple[float, float]) -> SweptArea:
     """``_line_pieces`` of runs known to turn at most ``_STRAIGHT_SPAN`` (float arrays)."""
     hx, hy = half
-    bounds, keys, key = kernels.line_piece_bounds(points, low, high, hx, hy, NOISE)
+    bounds, keys, key = kernels.line_piece_bounds(points, low, high, hx, hy, DISTANCE_NOISE)
     return SweptArea.from_keys(bounds, keys, key, until, _line_hulls(points, low, high, hx, hy))
 
 
@@ -361,7 +360,7 @@ def _line_hulls(points: np.ndarray, low: np.ndarray, high: np.ndarray, hx: float
 
     def vertices(i: int) -> np.ndarray:
         return kernels.line_piece_hull(points[i, 0], points[i, 1], points[i + 1, 0],
-                                       points[i + 1, 1], low[i], high[i], hx, hy, NOISE)
+                                       points[i + 1, 1], low[i], high[i], hx, hy, DISTANCE_NOISE)
 
     return vertices
 

@@ -82,13 +82,10 @@ class Owner(Protocol):
     """The mover a rider belongs to: told when its command ends, asked before its geared
     way goes on over tracks it did not hold at the start (followMover, D-149)."""
 
-    _awake: bool  #: publish its status at the end of this cycle
-
-    def _on_track_finished(self, command: PlanarCommand | None) -> None: ...
-
-    def _admit_way(self, tracks: list[Any]) -> None:
-        """Raises ``CommandRejected`` when the mover may not move onto ``tracks``."""
-        ...
+    awake: bool  #: publish its status at the end of this cycle
+    #: ``track_finished(command)``: its track command ended (or its halt);
+    #: ``admit_way(tracks)``: raises ``CommandRejected`` when it may not move onto ``tracks``
+    port: Any
 
 
 @dataclass

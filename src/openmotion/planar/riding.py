@@ -6,6 +6,7 @@ where a mover joins; every example fits the nearest point, docs/decisions.md) an
 the mover there: its x, y (and c, with ``use_orientation``) then follow the track (traffic.py).
 LeaveTrack uncouples at once and is a free move to its target. MoveOnTrack plans one
 profile along the route to its target and leaves gap keeping and switches to the traffic.
+They start and place the mover's motion through its ``MotionPort`` (``mover.port``, D-239).
 """
 
 from __future__ import annotations
@@ -44,16 +45,16 @@ def join_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
     from openmotion.planar.track import MC_PlanarTrack, traffic_of
 
     track, constraint, options = command.args
-    if not isinstance(track, MC_PlanarTrack) or track._system is not mover._system:
+    if not isinstance(track, MC_PlanarTrack) or track.system is not mover.system:
         raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
                               "JoinTrack: the target must be a track of this runtime")
     options = options or ST_JoinTrackOptions()
     options.check()
-    check_track_accepts(track._states.current, track.operation_mode, _C.JOIN_TRACK)
+    check_track_accepts(track.states.current, track.operation_mode, _C.JOIN_TRACK)
     p = mover.parameters
     limits = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
                               command.warnings)
-    pose = mover._set_pose()
+    pose = mover.port.set_pose()
     s = track.arc_length_closest_to_pose(pose, mover.coordinate_system)
     x, y, heading, _ = track.frame_at(np.array([s]))
     c = pose.c
@@ -64,21 +65,21 @@ def join_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
 
     def coupled(done: bool) -> None:
         track.configuring.discard(mover.oid)
-        mover._modes.ended(_C.JOIN_TRACK, done=done, c=mover._set_pose().c)
+        mover.modes.ended(_C.JOIN_TRACK, done=done, c=mover.port.set_pose().c)
         if not done:
             return
-        row = mover._odometer_row(s)
-        rows = (mover._rows["x"], mover._rows["y"], mover._rows["c"])
+        row = mover.port.odometer_row(s)
+        rows = (mover.port.rows["x"], mover.port.rows["y"], mover.port.rows["c"])
         brake = p.maximum_dynamic_xy
         rider = Rider(mover, track, s, row, rows, ST_MoveOnTrackOptions().gap,
                       (brake.deceleration, brake.jerk), options.use_orientation,
-                      mover._set_pose().c, half=(p.mover_width / 2, p.mover_height / 2))
-        traffic_of(mover._system).couple(rider)
-        mover._rider = rider
+                      mover.port.set_pose().c, half=(p.mover_width / 2, p.mover_height / 2))
+        traffic_of(mover.system).couple(rider)
+        mover.port.couple(rider)
 
-    mover._begin(command, motion, "the join", on_end=coupled)
+    mover.port.begin(command, motion, "the join", on_end=coupled)
     track.configuring.add(mover.oid)
-    mover._modes.started(_C.JOIN_TRACK)
+    mover.modes.started(_C.JOIN_TRACK)
 
 
 def leave_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
@@ -87,28 +88,28 @@ def leave_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
     target, constraint, options = command.args
     rider = _rider(mover)
     track = rider.track
-    check_track_accepts(track._states.current, track.operation_mode, _C.LEAVE_TRACK)
+    check_track_accepts(track.states.current, track.operation_mode, _C.LEAVE_TRACK)
     options = options or ST_LeaveTrackOptions()
     options.check()
     p = mover.parameters
     limits = command_dynamics(constraint, p.default_dynamic_xy, p.maximum_dynamic_xy,
                               command.warnings)
-    _, pose = mover._resolve(target)
+    _, pose = mover.port.resolve(target)
     goal = (pose.x, pose.y, pose.c) if options.use_orientation else (pose.x, pose.y)
     motion = _free_move(mover, goal, limits, options.use_orientation)
     # before the mover lets go of the track: a refused leave leaves it coupled (D-163)
-    mover._check_carried(motion, None, mover._system.previous, "the leave")
-    traffic = traffic_of(mover._system)
-    traffic.uncouple(rider, mover._system.previous)
-    mover._rider = None
+    mover.port.check_carried(motion, None, mover.system.previous, "the leave")
+    traffic = traffic_of(mover.system)
+    traffic.uncouple(rider, mover.system.previous)
+    mover.port.couple(None)
 
     def left(done: bool) -> None:
         track.configuring.discard(mover.oid)
-        mover._modes.ended(_C.LEAVE_TRACK, done=done, c=mover._set_pose().c)
+        mover.modes.ended(_C.LEAVE_TRACK, done=done, c=mover.port.set_pose().c)
 
-    mover._begin(command, motion, "the leave", on_end=left, check_carried=False)
+    mover.port.begin(command, motion, "the leave", on_end=left, check_carried=False)
     track.configuring.add(mover.oid)
-    mover._modes.started(_C.LEAVE_TRACK)
+    mover.modes.started(_C.LEAVE_TRACK)
 
 
 def move_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
@@ -119,17 +120,17 @@ def move_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
     options = options or ST_MoveOnTrackOptions()
     options.check()
     track = target_track or rider.track
-    if not isinstance(track, MC_PlanarTrack) or track._system is not mover._system:
+    if not isinstance(track, MC_PlanarTrack) or track.system is not mover.system:
         raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
                               "MoveOnTrack: the target track must be a track of this runtime "
                               "(or 0 for the current one)")
-    check_track_accepts(rider.track._states.current, rider.track.operation_mode,
+    check_track_accepts(rider.track.states.current, rider.track.operation_mode,
                         _C.MOVE_ON_TRACK)
     if not track.usable:
         raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                               f"MoveOnTrack: {track.name} is not Enabled (§4.3)")
     position = finite(position, "targetPositionOnTrack")
-    traffic = traffic_of(mover._system)
+    traffic = traffic_of(mover.system)
     here, s, _, _ = traffic.position(rider)
     passes = track is here and here.closed_loop and \
         options.direction is ModuloDirection.NON_MODULO  # laps allowed (§7.2.1.1.2)
@@ -145,7 +146,7 @@ def move_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
     check_route_accepts([leg.track for leg in route], _C.MOVE_ON_TRACK)
     limits = _curve_limits(limits, [leg.track for leg in route])
     _reserve_bands(mover, [leg.track for leg in route])
-    traffic.ride(rider, route, target, limits, options.gap, command, mover._system.previous)
+    traffic.ride(rider, route, target, limits, options.gap, command, mover.system.previous)
 
 
 def check_route_accepts(tracks: list[MC_PlanarTrack], kind: MoverCommand) -> None:
@@ -154,7 +155,7 @@ def check_route_accepts(tracks: list[MC_PlanarTrack], kind: MoverCommand) -> Non
     (Configuring) bars the way there as it bars motion on it (§4.3)."""
     for track in dict.fromkeys(tracks):
         try:
-            check_track_accepts(track._states.current, track.operation_mode, kind)
+            check_track_accepts(track.states.current, track.operation_mode, kind)
         except CommandRejected as bad:
             raise CommandRejected(bad.error_id, f"{track.name}: {bad.message}") from None
 
@@ -171,16 +172,16 @@ def _reserve_bands(mover: MC_PlanarMover, tracks: list[MC_PlanarTrack],
     from openmotion.planar.mover import Collision
     from openmotion.planar.track import traffic_of
 
-    group = mover._group
+    group = mover.group
     if group is None:
         return
     for track in tracks:
-        if track._group is not group:
+        if track.group is not group:
             raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP,
                                   f"{what}: {track.name} is not in the mover's group "
                                   f"16#{group.oid:08X}; collision avoidance needs it there "
                                   "(§4.3)")
-    riders = [r.owner._member for r in traffic_of(mover._system).riders
+    riders = [r.owner.member for r in traffic_of(mover.system).riders
               if any(r.track is t for t in tracks)]
     static = [m for m in group.registry.members
               if m.object_type in (PlanarObjectType.TRACK, PlanarObjectType.ENVIRONMENT)]
@@ -192,7 +193,7 @@ def _reserve_bands(mover: MC_PlanarMover, tracks: list[MC_PlanarTrack],
             blocker = _moving_blocker(group.registry, track, riders + static)
         if blocker is not None:
             raise Collision(blocker, f"the surface of {track.name}")
-    group._check_enabled(what)
+    group.port.check_enabled(what)
     for track in needed:
         group.registry.settle(track.member, track.surface())
         track.band = True
@@ -210,15 +211,15 @@ def release_bands(mover: MC_PlanarMover) -> None:
     track on which no mover moves any more gives its surface back (§4.3)."""
     from openmotion.planar.track import traffic_of
 
-    group = mover._group
+    group = mover.group
     if group is None:
         return
-    group.registry.settle(mover._member, mover._standing_area(mover._set_pose()))
-    traffic = traffic_of(mover._system)
+    group.registry.settle(mover.member, mover.port.standing_area(mover.port.set_pose()))
+    traffic = traffic_of(mover.system)
     busy = {id(leg.track) for r in traffic.riders if traffic.moving(r) for leg in r.route}
     for track in traffic.network.tracks:
-        if track.band and id(track) not in busy and track._group is not None:
-            track._group.registry.vacate(track.member)
+        if track.band and id(track) not in busy and track.group is not None:
+            track.group.registry.vacate(track.member)
             track.band = False
 
 
@@ -229,8 +230,8 @@ def move_c_on_track(mover: MC_PlanarMover, command: PlanarCommand) -> None:
 
     rider = _rider(mover)
     _standing(mover, rider, "MoveC")
-    traffic_of(mover._system).orient(rider, False)
-    mover._move_c(command)
+    traffic_of(mover.system).orient(rider, False)
+    mover.port.move_c(command)
 
 
 def adopt_track_orientation(mover: MC_PlanarMover, command: PlanarCommand) -> None:
@@ -244,7 +245,7 @@ def adopt_track_orientation(mover: MC_PlanarMover, command: PlanarCommand) -> No
     constraint, options = command.args
     rider = _rider(mover)
     _standing(mover, rider, "AdoptTrackOrientation")
-    traffic = traffic_of(mover._system)
+    traffic = traffic_of(mover.system)
     traffic.orient(rider, False)  # the rotation drives C until it ends
     options = options or ST_AdoptTrackOrientationOptions()
     options.check()
@@ -253,7 +254,7 @@ def adopt_track_orientation(mover: MC_PlanarMover, command: PlanarCommand) -> No
                               command.warnings)
     track, s, _, _ = traffic.position(rider)
     _, _, heading, _ = track.frame_at(np.array([s]))
-    profile = plan_move_c(mover._start_states("c")["c"], math.degrees(float(heading[0])),
+    profile = plan_move_c(mover.port.start_states("c")["c"], math.degrees(float(heading[0])),
                           limits, options.direction, options.additional_turns,
                           p.c_coordinate_modulus, p.c_coordinate_modulo_tolerance_window)
 
@@ -261,13 +262,13 @@ def adopt_track_orientation(mover: MC_PlanarMover, command: PlanarCommand) -> No
         if done:
             traffic.orient(rider, True, profile.end.position)
 
-    mover._begin(command, {"c": profile}, "the rotation", c_motion=True, on_end=adopted)
+    mover.port.begin(command, {"c": profile}, "the rotation", c_motion=True, on_end=adopted)
 
 
 def _standing(mover: MC_PlanarMover, rider: Rider, what: str) -> None:
     from openmotion.planar.track import traffic_of
 
-    if traffic_of(mover._system).moving(rider):
+    if traffic_of(mover.system).moving(rider):
         raise CommandRejected(ErrorId.PLANAR_WRONG_MODE,
                               f"{what} on a track needs the mover to stand; it moves on "
                               f"{rider.track.name} (§6.1.9)")
@@ -276,20 +277,20 @@ def _standing(mover: MC_PlanarMover, rider: Rider, what: str) -> None:
 def halt_on_track(mover: MC_PlanarMover, command: PlanarCommand, limits: Limits) -> None:
     from openmotion.planar.track import traffic_of
 
-    traffic_of(mover._system).halt(_rider(mover), limits, command, mover._system.previous)
+    traffic_of(mover.system).halt(_rider(mover), limits, command, mover.system.previous)
 
 
 def _rider(mover: MC_PlanarMover) -> Rider:
-    if mover._rider is None:
+    if mover.rider is None:
         raise CommandRejected(ErrorId.PLANAR_WRONG_MODE, "the mover is on no track: JoinTrack "
                               "first (§4.2)")
-    return mover._rider
+    return mover.rider
 
 
 def _free_move(mover: MC_PlanarMover, goal: tuple[float, ...], limits: Limits,
                turn: bool) -> dict[str, Profile]:
     """Profiles of a straight move to ``goal`` (x, y[, c]) from where the mover stands."""
-    start = mover._start_states("x", "y", "c")
+    start = mover.port.start_states("x", "y", "c")
     p = mover.parameters
     motion = plan_move_to_position((start["x"], start["y"], start["c"]), goal, limits,
                                    p.default_dynamic_c)

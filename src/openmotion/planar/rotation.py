@@ -19,11 +19,10 @@ from openmotion.core.enums import ModuloDirection, convert_enum
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.modulo import mc3_modulo_target
 from openmotion.planar.enums import MoverCommandMode
+from openmotion.planar.tolerances import ANGLE_PRECISION, COUNTER_RESIDUE
 from openmotion.trajectory.segments import Profile
 
 QUARTER = 90.0  #: [°] symmetry of the square mover: the windows repeat at this spacing
-_TOLERANCE = 1e-9  #: [°] float residue of evaluated setpoints is not a window exit
-_RESIDUE = 1e-9  #: relative to its peak, a velocity against the motion is float residue
 
 _C_ROTATION = {
     MoverCommandMode.FREE_MOVEMENT: MoverCommandMode.C_ROTATION_FREE_MOVEMENT,
@@ -58,10 +57,10 @@ class CWindows:
 
     def contains_interval(self, low: float, high: float) -> bool:
         """Whether every orientation in [low, high] lies in ONE window (a swept C interval)."""
-        k = math.floor((low - self.minimum + _TOLERANCE) / QUARTER)
+        k = math.floor((low - self.minimum + ANGLE_PRECISION) / QUARTER)
         shift = k * QUARTER
-        return (low >= self.minimum + shift - _TOLERANCE
-                and high <= self.maximum + shift + _TOLERANCE)
+        return (low >= self.minimum + shift - ANGLE_PRECISION
+                and high <= self.maximum + shift + ANGLE_PRECISION)
 
     def contains_motion(self, c: Profile, never_turns_back: bool | None = None) -> bool:
         """Whether a planned C motion stays inside one window for its whole duration
@@ -73,7 +72,7 @@ def monotonic(profile: Profile) -> bool:
     """Whether a planned motion never turns back: its velocity keeps one sign, up to float
     residue of 1e-9 of its peak (a residue of ~1e-13 mm/s ends many ruckig brakes)."""
     low, high = profile.velocity_extrema()
-    residue = _RESIDUE * max(-low, high, 1.0)
+    residue = COUNTER_RESIDUE * max(-low, high, 1.0)
     return low >= -residue or high <= residue
 
 

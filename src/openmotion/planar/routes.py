@@ -64,7 +64,7 @@ class Routes:
             self.tables.forget()
         else:
             t.follow(rider, profile, target, now)
-        command.started()
+        command.start()
 
     def _check_stops_on_way(self, k: int, start: KinematicState, profile: Profile | None,
                             route: list[Leg]) -> None:
@@ -103,7 +103,7 @@ class Routes:
         t.load(rider)
         t.follow(rider, profile, rider.target, now)
         if command is not None:
-            command.started()
+            command.start()
 
     def stop_profile(self, rider: Rider, limits: Limits) -> Profile:
         """A stop from the rider's state with ``limits``' deceleration and jerk (or its gap

@@ -121,7 +121,7 @@ class PlanarStateMachine:
             self.reaction = ErrorReaction.ABORT
         self._error_id, self._message = error_id, message
         if self._command is not None:
-            self._command.rejected(error_id, message)
+            self._command.reject(error_id, message)
             self._command = None
         self._enter(_S.ERROR if state is _S.RESETTING else _S.ERROR_PENDING)
 
@@ -138,19 +138,19 @@ class PlanarStateMachine:
 
     def _enable(self, command: PlanarCommand) -> None:
         if self.current in _ERROR_STATES:
-            command.rejected(ErrorId.PLANAR_WRONG_STATE, f"Enable is not accepted in "
-                             f"{title(self.current)}: Reset the error first (§4.1)")
+            command.reject(ErrorId.PLANAR_WRONG_STATE, f"Enable is not accepted in "
+                           f"{title(self.current)}: Reset the error first (§4.1)")
         elif self.current is _S.ENABLED:
-            command.finished()
+            command.finish()
         else:
             self._begin(_S.ENABLING, command)
 
     def _disable(self, command: PlanarCommand) -> None:
         if self.current in _ERROR_STATES:
             self.reaction = ErrorReaction.ABORT  # §4.1: forces the Abort reaction
-            command.finished()
+            command.finish()
         elif self.current is _S.DISABLED:
-            command.finished()
+            command.finish()
         else:
             self._begin(_S.DISABLING, command)
 
@@ -158,17 +158,17 @@ class PlanarStateMachine:
         if self.current in (_S.ERROR, _S.RESETTING):
             self._begin(_S.RESETTING, command)
         elif self.current is _S.ERROR_PENDING:
-            command.rejected(ErrorId.PLANAR_WRONG_STATE, "Reset is not accepted in "
-                             "ErrorPending: wait until the state is Error (§4.1)")
+            command.reject(ErrorId.PLANAR_WRONG_STATE, "Reset is not accepted in "
+                           "ErrorPending: wait until the state is Error (§4.1)")
         else:
-            command.finished()
+            command.finish()
 
     def _begin(self, state: PlanarState, command: PlanarCommand) -> None:
         """Start (or take over) a transition: the command it replaces is Aborted."""
         if self._command is not None:
-            self._command.aborted()
+            self._command.abort()
         self._command = command
-        command.started()
+        command.start()
         if state is not self.current:
             self._enter(state)
 
@@ -183,7 +183,7 @@ class PlanarStateMachine:
         else:
             after = _S.ENABLED if state is _S.ENABLING else _S.DISABLED
         if self._command is not None:
-            self._command.finished()
+            self._command.finish()
             self._command = None
         self._enter(after)
 

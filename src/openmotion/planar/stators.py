@@ -35,9 +35,9 @@ from shapely.geometry.base import BaseGeometry
 
 from openmotion.core.checks import finite_number, finite_pair
 from openmotion.core.errors import ConfigError
+from openmotion.planar.tolerances import GRID_TOLERANCE
 
 STATOR_SIZE = 240.0  #: side of a square stator [mm] (§5.1, §6.4.2)
-GRID_TOLERANCE = 1e-6  #: how far a corner may lie off the stator grid and still snap [mm]
 
 #: (di, dj) of the neighbour across each side, and the side's corners in cell units,
 #: in the order bottom, right, top, left (counter-clockwise, so elements read deterministically)

@@ -12,6 +12,8 @@ calls ``update()`` of every object: a user who calls it as well sees nothing new
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -32,40 +34,53 @@ _OBJECT_OIDS = 0x05120000  #: tracks, groups and environments share 16#0512xxxx 
 _OID_STEP = 0x10
 
 
+@dataclass(frozen=True)
+class ObjectPort:
+    """What the ``PlanarSystem`` calls on a planar object (D-239). The object makes it from its
+    own operations; it is no PLC method (programs call the manual's methods only)."""
+
+    run: Callable[[PlanarCommand], None]  #: execute one command; a rejection ends it
+    publish: Callable[[], bool]  #: show the new status; returns whether to stay awake
+
+
 class PlanarObject:
     """What every planar object has: an OID, a command queue and the cyclic hooks.
 
-    An object is *awake* while it has something to publish (a command ran, a motion ended,
-    a state transition runs); the system publishes only awake objects, so that a hundred
-    standing movers cost next to nothing per cycle.
+    Its contract with the ``PlanarSystem``: the system queues calls on ``commands``, hands
+    each to ``port.run`` in call order and calls ``port.publish`` while the object is
+    ``awake``. An object is *awake* while it has something to publish (a command ran, a
+    motion ended, a state transition runs); the system publishes only awake objects, so that
+    a hundred standing movers cost next to nothing per cycle.
     """
 
     def __init__(self, system: PlanarSystem, oid: int) -> None:
-        self._system = system
+        self.system = system  #: the PlanarSystem that runs it
         self.oid = oid
-        self._queue = CommandQueue()
-        self._awake = True
+        self.commands = CommandQueue(system.clock)
+        self.awake = True
+        #: what the system (and, for some kinds, the other planar objects) call on it
+        self.port = ObjectPort(self._run, self._publish)
 
     def _send(self, kind: str, feedback: MC_PlanarFeedbackBase | None,
               *args: Any) -> PlanarCommand:
         """Record a method call; the system executes it in this cycle's motion phase."""
-        return self._system.send(self, kind, feedback, *args)
+        return self.system.send(self, kind, feedback, *args)
 
     def _run(self, command: PlanarCommand) -> None:
         """Execute one command; a rejection ends it with its error id, never raises."""
-        self._awake = True
+        self.awake = True
         try:
             self._execute(command)
         except CommandRejected as rejected:
-            command.rejected(rejected.error_id, rejected.message,
-                             getattr(rejected, "object_info", None))
+            command.reject(rejected.error_id, rejected.message,
+                           getattr(rejected, "object_info", None))
 
     def _execute(self, command: PlanarCommand) -> None:
         raise NotImplementedError
 
     def _publish(self) -> bool:
         """Show the new status (read in the next cycle); returns whether to stay awake."""
-        self._queue.publish()
+        self.commands.publish()
         return False
 
     def update(self) -> None:
@@ -78,19 +93,19 @@ class StatefulObject(PlanarObject):
     """A planar object with the planar state machine (§4.1): Enable, Disable, Reset, and the
     FB outputs Error and ErrorId (with openmotion's readable ``message``)."""
 
-    _states: PlanarStateMachine
+    states: PlanarStateMachine  #: its planar state machine (§4.1)
 
     @property
     def error(self) -> bool:
-        return self._states.error
+        return self.states.error
 
     @property
     def error_id(self) -> ErrorId:
-        return self._states.error_id
+        return self.states.error_id
 
     @property
     def message(self) -> str:
-        return self._states.message
+        return self.states.message
 
     def enable(self, feedback: MC_PlanarFeedbackBase | None = None) -> PlanarCommand:
         return self._send(StateCommand.ENABLE, feedback)
@@ -137,6 +152,10 @@ class PlanarSystem:
     def now(self) -> float:
         return self.runtime.now
 
+    def clock(self) -> float:
+        """The runtime's time: the commands' ``issued_at`` and ``ended_at`` (feedback.py)."""
+        return self.runtime.now
+
     @property
     def previous(self) -> float:
         """Time of the last published setpoints: new plans start there (docs D-001)."""
@@ -168,6 +187,11 @@ class PlanarSystem:
         p, v, a, _ = self._values
         return float(p[row]), float(v[row]), float(a[row])
 
+    def values(self, which: int, first: int, count: int) -> np.ndarray:
+        """Position (0), velocity (1) or acceleration (2) of ``count`` consecutive rows from
+        ``first`` at the last evaluation (a view: read it before the next cycle)."""
+        return self._values[which][first:first + count]
+
     def set_value(self, row: int, position: float) -> None:
         """Show ``row`` standing at ``position`` before the next evaluation (a relocation)."""
         p, v, a, _ = self._values
@@ -175,7 +199,7 @@ class PlanarSystem:
 
     def send(self, obj: PlanarObject, kind: str, feedback: MC_PlanarFeedbackBase | None,
              *args: Any) -> PlanarCommand:
-        command = obj._queue.send(kind, feedback, *args)
+        command = obj.commands.send(kind, feedback, *args)
         self._sent.append((obj, command))
         return command
 
@@ -187,17 +211,17 @@ class PlanarSystem:
         """The motion phase: run the commands sent, evaluate, move on tracks, publish."""
         sent, self._sent = self._sent, []
         for obj, _ in sent:
-            obj._queue.take()
+            obj.commands.take()
         for obj, command in sent:  # call order across all objects (§6.3.2)
-            obj._run(command)
+            obj.port.run(command)
         if self.table.size:
             self.table.evaluate(now, *self._values)
         if self.traffic is not None:
             self.traffic.advance(now, self._values)
         for mover in self.movers:
-            if mover._next_event <= now:
-                mover._after_motion(now)
+            if mover.next_event <= now:
+                mover.port.after_motion(now)
         for obj in self._objects:
-            if obj._awake:
-                obj._awake = obj._publish()
+            if obj.awake:
+                obj.awake = obj.port.publish()
         self.published += 1

@@ -76,7 +76,7 @@ class MC_PlanarTrack(StatefulObject):
                 isinstance(collision_ranges, tuple | list) and len(collision_ranges) == 2):
             raise ConfigError(f"{self.name}: collision ranges must be two numbers >= 0 (at "
                               f"the start, at the end) [mm], got {collision_ranges!r}")
-        self._manual_ranges = None if collision_ranges is None else tuple(
+        self.manual_collision_ranges = None if collision_ranges is None else tuple(
             non_negative_number(value, f"{self.name}: collision_ranges[{k}]")
             for k, value in enumerate(collision_ranges))
         if isinstance(part_oid, bool) or not isinstance(part_oid, int) or \
@@ -93,13 +93,13 @@ class MC_PlanarTrack(StatefulObject):
         self.path = TrackPath()
         #: (end, start, condition): condition None for a link on one part, else
         #: (this part position, other part position, only those) across parts (§6.2.3)
-        self._links: list[tuple[tuple[int, int], tuple[int, int], Link | None]] = []
+        self.links: list[tuple[tuple[int, int], tuple[int, int], Link | None]] = []
         self._blocked = ""  #: why the geometry may not change any more ("" : it may)
         self._starts_from: MC_PlanarTrack | None = None
         self._group: MC_PlanarGroup | None = None
         self.band = False  #: the track holds its surface in its group (while Moving, §4.3)
         self.configuring: set[int] = set()  #: OIDs of movers joining or leaving
-        self._states = PlanarStateMachine()
+        self.states = PlanarStateMachine()
         system.register(self)
 
     def __repr__(self) -> str:
@@ -158,8 +158,8 @@ class MC_PlanarTrack(StatefulObject):
         """(start, end) [mm]: the manual ones, or the automatic ones of the network as it is
         now (where the parts stand decides which tracks meet, §6.2.3); the default 250 mm
         while the track has no geometry."""
-        if self._manual_ranges is not None:
-            return self._manual_ranges
+        if self.manual_collision_ranges is not None:
+            return self.manual_collision_ranges
         if self.path.empty:
             return (TRACK_COLLISION_RANGE, TRACK_COLLISION_RANGE)
         self.network.refresh()
@@ -207,8 +207,13 @@ class MC_PlanarTrack(StatefulObject):
     # -- state -----------------------------------------------------------------------------------
 
     @property
+    def group(self) -> MC_PlanarGroup | None:
+        """The planar group it is in (AddToGroup done); None for none."""
+        return self._group
+
+    @property
     def state(self) -> PlanarState:
-        return self._states.state
+        return self.states.state
 
     @property
     def length(self) -> float:
@@ -217,7 +222,7 @@ class MC_PlanarTrack(StatefulObject):
     @property
     def usable(self) -> bool:
         """Enabled with a geometry: movers may join and travel on it."""
-        return self._states.current is PlanarState.ENABLED and self.length > 0.0
+        return self.states.current is PlanarState.ENABLED and self.length > 0.0
 
     @property
     def operation_mode(self) -> TrackOperationMode:
@@ -263,7 +268,7 @@ class MC_PlanarTrack(StatefulObject):
     def mc_to_plc_std(self) -> CDT_MCTOPLC_PLANAR_TRACK_STD:
         return CDT_MCTOPLC_PLANAR_TRACK_STD(
             track_oid=self.oid, group_oid=self._group.oid if self._group else 0,
-            state=self._states.state, operation_mode=self.operation_mode,
+            state=self.states.state, operation_mode=self.operation_mode,
             mover_count_on_track=self.mover_count_on_track,
             moving_mover_count=self.moving_mover_count)
 
@@ -273,7 +278,7 @@ class MC_PlanarTrack(StatefulObject):
 
     @property
     def _traffic(self) -> Traffic:
-        return traffic_of(self._system)
+        return traffic_of(self.system)
 
     def frame_at(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """x, y [mm], heading [rad] and curvature [1/mm] at the arc lengths ``s``, in the
@@ -290,7 +295,7 @@ class MC_PlanarTrack(StatefulObject):
 
     def part(self) -> Part | None:
         """The part the track is on: its PartOID, or the only part; None without parts."""
-        environment = self._system.environment()
+        environment = self.system.environment()
         layout = None if environment is None else environment.layout
         if layout is None:
             return None
@@ -316,7 +321,7 @@ class MC_PlanarTrack(StatefulObject):
         return part.active_position.pose
 
     def _system_oid(self) -> int:
-        part = self.part() if self._system.environment() is not None else None
+        part = self.part() if self.system.environment() is not None else None
         return 0 if part is None else part.active_position.coordinate_system
 
     def _local(self, position: PositionXYC) -> tuple[float, float]:
@@ -326,7 +331,7 @@ class MC_PlanarTrack(StatefulObject):
         part = self.part()
         if part is None or position.reference_id == part.oid:
             return position.x, position.y
-        environment = self._system.environment()
+        environment = self.system.environment()
         assert environment is not None and environment.layout is not None
         system, pose = environment.layout.to_coordinate_system(position.reference_id,
                                                                Pose(position.x, position.y))
@@ -361,18 +366,18 @@ class MC_PlanarTrack(StatefulObject):
                                       f"{self.name} has no geometry to enable (§6.2.4)")
             if kind == "Disable":
                 self._check_unused(kind)
-            self._states.request(command)
+            self.states.request(command)
             return
         if kind == "AddToGroup":
             self._add_to_group(command.args[0])
         elif kind == "RemoveFromGroup":
             if self._group is None:
                 raise CommandRejected(ErrorId.PLANAR_NOT_IN_GROUP, f"{self.name} is in no group")
-            self._group._leave(self.member)
+            self._group.port.leave(self.member)
             self._group, self.band = None, False
         else:
             self._edit(kind, command.args)
-        command.finished()
+        command.finish()
 
     def _edit(self, kind: str, args: tuple) -> None:
         """A geometry command. Only a track that is not Enabled changes (movers may be on an
@@ -382,7 +387,7 @@ class MC_PlanarTrack(StatefulObject):
             self._check_editable("Clear", frozen_ok=True)
             self.path = TrackPath()
             self._blocked = ""
-            self._links.clear()
+            self.links.clear()
             self.network.touch()
             return
         self._check_editable(kind)
@@ -425,9 +430,9 @@ class MC_PlanarTrack(StatefulObject):
             raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT, f"{kind}: {bad}") from None
 
     def _check_editable(self, kind: str, frozen_ok: bool = False) -> None:
-        if self._states.current is not PlanarState.DISABLED:
+        if self.states.current is not PlanarState.DISABLED:
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
-                                  f"{kind}: {self.name} is {self._states.current.name.title()}; "
+                                  f"{kind}: {self.name} is {self.states.current.name.title()}; "
                                   "its geometry changes only while it is Disabled")
         self._check_unused(kind)
         if self._blocked and not frozen_ok:
@@ -436,7 +441,7 @@ class MC_PlanarTrack(StatefulObject):
                                   "Clear it first (§7.2.2.10)")
 
     def _check_other(self, other: object, kind: str) -> None:
-        if not isinstance(other, MC_PlanarTrack) or other._system is not self._system:
+        if not isinstance(other, MC_PlanarTrack) or other.system is not self.system:
             raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
                                   f"{kind}: the other track must be a track of this runtime")
         if other is self:
@@ -463,14 +468,14 @@ class MC_PlanarTrack(StatefulObject):
                     bool(getattr(options, "link_only_in_specified_part_positions", False)))
 
     def _link(self, a: tuple[int, int], b: tuple[int, int], link: Link | None = None) -> None:
-        self._links.append((a, b, link))
+        self.links.append((a, b, link))
         self.network.touch()
 
     def _add_to_group(self, group: MC_PlanarGroup) -> None:
         if self._group is not None:
             raise CommandRejected(ErrorId.PLANAR_WRONG_STATE,
                                   f"{self.name} is in group 16#{self._group.oid:08X} already")
-        group._admit(self, None, self.member)
+        group.port.admit(self, None, self.member)
         self._group = group
 
     def surface(self):  # noqa: ANN201 - a shapely Polygon
@@ -483,10 +488,10 @@ class MC_PlanarTrack(StatefulObject):
         return shapely.LineString(np.column_stack((x, y))).buffer(half)
 
     def _publish(self) -> bool:
-        self._states.update()
-        self._queue.publish()
+        self.states.update()
+        self.commands.publish()
         self.network.touch()  # a state change makes the track usable or not
-        return not self._states.settled
+        return not self.states.settled
 
 
 def _point(position: PositionXYC) -> PositionXYC:

@@ -40,7 +40,7 @@ class Atlas:
     def __init__(self, tracks: list[Any]) -> None:
         self.tracks = list(tracks)
         #: kept: ``matches`` compares identity; None for a track without a geometry
-        self.sources = [None if t.path.empty else t.path._table for t in tracks]
+        self.sources = [None if t.path.empty else t.path.table for t in tracks]
         count = len(tracks)
         self.start_at = np.zeros(count, dtype=np.int64)  #: first entry of a track in starts
         self.piece_at = np.zeros(count, dtype=np.int64)  #: ... in kinds and rows
@@ -79,7 +79,7 @@ class Atlas:
     def matches(self, tracks: list[Any]) -> bool:
         """Whether the atlas holds exactly these tracks with their current tables."""
         return len(tracks) == len(self.tracks) and all(
-            a is b and (None if a.path.empty else a.path._table) is t
+            a is b and (None if a.path.empty else a.path.table) is t
             for a, b, t in zip(tracks, self.tracks, self.sources, strict=True))
 
     def frames(self, ids: NDArray[np.int64], s: NDArray[np.float64], clamp: bool = False

@@ -285,7 +285,7 @@ class Traffic:
         takes over, or it leaves its track."""
         rider.gear = None
         if rider.command is not None:
-            rider.command.aborted()
+            rider.command.abort()
             rider.command = None
 
     def rebase(self, k: int, shift: float) -> None:
@@ -452,14 +452,14 @@ class Traffic:
                 command, rider.command = rider.command, None
                 rider.halting = False
                 if rider.gear is not None and rider.gear.failed is not None and command:
-                    command.rejected(*rider.gear.failed)
+                    command.reject(*rider.gear.failed)
                 rider.gear = None
                 if len(rider.route) > 1:  # its pairs and switch relations came from the route
                     rider.route = rider.route[:1]
                     self.routed(rider)
                     self.cycle_tables.forget_routes()
                 self._hold(rider, values)
-                rider.owner._on_track_finished(command)
+                rider.owner.port.track_finished(command)
             else:
                 self.mode[k] = HELD  # queued behind a rider: wait for room
         for k in resting(self.mode, HELD, self.v, self.a).tolist():
@@ -469,10 +469,10 @@ class Traffic:
                 command, rider.command = rider.command, None
                 rider.halting = False
                 if rider.gear is not None and rider.gear.failed is not None and command:
-                    command.rejected(*rider.gear.failed)  # held by the gap filter meanwhile
+                    command.reject(*rider.gear.failed)  # held by the gap filter meanwhile
                 rider.gear = None
                 self._hold(rider, values)
-                rider.owner._on_track_finished(command)
+                rider.owner.port.track_finished(command)
 
     def _hold(self, rider: Rider, values: list[np.ndarray]) -> None:
         """A rider at rest: its x, y and c rows hold where it stands (cycles in which no

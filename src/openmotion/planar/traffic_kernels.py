@@ -22,7 +22,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from openmotion.core.compiled import compiled, true_indices
-from openmotion.planar.tolerances import LIMIT_PRECISION, REST_PRECISION, TRACK_END_PRECISION
+from openmotion.planar.tolerances import (
+    LIMIT_PRECISION,
+    TRACK_END_PRECISION,
+    TRACKING_REST_PRECISION,
+)
 from openmotion.planar.track_atlas import frames_on
 from openmotion.rail.gap_control import TOLERANCE
 from openmotion.rail.kernels import brake_states, candidates, envelope
@@ -138,7 +142,7 @@ def held_plans(held: Ints, p: Floats, v: Floats, a: Floats, target: Floats, limi
             continue
         u, b = s * vk, s * ak
         gentle = (b <= acc * _SLACK and b >= -dec * _SLACK and u >= 0.0
-                  and u + b * abs(b) / (2.0 * jerk) >= -REST_PRECISION * vmax
+                  and u + b * abs(b) / (2.0 * jerk) >= -TRACKING_REST_PRECISION * vmax
                   and abs(vk) <= vmax * _SLACK)
         settled = g == tk
         if not settled:
@@ -208,8 +212,8 @@ def held_steps(held: Ints, sign: Floats, rest: Bools, cycle_time: float, p: Floa
             k = lost[i]
             nxt_p[k], nxt_v[k], nxt_a[k], nxt_j[k] = step[0][i], step[1][i], step[2][i], step[3][i]
     for k in rows:
-        if abs(nxt_v[k]) <= REST_PRECISION * limits[0, k] and \
-                abs(nxt_a[k]) <= REST_PRECISION * limits[1, k]:
+        if abs(nxt_v[k]) <= TRACKING_REST_PRECISION * limits[0, k] and \
+                abs(nxt_a[k]) <= TRACKING_REST_PRECISION * limits[1, k]:
             nxt_v[k], nxt_a[k], nxt_j[k] = 0.0, 0.0, 0.0
             known[k] = False
 

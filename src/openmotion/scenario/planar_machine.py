@@ -14,7 +14,7 @@ With parts (§5.2) the environment takes a new ``PartLayout`` and the run initia
 MC_PlanarPart per part; the setup then only creates the boundary, and a mover must start on a
 part in its active position.
 
-A timeline entry's row is a ``Command`` that mirrors the method's PlanarCommand once per cycle
+A timeline entry's row is a ``Command`` that follows the method's PlanarCommand once per cycle
 (observer phase): BUSY while sent or active, then DONE, ABORTED or ERROR; a refused command
 says ``rejected (33158) by mover 16#05110010``: the error number and the blocking object. A
 start_external_setpoint_generation entry is a ``SetpointFeed``: ``feed`` sends its setpoint in
@@ -304,27 +304,23 @@ class PlanarMachine:
             feed.feed()
 
     def watch(self) -> None:
-        """Mirror every open PlanarCommand onto its row's Command (observer phase)."""
+        """Let every row follow the command its method returned (observer phase): both are
+        kernel ``Command``s, so the row takes its status (``follow``)."""
         self._feeds = [feed for feed in self._feeds if feed.watch()]
         still = []
         for planar, command in self._open:
             command.warnings = list(planar.warnings)
             if command.value is None and self.in_sync(command):  # the row says when
                 command.value = f"in sync at {self.rt.now:.3f} s"
+            follow(command, planar, self.rt.now, self.outcome(planar, command.active))
             if planar.busy:
-                if planar.phase is CommandPhase.ACTIVE:
-                    command.status = CommandStatus.ACTIVE
                 still.append((planar, command))
-                continue
-            accepted = command.status is CommandStatus.ACTIVE
-            command.end(_STATUS[planar.phase], self.rt.now, planar.error_id,
-                         self.outcome(planar, accepted))
         self._open = still
 
     def outcome(self, planar: PlanarCommand, accepted: bool) -> str:
         """An error as the rows show it: ``rejected (33158) by mover 16#05110010``; without
         a blocking object, the reason."""
-        if planar.phase is not CommandPhase.ERROR:
+        if not planar.error:
             return ""
         verb = "failed" if accepted else "rejected"
         info = planar.object_info
@@ -467,7 +463,7 @@ class SetpointFeed:
                 half * omega * omega * math.cos(phase))
 
     def watch(self) -> bool:
-        """Mirror the generation onto the row (observer phase); False once the row ended.
+        """Let the row follow the generation (observer phase); False once the row ended.
 
         A mover error ends the row with the mover's error id and message (a missing or
         refused setpoint also ends the start command with that error).
@@ -475,13 +471,8 @@ class SetpointFeed:
         start, row, mover, now = self.start, self.row, self.mover, self.rt.now
         if mover.error and start.phase is not CommandPhase.SENT:
             row.end(CommandStatus.ERROR, now, mover.error_id, mover.message)
-        elif start.error:
-            row.end(CommandStatus.ERROR, now, start.error_id,
-                     self.machine.outcome(start, row.active))
-        elif not start.busy:
-            row.end(_STATUS[start.phase], now)
-        elif start.active:
-            row.status = CommandStatus.ACTIVE
+        else:
+            follow(row, start, now, self.machine.outcome(start, row.active))
         return not row.finished
 
 
@@ -503,9 +494,18 @@ def _queued(mover: MC_PlanarMover) -> bool:
         for name in COORDINATES)
 
 
-_STATUS = {CommandPhase.DONE: CommandStatus.DONE, CommandPhase.ABORTED: CommandStatus.ABORTED,
-           CommandPhase.ERROR: CommandStatus.ERROR}
 _TRACK = PLANAR_MOVER.signal("track")  #: the number of a mover's track, for its row
+
+
+def follow(row: Command, command: Command, now: float, message: str = "") -> None:
+    """Show ``command``'s status on its scenario row: Active once it runs, then its end at
+    ``now`` with its error id and ``message``. One rule for every handle type (D-238)."""
+    if command.active:
+        row.start()
+    elif command.finished:
+        row.end(command.status, now, command.error_id, message)
+
+
 _TRANSITIONAL = (PlanarState.ENABLING, PlanarState.DISABLING, PlanarState.RESETTING,
                  PlanarState.ERROR_PENDING)
 
