@@ -46,6 +46,7 @@ from openmotion.endpoints.ads_symbols import (
     ADSERR_NOTIFYHNDINVALID,
     ADSERR_SRVNOTSUPP,
     ADSERR_SYMBOLNOTFOUND,
+    INDEX_GROUP,
     AdsError,
     AdsSymbol,
     SymbolTable,
@@ -444,9 +445,16 @@ class AdsServer:
     def _sum_read(self, connection: _Connection, count: int, data: bytes,
                   snapshot: Snapshot) -> bytes:
         requests = _sum_requests(count, data, 12)
+        heads = struct.unpack_from(f"<{3 * requests}I", data)
+        by_offset = self.symbols.by_offset
         codes, values = [], []
-        for group, offset, length in (struct.unpack_from("<III", data, 12 * i)
-                                      for i in range(requests)):
+        for item in range(0, 3 * requests, 3):
+            group, offset, length = heads[item:item + 3]
+            symbol = by_offset.get(offset) if group == INDEX_GROUP else None
+            if symbol is not None and length == symbol.size:  # the common case, quickly
+                codes.append(0)
+                values.append(symbol.read(snapshot))
+                continue
             code, value = _attempt(self._read, connection, group, offset, length, snapshot)
             codes.append(code)
             values.append(value.ljust(length, b"\0")[:length])  # offsets stay those asked

@@ -139,9 +139,10 @@ class AdsSymbol:
     comment: str = ""
     group: int = INDEX_GROUP
 
-    @property
-    def size(self) -> int:
-        return self.type.size
+    size: int = 0  #: bytes (the type's), set when made
+
+    def __post_init__(self) -> None:
+        self.size = self.type.size
 
     def entry(self) -> bytes:
         """The symbol as SYM_UPLOAD and SYM_INFOBYNAMEEX describe it (AdsSymbolEntry)."""
@@ -202,6 +203,7 @@ class SymbolTable:
         self.symbols: list[AdsSymbol] = []
         self._by_name: dict[str, AdsSymbol] = {}
         self._offsets: list[int] = []
+        self.by_offset: dict[int, AdsSymbol] = {}  #: in ``INDEX_GROUP``
         self._next = 0
         used: set[str] = set()
         index = 0  # host.names lists every object's signals in model order
@@ -232,6 +234,7 @@ class SymbolTable:
         self._next += kind.size
         self.symbols.append(symbol)
         self._offsets.append(symbol.offset)
+        self.by_offset[symbol.offset] = symbol
         self._by_name[key] = symbol
 
     def _add_command(self, owner: str, command: WireCommand) -> None:
@@ -342,16 +345,17 @@ class SymbolTable:
         """The symbol that begins at ``offset`` of ``group``."""
         if group != INDEX_GROUP:
             raise AdsError(ADSERR_INVALIDGRP)
-        position = bisect.bisect_left(self._offsets, offset)
-        if position >= len(self._offsets) or self._offsets[position] != offset:
+        symbol = self.by_offset.get(offset)
+        if symbol is None:
             raise AdsError(ADSERR_INVALIDOFFSET)
-        return self.symbols[position]
+        return symbol
 
     def read(self, symbol: AdsSymbol, length: int, snapshot: Snapshot) -> bytes:
         """``length`` bytes from where ``symbol`` begins: a read may span the symbols that
         follow it, as a read of a PLC's memory does."""
         chunks, have = [], 0
-        position = self._offsets.index(symbol.offset) if length > symbol.size else 0
+        position = bisect.bisect_left(self._offsets, symbol.offset) \
+            if length > symbol.size else 0
         current = symbol
         while True:
             chunks.append(current.read(snapshot))
@@ -383,10 +387,10 @@ def _advance(step: Callable[[], Any]) -> None:
 
 
 def _signal_reader(kind: AdsType, index: int) -> Reader:
-    code = "<" + kind.code
+    pack = struct.Struct("<" + kind.code).pack
     if kind is LREAL:
-        return lambda s: struct.pack(code, s.values[index])
-    return lambda s: struct.pack(code, _cast(kind, float(s.values[index])))
+        return lambda s: pack(s.values[index])
+    return lambda s: pack(_cast(kind, float(s.values[index])))
 
 
 def _input_type(put: WireInput) -> AdsType:
