@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import re
 import subprocess
 import sys
 import textwrap
@@ -93,12 +94,19 @@ def test_reads_by_name_by_handle_and_by_sum_read_show_one_snapshot(served) -> No
 
 
 def test_sum_write_reports_each_item(served) -> None:
-    _, _, conn = served
+    host, _, conn = served
     result = conn.write_list_by_name({"x.MoveAbsolute.Position": 12.5,
                                       "x.NcToPlc.ActPos": 1.0})
     assert result == {"x.MoveAbsolute.Position": "no error",
                       "x.NcToPlc.ActPos": "reading/writing not permitted"}
     assert conn.read_by_name("x.MoveAbsolute.Position") == 12.5
+    # inputs never written read their defaults: an enum's number, 0 for MC_DEFAULT
+    buffer_mode = next(put for put in host.command("x", "move_absolute").inputs
+                       if put.name == "buffer_mode")
+    assert conn.read_list_by_name(["x.MoveAbsolute.BufferMode",
+                                   "x.MoveAbsolute.Acceleration"]) == \
+        {"x.MoveAbsolute.BufferMode": buffer_mode.input.default.value,
+         "x.MoveAbsolute.Acceleration": 0.0}
 
 
 def test_a_move_driven_by_execute_reports_done(served) -> None:
@@ -291,3 +299,20 @@ def test_symbols_of_a_command_are_typed_from_its_inputs() -> None:
     assert types["x.MoveAbsolute.ErrorID"] == "UDINT"
     vectors = [name for name, kind in types.items() if kind.startswith("ARRAY [0..")]
     assert any(name.startswith("gantry.") for name in vectors)
+
+
+def test_the_recipe_of_the_docs_runs() -> None:
+    """docs/endpoints.md's ADS recipe, the server on a free port instead of 48898."""
+    text = (Path(__file__).parents[2] / "docs" / "endpoints.md").read_text()
+    section = text.split("## ADS", 1)[1].split("\n## ", 1)[0]
+    serve, drive = re.findall(r"```python\n(.*?)```", section, flags=re.S)[:2]
+    namespace: dict = {}
+    exec(serve.replace("writable=True)", "writable=True, port=0)"), namespace)  # noqa: S102
+    try:
+        drive = drive.replace("127.0.0.1:48898", f"127.0.0.1:{namespace['server'].port}")
+        drive = drive.replace('"127.0.0.1.1.1"', repr(net_id()))
+        exec(drive, namespace)  # noqa: S102 - the docs must run
+        assert namespace["host"].value("x.position") == pytest.approx(100.0, abs=1e-6)
+    finally:
+        namespace["server"].stop()
+        namespace["host"].stop()

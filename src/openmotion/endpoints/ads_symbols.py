@@ -416,8 +416,10 @@ def _input_comment(put: WireInput) -> str:
 
 def _input_reader(fb: _Fb, put: WireInput, kind: AdsType, start: Any) -> Reader:
     """The input as last written, or its default."""
-    if isinstance(start, str) and kind is not STRING:
-        start = 0  # MC_DEFAULT and enum defaults read as 0 until written
+    if isinstance(start, str) and put.kind is WireKind.ENUM and put.type is not None:
+        start = put.type[start].value  # an enum default reads as its number
+    elif isinstance(start, str) and kind is not STRING:
+        start = 0  # MC_DEFAULT reads 0, which the blocks take as "the default" too
     if start is None:
         start = [] if kind.count > 1 else "" if kind is STRING else 0
 
