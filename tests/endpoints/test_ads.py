@@ -16,6 +16,7 @@ import pytest
 
 pyads = pytest.importorskip("pyads")
 
+from openmotion.core.errors import ConfigError  # noqa: E402
 from openmotion.endpoints import MachineHost  # noqa: E402
 from openmotion.endpoints.ads import AdsServer  # noqa: E402
 from openmotion.endpoints.ads_symbols import NC_TO_PLC, camel  # noqa: E402
@@ -58,6 +59,26 @@ def served() -> Iterator[tuple[MachineHost, AdsServer, pyads.Connection]]:
         conn.close()
         server.stop()
         host.stop()
+
+
+def test_a_stock_client_connects_on_the_default_port() -> None:
+    """pyads as it is used against a PLC: no port in the address (AMS/TCP's 48898)."""
+    host = MachineHost(two_axes(), pace="lockstep")
+    server = AdsServer(host)
+    assert server.port == 48898
+    try:
+        server.start()
+    except ConfigError as error:  # another program serves ADS on this machine
+        pytest.skip(str(error))
+    try:
+        conn = pyads.Connection(net_id(), 851, "127.0.0.1")
+        conn.open()
+        try:
+            assert conn.read_by_name("x.NcToPlc.ActPos") == 0.0
+        finally:
+            conn.close()
+    finally:
+        server.stop()
 
 
 def test_device_info_and_state(served) -> None:

@@ -8,6 +8,7 @@ import random
 import socket
 import struct
 import threading
+import time
 from collections.abc import Iterator
 
 import pytest
@@ -52,11 +53,17 @@ def exchange(port: int, payload: bytes) -> bytes:
 
 
 def _reply(sock: socket.socket) -> bytes:
+    """One reply frame, read to its end and no further; b"" when the server closed."""
+    head = _exactly(sock, 6)
+    return head + _exactly(sock, struct.unpack_from("<I", head, 2)[0]) if head else b""
+
+
+def _exactly(sock: socket.socket, size: int) -> bytes:
     data = b""
-    while len(data) < 6 or len(data) < 6 + struct.unpack_from("<I", data, 2)[0]:
-        chunk = sock.recv(65536)
+    while len(data) < size:
+        chunk = sock.recv(size - len(data))
         if not chunk:
-            return data
+            return b""
         data += chunk
     return data
 
@@ -117,6 +124,40 @@ def test_a_truncated_frame_leaves_the_server_serving(served) -> None:
         for piece in (whole[:3], whole[3:20], whole[20:]):
             sock.sendall(piece)
         assert ads_result(_reply(sock)) == 0
+
+
+def test_two_frames_in_one_segment_get_two_replies(served) -> None:
+    _, server = served
+    with socket.create_connection(("127.0.0.1", server.port), timeout=3.0) as sock:
+        sock.sendall(frame(4, b"", invoke=1) + frame(1, b"", invoke=2))
+        first, second = _reply(sock), _reply(sock)
+    assert [struct.unpack_from("<HI", reply, 6 + 16)[0] for reply in (first, second)] == [4, 1]
+    assert second[6 + 32 + 8:6 + 32 + 18] == b"openmotion"
+
+
+def test_connections_beyond_the_limit_are_closed(served) -> None:
+    host, _ = served
+    with AdsServer(host, port=0, max_clients=2) as server:
+        first = socket.create_connection(("127.0.0.1", server.port), timeout=3.0)
+        second = socket.create_connection(("127.0.0.1", server.port), timeout=3.0)
+        assert ads_result(exchange_on(second, frame(4, b""))) == 0
+        assert exchange(server.port, frame(4, b"")) == b""  # a third: closed at once
+        first.close()
+        second.close()
+        _wait_until(lambda: server.clients == 0)
+        assert ads_result(exchange(server.port, frame(4, b""))) == 0
+
+
+def exchange_on(sock: socket.socket, payload: bytes) -> bytes:
+    sock.sendall(payload)
+    return _reply(sock)
+
+
+def _wait_until(predicate, timeout: float = 3.0) -> None:
+    end = time.monotonic() + timeout
+    while not predicate():
+        assert time.monotonic() < end, "timed out"
+        time.sleep(0.01)
 
 
 def test_bounded_sum_commands(served) -> None:
