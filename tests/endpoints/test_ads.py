@@ -6,6 +6,7 @@ from __future__ import annotations
 import itertools
 import json
 import re
+import struct
 import subprocess
 import sys
 import textwrap
@@ -337,3 +338,21 @@ def test_the_recipe_of_the_docs_runs() -> None:
     finally:
         namespace["server"].stop()
         namespace["host"].stop()
+
+
+def test_the_data_type_upload_lists_the_types_the_symbols_use(served) -> None:
+    _, server, conn = served
+    info = bytes(conn.read(0xF00F, 0, pyads.PLCTYPE_BYTE * 24, return_ctypes=True))
+    symbols, symbol_bytes, types, type_bytes = struct.unpack_from("<IIII", info)
+    assert symbols == len(server.symbols.symbols) == len(conn.get_all_symbols())
+    upload = bytes(conn.read(0xF00E, 0, pyads.PLCTYPE_BYTE * type_bytes, return_ctypes=True))
+    names, position = [], 0
+    for _ in range(types):
+        # AdsDatatypeEntry: length, version, 2 hashes, size, offset, type, flags, 5 counts
+        length, size, ads_type, name_length = struct.unpack_from("<I12xI4xI4xH", upload,
+                                                                 position)
+        names.append(upload[position + 42:position + 42 + name_length].decode())
+        assert size > 0 and ads_type in (3, 5, 19, 30, 33)
+        position += length
+    assert position == type_bytes
+    assert sorted(names) == sorted({symbol.type.name for symbol in server.symbols.symbols})
