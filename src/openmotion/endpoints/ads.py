@@ -145,6 +145,7 @@ class AdsServer:
         self._connections: set[_Connection] = set()
         self._lock = threading.Lock()
         self._running = threading.Event()
+        self._stopping = threading.Event()
         self._threads: list[threading.Thread] = []
         self._next_notification = 1
 
@@ -170,6 +171,7 @@ class AdsServer:
         listener.settimeout(POLL)
         self._listener = listener
         self._running.set()
+        self._stopping.clear()
         for target, name in ((self._accept, "ads-accept"), (self._notify, "ads-notify")):
             thread = threading.Thread(target=target, name=name, daemon=True)
             thread.start()
@@ -178,6 +180,7 @@ class AdsServer:
 
     def stop(self) -> None:
         self._running.clear()
+        self._stopping.set()
         with self._lock:
             connections = list(self._connections)
         for connection in connections:
@@ -507,10 +510,14 @@ class AdsServer:
                 connections = [c for c in self._connections if c.notifications]
             due = min((n.due for c in connections for n in list(c.notifications.values())
                        if not n.on_change or n.last is None), default=now + NOTE_TICK)
-            try:
-                snapshot = self.host.wait_snapshot(
-                    seq, timeout=min(NOTE_TICK, max(MIN_NOTE_CYCLE, due - now)))
-            except HostError:
+            wait = min(NOTE_TICK, max(MIN_NOTE_CYCLE, due - now))
+            if self.host.running:
+                try:
+                    snapshot = self.host.wait_snapshot(seq, timeout=wait)
+                except HostError:
+                    snapshot = self.host.snapshot
+            else:  # a stopped host publishes nothing: its last snapshot, at the pace asked
+                self._stopping.wait(wait)
                 snapshot = self.host.snapshot
             seq = snapshot.seq
             now = time.monotonic()
