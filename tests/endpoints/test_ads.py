@@ -356,3 +356,13 @@ def test_the_data_type_upload_lists_the_types_the_symbols_use(served) -> None:
         position += length
     assert position == type_bytes
     assert sorted(names) == sorted({symbol.type.name for symbol in server.symbols.symbols})
+
+
+def test_an_axis_and_its_ca_mover_of_one_name_keep_both_structs() -> None:
+    """ca_gear_in_pos: axis m1 is also CA mover m1; its commands and both signal structs."""
+    host = MachineHost.for_scenario(EXAMPLES[0].parent / "ca_gear_in_pos.yaml",
+                                    pace="lockstep")
+    assert "move_absolute" in [command.name for command in host.commands["m1"]]
+    names = {symbol.name for symbol in AdsServer(host, port=0).symbols.symbols}
+    assert {"m1.NcToPlc.ActPos", "m1.Status.Gap", "m1.MoveAbsolute.Execute",
+            "m1.Power.Enable"} <= names
