@@ -366,3 +366,21 @@ def test_an_axis_and_its_ca_mover_of_one_name_keep_both_structs() -> None:
     names = {symbol.name for symbol in AdsServer(host, port=0).symbols.symbols}
     assert {"m1.NcToPlc.ActPos", "m1.Status.Gap", "m1.MoveAbsolute.Execute",
             "m1.Power.Enable"} <= names
+
+
+def test_a_stopped_host_answers_not_ready_and_keeps_nothing() -> None:
+    host = MachineHost(two_axes(), pace="lockstep")  # never started
+    with AdsServer(host, port=0, writable=True) as server:
+        conn = connect(server)
+        try:
+            conn.write_list_by_name({"x.MoveAbsolute.Position": 1.0,
+                                     "x.MoveAbsolute.Velocity": 1.0})  # remembered only
+            for name, value in (("x.Power.Enable", True), ("x.MoveAbsolute.Execute", True),
+                                ("Host.Step", 1)):
+                with pytest.raises(pyads.ADSError) as refused:
+                    conn.write_by_name(name, value)
+                assert refused.value.err_code == 0x707, name
+            assert conn.read_list_by_name(["x.Power.Enable", "x.MoveAbsolute.Execute"]) == \
+                {"x.Power.Enable": False, "x.MoveAbsolute.Execute": False}
+        finally:
+            conn.close()

@@ -294,16 +294,20 @@ class SymbolTable:
             if put.kind is WireKind.VECTOR and kind.count > 1:
                 value = _until_nan(value)
             with fb.lock:
+                if not fb.command.spec.level:
+                    fb.values[put.name] = value
+                    return
+                before = dict(fb.values)
                 fb.values[put.name] = value
-                if fb.command.spec.level:
-                    inputs = {p.name: _level_value(fb, p) for p in fb.command.inputs}
-                    try:
-                        fb.status = bool(host.switch(fb.command.owner.name, fb.command.name,
-                                                     inputs))
-                    except WireError as error:
-                        raise AdsError(ADSERR_INVALIDDATA, str(error)) from None
-                    except HostError as error:
-                        raise AdsError(ADSERR_NOTREADY, str(error)) from None
+                inputs = {p.name: _level_value(fb, p) for p in fb.command.inputs}
+                try:
+                    fb.status = bool(host.switch(fb.command.owner.name, fb.command.name,
+                                                 inputs))
+                except (WireError, HostError) as error:
+                    fb.values = before  # a level the machine did not take is not kept
+                    code = ADSERR_INVALIDDATA if isinstance(error, WireError) else \
+                        ADSERR_NOTREADY
+                    raise AdsError(code, str(error)) from None
         return write
 
     def _execute_writer(self, fb: _Fb) -> Writer:
@@ -320,6 +324,7 @@ class SymbolTable:
                         fb.ticket = host.call(fb.command.owner.name, fb.command.name,
                                               dict(fb.values))
                     except HostError as error:
+                        fb.execute = False  # nothing started: the next write is an edge
                         raise AdsError(ADSERR_NOTREADY, str(error)) from None
                     except ConfigError as error:  # WireError: the machine is untouched
                         fb.ticket = None
