@@ -238,11 +238,14 @@ CLIENT = textwrap.dedent("""
     b = conn.add_device_notification(
         "x.NcToPlc.ActPos", pyads.NotificationAttrib(
             8, trans_mode=pyads.ADSTRANS_SERVERCYCLE, cycle_time=20), on_cycle)
-    while not changes:
-        time.sleep(0.005)
-    for _ in range(5):
+    def wait_for(cycle):
+        end = time.monotonic() + 5.0
+        while not (changes and changes[-1] == cycle) and time.monotonic() < end:
+            time.sleep(0.005)
+    wait_for(0)
+    for step in range(1, 6):
         conn.write_by_name("Host.Step", 3)
-        time.sleep(0.05)
+        wait_for(3 * step)
     time.sleep(0.2)
     conn.del_device_notification(*a)
     conn.del_device_notification(*b)
