@@ -7,6 +7,7 @@ travel. Each is generated from the machine model (``openmotion.kernel.model``), 
 list of its own.
 """
 
+from openmotion.endpoints.ads import AdsServer
 from openmotion.endpoints.host import HostError, HostStatus, MachineHost, Pace, Snapshot
 from openmotion.endpoints.wire import (
     HandleState,
@@ -20,6 +21,6 @@ from openmotion.endpoints.wire import (
     wire_commands,
 )
 
-__all__ = ["HandleState", "HostError", "HostStatus", "MachineHost", "Pace", "Snapshot",
+__all__ = ["AdsServer", "HandleState", "HostError", "HostStatus", "MachineHost", "Pace", "Snapshot",
            "WireCommand", "WireError", "WireInput", "WireKind", "coerce", "default_of",
            "handle_state", "wire_commands"]

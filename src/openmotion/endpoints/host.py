@@ -124,8 +124,10 @@ class MachineHost:
         self.names: tuple[str, ...] = tuple(signals)
         self.index: dict[str, int] = {name: i for i, name in enumerate(self.names)}
         self.signals: tuple[Signal, ...] = tuple(signals.values())
-        self.commands: dict[str, tuple[WireCommand, ...]] = {
-            obj.name: wire_commands(obj) for obj in self.model}
+        #: by object name; objects of one name (an axis and its CA mover) share an entry
+        self.commands: dict[str, tuple[WireCommand, ...]] = {}
+        for obj in self.model:
+            self.commands[obj.name] = self.commands.get(obj.name, ()) + wire_commands(obj)
         self._readers = _bulk_readers(self.model, len(self.names))
         self._requests: queue.SimpleQueue[tuple[Callable[[], Any], Future[Any]]] = \
             queue.SimpleQueue()
