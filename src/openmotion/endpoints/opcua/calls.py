@@ -23,6 +23,7 @@ from typing import Any
 from asyncua import ua
 
 from openmotion.core.errors import ConfigError
+from openmotion.core.special_values import SPECIAL_VALUES
 from openmotion.endpoints.host import HostError, MachineHost
 from openmotion.endpoints.opcua.space import Served
 from openmotion.endpoints.wire import WireCommand, WireError, WireInput, WireKind, coerce
@@ -87,8 +88,9 @@ def _value(index: int, put: WireInput, given: ua.Variant) -> Any:
         if kind in NUMBERS:
             number = float(value)
             return _OMITTED if math.isnan(number) else number
-        if kind is _V.String and put.input.dtype.startswith("InputValue"):
-            return value  # a special value's name: the wire layer checks it
+        if kind is _V.String and put.input.dtype.startswith("InputValue") \
+                and value.upper() in SPECIAL_VALUES:
+            return value  # MC_DEFAULT, MC_MAXIMUM ...: whether this input takes it, the wire says
         raise _mismatch(index, put, "a Double")
     if put.kind is WireKind.INTEGER and kind in INTEGERS:
         return int(value)
