@@ -326,9 +326,16 @@ def view(
         raise _fail(f"error: cannot listen on {host}:{port}: {exc.strerror or exc}") from None
 
 
+SERVE_EXAMPLE = "virtual_commissioning"  #: what ``openmotion serve`` serves without an argument
+
+
 @app.command("serve")
 def serve_command(
-    scenario: ScenarioArgument = None,
+    scenario: Annotated[str | None, typer.Argument(
+        metavar="SCENARIO", show_default=False,
+        help="A scenario file, or the name of a shipped example (see 'openmotion examples'). "
+             f"Default: the shipped {SERVE_EXAMPLE} example (a CA rail and a planar field).")]
+    = None,
     pace: Annotated[str, typer.Option(
         metavar="wall|lockstep", help="wall: virtual time follows the wall clock (times "
         "--speed); lockstep: it moves only when a client steps it (Host.Step).")] = "wall",
@@ -380,7 +387,7 @@ def serve_command(
     if not (opcua or ads):
         raise _fail("error: choose at least one endpoint: --opcua, --ads")
     _check_host(bind, "--bind")
-    path = _scenario_path(scenario)
+    path = _scenario_path(scenario if scenario is not None else SERVE_EXAMPLE)
     try:
         users = dict(parse_user(text) for text in user or ())
         if users_file is not None:
