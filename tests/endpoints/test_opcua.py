@@ -385,3 +385,20 @@ def test_stopped_servers_leave_no_thread_behind() -> None:
         started = set(threading.enumerate()) - before
         assert {thread.name for thread in started} >= {"openmotion-opcua", "openmotion-kernel"}
     assert not [thread for thread in started if thread.is_alive()]
+
+
+def test_the_asyncua_recipe_of_the_docs_drives_the_example(capsys: pytest.CaptureFixture) \
+        -> None:
+    """docs/endpoints.md's client runs against the served example and prints what its
+    comments say."""
+    import re
+
+    page = (Path(__file__).resolve().parents[2] / "docs" / "endpoints.md").read_text()
+    section = page.split("### Connect and drive with asyncua", 1)[1]
+    (block,) = re.findall(r"```python\n(.*?)```", section.split("\n### ", 1)[0], flags=re.S)
+    expected = re.findall(r"print\(.*\)\s+# (.*)$", block, flags=re.M)
+    with serve("virtual_commissioning", pace="lockstep",
+               opcua={"port": 0, "users": {USER: PASSWORD}}) as served:
+        code = block.replace("opc.tcp://127.0.0.1:4840/openmotion", served.urls()["opcua"])
+        exec(compile(code, "docs/endpoints.md", "exec"), {})  # noqa: S102 - docs must run
+    assert capsys.readouterr().out.splitlines() == expected

@@ -258,7 +258,17 @@ def _vector(put: WireInput, value: Any, model: MachineModel) -> Any:
         raise WireError(f"input {put.name!r} takes {length} numbers, not {len(numbers)}")
     if not 0 < len(numbers) <= _MAX_VECTOR:
         raise WireError(f"input {put.name!r} takes 1 to {_MAX_VECTOR} numbers")
-    return put.type(*numbers) if put.type is not None else numbers
+    if put.type is None:
+        return numbers
+    hints = typing.get_type_hints(put.type)
+    fields = dataclasses.fields(put.type)
+    for index, (item, number) in enumerate(zip(fields, numbers, strict=True)):
+        if hints.get(item.name) is int:  # PositionXYC.reference_id: an object id
+            if number != int(number):
+                raise WireError(f"input {put.name!r}: {item.name} takes a whole number, "
+                                f"not {number}")
+            numbers[index] = int(number)  # type: ignore[call-overload]
+    return put.type(*numbers)
 
 
 _COERCE: dict[WireKind, Callable[[WireInput, Any, MachineModel], Any]] = {

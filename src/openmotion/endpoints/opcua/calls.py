@@ -40,6 +40,7 @@ MAX_STEP = 10_000_000  #: most cycles one Step call advances
 _OMITTED = object()
 
 AddCommand = Callable[[int, MachineObject, str], Awaitable[ua.NodeId]]
+Publish = Callable[[], Awaitable[None]]  #: copies the newest snapshot into the variables
 
 
 class CallRefused(Exception):
@@ -141,8 +142,8 @@ def _refusal(error: Exception) -> CallRefused:
     return CallRefused(ua.StatusCodes.BadInvalidArgument, str(error))
 
 
-def command_method(host: MachineHost, served: Served, add_command: AddCommand) \
-        -> Callable[..., Awaitable[Any]]:
+def command_method(host: MachineHost, served: Served, add_command: AddCommand,
+                   publish: Publish) -> Callable[..., Awaitable[Any]]:
     """The callback of one command's method: start it, answer its ticket and object (or
     the level's status)."""
     command, owner = served.command, served.owner
@@ -152,6 +153,7 @@ def command_method(host: MachineHost, served: Served, add_command: AddCommand) \
             inputs = arguments(command, given, host)
             if command.spec.level:
                 status = await _off_loop(host.switch, owner, command.name, inputs)
+                await publish()
                 return [ua.Variant(bool(status), _V.Boolean)]
             ticket = await _off_loop(host.call, owner, command.name, inputs)
         except CallRefused as refused:
@@ -159,7 +161,12 @@ def command_method(host: MachineHost, served: Served, add_command: AddCommand) \
             return refused.result(len(given))
         except (ConfigError, HostError) as error:
             return _refusal(error).result(len(given))
+        except Exception as error:  # noqa: BLE001 - a client must never see a dead server
+            _LOG.exception("%s.%s failed", owner.name, command.name)
+            return CallRefused(ua.StatusCodes.BadInternalError,
+                               f"{type(error).__name__}: {error}").result(len(given))
         node = await add_command(ticket, owner, command.name)
+        await publish()
         return [ua.Variant(ticket, _V.UInt32), ua.Variant(node, _V.NodeId)]
 
     return call
@@ -175,8 +182,10 @@ def _number(given: Sequence[ua.Variant], name: str, kinds: frozenset[ua.VariantT
     return given[0].Value
 
 
-def host_methods(host: MachineHost) -> dict[str, Callable[..., Awaitable[Any]]]:
-    """The callbacks of the Host object's methods: Step, RunFor, Pause, Resume, SetSpeed."""
+def host_methods(host: MachineHost, publish: Publish) \
+        -> dict[str, Callable[..., Awaitable[Any]]]:
+    """The callbacks of the Host object's methods: Step, RunFor, Pause, Resume, SetSpeed;
+    each publishes the machine as it left it before it answers."""
 
     def pace_result(snapshot: Any) -> list[ua.Variant]:
         return [ua.Variant(snapshot.cycle, _V.UInt64), ua.Variant(snapshot.time, _V.Double)]
@@ -212,7 +221,9 @@ def host_methods(host: MachineHost) -> dict[str, Callable[..., Awaitable[Any]]]:
     def guarded(method: Callable[..., Awaitable[Any]]) -> Callable[..., Awaitable[Any]]:
         async def call(parent: ua.NodeId, *given: ua.Variant) -> Any:
             try:
-                return await method(parent, *given)
+                result = await method(parent, *given)
+                await publish()
+                return result
             except CallRefused as refused:
                 return refused.result(len(given))
             except (ConfigError, HostError) as error:

@@ -157,6 +157,7 @@ class OpcUaServer:
         self._ready = threading.Event()
         self._error: BaseException | None = None
         self._temporary: tempfile.TemporaryDirectory[str] | None = None
+        self._writer: _Writer | None = None
 
     @property
     def url(self) -> str:
@@ -231,7 +232,8 @@ class OpcUaServer:
             self._ready.set()
             return
         self._ready.set()
-        writer = _Writer(self, server)
+        writer = self._writer
+        assert writer is not None
         try:
             while not self._stopping.is_set():
                 try:
@@ -268,12 +270,13 @@ class OpcUaServer:
             await server.write_attribute_value(
                 node, ua.DataValue(ua.Variant(definition, ua.VariantType.ExtensionObject)),
                 ua.AttributeIds.DataTypeDefinition)
-        for node, served in space.methods.items():
-            session.add_method_callback(node, command_method(self.host, served,
-                                                             self._adder(server, space)))
-        for name, callback in host_methods(self.host).items():
-            session.add_method_callback(space.id(f"Host:{name}"), callback)
         self.space = space
+        self._writer = writer = _Writer(self, server)
+        for node, served in space.methods.items():
+            session.add_method_callback(node, command_method(
+                self.host, served, self._adder(server, space), writer.publish))
+        for name, callback in host_methods(self.host, writer.publish).items():
+            session.add_method_callback(space.id(f"Host:{name}"), callback)
         return server
 
     def _adder(self, server: Server, space: AddressSpace) -> Any:
@@ -376,16 +379,20 @@ class _Writer:
         self.written = np.zeros(len(self.host.names), dtype=bool)
         self.status: dict[str, Any] = {}
         self.clients: list[contextlib.ExitStack] = []
+        self.lock = asyncio.Lock()
 
     async def publish(self) -> None:
-        now = datetime.now(UTC)
-        snapshot = self.host.snapshot
-        if snapshot.seq != self.seq:
-            self.seq = snapshot.seq
-            await self._signals(snapshot.values, now)
-            await self._commands(snapshot.handles, now)
-        await self._status(snapshot, now)
-        self._count_clients()
+        """Copy the newest snapshot: every ``update_interval``, and at once after a method
+        changed the machine (a client that stepped reads the cycle it stepped to)."""
+        async with self.lock:  # one snapshot at a time, never two interleaved
+            now = datetime.now(UTC)
+            snapshot = self.host.snapshot
+            if snapshot.seq != self.seq:
+                self.seq = snapshot.seq
+                await self._signals(snapshot.values, now)
+                await self._commands(snapshot.handles, now)
+            await self._status(snapshot, now)
+            self._count_clients()
 
     async def _write(self, node: ua.NodeId, value: ua.DataValue, now: datetime) -> None:
         value.SourceTimestamp = value.ServerTimestamp = now
