@@ -379,7 +379,7 @@ def serve_command(
     """Serve a scenario's machine to OPC UA and ADS clients, paced by the wall clock or in
     lockstep with a client; a status line shows clients, pace and lateness."""
     from openmotion.endpoints import EndpointUnavailable, serve
-    from openmotion.endpoints.opcua.security import parse_user, read_users
+    from openmotion.endpoints.serve import parse_user, read_users
 
     _started()
     if pace not in ("wall", "lockstep"):

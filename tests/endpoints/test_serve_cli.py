@@ -92,3 +92,15 @@ def test_serve_in_python_starts_and_stops_a_host_with_its_endpoints() -> None:
     ("192.168.0.10", False), ("plc.example", False)])
 def test_loopback_addresses(address: str, loopback: bool) -> None:
     assert is_loopback(address) is loopback
+
+
+def test_the_endpoints_package_loads_no_endpoint_library() -> None:
+    """asyncua stays optional: importing the endpoints (and the CLI) does not load it."""
+    import subprocess
+    import sys
+
+    code = ("import sys, openmotion.endpoints, openmotion.cli; "
+            "print('asyncua' in sys.modules)")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            timeout=120, check=True)
+    assert result.stdout.strip() == "False"

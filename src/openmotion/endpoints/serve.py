@@ -23,7 +23,7 @@ from openmotion.endpoints.host import MachineHost, Pace
 from openmotion.scenario.schema import Scenario
 
 __all__ = ["ENDPOINTS", "LOOPBACK", "EndpointUnavailable", "Serving", "endpoint_class",
-           "is_loopback", "serve"]
+           "is_loopback", "parse_user", "read_users", "serve"]
 
 LOOPBACK = "127.0.0.1"  #: where endpoints listen unless told otherwise
 #: endpoint name -> (module, class, the extra that installs its library)
@@ -61,6 +61,33 @@ def is_loopback(address: str) -> bool:
         return ipaddress.ip_address(address).is_loopback
     except ValueError:
         return address.lower().rstrip(".") == "localhost"
+
+
+def parse_user(text: str) -> tuple[str, str]:
+    """``NAME:PASSWORD`` as (name, password); ``ConfigError`` when it is not one."""
+    name, colon, password = text.partition(":")
+    if not colon or not name.strip() or not password:
+        raise ConfigError(f"a user is NAME:PASSWORD, not {text!r}")
+    return name.strip(), password
+
+
+def read_users(path: str | Path) -> dict[str, str]:
+    """The users of a file: one ``NAME:PASSWORD`` a line, ``#`` comments, blank lines."""
+    try:
+        lines = Path(path).read_text(encoding="utf-8").splitlines()
+    except OSError as error:
+        raise ConfigError(f"cannot read the users file {path}: {error.strerror}") from None
+    users: dict[str, str] = {}
+    for number, line in enumerate(lines, 1):
+        text = line.strip()
+        if not text or text.startswith("#"):
+            continue
+        try:
+            name, password = parse_user(text)
+        except ConfigError:
+            raise ConfigError(f"{path}:{number}: a user is NAME:PASSWORD") from None
+        users[name] = password
+    return users
 
 
 class Serving:

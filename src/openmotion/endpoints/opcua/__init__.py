@@ -4,7 +4,7 @@ Needs the ``endpoints`` extra (asyncua). docs/endpoints.md "OPC UA" shows how to
 and drive it; D-260 to D-262 record what the address space follows and why.
 """
 
-from openmotion.endpoints.opcua.security import Access, parse_user, read_users
+from openmotion.endpoints.opcua.security import Access
 from openmotion.endpoints.opcua.server import (
     APPLICATION_URI,
     DEFAULT_PORT,
@@ -14,4 +14,4 @@ from openmotion.endpoints.opcua.server import (
 from openmotion.endpoints.opcua.space import NAMESPACE_URI
 
 __all__ = ["APPLICATION_URI", "DEFAULT_PORT", "NAMESPACE_URI", "SECURITY_POLICIES", "Access",
-           "OpcUaServer", "parse_user", "read_users"]
+           "OpcUaServer"]

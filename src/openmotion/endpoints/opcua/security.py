@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import hmac
 from collections.abc import Iterable, Mapping
-from pathlib import Path
 from typing import Any
 
 from asyncua import ua
@@ -19,7 +18,7 @@ from asyncua.crypto.permission_rules import USER_TYPES, PermissionRuleset, User,
 
 from openmotion.core.errors import ConfigError
 
-__all__ = ["Access", "read_users", "parse_user"]
+__all__ = ["Access"]
 
 #: the requests that change the machine: only a user's session may send them
 COMMANDING = frozenset(ua.NodeId(kind) for kind in (
@@ -27,33 +26,6 @@ COMMANDING = frozenset(ua.NodeId(kind) for kind in (
     ua.ObjectIds.CallRequest_Encoding_DefaultBinary))
 _ALL = frozenset(ua.NodeId(kind) for kind in USER_TYPES)
 _READING = _ALL - COMMANDING
-
-
-def parse_user(text: str) -> tuple[str, str]:
-    """``NAME:PASSWORD`` as (name, password); ``ConfigError`` when it is not one."""
-    name, colon, password = text.partition(":")
-    if not colon or not name.strip() or not password:
-        raise ConfigError(f"a user is NAME:PASSWORD, not {text!r}")
-    return name.strip(), password
-
-
-def read_users(path: str | Path) -> dict[str, str]:
-    """The users of a file: one ``NAME:PASSWORD`` a line, ``#`` comments, blank lines."""
-    try:
-        lines = Path(path).read_text(encoding="utf-8").splitlines()
-    except OSError as error:
-        raise ConfigError(f"cannot read the users file {path}: {error.strerror}") from None
-    users: dict[str, str] = {}
-    for number, line in enumerate(lines, 1):
-        text = line.strip()
-        if not text or text.startswith("#"):
-            continue
-        try:
-            name, password = parse_user(text)
-        except ConfigError:
-            raise ConfigError(f"{path}:{number}: a user is NAME:PASSWORD") from None
-        users[name] = password
-    return users
 
 
 class Access(PermissionRuleset):
