@@ -57,9 +57,22 @@ def client(server: OpcUaServer, user: str | None = USER, password: str = PASSWOR
     return found
 
 
-async def ids(c: Client) -> Any:
-    namespace = await c.get_namespace_index(NAMESPACE_URI)
-    return lambda text: ua.NodeId(text, namespace)
+class Ids:
+    """NodeIds and browse names in the server's namespace."""
+
+    def __init__(self, namespace: int) -> None:
+        self.namespace = namespace
+
+    def __call__(self, text: str) -> ua.NodeId:
+        return ua.NodeId(text, self.namespace)
+
+    def method(self, name: str) -> str:
+        """A method by its browse name, as a client calls it on an object."""
+        return f"{self.namespace}:{name}"
+
+
+async def ids(c: Client) -> Ids:
+    return Ids(await c.get_namespace_index(NAMESPACE_URI))
 
 
 async def wait_cycle(c: Client, node: Any, cycle: int) -> None:
@@ -80,7 +93,8 @@ async def step(c: Client, node: Any, cycles: int) -> int:
 
 async def raw_call(c: Client, node: Any, owner: str, method: str, *args: ua.Variant) \
         -> ua.CallMethodResult:
-    request = ua.CallMethodRequest(ObjectId=node(owner), MethodId=node(f"{owner}:{method}"),
+    method_id = node(f"Host:{method}") if owner == "Host" else node(f"type:axis:{method}")
+    request = ua.CallMethodRequest(ObjectId=node(owner), MethodId=method_id,
                                    InputArguments=list(args))
     (result,) = await c.uaclient.call([request])
     return result
@@ -189,12 +203,12 @@ def test_a_subscription_gets_data_change_notifications(served: OpcUaServer) -> N
         async with client(served) as c:
             node = await ids(c)
             x = c.get_node(node("x"))
-            await x.call_method(node("x:power"), True)
+            await x.call_method(node.method("power"), True)
             handler = Handler()
             subscription = await c.create_subscription(10, handler)
             await subscription.subscribe_data_change(c.get_node(node("x.set_position")))
             start = len(handler.values)
-            await x.call_method(node("x:move_relative"), 5.0, 100.0)
+            await x.call_method(node.method("move_relative"), 5.0, 100.0)
             for _ in range(10):
                 await step(c, node, 20)
                 await asyncio.sleep(0.03)
@@ -208,10 +222,11 @@ def test_a_move_started_by_a_method_reports_done_after_steps(served: OpcUaServer
         async with client(served) as c:
             node = await ids(c)
             x = c.get_node(node("x"))
-            assert await x.call_method(node("x:power"), True) is True
+            assert await x.call_method(node.method("power"), True) is True
             await step(c, node, 1)
             start = await c.get_node(node("x.position")).read_value()
-            ticket, command = await x.call_method(node("x:move_absolute"), start + 100.0, 250.0)
+            ticket, command = await x.call_method(node.method("move_absolute"), start + 100.0,
+                                                  250.0)
             assert command == node(f"Commands/{ticket}")
             outputs = {name: c.get_node(node(f"Commands/{ticket}.{name}"))
                        for name in ("Busy", "Done", "Error", "ErrorID", "CommandAborted")}
@@ -266,12 +281,15 @@ def test_unknown_nodes_and_bad_arguments_get_bad_status_codes(served: OpcUaServe
             assert many.StatusCode.value == ua.StatusCodes.BadTooManyArguments
             nowhere = await raw_call(c, node, "x", "no_such_command")
             assert nowhere.StatusCode.is_bad()
+            elsewhere = await raw_call(c, node, "Host.Cycle", "halt")  # not an axis
+            assert elsewhere.StatusCode.value in (ua.StatusCodes.BadMethodInvalid,
+                                                  ua.StatusCodes.BadNodeIdInvalid)
             steps = await raw_call(c, node, "Host", "RunFor",
                                    ua.Variant(-1.0, ua.VariantType.Double))
             assert steps.InputArgumentResults[0].value == ua.StatusCodes.BadOutOfRange
             # nothing was started, and the server still serves: a valid call succeeds
             ticket, _ = await c.get_node(node("x")).call_method(
-                node("x:halt"), ua.Variant(None), ua.Variant(None), "BUFFERED")
+                node.method("halt"), ua.Variant(None), ua.Variant(None), "BUFFERED")
             assert ticket >= 1
             await step(c, node, 1)
             assert await c.get_node(node("x.state")).read_value() >= 0
@@ -294,7 +312,7 @@ def test_a_wall_paced_host_refuses_step_with_bad_invalid_state() -> None:
                     await asyncio.sleep(0.01)
                 assert host.speed == 2.0
                 # anonymous clients command a writable server
-                assert await c.get_node(node("x")).call_method(node("x:power"), True) is True
+                assert await c.get_node(node("x")).call_method(node.method("power"), True) is True
         run(check())
 
 
@@ -306,7 +324,7 @@ def test_anonymous_clients_read_but_neither_call_nor_write(served: OpcUaServer) 
             node = await ids(c)
             assert await c.get_node(node("x.position")).read_value() is not None
             with pytest.raises(UaStatusCodeError) as call:
-                await c.get_node(node("x")).call_method(node("x:power"), True)
+                await c.get_node(node("x")).call_method(node.method("power"), True)
             assert call.value.code == ua.StatusCodes.BadUserAccessDenied
             with pytest.raises(UaStatusCodeError) as write:
                 await c.get_node(node("x.position")).write_value(1.0)
@@ -370,7 +388,7 @@ def test_basic256sha256_with_a_trusted_client_certificate(tmp_path: Path) -> Non
             async with c:
                 node = await ids(c)
                 # the trusted certificate is the user: it commands without a password
-                assert await c.get_node(node("x")).call_method(node("x:power"), True) is True
+                assert await c.get_node(node("x")).call_method(node.method("power"), True) is True
             plain = Client(server.url, timeout=10)
             with pytest.raises(Exception):  # noqa: B017 - no None policy offered
                 async with plain:

@@ -17,7 +17,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import math
-from collections.abc import Awaitable, Callable, Sequence
+from collections.abc import Awaitable, Callable, Mapping, Sequence
 from typing import Any
 
 from asyncua import ua
@@ -142,13 +142,18 @@ def _refusal(error: Exception) -> CallRefused:
     return CallRefused(ua.StatusCodes.BadInvalidArgument, str(error))
 
 
-def command_method(host: MachineHost, served: Served, add_command: AddCommand,
-                   publish: Publish) -> Callable[..., Awaitable[Any]]:
-    """The callback of one command's method: start it, answer its ticket and object (or
-    the level's status)."""
-    command, owner = served.command, served.owner
+def command_method(host: MachineHost, served: Mapping[ua.NodeId, Served],
+                   add_command: AddCommand, publish: Publish) -> Callable[..., Awaitable[Any]]:
+    """The callback of one command's method, shared by the objects of a kind (``served``:
+    by the object's NodeId): start it, answer its ticket and object (or the level's
+    status)."""
 
     async def call(parent: ua.NodeId, *given: ua.Variant) -> Any:
+        found = served.get(parent)
+        if found is None:
+            return CallRefused(ua.StatusCodes.BadMethodInvalid,
+                               f"{parent.Identifier} has no such method").result(len(given))
+        command, owner = found.command, found.owner
         try:
             inputs = arguments(command, given, host)
             if command.spec.level:

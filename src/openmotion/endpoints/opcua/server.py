@@ -17,6 +17,7 @@ import logging
 import socket
 import tempfile
 import threading
+import time
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
@@ -234,10 +235,14 @@ class OpcUaServer:
         self._ready.set()
         writer = self._writer
         assert writer is not None
+        last_status = 0.0
         try:
             while not self._stopping.is_set():
                 try:
-                    await writer.publish()
+                    clock = time.monotonic()
+                    full = clock - last_status >= STATUS_INTERVAL
+                    last_status = clock if full else last_status
+                    await writer.publish(status=full)
                 except Exception:  # noqa: BLE001 - a client must never see a dead server
                     _LOG.exception("updating the OPC UA variables failed")
                 with contextlib.suppress(TimeoutError):
@@ -266,6 +271,8 @@ class OpcUaServer:
         session = server.iserver.isession
         for result in await session.add_nodes(space.items):
             result.StatusCode.check()
+        for status in await session.add_references(space.references):
+            status.check()
         for node, definition in space.definitions.items():
             await server.write_attribute_value(
                 node, ua.DataValue(ua.Variant(definition, ua.VariantType.ExtensionObject)),
@@ -323,6 +330,8 @@ _HOST_VARIABLES = (
     ("Clients", ua.VariantType.UInt32, ua.ObjectIds.UInt32, "", "connected clients (all kinds)"),
     ("Failure", ua.VariantType.String, ua.ObjectIds.String, "", "why the machine stopped"),
 )
+_HOST_KINDS = {name: kind for name, kind, *_ in _HOST_VARIABLES}
+STATUS_INTERVAL = 0.2  #: how often the Host object's status variables are refreshed [s]
 #: the Host object's methods: (name, input arguments, output arguments, what it does)
 _HOST_METHODS = (
     ("Step", [("Cycles", ua.ObjectIds.UInt32)], True, "lockstep: step cycles now"),
@@ -381,9 +390,10 @@ class _Writer:
         self.clients: list[contextlib.ExitStack] = []
         self.lock = asyncio.Lock()
 
-    async def publish(self) -> None:
+    async def publish(self, status: bool = True) -> None:
         """Copy the newest snapshot: every ``update_interval``, and at once after a method
-        changed the machine (a client that stepped reads the cycle it stepped to)."""
+        changed the machine (a client that stepped reads the cycle it stepped to); the
+        host's status (lateness percentiles, clients) only with ``status``."""
         async with self.lock:  # one snapshot at a time, never two interleaved
             now = datetime.now(UTC)
             snapshot = self.host.snapshot
@@ -391,8 +401,10 @@ class _Writer:
                 self.seq = snapshot.seq
                 await self._signals(snapshot.values, now)
                 await self._commands(snapshot.handles, now)
-            await self._status(snapshot, now)
-            self._count_clients()
+                await self._clock(snapshot, now)
+            if status:
+                await self._status(now)
+                self._count_clients()
 
     async def _write(self, node: ua.NodeId, value: ua.DataValue, now: datetime) -> None:
         value.SourceTimestamp = value.ServerTimestamp = now
@@ -424,19 +436,23 @@ class _Writer:
                 await self._write(self.space.id(f"Commands/{ticket}.{label}"),  # type: ignore[union-attr]
                                   ua.DataValue(value), now)
 
-    async def _status(self, snapshot: Any, now: datetime) -> None:
+    async def _clock(self, snapshot: Any, now: datetime) -> None:
+        await self._host_values({"Cycle": snapshot.cycle, "Time": snapshot.time}, now)
+
+    async def _status(self, now: datetime) -> None:
         status = self.host.status()
-        current = {
+        await self._host_values({
             "Pace": status.pace.value, "Speed": status.speed, "Paused": status.paused,
-            "Cycle": snapshot.cycle, "Time": snapshot.time,
             "CycleTime": self.host.runtime.cycle_time, "LateP99": status.late_p99_ms,
             "Slips": status.slips, "Clients": sum(status.clients.values()),
-            "Failure": status.failure}
-        for (name, kind, *_), value in zip(_HOST_VARIABLES, current.values(), strict=True):
+            "Failure": status.failure}, now)
+
+    async def _host_values(self, values: dict[str, Any], now: datetime) -> None:
+        for name, value in values.items():
             if self.status.get(name) != value:
                 self.status[name] = value
                 await self._write(self.space.id(f"Host.{name}"),  # type: ignore[union-attr]
-                                  ua.DataValue(ua.Variant(value, kind)), now)
+                                  ua.DataValue(ua.Variant(value, _HOST_KINDS[name])), now)
 
     def _count_clients(self) -> None:
         """Count the connected OPC UA clients on the host (its status line shows them)."""

@@ -16,7 +16,8 @@
 
 NodeIds are strings in the server's namespace (``NAMESPACE_URI``): an object by its path
 (``xts/m1``), a signal by its qualified name as the trace names it (``m1.gap``), a method by
-``<object path>:<command>``, a command by ``Commands/<ticket>``.
+``type:<kind>:<command>`` (one node per kind, called on any object of the kind: call it by its
+browse name), a command by ``Commands/<ticket>``.
 """
 
 from __future__ import annotations
@@ -57,7 +58,12 @@ class AddressSpace:
     definitions: dict[ua.NodeId, ua.EnumDefinition] = field(default_factory=dict)
     #: per signal, in the order of ``MachineHost.names``: its NodeId and variant type
     signals: list[tuple[ua.NodeId, ua.VariantType]] = field(default_factory=list)
-    methods: dict[ua.NodeId, Served] = field(default_factory=dict)
+    #: per method node (one per kind and command, on the kind's type): what it starts on
+    #: each object that has it, by the object's NodeId
+    methods: dict[ua.NodeId, dict[ua.NodeId, Served]] = field(default_factory=dict)
+    #: the HasComponent references from each object to the methods of its kind
+    references: list[ua.AddReferencesItem] = field(default_factory=list)
+    _shared: dict[tuple[object, ...], ua.NodeId] = field(default_factory=dict)
     paths: set[str] = field(default_factory=set)  #: the object paths given
     _enums: dict[type, ua.NodeId] = field(default_factory=dict)
 
@@ -211,8 +217,30 @@ def _describe(put: WireInput) -> str:
 
 
 def _method(space: AddressSpace, obj: MachineObject, command: WireCommand, path: str) -> None:
-    node = space.id(f"{path}:{command.name}")
-    space.items.append(nodes.method(node, space.name(command.name), space.id(path),
+    """A command's method: one node per kind and command, a component of the kind's type
+    and of every object that has the command (OPC 10000-4 §5.11.2 lets a client call the
+    type's method on an instance); a hundred axes add a hundred references, not a hundred
+    copies of 27 methods with their arguments."""
+    key = (obj.kind, type(obj.target), command.name,
+           tuple((put.name, put.kind, put.type) for put in command.inputs), command.spec.level)
+    node = space._shared.get(key)
+    if node is None:
+        node = space._shared[key] = space.id(_unique(f"type:{obj.kind}:{command.name}", space))
+        _method_node(space, node, command, space.id(f"type:{obj.kind}"))
+        space.methods[node] = {}
+    space.methods[node][space.id(path)] = Served(obj, command)
+    reference = ua.AddReferencesItem()
+    reference.SourceNodeId = space.id(path)
+    reference.ReferenceTypeId = ua.NodeId(ua.ObjectIds.HasComponent)
+    reference.IsForward = True
+    reference.TargetNodeId = node
+    reference.TargetNodeClass = ua.NodeClass.Method
+    space.references.append(reference)
+
+
+def _method_node(space: AddressSpace, node: ua.NodeId, command: WireCommand,
+                 parent: ua.NodeId) -> None:
+    space.items.append(nodes.method(node, space.name(command.name), parent,
                                     command.spec.doc or command.name))
     arguments = []
     for put in command.inputs:
@@ -229,7 +257,6 @@ def _method(space: AddressSpace, obj: MachineObject, command: WireCommand, path:
             space.items.append(nodes.prop(space.id(f"{node.Identifier}#{name}"), name, node,
                                           ua.Variant(args, ua.VariantType.ExtensionObject),
                                           ua.ObjectIds.Argument, array=True))
-    space.methods[node] = Served(obj, command)
 
 
 # -- started commands ---------------------------------------------------------------------------
