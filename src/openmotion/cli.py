@@ -505,6 +505,133 @@ def fmu(
     typer.echo(f"fmu: written to {written}", err=True)
 
 
+SERVE_EXAMPLE = "virtual_commissioning"  #: what ``openmotion serve`` serves without an argument
+
+
+@app.command("serve")
+def serve_command(
+    scenario: Annotated[str | None, typer.Argument(
+        metavar="SCENARIO", show_default=False,
+        help="A scenario file, or the name of a shipped example (see 'openmotion examples'). "
+             f"Default: the shipped {SERVE_EXAMPLE} example (a CA rail and a planar field).")]
+    = None,
+    pace: Annotated[str, typer.Option(
+        metavar="wall|lockstep", help="wall: virtual time follows the wall clock (times "
+        "--speed); lockstep: it moves only when a client steps it (Host.Step).")] = "wall",
+    speed: Annotated[float, typer.Option(help="Virtual seconds per wall second (wall "
+                                              "pace).")] = 1.0,
+    opcua: Annotated[bool, typer.Option("--opcua", help="Serve OPC UA.")] = False,
+    opcua_port: Annotated[int, typer.Option(min=0, max=65535, help="TCP port of the OPC UA "
+                                                                   "server (0: a free one).")]
+    = 4840,
+    opcua_security: Annotated[str, typer.Option(
+        metavar="POLICIES", help="OPC UA security policies, comma-separated: none, "
+        "basic256sha256 (makes a self-signed server certificate if --opcua-cert-dir has "
+        "none).")] = "none",
+    opcua_cert_dir: Annotated[Path | None, typer.Option(
+        metavar="DIRECTORY", help="Where the OPC UA server keeps its key and certificate. "
+        "Default: a temporary directory, a new certificate each run.",
+        show_default=False)] = None,
+    ads: Annotated[bool, typer.Option("--ads", help="Serve ADS.")] = False,
+    ads_port: Annotated[int, typer.Option(min=0, max=65535, help="TCP port of the ADS "
+                                                                 "server.")] = 48898,
+    bind: Annotated[str, typer.Option(metavar="ADDRESS", help="Address to listen on. "
+                                      "Anything but loopback lets other machines read and, "
+                                      "with credentials, drive the simulation.")]
+    = "127.0.0.1",
+    user: Annotated[list[str] | None, typer.Option(
+        metavar="NAME:PASSWORD", help="A user who may command the machine (repeat for more); "
+        "anonymous clients only read.", show_default=False)] = None,
+    users_file: Annotated[Path | None, typer.Option(
+        metavar="PATH", help="Users who may command: one NAME:PASSWORD a line.",
+        show_default=False)] = None,
+    trust: Annotated[list[Path] | None, typer.Option(
+        metavar="CERTIFICATE", help="A client certificate (DER or PEM) whose OPC UA sessions "
+        "may command (repeat for more).", show_default=False)] = None,
+    writable: Annotated[bool, typer.Option(
+        "--writable", help="Let clients without credentials command the machine (ADS "
+        "writes, anonymous OPC UA calls); not with --user.")] = False,
+    duration: Annotated[float | None, typer.Option(
+        min=0.0, help="Stop after this many wall seconds. Default: until Ctrl+C.",
+        show_default=False)] = None,
+) -> None:
+    """Serve a scenario's machine to OPC UA and ADS clients, paced by the wall clock or in
+    lockstep with a client; a status line shows clients, pace and lateness."""
+    from openmotion.endpoints import EndpointUnavailable, serve
+    from openmotion.endpoints.serve import parse_user, read_users
+
+    _started()
+    if pace not in ("wall", "lockstep"):
+        raise _fail(f"error: --pace must be wall or lockstep, not {pace!r}")
+    if not (opcua or ads):
+        raise _fail("error: choose at least one endpoint: --opcua, --ads")
+    _check_host(bind, "--bind")
+    path = _scenario_path(scenario if scenario is not None else SERVE_EXAMPLE)
+    try:
+        users = dict(parse_user(text) for text in user or ())
+        if users_file is not None:
+            users.update(read_users(users_file))
+        if writable and (users or trust):
+            raise ConfigError("--writable lets anonymous clients command; with --user, "
+                              "--users-file or --trust only they may: choose one")
+        security = tuple(name.strip().lower() for name in opcua_security.split(",")
+                         if name.strip())
+        served = serve(path, pace=pace, speed=speed, bind=bind,
+                       opcua={"port": opcua_port, "writable": writable, "users": users,
+                              "certificates": tuple(trust or ()), "security": security,
+                              "certificate_dir": opcua_cert_dir} if opcua else False,
+                       ads={"port": ads_port, "writable": writable} if ads else False)
+        served.start()
+    except EndpointUnavailable as exc:
+        raise _fail(f"error: {exc}") from None
+    except ConfigError as exc:
+        raise _fail(f"ConfigError: {exc}") from None
+    except OSError as exc:
+        raise _fail(f"error: {exc.strerror or exc}") from None
+    try:
+        urls = " · ".join(f"{name} {url}" for name, url in served.urls().items())
+        typer.echo(f"openmotion serve: {urls} (Ctrl+C stops)", err=True)
+        _status_loop(served, duration)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        served.stop()
+    typer.echo(f"stopped: {served.line()}", err=True)
+
+
+STATUS_EVERY = 0.5  #: seconds between two updates of the live status line
+STATUS_PLAIN_EVERY = 10.0  #: seconds between two status lines when stderr is no terminal
+
+
+def _status_loop(served: Any, duration: float | None) -> None:
+    """Show the status line until ``duration`` is over (or Ctrl+C): one live rich line on
+    a terminal, a plain line every ``STATUS_PLAIN_EVERY`` seconds otherwise."""
+    from rich.console import Console
+    from rich.live import Live
+
+    console = Console(stderr=True, highlight=False)
+    end = None if duration is None else time.monotonic() + duration
+    live = Live(served.line(), console=console, transient=True) if console.is_terminal \
+        else None
+    last_plain = time.monotonic()
+    if live is not None:
+        live.start()
+    try:
+        while end is None or time.monotonic() < end:
+            time.sleep(min(STATUS_EVERY, max(0.0, end - time.monotonic()))
+                       if end is not None else STATUS_EVERY)
+            if live is not None:
+                live.update(served.line())
+            elif time.monotonic() - last_plain >= STATUS_PLAIN_EVERY:
+                last_plain = time.monotonic()
+                typer.echo(served.line(), err=True)
+            if not served.host.running:
+                break
+    finally:
+        if live is not None:
+            live.stop()
+
+
 def _scenario_path(argument: str | None) -> Path:
     """The file a scenario argument names (a path, or a shipped example's name); exit 2 with
     a hint when it names neither."""
@@ -517,7 +644,7 @@ def _scenario_path(argument: str | None) -> Path:
     return path
 
 
-def _check_host(host: str) -> None:
+def _check_host(host: str, flag: str = "--host") -> None:
     """Exit 2 unless ``host`` is an IP address or a well-formed host name; warn off loopback."""
     import ipaddress
     import re
@@ -527,7 +654,7 @@ def _check_host(host: str) -> None:
     except ValueError:
         label = r"(?!-)[A-Za-z0-9-]{1,63}(?<!-)"
         if len(host) > 253 or not re.fullmatch(rf"{label}(\.{label})*\.?", host):
-            raise _fail(f"error: --host {host!r} is neither an IP address nor a host "
+            raise _fail(f"error: {flag} {host!r} is neither an IP address nor a host "
                         "name") from None
         loopback = host.lower().rstrip(".") == "localhost"
     else:

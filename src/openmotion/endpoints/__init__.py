@@ -4,11 +4,12 @@
 with a client, and publishes snapshots of its machine model; the OPC UA server, the ADS
 server and the FMI unit are built on it and on ``wire``, which says how a command's inputs
 travel. Each is generated from the machine model (``openmotion.kernel.model``), never from a
-list of its own.
+list of its own. ``serve`` starts a host with the endpoints chosen (``openmotion serve``).
 """
 
 from openmotion.endpoints.ads import AdsServer
 from openmotion.endpoints.host import HostError, HostStatus, MachineHost, Pace, Snapshot
+from openmotion.endpoints.serve import ENDPOINTS, EndpointUnavailable, Serving, serve
 from openmotion.endpoints.wire import (
     HandleState,
     WireCommand,
@@ -21,6 +22,7 @@ from openmotion.endpoints.wire import (
     wire_commands,
 )
 
-__all__ = ["AdsServer", "HandleState", "HostError", "HostStatus", "MachineHost", "Pace", "Snapshot",
-           "WireCommand", "WireError", "WireInput", "WireKind", "coerce", "default_of",
-           "handle_state", "wire_commands"]
+__all__ = ["ENDPOINTS", "AdsServer", "EndpointUnavailable", "HandleState", "HostError",
+           "HostStatus", "MachineHost", "Pace", "Serving", "Snapshot", "WireCommand",
+           "WireError", "WireInput", "WireKind", "coerce", "default_of", "handle_state",
+           "serve", "wire_commands"]

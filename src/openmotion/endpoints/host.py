@@ -42,7 +42,7 @@ import numpy as np
 
 from openmotion.core.errors import ConfigError
 from openmotion.endpoints.wire import HandleState, WireCommand, handle_state, wire_commands
-from openmotion.kernel.model import MachineModel, Signal, kind_of, machine
+from openmotion.kernel.model import MachineModel, MachineObject, Signal, kind_of, machine
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.live import Machine, scenario_machine
 from openmotion.scenario.schema import Scenario
@@ -128,6 +128,10 @@ class MachineHost:
         self.commands: dict[str, tuple[WireCommand, ...]] = {}
         for obj in self.model:
             self.commands[obj.name] = self.commands.get(obj.name, ()) + wire_commands(obj)
+        #: the served commands of each object of the model, by the object's identity: two
+        #: objects may share a name (an axis and the CA mover it is)
+        self._object_commands: dict[int, tuple[WireCommand, ...]] = {
+            id(obj): wire_commands(obj) for obj in self.model}
         self._readers = _bulk_readers(self.model, len(self.names))
         self._requests: queue.SimpleQueue[tuple[Callable[[], Any], Future[Any]]] = \
             queue.SimpleQueue()
@@ -207,9 +211,14 @@ class MachineHost:
             raise ConfigError(f"no command {ticket}")
         return state
 
-    def command(self, owner: str, name: str) -> WireCommand:
-        """The served command ``name`` of the object ``owner``."""
-        commands = self.commands.get(owner)
+    def command(self, owner: str | MachineObject, name: str) -> WireCommand:
+        """The served command ``name`` of the object ``owner`` (its name, or the object of
+        ``model`` itself where two objects share a name)."""
+        if isinstance(owner, MachineObject):
+            commands = self.commands_of(owner)
+            owner = owner.name
+        else:
+            commands = self.commands.get(owner)
         if commands is None:
             self.model.find(owner)  # raises ConfigError naming the objects
             raise ConfigError(f"no object {owner!r}")
@@ -218,6 +227,13 @@ class MachineHost:
                 return command
         raise ConfigError(f"{owner!r} has no command {name!r} served; one of "
                           f"{', '.join(c.name for c in commands) or 'none'}")
+
+    def commands_of(self, owner: MachineObject) -> tuple[WireCommand, ...]:
+        """The served commands of one object of ``model``."""
+        commands = self._object_commands.get(id(owner))
+        if commands is None:
+            raise ConfigError(f"{owner.kind} {owner.name!r} is not an object of this host")
+        return commands
 
     # -- commanding ------------------------------------------------------------------------
 
@@ -229,7 +245,8 @@ class MachineHost:
         self._requests.put((request, future))
         return future.result(timeout)
 
-    def call(self, owner: str, name: str, inputs: dict[str, Any] | None = None) -> int:
+    def call(self, owner: str | MachineObject, name: str,
+             inputs: dict[str, Any] | None = None) -> int:
         """Start the command ``name`` of ``owner`` with ``inputs`` as a client sent them
         (``WireError`` for bad ones, the machine untouched); its ticket, for ``handle``."""
         command = self.command(owner, name)
@@ -238,7 +255,8 @@ class MachineHost:
         arguments = command.arguments(inputs or {}, self.model)
         return int(self.submit(lambda: self._start(command, arguments)))
 
-    def switch(self, owner: str, name: str, inputs: dict[str, Any] | None = None) -> Any:
+    def switch(self, owner: str | MachineObject, name: str,
+               inputs: dict[str, Any] | None = None) -> Any:
         """Set the level command ``name`` of ``owner`` (MC_Power's Enable): its status."""
         command = self.command(owner, name)
         if not command.spec.level:
