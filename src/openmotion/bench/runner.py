@@ -122,6 +122,14 @@ def _sweep(quick: bool, progress: Progress) -> dict[str, Any]:
     return run_sweep_bench(progress=progress)
 
 
+def _serve(quick: bool, progress: Progress) -> dict[str, Any]:
+    from openmotion.bench.serve import run_serve
+
+    if quick:
+        return run_serve(axes=10, seconds=2.0, progress=progress)
+    return run_serve(progress=progress)
+
+
 #: the benchmarks that take ``cycles`` (the length of their long run)
 LONG_RUNS = ("trace",)
 BENCHMARKS: dict[str, Callable[..., dict[str, Any]]] = {
@@ -135,6 +143,7 @@ BENCHMARKS: dict[str, Callable[..., dict[str, Any]]] = {
     "trace": _trace,
     "startup": _startup,
     "sweep": _sweep,
+    "serve": _serve,
 }
 
 
@@ -348,6 +357,18 @@ def goals_sweep(results: dict[str, Any]) -> dict[str, Any]:
     return goals
 
 
+SERVE_GOAL_LATE_P99_MS = 1.0  #: issue 22: p99 motion-cycle lateness under load by two clients
+
+
+def goals_serve(results: dict[str, Any]) -> dict[str, Any]:
+    late = results["late_p99_ms"]
+    lost = results["opcua"]["lost"]
+    return {"lateness": _goal(f"p99 motion-cycle lateness < {SERVE_GOAL_LATE_P99_MS:g} ms "
+                              f"({results['axes']} axes, 1 ms cycle, both clients reading)",
+                              late, late < SERVE_GOAL_LATE_P99_MS),
+            "lost": _goal("0 lost OPC UA notifications", lost, lost == 0)}
+
+
 GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "axes": goals_axes,
     "otg": goals_otg,
@@ -359,6 +380,7 @@ GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "trace": goals_trace,
     "startup": goals_startup,
     "sweep": goals_sweep,
+    "serve": goals_serve,
 }
 
 
@@ -658,10 +680,33 @@ def _render_sweep(results: dict[str, Any]) -> list[str]:
     return lines
 
 
+def _render_serve(results: dict[str, Any]) -> list[str]:
+    opcua, ads = results["opcua"], results["ads"]
+    return [
+        f"{results['axes']} axes, 1 ms cycle paced by the wall clock, {results['seconds']:g} s "
+        f"with both clients: late p99 {_fmt(results['late_p99_ms'])} ms, max "
+        f"{_fmt(results['late_max_ms'])} ms, time slipped {results['slips']}x",
+        *_table(["client", "what", "figure"], [
+            ["asyncua", f"{opcua['subscribed']} values at 10 ms",
+             f"{opcua['notifications']} notifications, {_fmt(opcua['per_value_per_second'])}"
+             f"/value/s, lost {opcua['lost']}"],
+            ["asyncua", "read one value [µs]",
+             f"p50 {_fmt(opcua['read_us']['p50'])}, p99 {_fmt(opcua['read_us']['p99'])}"],
+            ["pyads", f"sum read of {ads['symbols']} every 10 ms [ms]",
+             f"p50 {_fmt(ads['sum_read_ms']['p50'])}, p99 {_fmt(ads['sum_read_ms']['p99'])}"
+             f", {ads['sum_reads']} reads, {ads['late_polls']} late"],
+            ["pyads", "read by name [µs]", f"p50 {_fmt(ads['read_by_name_us']['p50'])}, "
+             f"p99 {_fmt(ads['read_by_name_us']['p99'])}"],
+            ["pyads", "read by handle [µs]", f"p50 {_fmt(ads['read_by_handle_us']['p50'])}, "
+             f"p99 {_fmt(ads['read_by_handle_us']['p99'])}"],
+        ]),
+    ]
+
+
 _RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
            "ca": _render_ca, "planar": _render_planar, "path": _render_path,
            "tracks": _render_tracks, "trace": _render_trace, "startup": _render_startup,
-           "sweep": _render_sweep}
+           "sweep": _render_sweep, "serve": _render_serve}
 
 
 def render(result: dict[str, Any]) -> str:

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 import queue
+import sys
 import threading
 import time
 from collections import Counter
@@ -56,6 +57,10 @@ MAX_TICKETS = 4096  #: command handles kept; the oldest finished ones are droppe
 IDLE_WAIT = 0.05  #: longest wait of an idle kernel thread for a request [s]
 REQUEST_TIMEOUT = 10.0  #: how long a client waits for the kernel thread to take a request [s]
 MIN_SPEED, MAX_SPEED = 0.01, 1000.0
+#: [s] how long another thread may hold the interpreter before the kernel thread gets it
+#: back, while a wall-paced host runs (Python's default, 5 ms, would make 1 ms cycles late
+#: whenever a server thread is busy); the process's own value comes back at ``stop``
+SWITCH_INTERVAL = 0.0002
 
 
 class Pace(StrEnum):
@@ -148,6 +153,7 @@ class MachineHost:
         self._thread: threading.Thread | None = None
         self._running = threading.Event()
         self._failure = ""
+        self._switch_interval: float | None = None  #: the process's, while we run wall-paced
 
     @classmethod
     def for_scenario(cls, source: str | Path | Scenario, **options: Any) -> MachineHost:
@@ -160,6 +166,9 @@ class MachineHost:
         if self._thread is not None:
             raise HostError("the host runs already")
         self._running.set()
+        if self.pace is Pace.WALL:
+            self._switch_interval = sys.getswitchinterval()
+            sys.setswitchinterval(min(SWITCH_INTERVAL, self._switch_interval))
         self._thread = threading.Thread(target=self._loop, name="openmotion-kernel",
                                         daemon=True)
         self._thread.start()
@@ -170,6 +179,9 @@ class MachineHost:
         if self._thread is not None:
             self._thread.join(timeout=5.0)
             self._thread = None
+        if self._switch_interval is not None:
+            sys.setswitchinterval(self._switch_interval)
+            self._switch_interval = None
 
     def __enter__(self) -> MachineHost:
         return self.start()
