@@ -68,3 +68,19 @@ def test_bad_stations_and_routes_name_the_field(old, new, message):
     with pytest.raises(ScenarioError, match=message):
         parse_scenario(BASE.replace(old, new))
     assert parse_scenario(BASE).ca_groups[0].stations  # the loader goes on working
+
+
+def test_a_sweep_collects_a_stations_figures_by_name():
+    """The sweep's ``station`` metric (sweep/metrics.py) reads the summary's row."""
+    from openmotion.sweep import StationMetric
+
+    result = run_scenario(parse_scenario(BASE))
+    metric = StationMetric(station="load", stats=["processed", "parts_per_minute", "max_queue"])
+    assert metric.columns() == {"load.processed": "Int64", "load.parts_per_minute": "float64",
+                                "load.max_queue": "Int64"}
+    row = next(row for _, row in result.stations if row.name == "load")
+    assert metric.collect(result, 0.0) == {"load.processed": row.processed,
+                                           "load.parts_per_minute": row.parts_per_minute,
+                                           "load.max_queue": row.max_queue}
+    with pytest.raises(ValueError, match="no such station \\(stations: load, drill\\)"):
+        StationMetric(station="paint").collect(result, 0.0)

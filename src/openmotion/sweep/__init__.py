@@ -14,6 +14,7 @@ from openmotion.sweep.metrics import (
     Metric,
     RunMetric,
     SignalMetric,
+    StationMetric,
 )
 from openmotion.sweep.points import Point, expand
 from openmotion.sweep.results import TABLE_FILE, timing_columns
@@ -21,6 +22,6 @@ from openmotion.sweep.run import MissingExtra, SweepProgress, compared, require_
 from openmotion.sweep.spec import Sweep, SweepError, SweepSpec, load_sweep
 
 __all__ = ["METRIC_KINDS", "TABLE_FILE", "CommandsMetric", "CycleCostMetric", "Metric",
-           "MissingExtra", "Point", "RunMetric", "SignalMetric", "Sweep", "SweepError",
-           "SweepProgress", "SweepSpec", "compared", "expand", "load_sweep", "require_extra",
-           "run_sweep", "timing_columns"]
+           "MissingExtra", "Point", "RunMetric", "SignalMetric", "StationMetric", "Sweep",
+           "SweepError", "SweepProgress", "SweepSpec", "compared", "expand", "load_sweep",
+           "require_extra", "run_sweep", "timing_columns"]

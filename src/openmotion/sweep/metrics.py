@@ -1,8 +1,8 @@
 """What a sweep collects from each run, as table columns: one model per metric kind.
 
 A metric kind is a pydantic model whose one distinguishing key names it (``signal``,
-``commands``, ``run``, ``cycle_cost``) and that knows its columns and how to read them from a
-``ScenarioResult``. A new kind (station metrics, later) is one more class in ``METRIC_KINDS``.
+``commands``, ``run``, ``station``, ``cycle_cost``) and that knows its columns and how to read
+them from a ``ScenarioResult``. A new kind is one more class in ``METRIC_KINDS``.
 Timing kinds (``timing = True``) give wall-clock-dependent columns, which the determinism
 guarantee leaves out (docs/sweeps.md, "Determinism").
 """
@@ -99,6 +99,34 @@ class RunMetric(Metric):
         return {f"run.{name}": values[name] for name in self.run}
 
 
+StationField = Literal["processed", "parts_per_minute", "utilisation", "mean_wait",
+                       "mean_queue", "max_queue"]
+_STATION_TYPES = {"processed": INT, "max_queue": INT}
+
+
+class StationMetric(Metric):
+    """A station's figures at the end of the run (rail/stations.py): parts processed and per
+    minute, utilisation, mean wait [s], mean and largest queue."""
+
+    key: ClassVar[str] = "station"
+    station: str = Field(min_length=1)
+    stats: list[StationField] = Field(default=["processed", "parts_per_minute",
+                                               "utilisation"], min_length=1)
+
+    def columns(self) -> dict[str, str]:
+        return {f"{self.station}.{stat}": _STATION_TYPES.get(stat, FLOAT)
+                for stat in self.stats}
+
+    def collect(self, result: ScenarioResult, cpu: float) -> dict[str, Any]:
+        rows = {row.name: row for _, row in result.stations}
+        row = rows.get(self.station)
+        if row is None:
+            raise ValueError(f"metric station {self.station!r}: no such station (stations: "
+                             f"{', '.join(rows) or 'none'})")
+        return {column: getattr(row, stat)
+                for column, stat in zip(self.columns(), self.stats, strict=True)}
+
+
 class CycleCostMetric(Metric):
     """Process CPU time of the run, in all and per cycle [s]: timing, never compared."""
 
@@ -116,7 +144,7 @@ class CycleCostMetric(Metric):
 
 #: the metric kinds, by the key that names each
 METRIC_KINDS: dict[str, type[Metric]] = {kind.key: kind for kind in (
-    SignalMetric, CommandsMetric, RunMetric, CycleCostMetric)}
+    SignalMetric, CommandsMetric, RunMetric, StationMetric, CycleCostMetric)}
 
 
 def metric_kind(data: Any) -> str | None:
