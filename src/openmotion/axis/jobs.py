@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 
 from openmotion.axis.commands import Job
+from openmotion.axis.dynamics import require_position
 from openmotion.axis.parameters import AxisParameters
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.trajectory.plan import (
@@ -118,6 +119,16 @@ def soft_limit_in_direction(parameters: AxisParameters, direction: int) -> float
     return None
 
 
+def oriented_target(parameters: AxisParameters, position: object) -> float:
+    """MC_OrientedStop's Position: a modulo value in [0, period) (TcMC §3.16)."""
+    target = require_position("position", position)
+    period = parameters.modulo_period
+    if not 0.0 <= target < period:
+        raise CommandRejected(ErrorId.INVALID_MODULO_TARGET,
+                              f"position must lie in [0, {period}), got {target}")
+    return target
+
+
 def blend_velocity(
     start: KinematicState, first: Job, second_target: float, second_limits: Limits, magnitude: float
 ) -> float:
@@ -128,8 +139,8 @@ def blend_velocity(
     make ruckig overshoot, so it is reduced by bisection.
     """
     assert first.target is not None
-    direction = _sign(first.target - start.position)
-    if direction == 0 or _sign(second_target - first.target) != direction or magnitude <= 0.0:
+    direction = sign(first.target - start.position)
+    if direction == 0 or sign(second_target - first.target) != direction or magnitude <= 0.0:
         return 0.0
 
     def feasible(speed: float) -> bool:
@@ -160,5 +171,6 @@ def _monotonic(profile: Profile, direction: int) -> bool:
     return lo >= -tolerance if direction > 0 else hi <= tolerance
 
 
-def _sign(value: float) -> int:
+def sign(value: float) -> int:
+    """-1, 0 or 1 as ``value`` is negative, zero or positive."""
     return (value > 0.0) - (value < 0.0)

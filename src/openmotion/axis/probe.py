@@ -108,7 +108,7 @@ class ProbeSignal:
         self.axis = axis
         self.positions = _intervals("positions", positions)
         self.times = _intervals("times", times)
-        self._t = axis._k.sample_time  # the instant the current actual position belongs to
+        self._t = axis.kernel.sample_time  # the instant the current actual position belongs to
         self._p = self._machine()
         self._edges: list[tuple[float, float, SignalEdge]] = []
         self.level = self._level(self._t, self._p)
@@ -223,12 +223,12 @@ class _ProbeCycle:
                 position %= self.period
             if self.window is None or self.window.contains(position):
                 self.command.value = position
-                self._end(CommandStatus.DONE, now, TouchProbeState.INACTIVE)
+                self.end(CommandStatus.DONE, now, TouchProbeState.INACTIVE)
                 return False
             self.rejected.append(position)  # the latch re-arms at once
         return True
 
-    def _end(self, status: CommandStatus, now: float, state: TouchProbeState) -> None:
+    def end(self, status: CommandStatus, now: float, state: TouchProbeState) -> None:
         self.command.end(status, now)
         self.ref.probe_state = state
         if _ARMED.get(self.ref) is self:
@@ -259,7 +259,7 @@ def _check_window(ref: InputRef, axis: Axis, first: object, last: object) -> Pro
 def arm_probe(axis: Axis, ref: InputRef, window_only: bool = False,
               first_position: float = 0.0, last_position: float = 0.0) -> Command:
     """Start a probe cycle; the command ends DONE with ``value`` = the recorded position."""
-    rt = axis._rt
+    rt = axis.runtime
     command = Command("touch_probe", rt.now)
     try:
         if ref.touch_probe not in TouchProbeSource.__members__.values():
@@ -295,7 +295,7 @@ def abort_probe(ref: InputRef, now: float) -> bool:
     cycle = _ARMED.get(ref)
     if cycle is None or cycle.command.finished:
         return False
-    cycle._end(CommandStatus.ABORTED, now, TouchProbeState.ABORTED)
+    cycle.end(CommandStatus.ABORTED, now, TouchProbeState.ABORTED)
     return True
 
 

@@ -77,10 +77,10 @@ class StepperTerminal:
         self._stall_serial += 1
         serial = self._stall_serial
         self.stalled = True
-        axis._k.set_blocked(axis.row, True)
+        axis.kernel.set_blocked(axis.row, True)
         if duration is None:
             return
-        end = axis._rt.now + float(duration)
+        end = axis.runtime.now + float(duration)
         eps = 1e-9 * max(1.0, abs(end))
 
         def release_when_due(now: float) -> bool:
@@ -97,7 +97,7 @@ class StepperTerminal:
         """End a stall: the mechanics follow again, the stall bits clear."""
         self.stalled = False
         self._stall_serial += 1
-        self.axis._k.set_blocked(self.axis.row, False)
+        self.axis.kernel.set_blocked(self.axis.row, False)
 
     def set_error(self, bits: int) -> None:
         """Set bits of the status word (e.g. :data:`STATUS2_OVERTEMPERATURE`)."""

@@ -93,8 +93,8 @@ class AxesGroup:
             raise ConfigError(f"axes group {name!r}: dynamics must be a PathDynamics, got "
                               f"{type(dynamics).__name__}")
         self.name = name
-        self._rt = runtime
-        self._k = runtime.axis_system.kernel
+        self.runtime = runtime
+        self.kernel = runtime.axis_system.kernel
         self.machine = GroupStateMachine()
         self.members: dict[int, Axis] = {}  #: IdentInGroup -> axis, in insertion order
         self.dynamics = dynamics or PathDynamics()
@@ -143,29 +143,29 @@ class AxesGroup:
         return self.spaces.kinematics
 
     def acs_set(self) -> np.ndarray:
-        return self._k.set_p[self.rows].copy()
+        return self.kernel.set_p[self.rows].copy()
 
     def position(self, coord_system: CoordSystem = CoordSystem.ACS, actual: bool = True
                  ) -> np.ndarray:
         """MC_GroupReadActualPosition (§5.10): one value per axis (ACS) or per coordinate."""
         rows = self.rows
-        acs = (self._k.act_p if actual else self._k.set_p)[rows].copy()
+        acs = (self.kernel.act_p if actual else self.kernel.set_p)[rows].copy()
         if coord_system is CoordSystem.ACS:
             return acs
         mcs = self.spaces.to_mcs(acs)
-        return mcs if coord_system is CoordSystem.MCS else self.spaces.pcs_of(mcs, self._rt.now)
+        return mcs if coord_system is CoordSystem.MCS else self.spaces.pcs_of(mcs, self.runtime.now)
 
     def velocity(self, coord_system: CoordSystem = CoordSystem.ACS) -> tuple[np.ndarray, float]:
         """MC_GroupReadActualVelocity (§5.11): velocities and the path velocity (TCP speed)."""
         rows = self.rows
-        acs, vel = self._k.act_p[rows].copy(), self._k.act_v[rows].copy()
+        acs, vel = self.kernel.act_p[rows].copy(), self.kernel.act_v[rows].copy()
         mcs_v = self.kinematics.forward_velocity(acs, vel) if rows.size else np.zeros(0)
         path = float(np.linalg.norm(self.spaces.xyz(mcs_v))) if rows.size else 0.0
         if coord_system is CoordSystem.ACS:
             return vel, path
         if coord_system is CoordSystem.PCS:
             mcs_v = self.spaces.with_xyz(
-                mcs_v, self.spaces.frame(self._rt.now).inverse().rotate(self.spaces.xyz(mcs_v)))
+                mcs_v, self.spaces.frame(self.runtime.now).inverse().rotate(self.spaces.xyz(mcs_v)))
         return mcs_v, path
 
     def acceleration(self, coord_system: CoordSystem = CoordSystem.ACS
@@ -174,22 +174,23 @@ class AxesGroup:
         acceleration (positive while the path speed grows). The drives report no
         acceleration, so the setpoint's is shown (decisions D-108)."""
         rows = self.rows
-        acs, vel, acc = (self._k.set_p[rows].copy(), self._k.set_v[rows].copy(),
-                         self._k.set_a[rows].copy())
+        acs, vel, acc = (self.kernel.set_p[rows].copy(), self.kernel.set_v[rows].copy(),
+                         self.kernel.set_a[rows].copy())
         path_acc = self.motion.path_acceleration
         if coord_system is CoordSystem.ACS or not rows.size:
             return acc, path_acc
         mcs_a = self.kinematics.forward_velocity(acs, acc)  # exact for linear kinematics
         if coord_system is CoordSystem.PCS:
             mcs_a = self.spaces.with_xyz(
-                mcs_a, self.spaces.frame(self._rt.now).inverse().rotate(self.spaces.xyz(mcs_a)))
+                mcs_a, self.spaces.frame(self.runtime.now).inverse().rotate(self.spaces.xyz(mcs_a)))
         del vel
         return mcs_a, path_acc
 
     @property
     def all_axes_standing(self) -> bool:
         rows = self.rows
-        return bool(np.all(self._k.set_v[rows] == 0.0) and np.all(self._k.set_a[rows] == 0.0))
+        k = self.kernel
+        return bool(np.all(k.set_v[rows] == 0.0) and np.all(k.set_a[rows] == 0.0))
 
     def status_flags(self) -> dict[str, bool]:
         """MC_GroupReadStatus (§5.17): one state flag, and the motion flags of the path."""
@@ -283,7 +284,8 @@ class AxesGroup:
         self._home_abort("the group was disabled")
         self._hold_members()
         if self._stop is not None:
-            self._stop.end(CommandStatus.ABORTED, self._rt.now, message="the group was disabled")
+            self._stop.end(CommandStatus.ABORTED, self.runtime.now,
+                           message="the group was disabled")
             self._stop = None
         self.machine.fire(GroupEvent.DISABLE)
         self._couple()
@@ -306,7 +308,7 @@ class AxesGroup:
                 parts.append(part)
         self._reset = (command, parts)
         command.status = CommandStatus.ACTIVE
-        self._end_reset(self._rt.now)
+        self._end_reset(self.runtime.now)
         return command
 
     def _end_reset(self, now: float) -> None:
@@ -410,7 +412,7 @@ class AxesGroup:
 
         def apply() -> None:
             self._set_position(value, relative, coord_system)
-            command.end(CommandStatus.DONE, self._rt.now)
+            command.end(CommandStatus.DONE, self.runtime.now)
         return self._after_motion(command, mode, apply)
 
     def _set_position(self, value: np.ndarray, relative: bool, coord_system: CoordSystem
@@ -469,7 +471,7 @@ class AxesGroup:
         """An Aborting motion, a halt or stop, disable, an error: what waits is aborted."""
         queued, self._queued = self._queued, []
         for command, _, _ in queued:
-            command.end(CommandStatus.ABORTED, self._rt.now, message=reason)
+            command.end(CommandStatus.ABORTED, self.runtime.now, message=reason)
 
     def _set_acs(self, value: np.ndarray, relative: bool) -> None:
         """Each member's setpoint reads ``value`` (or moves by it), its actual position
@@ -602,7 +604,7 @@ class AxesGroup:
         if coord is CoordSystem.ACS:
             return vector(position, len(self.members), "Position").tolist()
         value = vector(position, self.spaces.size, "Position")
-        mcs = value if coord is CoordSystem.MCS else self.spaces.mcs_of(value, self._rt.now)
+        mcs = value if coord is CoordSystem.MCS else self.spaces.mcs_of(value, self.runtime.now)
         return [float(x) for x in self.spaces.to_acs(mcs, near=self.acs_set())]
 
     def _start_home(self, command: Command, values: list[Any]) -> None:
@@ -618,7 +620,7 @@ class AxesGroup:
         # after the members' homing sequences (watchers run by row, then by age): the group
         # is GroupStandby in the cycle its last member is homed, never StandStill under
         # GroupHoming (Table 5)
-        self._rt.axis_system.watch(max(self.axes, key=lambda a: a.row), self._watch_home)
+        self.runtime.axis_system.watch(max(self.axes, key=lambda a: a.row), self._watch_home)
         return command
 
     def _watch_home(self, now: float) -> bool:
@@ -874,7 +876,7 @@ class AxesGroup:
                     raise
             assert self.motion.law is not None
             self.motion.law = CamLaw(self.motion.law, master, ratio, mode, limits, command,
-                                     self._rt.cycle_time)
+                                     self.runtime.cycle_time)
 
         def start() -> None:
             request.extra["couple"] = couple
@@ -991,10 +993,10 @@ class AxesGroup:
     def _start_sync(self, slave: Axis, inputs: SyncInputs, command: Command) -> None:
         old = self._syncs.pop(slave.row, None)
         if old is not None:
-            old.end(self._rt.now, "replaced by a new MC_SyncAxisToGroup")
+            old.end(self.runtime.now, "replaced by a new MC_SyncAxisToGroup")
         if slave.has_job:
-            slave._abort_all("aborted by MC_SyncAxisToGroup")
-            slave._k.has_job[slave.row] = False
+            slave.queue.abort_all("aborted by MC_SyncAxisToGroup")
+            slave.kernel.has_job[slave.row] = False
         command.status = CommandStatus.ACTIVE
         self._syncs[slave.row] = AxisSync(self, slave, inputs, command)
 
@@ -1033,7 +1035,7 @@ class AxesGroup:
             self._start_waiting_syncs()
         if self._syncs:
             for row, sync in list(self._syncs.items()):
-                sync.step(now, self._rt.cycle_time)
+                sync.step(now, self.runtime.cycle_time)
                 if sync.command.finished:
                     del self._syncs[row]
         self._end_home(now)
@@ -1093,7 +1095,7 @@ class AxesGroup:
             with self._ungrouped(axis):
                 axis.stop()
             axis.group = self
-        self._home_command.end(CommandStatus.ABORTED, self._rt.now, message=reason)
+        self._home_command.end(CommandStatus.ABORTED, self.runtime.now, message=reason)
         self._home_command, self._home = None, []
 
     def _end_pending(self) -> None:
@@ -1105,7 +1107,7 @@ class AxesGroup:
                 continue
             if self.motion.all_ended(wait):
                 apply()
-                command.end(CommandStatus.DONE, self._rt.now)
+                command.end(CommandStatus.DONE, self.runtime.now)
             elif command.busy:
                 keep.append((command, wait, apply))
         self._pending = keep
@@ -1128,7 +1130,7 @@ class AxesGroup:
                 self.motion.abort_all(f"member {axis.name} lost power")
                 self._hold_members()
                 if self._stop is not None:
-                    self._stop.end(CommandStatus.ABORTED, self._rt.now,
+                    self._stop.end(CommandStatus.ABORTED, self.runtime.now,
                                     message=f"member {axis.name} lost power")
                     self._stop = None
                 self._home_abort(f"member {axis.name} lost power")
@@ -1141,7 +1143,7 @@ class AxesGroup:
         self.motion.abort_all(f"group error: {message}", error=(error_id, message))
         self._home_abort(f"group error: {message}")
         if self._stop is not None:
-            self._stop.end(CommandStatus.ABORTED, self._rt.now, message=message)
+            self._stop.end(CommandStatus.ABORTED, self.runtime.now, message=message)
             self._stop = None
         self._brake_members()
         self.machine.fire(GroupEvent.ERROR)
@@ -1197,7 +1199,7 @@ class AxesGroup:
 
     def _hold_members(self) -> None:
         """Stop at once where the setpoints are (GroupDisable, power loss)."""
-        k = self._k
+        k = self.kernel
         p, _, _ = self._last_setpoints()
         for axis, value in zip(self.axes, p.tolist(), strict=True):
             row = axis.row
@@ -1209,7 +1211,7 @@ class AxesGroup:
     def _brake_members(self) -> None:
         """Each healthy member brakes on its own profile (the group error reaction)."""
         from openmotion.trajectory.plan import plan_stop
-        k = self._k
+        k = self.kernel
         p, v, a = self._last_setpoints()
         for index, axis in enumerate(self.axes):
             if axis.state is AxisState.ERROR_STOP:
@@ -1225,26 +1227,26 @@ class AxesGroup:
     def write_setpoints(self, p: np.ndarray, v: np.ndarray, a: np.ndarray,
                         j: np.ndarray | None = None) -> None:
         """The path cycle's output: the member rows' setpoints, after the kernel evaluated."""
-        k, rows = self._k, self.rows
+        k, rows = self.kernel, self.rows
         k.set_p[rows], k.set_v[rows], k.set_a[rows] = p, v, a
         k.set_j[rows] = 0.0 if j is None else j
-        self._written = (self._rt.now, np.array(p, dtype=float), np.array(v, dtype=float),
+        self._written = (self.runtime.now, np.array(p, dtype=float), np.array(v, dtype=float),
                          np.array(a, dtype=float))
 
     def _last_setpoints(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The members' setpoints as the group last wrote them: in a cycle where the group
         reacts before its path output (a fault, a power loss), the kernel has already
         evaluated the rows' own resting profiles, which lag behind the path."""
-        k, rows = self._k, self.rows
+        k, rows = self.kernel, self.rows
         written = self._written
         if written is not None and written[1].shape == rows.shape \
-                and written[0] >= self._rt.now - 1.5 * self._rt.cycle_time:
+                and written[0] >= self.runtime.now - 1.5 * self.runtime.cycle_time:
             return written[1], written[2], written[3]
         return k.set_p[rows].copy(), k.set_v[rows].copy(), k.set_a[rows].copy()
 
     def settle(self, p: np.ndarray) -> None:
         """The path ended at ``p``: the rows hold there on their own profiles."""
-        k = self._k
+        k = self.kernel
         self._written = None
         for row, value in zip(self.rows.tolist(), p.tolist(), strict=True):
             k.set_p[row] = value
@@ -1279,14 +1281,14 @@ class AxesGroup:
                 dynamic_value("jerk", jerk, self.dynamics, command.warnings))
 
     def _command(self, kind: str) -> Command:
-        return Command(kind, self._rt.now)
+        return Command(kind, self.runtime.now)
 
     def _finish(self, command: Command) -> Command:
-        command.end(CommandStatus.DONE, self._rt.now)
+        command.end(CommandStatus.DONE, self.runtime.now)
         return command
 
     def _reject(self, command: Command, rejected: CommandRejected) -> Command:
-        command.end(CommandStatus.ERROR, self._rt.now, rejected.error_id, rejected.message)
+        command.end(CommandStatus.ERROR, self.runtime.now, rejected.error_id, rejected.message)
         return command
 
 

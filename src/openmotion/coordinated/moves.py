@@ -131,7 +131,7 @@ class PathMotion:
 
     def submit(self, request: PathCommand) -> Command:
         """Queue or start ``request`` by its BufferMode; rejections come back as errors."""
-        now = self.group._rt.now
+        now = self.group.runtime.now
         command = request.command
         quiet = self.law is None and self.waiting is None
         cam = self.law is not None and not isinstance(self.law, TimeLaw)  # SyncGroupToAxis
@@ -267,13 +267,13 @@ class PathMotion:
         self._acs_start = group.acs_set()
         self.law = TimeLaw(*moving)
         if group.factors != (1.0, 1.0, 1.0):
-            self.law.set_factors(group._rt.now, *group.factors)
+            self.law.set_factors(group.runtime.now, *group.factors)
         request.command.status = CommandStatus.ACTIVE
         request.end = self._end_of(request, geometry, start)
         self._push(request, geometry, pieces)
 
     def halt(self, command: Command, deceleration: float, jerk: float) -> None:
-        now = self.group._rt.now
+        now = self.group.runtime.now
         self._abort_queue("aborted by MC_GroupHalt")
         self.follow = None
         self.interrupted = False
@@ -287,10 +287,10 @@ class PathMotion:
     def interrupt(self, command: Command, deceleration: float, jerk: float) -> None:
         active = self.active
         if self.law is None or active is None:
-            command.end(CommandStatus.ERROR, self.group._rt.now, ErrorId.NOTHING_TO_DO,
+            command.end(CommandStatus.ERROR, self.group.runtime.now, ErrorId.NOTHING_TO_DO,
                          "no path motion to interrupt (§5.15)")
             return
-        self.law.stop(self.group._rt.now, deceleration, jerk, keep=True)
+        self.law.stop(self.group.runtime.now, deceleration, jerk, keep=True)
         self.interrupted = True
         active.command.status = CommandStatus.BUFFERED  # Busy, not Active (§5.15)
         command.status = CommandStatus.ACTIVE
@@ -301,16 +301,16 @@ class PathMotion:
             raise CommandRejected(ErrorId.NOTHING_TO_DO, "no interrupted motion to continue "
                                                          "(§5.16)")
         if self.interrupt_command is not None and self.interrupt_command.busy:
-            self.interrupt_command.end(CommandStatus.ABORTED, self.group._rt.now,
+            self.interrupt_command.end(CommandStatus.ABORTED, self.group.runtime.now,
                                         message="continued before standstill")
         self.interrupt_command = None
         self.interrupted = False
-        self.law.resume(self.group._rt.now)
+        self.law.resume(self.group.runtime.now)
         active = self.active
         if active is not None:
             active.command.status = CommandStatus.ACTIVE  # at Continue.Done (§5.16)
         if self.group.factors[0] == 0.0:
-            self.law.set_factors(self.group._rt.now, *self.group.factors)
+            self.law.set_factors(self.group.runtime.now, *self.group.factors)
 
     def brake(self, deceleration: float, jerk: float, reason: str) -> None:
         """MC_GroupStop: brake along the path, abort every command (§5.13)."""
@@ -318,18 +318,18 @@ class PathMotion:
         self.follow = None
         self.interrupted = False
         if self.halt_command is not None:
-            self.halt_command.end(CommandStatus.ABORTED, self.group._rt.now, message=reason)
+            self.halt_command.end(CommandStatus.ABORTED, self.group.runtime.now, message=reason)
             self.halt_command = None
         if self.law is not None:
-            self.law.stop(self.group._rt.now, deceleration, jerk, keep=False)
+            self.law.stop(self.group.runtime.now, deceleration, jerk, keep=False)
 
     def set_factors(self, velocity: float, acceleration: float, jerk: float) -> None:
         if self.law is not None and not self.interrupted:
-            self.law.set_factors(self.group._rt.now, velocity, acceleration, jerk)
+            self.law.set_factors(self.group.runtime.now, velocity, acceleration, jerk)
 
     def abort_all(self, reason: str, error: tuple[ErrorId, str] | None = None) -> None:
         """Everything ends now: disable, ungroup, power loss, group error."""
-        now = self.group._rt.now
+        now = self.group.runtime.now
         self.group._end_table(reason, error)  # a path table ends with it (path_table.py)
         ended = [c.command for c in self.commands]
         if self.waiting is not None:
@@ -350,7 +350,7 @@ class PathMotion:
         self.group.spaces.dynamic = None
         command = getattr(tracker, "command", None)
         if isinstance(command, Command):
-            command.end(CommandStatus.ABORTED, self.group._rt.now, message=reason)
+            command.end(CommandStatus.ABORTED, self.group.runtime.now, message=reason)
         if self.follow is not None:  # hold where the frame carried the TCP last
             self.follow = None
             self.group.settle(self.group._last_setpoints()[0])
@@ -434,7 +434,7 @@ class PathMotion:
         mcs = spaces.to_mcs(acs)
         if space == MCS:
             return mcs
-        return spaces.pcs_of(mcs, self.group._rt.now)
+        return spaces.pcs_of(mcs, self.group.runtime.now)
 
     def _tail(self, space: str) -> np.ndarray:
         """Where the queued path ends, in ``space``."""
@@ -442,7 +442,7 @@ class PathMotion:
         assert last.end is not None
         if last.space == space:
             return np.array(last.end)
-        spaces, now = self.group.spaces, self.group._rt.now
+        spaces, now = self.group.spaces, self.group.runtime.now
         if last.space == ACS:
             acs = last.end
         else:
@@ -457,7 +457,7 @@ class PathMotion:
         move buffered after the path must start on the turn the path leaves it on, not on the
         principal angle. Every element is sampled, and from one sample to the next each such
         axis keeps the turn nearest to the one before, starting from the path's start."""
-        spaces, now = self.group.spaces, self.group._rt.now
+        spaces, now = self.group.spaces, self.group.runtime.now
         acs = self._acs_start if self._acs_start is not None else self.group.acs_set()
         for index in sorted(self.entries):
             entry = self.entries[index]
@@ -489,7 +489,7 @@ class PathMotion:
                                   "is at its end already")
         if not geometry:  # already there: Done without motion
             request.end = start
-            request.command.end(CommandStatus.DONE, group._rt.now)
+            request.command.end(CommandStatus.DONE, group.runtime.now)
             group.settle(group.acs_set())
             return
         self._orientation = start.copy() if request.space != ACS else None
@@ -500,7 +500,7 @@ class PathMotion:
         if moving is not None and last_acs_v is not None:
             self._last_acs_v = last_acs_v
         self._acs_start = group.acs_set()
-        now = group._rt.now
+        now = group.runtime.now
         pieces = self._pieces(request, geometry, exit_last=0.0)  # may reject: nothing changed
         self.law = TimeLaw(now) if moving is None else TimeLaw(*moving)
         if group.factors != (1.0, 1.0, 1.0):
@@ -671,7 +671,7 @@ class PathMotion:
             acs_a = spaces.acs_rates(acs, spaces.with_xyz(zero, x_a))
         else:  # the Jacobian changes along the path: the setpoint's own difference quotient
             previous = self._last_acs_v
-            dt = group._rt.cycle_time
+            dt = group.runtime.cycle_time
             acs_a = np.zeros_like(acs_v) if previous is None else (acs_v - previous) / dt
         self._last_acs_v = acs_v
         group.write_setpoints(acs, acs_v, acs_a)
@@ -692,7 +692,7 @@ class PathMotion:
     # -- ending --------------------------------------------------------------------------------
 
     def _abort_queue(self, reason: str) -> None:
-        now = self.group._rt.now
+        now = self.group.runtime.now
         for request in self.commands:
             request.command.end(CommandStatus.ABORTED, now, message=reason)
         if self.waiting is not None:

@@ -564,7 +564,7 @@ class PathTableRun:
 
     def end(self, reason: str, error: tuple[ErrorId, str] | None = None) -> None:
         """The path ends early: CommandAborted (or Error), what waits is aborted too."""
-        now = self.group._rt.now
+        now = self.group.runtime.now
         for transform in self.transforms:
             transform.end(CommandStatus.ABORTED, now, message=reason)
         if error is None:

@@ -90,7 +90,7 @@ def _direct(group: AxesGroup, coord: CoordSystem, values: np.ndarray, relative: 
         if coord is CoordSystem.ACS:
             goal = reference + values if relative else values
         else:
-            now = group._rt.now
+            now = group.runtime.now
             mcs = spaces.to_mcs(reference)
             if coord is CoordSystem.PCS:
                 base = spaces.pcs_of(mcs, now)
@@ -117,7 +117,7 @@ def _cartesian(group: AxesGroup, coord: CoordSystem, space: str, kind: str,
     def placed(point: np.ndarray, offset: bool = False) -> np.ndarray:
         """A PCS point (or offset) of the FB in the build space."""
         if coord is CoordSystem.PCS and space == MCS:
-            frame = spaces.frame(group._rt.now)
+            frame = spaces.frame(group.runtime.now)
             return frame.rotate(point) if offset else frame.apply(point)
         return point
 

@@ -64,11 +64,11 @@ class GroupCycle:
         self._watch_members()
         if self.state not in MOVING_STATES:
             if self.state is not GroupState.DISABLED:  # the brakes' states, for the next fault
-                k, rows = self._k, self.rows
+                k, rows = self.kernel, self.rows
                 self.p, self.v, self.a = k.set_p[rows], k.set_v[rows], k.set_a[rows]
                 self._env = None
             return
-        k, rows, dt = self._k, self.rows, self._rt.cycle_time
+        k, rows, dt = self.kernel, self.rows, self.runtime.cycle_time
         nxt = [k.set_p[rows].copy(), k.set_v[rows].copy(), k.set_a[rows].copy(),
                k.set_j[rows].copy()]
         n = rows.size
@@ -133,12 +133,12 @@ class GroupCycle:
         self.fast_grace[self.pred < 0] = False  # no pair at all
 
     def _master(self, sync: GearSync) -> tuple[float, float, float, float]:
-        k, row = self._k, sync.master_row
+        k, row = self.kernel, sync.master_row
         return float(k.set_p[row]), float(k.set_v[row]), float(k.set_a[row]), float(k.set_j[row])
 
     def _gear_steps(self, slots: np.ndarray, now: float, nxt: list[np.ndarray]) -> None:
         """Proposals of coupled slaves (few: a loop); a failed sync ends in error and brakes."""
-        dt = self._rt.cycle_time
+        dt = self.runtime.cycle_time
         for slot in slots.tolist():
             mover = self.movers[slot]
             job = mover.job
@@ -307,7 +307,7 @@ class GroupCycle:
         return room_hi[slots], room_lo[slots]
 
     def _events(self, now: float) -> None:
-        k = self._k
+        k = self.kernel
         ended = np.flatnonzero((self.mode == FOLLOW) & (k.segments.end[self.rows] <= now))
         for slot in ended.tolist():
             mover = self.movers[slot]
@@ -523,6 +523,6 @@ class GroupCycle:
             profile = plan_position(start, goal, limits or job.limits)
         except CommandRejected:
             return  # stay held; the tracking step goes on
-        self._k.segments.install(mover.axis.row, profile, self._rt.now)
+        self.kernel.segments.install(mover.axis.row, profile, self.runtime.now)
         self.mode[slot] = FOLLOW
         self.goal[slot] = goal

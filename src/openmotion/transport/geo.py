@@ -174,7 +174,7 @@ class GeoCompensation:
         """MC_RegisterCompensation (§9.2.1.1): later CA moves of ``axis`` may refer to this
         template (PositionReferenceSystem, DynamicsReferenceSystem). A new registration
         replaces the old one; there is no unregister (D-075)."""
-        command = Command("register_compensation", self._group._rt.now)
+        command = Command("register_compensation", self._group.runtime.now)
         try:
             if isinstance(compensation_type, bool) or compensation_type != CompensationType.GEO:
                 raise CommandRejected(ErrorId.INVALID_COMPENSATION_TYPE,

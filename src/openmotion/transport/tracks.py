@@ -138,7 +138,7 @@ class TrackTable:
     def activate_track(self, axis: Axis, track_id: int) -> Command:
         """MC_ActivateTrack (§9.1.1.1.6): ``track_id`` becomes the frame of the mover's later
         positions; the set position must lie on a part of the track. 0: the absolute frame."""
-        command = Command("activate_track", self._group._rt.now)
+        command = Command("activate_track", self._group.runtime.now)
         try:
             self._member(axis)
             if not (isinstance(track_id, int) and not isinstance(track_id, bool) and
