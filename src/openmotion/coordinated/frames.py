@@ -81,7 +81,7 @@ class Frame:
     def _trusted(cls, rotation: NDArray[np.float64], translation: NDArray[np.float64]) -> Frame:
         """Skip the checks for results of our own products, which are rotations already."""
         frame = cls.__new__(cls)
-        frame._set(rotation, translation)
+        cls._set(frame, rotation, translation)
         return frame
 
     @classmethod
@@ -144,6 +144,10 @@ class Frame:
         """
         return Frame._trusted(self._rotation @ inner._rotation,
                               self._rotation @ inner._translation + self._translation)
+
+    def shifted(self, shift: NDArray[np.float64]) -> Frame:
+        """The same frame with its origin moved by ``shift`` in the parent [mm]."""
+        return Frame._trusted(self._rotation, self._translation + shift)
 
     def inverse(self) -> Frame:
         """The parent placed in the child: turns MCS coordinates into PCS coordinates."""
@@ -225,8 +229,7 @@ class LinearFrame:
     def __call__(self, now: float) -> FrameMotion:
         velocity = np.array(self.velocity, dtype=float)
         shift = velocity * (now - self.start_time)
-        frame = Frame._trusted(self.start.rotation, self.start.translation + shift)
-        return FrameMotion(frame, velocity, np.zeros(3))
+        return FrameMotion(self.start.shifted(shift), velocity, np.zeros(3))
 
 
 def _vectors(values: ArrayLike) -> NDArray[np.float64]:

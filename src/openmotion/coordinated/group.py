@@ -504,7 +504,7 @@ class AxesGroup:
 
         def start() -> None:
             self.motion.brake(dec, jerk_value, "aborted by MC_GroupStop")
-            self._end_table("aborted by MC_GroupStop")
+            self.end_table("aborted by MC_GroupStop")
             self._home_abort("aborted by MC_GroupStop")
             self.machine.fire(GroupEvent.STOP)
             self._couple()
@@ -529,7 +529,7 @@ class AxesGroup:
             self.machine.fire(GroupEvent.HALT)
             self._couple()
             self.motion.halt(command, dec, jerk_value)
-            self._end_table("aborted by MC_GroupHalt")  # a blocker is released (§9.3.1.2.6)
+            self.end_table("aborted by MC_GroupHalt")  # a blocker is released (§9.3.1.2.6)
             if mode is BufferMode.ABORTING:  # a buffered halt keeps what was issued after it
                 self._abort_queued("aborted by MC_GroupHalt")
         return self._after_motion(command, mode, start)
@@ -763,7 +763,7 @@ class AxesGroup:
             if first is not BufferMode.ABORTING:
                 self.table.defer(command, start)
                 return command
-            self._end_table("aborted by MC_MovePath")
+            self.end_table("aborted by MC_MovePath")
         start()
         return command
 
@@ -796,7 +796,7 @@ class AxesGroup:
         finally:
             self._feeding = False
 
-    def _end_table(self, reason: str, error: tuple[ErrorId, str] | None = None) -> None:
+    def end_table(self, reason: str, error: tuple[ErrorId, str] | None = None) -> None:
         """A halt, stop, disable, group error or an Aborting motion ends a running path
         table: MC_MovePath CommandAborted (Error for a group error), blockers released."""
         table, self.table = self.table, None
@@ -818,7 +818,7 @@ class AxesGroup:
                 if buffer_mode is not BufferMode.ABORTING:
                     self.table.defer(command, lambda: self._submit(block, request))
                     return command
-                self._end_table(f"aborted by {block}")
+                self.end_table(f"aborted by {block}")
             if self._queued and buffer_mode is not BufferMode.ABORTING:  # behind them
                 self._queued.append((command, True, lambda: self._submit(block, request)))
                 return command
@@ -872,7 +872,7 @@ class AxesGroup:
                 try:
                     check_periodic(tuple(start), tuple(request.end))
                 except CommandRejected:
-                    self.motion._clear()
+                    self.motion.clear()
                     raise
             assert self.motion.law is not None
             self.motion.law = CamLaw(self.motion.law, master, ratio, mode, limits, command,
@@ -1077,7 +1077,7 @@ class AxesGroup:
             axis.group = self
         if failed is not None:
             command.end(CommandStatus.ERROR, now, failed.error_id, failed.message)
-            self._fault(failed.error_id, f"homing failed: {failed.message}")
+            self.fault(failed.error_id, f"homing failed: {failed.message}")
             return
         if self.state is G.HOMING:
             command.end(CommandStatus.DONE, now)
@@ -1123,7 +1123,7 @@ class AxesGroup:
             self._last_axis_states[axis.row] = state
             event = member_event(state)
             if event is GroupEvent.ERROR and self.state is not G.ERROR_STOP:
-                self._fault(ErrorId.GROUP_ERROR,
+                self.fault(ErrorId.GROUP_ERROR,
                             f"member {axis.name} is in ErrorStop: {axis.axis_error_message}")
             elif event is GroupEvent.MEMBER_POWER_OFF and self.state in (
                     G.HOMING, G.MOVING, G.STOPPING):
@@ -1137,7 +1137,7 @@ class AxesGroup:
                 self.machine.fire(event)
                 self._couple()
 
-    def _fault(self, error_id: ErrorId, message: str) -> None:
+    def fault(self, error_id: ErrorId, message: str) -> None:
         """GroupErrorStop (§3.1): motion aborted, every healthy axis brakes on its own."""
         self.error_id, self.error_message = error_id, message
         self.motion.abort_all(f"group error: {message}", error=(error_id, message))
@@ -1200,7 +1200,7 @@ class AxesGroup:
     def _hold_members(self) -> None:
         """Stop at once where the setpoints are (GroupDisable, power loss)."""
         k = self.kernel
-        p, _, _ = self._last_setpoints()
+        p, _, _ = self.last_setpoints()
         for axis, value in zip(self.axes, p.tolist(), strict=True):
             row = axis.row
             k.set_p[row] = value
@@ -1212,7 +1212,7 @@ class AxesGroup:
         """Each healthy member brakes on its own profile (the group error reaction)."""
         from openmotion.trajectory.plan import plan_stop
         k = self.kernel
-        p, v, a = self._last_setpoints()
+        p, v, a = self.last_setpoints()
         for index, axis in enumerate(self.axes):
             if axis.state is AxisState.ERROR_STOP:
                 continue
@@ -1233,7 +1233,7 @@ class AxesGroup:
         self._written = (self.runtime.now, np.array(p, dtype=float), np.array(v, dtype=float),
                          np.array(a, dtype=float))
 
-    def _last_setpoints(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def last_setpoints(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The members' setpoints as the group last wrote them: in a cycle where the group
         reacts before its path output (a fault, a power loss), the kernel has already
         evaluated the rows' own resting profiles, which lag behind the path."""

@@ -211,21 +211,22 @@ class CartesianGantry(Kinematics):
             raise ConfigError(f"sign: must be {n} values of +1 or -1, got {signs.tolist()}")
         super().__init__(n, tuple(c for c in COORDINATES if c in mapping))
         self.mapping = mapping  #: the MCS coordinate of each ACS axis
-        self._slot = np.array([self.coordinates.index(c) for c in mapping])
-        self._sign = signs
-        self._offset = offsets
+        #: the MCS slot of each ACS axis: acs[k] = signs[k] * (mcs[slots[k]] - offsets[k])
+        self.slots = np.array([self.coordinates.index(c) for c in mapping])
+        self.signs = signs  #: +1 or -1 per ACS axis
+        self.offsets = offsets  #: [mm] per ACS axis
 
     def _forward(self, q: Array) -> Array:
         x = np.empty_like(q)
-        x[:, self._slot] = self._sign * q + self._offset
+        x[:, self.slots] = self.signs * q + self.offsets
         return x
 
     def _inverse(self, x: Array, configuration: Configuration | None) -> Array:
-        return (x[:, self._slot] - self._offset) * self._sign
+        return (x[:, self.slots] - self.offsets) * self.signs
 
     def _jacobian(self, q: Array) -> Array:
         j = np.zeros((self.n_axes, self.n_axes))
-        j[self._slot, np.arange(self.n_axes)] = self._sign
+        j[self.slots, np.arange(self.n_axes)] = self.signs
         return np.broadcast_to(j, (len(q), self.n_axes, self.n_axes)).copy()
 
 

@@ -261,7 +261,7 @@ class PathMotion:
         """Start the joined path of ``_join_plan`` from the last sample's state."""
         group = self.group
         last_acs_v = self._last_acs_v
-        self._clear()
+        self.clear()
         self._last_acs_v = last_acs_v
         self._orientation = start.copy()
         self._acs_start = group.acs_set()
@@ -330,7 +330,7 @@ class PathMotion:
     def abort_all(self, reason: str, error: tuple[ErrorId, str] | None = None) -> None:
         """Everything ends now: disable, ungroup, power loss, group error."""
         now = self.group.runtime.now
-        self.group._end_table(reason, error)  # a path table ends with it (path_table.py)
+        self.group.end_table(reason, error)  # a path table ends with it (path_table.py)
         ended = [c.command for c in self.commands]
         if self.waiting is not None:
             ended.append(self.waiting.command)
@@ -342,7 +342,7 @@ class PathMotion:
                 command.end(CommandStatus.ABORTED, now, message=reason)
             else:
                 command.end(CommandStatus.ERROR, now, error[0], error[1])
-        self._clear()
+        self.clear()
 
     def end_tracking(self, reason: str) -> None:
         """A transform FB replaced the moving PCS: stop following it (§6.6)."""
@@ -353,7 +353,7 @@ class PathMotion:
             command.end(CommandStatus.ABORTED, self.group.runtime.now, message=reason)
         if self.follow is not None:  # hold where the frame carried the TCP last
             self.follow = None
-            self.group.settle(self.group._last_setpoints()[0])
+            self.group.settle(self.group.last_setpoints()[0])
 
     # -- the cycle -----------------------------------------------------------------------------
 
@@ -368,7 +368,7 @@ class PathMotion:
             try:
                 self._output(entry, local, v, a, now)
             except CommandRejected as rejected:  # the axes cannot follow: a group error
-                group._fault(rejected.error_id, rejected.message)
+                group.fault(rejected.error_id, rejected.message)
                 return
             self._update_statuses(piece, now)
             if self.law.done:
@@ -482,7 +482,7 @@ class PathMotion:
         group = self.group
         geometry = request.build(start, request.extra["reference"])
         last_acs_v = self._last_acs_v
-        self._clear()
+        self.clear()
         couple = request.extra.get("couple")  # MC_SyncGroupToAxis: the law becomes a cam
         if not geometry and couple is not None:
             raise CommandRejected(ErrorId.GROUP_MOVING, "the path could not start: the TCP "
@@ -664,7 +664,7 @@ class PathMotion:
         group, spaces = self.group, self.group.spaces
         # the turn nearest to the last setpoints: a SCARA's base runs on past ±180° (the
         # principal angle would make it jump a whole turn within one cycle)
-        acs = spaces.to_acs(mcs, near=group._last_setpoints()[0])
+        acs = spaces.to_acs(mcs, near=group.last_setpoints()[0])
         zero = np.zeros(spaces.size)
         acs_v = spaces.acs_rates(acs, spaces.with_xyz(zero, x_v))
         if exact_a:
@@ -706,7 +706,8 @@ class PathMotion:
             self.interrupt_command = None
         self.interrupted = False
 
-    def _clear(self) -> None:
+    def clear(self) -> None:
+        """Forget the path and its commands (they have ended): the group holds still."""
         self.law = None
         self.entries = {}
         self.commands = []

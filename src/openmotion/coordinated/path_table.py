@@ -189,7 +189,8 @@ class MC_PATH_DATA_REF:
         """Delete every row (§9.3.2.4.1); a run that started keeps its own copy."""
         self._rows.clear()
 
-    def _append(self, row: Row) -> None:
+    def append(self, row: Row) -> None:
+        """Add a row at the end (the path-row FBs call this); a full table refuses it."""
         if len(self._rows) >= MAX_ROWS or self.occupied_buffer + ROW_BYTES > self.buffer_size:
             limit = min(MAX_ROWS, self.buffer_size // ROW_BYTES)
             raise CommandRejected(ErrorId.PATH_TABLE_FULL,
@@ -369,7 +370,7 @@ class _Preparation(FunctionBlock):
                             "fb(MC_PATH_DATA_REF(), ...)")
         self._reset_outputs()
         try:
-            table._append(self._row(table))
+            table.append(self._row(table))
         except CommandRejected as rejected:
             self.error, self.error_id, self.message = True, rejected.error_id, rejected.message
 

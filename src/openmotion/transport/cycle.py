@@ -42,6 +42,12 @@ class GroupCycle:
     """The per-cycle methods of ``CaGroup`` (a mixin: the state lives in the group)."""
 
 
+    def pairs_changed(self) -> None:
+        """The order, modes or gap paths of the movers changed: the pairs and the room
+        between them are found again in the next cycle."""
+        self._pairs_dirty = True
+        self._room_of = None
+
     def _pairs(self) -> Pairs:
         if self._pairs_dirty:
             succ = np.flatnonzero((self.pred >= 0) & (self.gmode != GapControlMode.NONE))
@@ -128,8 +134,7 @@ class GroupCycle:
                 + TOLERANCE
         if safe.any():
             self.fast_grace[s[safe]] = False
-            self._pairs_dirty = True
-            self._room_of = None
+            self.pairs_changed()
         self.fast_grace[self.pred < 0] = False  # no pair at all
 
     def _master(self, sync: GearSync) -> tuple[float, float, float, float]:

@@ -90,8 +90,7 @@ class GroupFaults:
             if command is not None:
                 command.end(status, now, error_id, message)
         self._stop = self._halt = None
-        self._pairs_dirty = True
-        self._room_of = None
+        self.pairs_changed()
         self._env = None
 
     def member_power_changed(self, axis: Axis) -> None:

@@ -183,14 +183,18 @@ class GeoCompensation:
                 raise CommandRejected(ErrorId.AXIS_NOT_IN_GROUP,
                                       f"{axis.name} is not in CA group {self._group.name!r}")
             self._registered[axis.row] = self.template(template_id).template_id
-            self._group._pairs_dirty = True  # its gaps are now on the TCP path (D-073)
-            self._group._room_of = None
+            self._group.pairs_changed()  # its gaps are now on the TCP path (D-073)
         except CommandRejected as rejected:
             command.end(CommandStatus.ERROR, command.issued_at, rejected.error_id,
                          rejected.message)
             return command
         command.end(CommandStatus.DONE, command.issued_at)
         return command
+
+    @property
+    def any_registered(self) -> bool:
+        """At least one mover registered a template (MC_RegisterCompensation)."""
+        return bool(self._registered)
 
     def registered(self, axis: Axis) -> MoverTemplate | None:
         """The template ``axis`` registered, if any."""

@@ -539,8 +539,7 @@ class CaGroup(GroupCycle, GroupFaults):
                 if job.gap_mode is not GapControlMode.NONE:
                     mover.gap = job.gap
                     self.gap[mover.slot] = job.gap
-                    self._pairs_dirty = True
-                    self._room_of = None
+                    self.pairs_changed()
                 return
 
     # -- internals: commands --------------------------------------------------------------------
@@ -673,8 +672,7 @@ class CaGroup(GroupCycle, GroupFaults):
         self.target[slot] = job.target
         self.lim[:, slot] = (lim.velocity, lim.acceleration, lim.deceleration, lim.jerk)
         self.halting[slot] = job.kind == HALT
-        self._pairs_dirty = True
-        self._room_of = None
+        self.pairs_changed()
 
     def _set_gap_mode(self, slot: int, mode: int) -> None:
         """A mover's gap control mode changes. From FAST to STANDARD its pair may be safe only
@@ -703,8 +701,7 @@ class CaGroup(GroupCycle, GroupFaults):
         slot = mover.slot
         self.mode[slot] = IDLE
         self._set_gap_mode(slot, int(self.parameters.default_gap_control_mode))
-        self._pairs_dirty = True
-        self._room_of = None
+        self.pairs_changed()
         if mover.queue:
             self._start(mover, mover.queue.pop(0))
         elif mover.axis.state is AxisState.DISCRETE_MOTION:
@@ -777,8 +774,7 @@ class CaGroup(GroupCycle, GroupFaults):
             if id(mover) in grace:  # the gap mode as it was, before and after a reorder
                 self.gmode[slot], self.fast_grace[slot] = grace[id(mover)]
         self._sync_states()
-        self._pairs_dirty = True
-        self._room_of = None
+        self.pairs_changed()
 
     def _arrays(self, n: int) -> None:
         self.rows = np.array([m.axis.row for m in self.movers], dtype=np.int64) if n else \
@@ -824,8 +820,7 @@ class CaGroup(GroupCycle, GroupFaults):
             first = np.flatnonzero(has) == 0
             wrapped = np.where(first & (wrapped == 0.0), length, wrapped)
             self.offset[has] = wrapped - raw
-        self._pairs_dirty = True
-        self._room_of = None
+        self.pairs_changed()
         self._env = None
 
     def _check_ready(self) -> None:

@@ -227,7 +227,7 @@ class TrackTable:
         geometry: gaps of registered successors are measured on their TCP path (D-073).
         (None, None) when no mover of the group registered one."""
         geo = self.geo
-        if geo.geometry is None or not geo._registered:
+        if geo.geometry is None or not geo.any_registered:
             return None, None
         movers = self._group.movers
         y = np.array([getattr(geo.registered(movers[slot].axis), "y_shift", 0.0)
