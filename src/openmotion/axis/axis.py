@@ -708,10 +708,10 @@ class Axis:
 
     def admit(self, family: str) -> None:
         """PLCopen state check; a group member only moves through its group (TF5410; Part 4
-        §3.2 option 1). A Part 4 group decides for its members (``AxesGroup._admit_member``:
+        §3.2 option 1). A Part 4 group decides for its members (``AxesGroup.admit_member``:
         MC_Stop and MC_Home pass and make it GroupMoving, §3.2)."""
         if self.group is not None:
-            admit_member = getattr(self.group, "_admit_member", None)
+            admit_member = getattr(self.group, "admit_member", None)
             if admit_member is None:
                 raise CommandRejected(ErrorId.AXIS_IN_GROUP,
                                       f"the axis is in group "

@@ -26,6 +26,7 @@ from openmotion.coordinated.frames import Frame
 from openmotion.coordinated.inputs import (
     CoordSystem,
     PathDynamics,
+    PathMoveOptions,
     TransitionMode,
     dynamic_value,
     enum_value,
@@ -33,6 +34,7 @@ from openmotion.coordinated.inputs import (
 from openmotion.coordinated.inputs import buffer_mode as part4_buffer_mode
 from openmotion.coordinated.kind import AXES_GROUP
 from openmotion.coordinated.kinematics import Kinematics
+from openmotion.coordinated.members import GroupMembers
 from openmotion.coordinated.moves import PathMotion
 from openmotion.coordinated.requests import build_request
 from openmotion.coordinated.spaces import Spaces, default_kinematics
@@ -58,7 +60,6 @@ from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, InputValue
 from openmotion.geometry.path import CircMode, PathChoice
 from openmotion.trajectory.plan import Limits
-from openmotion.trajectory.segments import KinematicState, Profile
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
@@ -96,7 +97,7 @@ class AxesGroup:
         self.runtime = runtime
         self.kernel = runtime.axis_system.kernel
         self.machine = GroupStateMachine()
-        self.members: dict[int, Axis] = {}  #: IdentInGroup -> axis, in insertion order
+        self.members = GroupMembers(self)  #: IdentInGroup -> axis; their setpoints
         self.dynamics = dynamics or PathDynamics()
         self.spaces = Spaces(default_kinematics(0))
         self.error_id = ErrorId.NO_ERROR  #: the group error behind GroupErrorStop
@@ -107,13 +108,10 @@ class AxesGroup:
         self._home: list[Command] = []
         self._home_command: Command | None = None
         self._pending: list[tuple[Command, set[int], Callable[[], None]]] = []
-        self._last_axis_states: dict[int, AxisState] = {}
         self._syncs: dict[int, AxisSync] = {}  #: MC_SyncAxisToGroup slaves by kernel row
         #: Buffered MC_SyncAxisToGroup calls waiting for their slave's own command to end
         self._waiting_syncs: list[tuple[Axis, SyncInputs, Command]] = []
-        self._written: tuple[float, np.ndarray, np.ndarray, np.ndarray] | None = None
         self._reset: tuple[Command, list[Command]] | None = None
-        self._solo: dict[int, Axis] = {}  #: members running their own MC_Stop / MC_Home
         #: commands buffered behind the motion: a Buffered MC_GroupHome or MC_GroupSetPosition
         #: (§5.7, §5.9), and the motions buffered behind those; (command, is_motion, start)
         self._queued: list[tuple[Command, bool, Callable[[], None]]] = []
@@ -132,11 +130,12 @@ class AxesGroup:
     @property
     def axes(self) -> list[Axis]:
         """Members in IdentInGroup order (the ACS order, §5.10)."""
-        return [self.members[i] for i in sorted(self.members)]
+        return self.members.axes
 
     @property
     def rows(self) -> np.ndarray:
-        return np.array([a.row for a in self.axes], dtype=np.int64)
+        """The members' kernel rows in IdentInGroup order (read-only)."""
+        return self.members.rows
 
     @property
     def kinematics(self) -> Kinematics:
@@ -188,9 +187,7 @@ class AxesGroup:
 
     @property
     def all_axes_standing(self) -> bool:
-        rows = self.rows
-        k = self.kernel
-        return bool(np.all(k.set_v[rows] == 0.0) and np.all(k.set_a[rows] == 0.0))
+        return self.members.standing
 
     def status_flags(self) -> dict[str, bool]:
         """MC_GroupReadStatus (§5.17): one state flag, and the motion flags of the path."""
@@ -227,7 +224,7 @@ class AxesGroup:
         except CommandRejected as rejected:
             return self._reject(command, rejected)
         self.machine.fire(GroupEvent.ADD_AXIS)
-        self.members[number] = axis
+        self.members.add(number, axis)
         axis.group = self
         self._regrouped()
         return self._finish(command)
@@ -243,7 +240,7 @@ class AxesGroup:
                                       f"no member has IdentInGroup {number}")
         except CommandRejected as rejected:
             return self._reject(command, rejected)
-        self._release(self.members.pop(number))
+        self.members.release(self.members.pop(number))
         self.machine.fire(GroupEvent.REMOVE_AXIS)
         self._regrouped()
         return self._finish(command)
@@ -257,7 +254,7 @@ class AxesGroup:
             return self._reject(command, rejected)
         self.motion.abort_all("the axes were ungrouped")
         for axis in list(self.members.values()):
-            self._release(axis)
+            self.members.release(axis)
         self.members.clear()
         self.machine.fire(GroupEvent.UNGROUP)
         self._regrouped()
@@ -271,7 +268,7 @@ class AxesGroup:
         except CommandRejected as rejected:
             return self._reject(command, rejected)
         self.machine.fire(GroupEvent.ENABLE)
-        self._last_axis_states = {}
+        self.members.last_states = {}
         self._check_members()
         return self._finish(command)
 
@@ -282,7 +279,7 @@ class AxesGroup:
             command.warnings.append("the group was moving: its axes stopped at once")
         self.motion.abort_all("the group was disabled")
         self._home_abort("the group was disabled")
-        self._hold_members()
+        self.members.hold()
         if self._stop is not None:
             self._stop.end(CommandStatus.ABORTED, self.runtime.now,
                            message="the group was disabled")
@@ -301,7 +298,7 @@ class AxesGroup:
         parts = []
         for axis in self.axes:
             if axis.state is AxisState.ERROR_STOP:
-                with self._ungrouped(axis):
+                with self.members.ungrouped(axis):
                     part = axis.reset()
                 if part.error:
                     return self._reject(command, CommandRejected(part.error_id, part.message))
@@ -326,7 +323,7 @@ class AxesGroup:
         if self.state is G.ERROR_STOP or self.state is G.STANDBY or self.state is G.DISABLED:
             self.error_id, self.error_message = ErrorId.NO_ERROR, ""
             self.machine.fire(GroupEvent.RESET)
-            self._last_axis_states = {}
+            self.members.last_states = {}
             self._couple()
         command.end(CommandStatus.DONE, now)
 
@@ -456,7 +453,8 @@ class AxesGroup:
             if self._home_command is not None or self.state not in (G.STANDBY, G.MOVING):
                 return
             if not is_motion:
-                if not self.motion.finished or self._solo_running() or self.table is not None:
+                if not self.motion.finished or self.members.solo_running() \
+                        or self.table is not None:
                     return
                 if self.state is G.MOVING:
                     self.machine.fire(GroupEvent.MOTION_END)
@@ -479,7 +477,7 @@ class AxesGroup:
         acts in the cycle the motion ends, before the drives caught up)."""
         for axis, new in zip(self.axes, value, strict=True):
             target = axis.set_position + new if relative else new
-            with self._ungrouped(axis):
+            with self.members.ungrouped(axis):
                 part = axis.set_actual_position(axis.position + float(target)
                                                 - axis.set_position)
             if part.error:
@@ -611,7 +609,7 @@ class AxesGroup:
         self.machine.fire(GroupEvent.HOME_START)
         self._home = []
         for axis, value in zip(self.axes, values, strict=True):
-            with self._ungrouped(axis):
+            with self.members.ungrouped(axis):
                 part = axis.home() if value is None else axis.home(value)
             self._home.append(part)
         self._couple()
@@ -637,9 +635,10 @@ class AxesGroup:
                              transition_mode: TransitionMode = TransitionMode.TM_NONE,
                              transition_parameter: Any = None) -> Command:
         """MC_MoveLinearAbsolute (§5.20): a straight line to ``position`` in ``coord_system``."""
-        return self._path("MC_MoveLinearAbsolute", "linear", position, None, velocity,
-                          acceleration, deceleration, jerk, coord_system, buffer_mode,
-                          transition_mode, transition_parameter, relative=False)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        return self._path("MC_MoveLinearAbsolute", "linear", position, None, options,
+                          relative=False)
 
     def move_linear_relative(self, distance: Any, velocity: InputValue = MC_DEFAULT,
                              acceleration: InputValue = MC_DEFAULT,
@@ -650,9 +649,10 @@ class AxesGroup:
                              transition_parameter: Any = None) -> Command:
         """MC_MoveLinearRelative (§5.21): ``distance`` from where the TCP is when the FB is
         accepted, or from the end of the queue when it is buffered."""
-        return self._path("MC_MoveLinearRelative", "linear", distance, None, velocity,
-                          acceleration, deceleration, jerk, coord_system, buffer_mode,
-                          transition_mode, transition_parameter, relative=True)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        return self._path("MC_MoveLinearRelative", "linear", distance, None, options,
+                          relative=True)
 
     def move_circular_absolute(self, aux_point: Any, end_point: Any,
                                circ_mode: CircMode = CircMode.BORDER,
@@ -666,10 +666,11 @@ class AxesGroup:
                                transition_mode: TransitionMode = TransitionMode.TM_NONE,
                                transition_parameter: Any = None) -> Command:
         """MC_MoveCircularAbsolute (§5.22): BORDER, CENTER or RADIUS, see geometry/path.py."""
-        return self._path("MC_MoveCircularAbsolute", "circular", end_point,
-                          (aux_point, circ_mode, path_choice), velocity, acceleration,
-                          deceleration, jerk, coord_system, buffer_mode, transition_mode,
-                          transition_parameter, relative=False)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        circle = (aux_point, circ_mode, path_choice)
+        return self._path("MC_MoveCircularAbsolute", "circular", end_point, circle, options,
+                          relative=False)
 
     def move_circular_relative(self, aux_point: Any, end_point: Any,
                                circ_mode: CircMode = CircMode.BORDER,
@@ -683,10 +684,11 @@ class AxesGroup:
                                transition_mode: TransitionMode = TransitionMode.TM_NONE,
                                transition_parameter: Any = None) -> Command:
         """MC_MoveCircularRelative (§5.23): AuxPoint and EndPoint are offsets from the start."""
-        return self._path("MC_MoveCircularRelative", "circular", end_point,
-                          (aux_point, circ_mode, path_choice), velocity, acceleration,
-                          deceleration, jerk, coord_system, buffer_mode, transition_mode,
-                          transition_parameter, relative=True)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        circle = (aux_point, circ_mode, path_choice)
+        return self._path("MC_MoveCircularRelative", "circular", end_point, circle, options,
+                          relative=True)
 
     def move_direct_absolute(self, position: Any, velocity: InputValue = MC_DEFAULT,
                              acceleration: InputValue = MC_DEFAULT,
@@ -697,9 +699,10 @@ class AxesGroup:
                              transition_parameter: Any = None) -> Command:
         """MC_MoveDirectAbsolute (§5.24): point to point in joint space, every axis within its
         own limits and all ending together; the dynamics inputs are in ACS units."""
-        return self._path("MC_MoveDirectAbsolute", "direct", position, None, velocity,
-                          acceleration, deceleration, jerk, coord_system, buffer_mode,
-                          transition_mode, transition_parameter, relative=False)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        return self._path("MC_MoveDirectAbsolute", "direct", position, None, options,
+                          relative=False)
 
     def move_direct_relative(self, distance: Any, velocity: InputValue = MC_DEFAULT,
                              acceleration: InputValue = MC_DEFAULT,
@@ -709,9 +712,10 @@ class AxesGroup:
                              transition_mode: TransitionMode = TransitionMode.TM_NONE,
                              transition_parameter: Any = None) -> Command:
         """MC_MoveDirectRelative (§5.25)."""
-        return self._path("MC_MoveDirectRelative", "direct", distance, None, velocity,
-                          acceleration, deceleration, jerk, coord_system, buffer_mode,
-                          transition_mode, transition_parameter, relative=True)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        return self._path("MC_MoveDirectRelative", "direct", distance, None, options,
+                          relative=True)
 
     def move_path(self, path: Any, velocity: InputValue = MC_DEFAULT,
                   acceleration: InputValue = MC_DEFAULT, deceleration: InputValue = MC_DEFAULT,
@@ -720,9 +724,10 @@ class AxesGroup:
                   transition_mode: TransitionMode = TransitionMode.TM_NONE,
                   transition_parameter: Any = None) -> Command:
         """MC_MovePath (§5.27): run a path prepared by MC_PathSelect (``PathData``)."""
-        return self._path("MC_MovePath", "path", path, None, velocity, acceleration,
-                          deceleration, jerk, coord_system, buffer_mode, transition_mode,
-                          transition_parameter, relative=False)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        return self._path("MC_MovePath", "path", path, None, options,
+                          relative=False)
 
     def move_path_table(self, path_data: Any) -> Command:
         """MC_MovePath of TF5410 §9.3.1.2.5: run the rows of an ``MC_PATH_DATA_REF``
@@ -803,17 +808,14 @@ class AxesGroup:
         if table is not None and table.command.busy:
             table.end(reason, error)
 
-    def _path(self, block: str, kind: str, target: Any, circle: Any, velocity: InputValue,
-              acceleration: InputValue, deceleration: InputValue, jerk: InputValue,
-              coord_system: Any, buffer_mode: Any, transition_mode: Any,
-              transition_parameter: Any, relative: bool) -> Command:
+    def _path(self, block: str, kind: str, target: Any, circle: Any, options: PathMoveOptions,
+              relative: bool) -> Command:
         command = self._command(block)
         try:
-            buffer_mode = part4_buffer_mode(buffer_mode)
+            buffer_mode = part4_buffer_mode(options.buffer_mode)
             self.machine.accept(block, buffer_mode)
-            request = build_request(self, command, kind, target, circle, velocity,
-                                    acceleration, deceleration, jerk, coord_system, buffer_mode,
-                                    transition_mode, transition_parameter, relative)
+            request = build_request(self, command, kind, target, circle, options, buffer_mode,
+                                    relative)
             if self.table is not None and not self._feeding:  # a path table runs (D-213)
                 if buffer_mode is not BufferMode.ABORTING:
                     self.table.defer(command, lambda: self._submit(block, request))
@@ -858,9 +860,9 @@ class AxesGroup:
             self.machine.accept("MC_SyncGroupToAxis", queue_mode)
             ratio = _conversion(tuc_numerator, tuc_denominator)
             mode = PathMode(mode)
-            request = build_request(self, command, "path", path, None, MC_DEFAULT, acceleration,
-                                    deceleration, jerk, coord_system, BufferMode.ABORTING,
-                                    TransitionMode.TM_NONE, None, False)
+            options = PathMoveOptions(MC_DEFAULT, acceleration, deceleration, jerk, coord_system)
+            request = build_request(self, command, "path", path, None, options,
+                                    BufferMode.ABORTING, False)
         except CommandRejected as rejected:
             return self._reject(command, rejected)
         _, a, d, j = request.dynamics  # §6.4 has no velocity: the group's maximum
@@ -1042,7 +1044,7 @@ class AxesGroup:
         self._end_stop(now)
         self._end_pending()
         self._run_queued()
-        solo = self._solo_running()
+        solo = self.members.solo_running()
         if self.state is G.MOVING and self.motion.finished and self._home_command is None \
                 and not solo and self.table is None:
             self.machine.fire(GroupEvent.MOTION_END)
@@ -1092,7 +1094,7 @@ class AxesGroup:
         if self._home_command is None:
             return
         for axis in self.axes:
-            with self._ungrouped(axis):
+            with self.members.ungrouped(axis):
                 axis.stop()
             axis.group = self
         self._home_command.end(CommandStatus.ABORTED, self.runtime.now, message=reason)
@@ -1118,9 +1120,9 @@ class AxesGroup:
             return
         for axis in self.axes:
             state = axis.state
-            if self._last_axis_states.get(axis.row) is state:
+            if self.members.last_states.get(axis.row) is state:
                 continue
-            self._last_axis_states[axis.row] = state
+            self.members.last_states[axis.row] = state
             event = member_event(state)
             if event is GroupEvent.ERROR and self.state is not G.ERROR_STOP:
                 self.fault(ErrorId.GROUP_ERROR,
@@ -1128,7 +1130,7 @@ class AxesGroup:
             elif event is GroupEvent.MEMBER_POWER_OFF and self.state in (
                     G.HOMING, G.MOVING, G.STOPPING):
                 self.motion.abort_all(f"member {axis.name} lost power")
-                self._hold_members()
+                self.members.hold()
                 if self._stop is not None:
                     self._stop.end(CommandStatus.ABORTED, self.runtime.now,
                                     message=f"member {axis.name} lost power")
@@ -1145,12 +1147,12 @@ class AxesGroup:
         if self._stop is not None:
             self._stop.end(CommandStatus.ABORTED, self.runtime.now, message=message)
             self._stop = None
-        self._brake_members()
+        self.members.brake()
         self.machine.fire(GroupEvent.ERROR)
 
     # -- single-axis commands on members (§3.2) ----------------------------------------------
 
-    def _admit_member(self, axis: Axis, family: str) -> None:
+    def admit_member(self, axis: Axis, family: str) -> None:
         """``Axis._admit`` of a member: moves are refused (§3.2 option 1); MC_Stop always
         passes and MC_Home in GroupStandby, and the group is GroupMoving until that command
         is over and every member stands (§3.2 general rules; decisions D-129). A running
@@ -1167,24 +1169,12 @@ class AxesGroup:
         elif self.state in (G.MOVING, G.STOPPING) and (self.motion.running
                                                         or not self.all_axes_standing):
             self.motion.abort_all(reason)
-            self._brake_members()
-        self._solo[axis.row] = axis
+            self.members.brake()
+        self.members.solo[axis.row] = axis
         event = member_command_event(self.state, family)
         if event is not None:
             self.machine.fire(event)
             self._couple()
-
-    def _solo_running(self) -> bool:
-        """A member's own MC_Stop or MC_Home runs or is held, or the members still brake
-        after it; once all is over the members follow the group again."""
-        if not self._solo:
-            return False
-        own = (AxisState.STOPPING, AxisState.HOMING)
-        if self.all_axes_standing and not any(a.state in own or a.has_job
-                                              for a in self._solo.values()):
-            self._solo = {}
-            return False
-        return True
 
     # -- members' setpoints --------------------------------------------------------------------
 
@@ -1192,86 +1182,14 @@ class AxesGroup:
         """Table 5: members show SynchronizedMotion while the group moves, homes or stops
         (a member's own MC_Home, run by MC_GroupHome, included: D-104)."""
         for axis in self.axes:
-            if axis.row in self._solo:  # its own MC_Stop or MC_Home shows (§3.2)
+            if axis.row in self.members.solo:  # its own MC_Stop or MC_Home shows (§3.2)
                 continue
             axis.state = member_state(self.state, axis.state)
-            self._last_axis_states[axis.row] = axis.state
-
-    def _hold_members(self) -> None:
-        """Stop at once where the setpoints are (GroupDisable, power loss)."""
-        k = self.kernel
-        p, _, _ = self.last_setpoints()
-        for axis, value in zip(self.axes, p.tolist(), strict=True):
-            row = axis.row
-            k.set_p[row] = value
-            k.set_v[row] = k.set_a[row] = k.set_j[row] = 0.0
-            k.segments.install(row, Profile.hold(KinematicState(value)), k.sample_time)
-        self._written = None
-
-    def _brake_members(self) -> None:
-        """Each healthy member brakes on its own profile (the group error reaction)."""
-        from openmotion.trajectory.plan import plan_stop
-        k = self.kernel
-        p, v, a = self.last_setpoints()
-        for index, axis in enumerate(self.axes):
-            if axis.state is AxisState.ERROR_STOP:
-                continue
-            row = axis.row
-            start = KinematicState(float(p[index]), float(v[index]), float(a[index]))
-            profile = plan_stop(start, axis.parameters.max_deceleration, axis.parameters.max_jerk)
-            k.segments.install(row, profile, k.sample_time)
-            k.set_p[row], k.set_v[row], k.set_a[row] = start.position, start.velocity, \
-                start.acceleration
-        self._written = None
-
-    def write_setpoints(self, p: np.ndarray, v: np.ndarray, a: np.ndarray,
-                        j: np.ndarray | None = None) -> None:
-        """The path cycle's output: the member rows' setpoints, after the kernel evaluated."""
-        k, rows = self.kernel, self.rows
-        k.set_p[rows], k.set_v[rows], k.set_a[rows] = p, v, a
-        k.set_j[rows] = 0.0 if j is None else j
-        self._written = (self.runtime.now, np.array(p, dtype=float), np.array(v, dtype=float),
-                         np.array(a, dtype=float))
-
-    def last_setpoints(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The members' setpoints as the group last wrote them: in a cycle where the group
-        reacts before its path output (a fault, a power loss), the kernel has already
-        evaluated the rows' own resting profiles, which lag behind the path."""
-        k, rows = self.kernel, self.rows
-        written = self._written
-        if written is not None and written[1].shape == rows.shape \
-                and written[0] >= self.runtime.now - 1.5 * self.runtime.cycle_time:
-            return written[1], written[2], written[3]
-        return k.set_p[rows].copy(), k.set_v[rows].copy(), k.set_a[rows].copy()
-
-    def settle(self, p: np.ndarray) -> None:
-        """The path ended at ``p``: the rows hold there on their own profiles."""
-        k = self.kernel
-        self._written = None
-        for row, value in zip(self.rows.tolist(), p.tolist(), strict=True):
-            k.set_p[row] = value
-            k.set_v[row] = k.set_a[row] = k.set_j[row] = 0.0
-            k.segments.install(row, Profile.hold(KinematicState(value)), k.sample_time)
-
-    def _release(self, axis: Axis) -> None:
-        axis.group = None
-        self._solo.pop(axis.row, None)
-        if axis.state is AxisState.SYNCHRONIZED_MOTION:
-            axis.state = AxisState.STANDSTILL
-        self._last_axis_states.pop(axis.row, None)
+            self.members.last_states[axis.row] = axis.state
 
     def _regrouped(self) -> None:
         if not self.spaces.explicit or self.spaces.kinematics.n_axes != len(self.members):
             self.spaces.set_kinematics(default_kinematics(len(self.members)), explicit=False)
-
-    @contextmanager
-    def _ungrouped(self, axis: Axis) -> Iterator[None]:
-        """Let the group issue a single-axis command to its member (home, set position)."""
-        axis.group = None
-        try:
-            yield
-        finally:
-            axis.group = self
 
     # -- helpers -------------------------------------------------------------------------------
 

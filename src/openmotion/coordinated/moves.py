@@ -353,7 +353,7 @@ class PathMotion:
             command.end(CommandStatus.ABORTED, self.group.runtime.now, message=reason)
         if self.follow is not None:  # hold where the frame carried the TCP last
             self.follow = None
-            self.group.settle(self.group.last_setpoints()[0])
+            self.group.members.settle(self.group.members.last_setpoints()[0])
 
     # -- the cycle -----------------------------------------------------------------------------
 
@@ -403,7 +403,7 @@ class PathMotion:
             self.law = None
             self.path_velocity = self.path_acceleration = 0.0
             if self.follow is None:
-                group.settle(group.acs_set())
+                group.members.settle(group.acs_set())
             if self.halt_command is not None:
                 self.halt_command.end(CommandStatus.DONE, now)
                 self.halt_command = None
@@ -490,7 +490,7 @@ class PathMotion:
         if not geometry:  # already there: Done without motion
             request.end = start
             request.command.end(CommandStatus.DONE, group.runtime.now)
-            group.settle(group.acs_set())
+            group.members.settle(group.acs_set())
             return
         self._orientation = start.copy() if request.space != ACS else None
         # the path starts from rest: the first difference quotient of the axis velocities
@@ -645,7 +645,7 @@ class PathMotion:
         point, tangent, curvature = evaluate(entry.geometry, local)
         if entry.space == ACS:
             self._last_acs_v = tangent * v  # what the next MCS piece differences against
-            group.write_setpoints(point, self._last_acs_v, tangent * a)
+            group.members.write_setpoints(point, self._last_acs_v, tangent * a)
             return
         x_v, x_a = tangent * v, tangent * a + curvature * v * v
         assert self._orientation is not None
@@ -664,7 +664,7 @@ class PathMotion:
         group, spaces = self.group, self.group.spaces
         # the turn nearest to the last setpoints: a SCARA's base runs on past ±180° (the
         # principal angle would make it jump a whole turn within one cycle)
-        acs = spaces.to_acs(mcs, near=group.last_setpoints()[0])
+        acs = spaces.to_acs(mcs, near=group.members.last_setpoints()[0])
         zero = np.zeros(spaces.size)
         acs_v = spaces.acs_rates(acs, spaces.with_xyz(zero, x_v))
         if exact_a:
@@ -674,14 +674,14 @@ class PathMotion:
             dt = group.runtime.cycle_time
             acs_a = np.zeros_like(acs_v) if previous is None else (acs_v - previous) / dt
         self._last_acs_v = acs_v
-        group.write_setpoints(acs, acs_v, acs_a)
+        group.members.write_setpoints(acs, acs_v, acs_a)
 
     def _output_follow(self, now: float) -> None:
         spaces = self.group.spaces
         assert self.follow is not None
         if spaces.dynamic is None:
             self.follow = None
-            self.group.settle(self.group.acs_set())
+            self.group.members.settle(self.group.acs_set())
             return
         motion = spaces.dynamic(now)
         point = spaces.xyz(self.follow)

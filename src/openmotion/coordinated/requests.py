@@ -18,6 +18,7 @@ import numpy as np
 from openmotion.axis.commands import Command
 from openmotion.coordinated.inputs import (
     CoordSystem,
+    PathMoveOptions,
     enum_value,
     path_dynamics,
     transition_mode,
@@ -38,24 +39,25 @@ _ORIENTATION_TOLERANCE = 1e-9
 
 
 def build_request(group: AxesGroup, command: Command, kind: str, target: Any, circle: Any,
-                  velocity: Any, acceleration: Any, deceleration: Any, jerk: Any,
-                  coord_system: Any, buffer_mode: BufferMode, transition: Any,
-                  parameter: Any, relative: bool) -> PathCommand:
-    coord = enum_value(CoordSystem, coord_system, "CoordSystem")
-    mode = transition_mode(transition)
+                  options: PathMoveOptions, buffer_mode: BufferMode,
+                  relative: bool) -> PathCommand:
+    """The checked request of one path move; ``buffer_mode`` is the checked
+    ``options.buffer_mode``."""
+    coord = enum_value(CoordSystem, options.coord_system, "CoordSystem")
+    mode = transition_mode(options.transition_mode)
     if buffer_mode is BufferMode.ABORTING and mode in (
             mode.TM_CORNER_DISTANCE, mode.TM_MAX_CORNER_DEVIATION):
         raise CommandRejected(ErrorId.INVALID_MODE,
                               f"BufferMode Aborting with {mode.name} is not defined (§2.4.4)")
     joins = buffer_mode is BufferMode.ABORTING and mode in (
         mode.TM_START_VELOCITY, mode.TM_CONSTANT_VELOCITY)  # at speed (moves.py, D-195)
-    value = transition_parameter(mode, parameter) \
+    value = transition_parameter(mode, options.transition_parameter) \
         if buffer_mode is not BufferMode.BUFFERED and (
             buffer_mode is not BufferMode.ABORTING or joins) else 0.0
     if buffer_mode is BufferMode.BUFFERED:
         mode = mode.TM_NONE  # §7.3.2: TransitionMode is not evaluated
-    dynamics = path_dynamics(group.dynamics, command.warnings, velocity, acceleration,
-                             deceleration, jerk)
+    dynamics = path_dynamics(group.dynamics, command.warnings, options.velocity,
+                             options.acceleration, options.deceleration, options.jerk)
     spaces = group.spaces
     if kind == "direct" or (kind == "linear" and coord is CoordSystem.ACS):
         size = len(group.members) if coord is CoordSystem.ACS else spaces.size
