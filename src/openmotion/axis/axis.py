@@ -23,6 +23,13 @@ from openmotion.axis.parameters import PARAMETERS, AxisPara, AxisParameters
 from openmotion.axis.queue import JobQueue, keep_room_mark
 from openmotion.axis.state_machine import admit
 from openmotion.axis.superposition import Superposition
+from openmotion.axis.tolerances import (
+    LIMIT_TOLERANCE,
+    MIN_OVERRIDE,
+    MIN_SPEED,
+    POSITION_TOLERANCE,
+    VELOCITY_TOLERANCE,
+)
 from openmotion.core.checks import is_finite
 from openmotion.core.enums import (
     AxisState,
@@ -208,7 +215,7 @@ class Axis:
                 low, high = (low, math.inf) if job.velocity > 0.0 else (-math.inf, high)
             elif job.kind == "position" and job.target is not None:
                 low, high = min(low, job.target), max(high, job.target)
-        tolerance = 1e-9 * max(1.0, abs(lo) if math.isfinite(lo) else 1.0,
+        tolerance = POSITION_TOLERANCE * max(1.0, abs(lo) if math.isfinite(lo) else 1.0,
                                abs(hi) if math.isfinite(hi) else 1.0)
         past_high = high > max(hi, start.position) + tolerance
         if not past_high and low >= min(lo, start.position) - tolerance:
@@ -519,7 +526,7 @@ class Axis:
             offset = (target - end % period) % period if direction > 0 else \
                 -((end % period - target) % period)
             goal = snap_to_period(end + offset, target, period)
-            speed = Limits(max(abs(start.velocity), 1e-9), limits.acceleration,
+            speed = Limits(max(abs(start.velocity), MIN_SPEED), limits.acceleration,
                            limits.deceleration, limits.jerk)
             try:
                 profile = jobs.plan_job(Job("position", command, speed, target=goal), start,
@@ -784,7 +791,7 @@ class Axis:
         effective = self.override if feed else 0.0
         if effective == self.queue.override:
             return
-        was_paused = self.queue.override < jobs.MIN_OVERRIDE
+        was_paused = self.queue.override < MIN_OVERRIDE
         self.queue.override = effective
         if job is None or job.kind not in ("position", "velocity") or job.command.finished:
             return
@@ -881,15 +888,18 @@ class Axis:
             return profile
         lo, hi = profile.velocity_extrema()
         direction = jobs.sign(start.velocity) or jobs.sign(start.acceleration)
-        unsafe = (direction > 0 and lo < -1e-9) or (direction < 0 and hi > 1e-9)  # reversal
+        unsafe = (direction > 0 and lo < -VELOCITY_TOLERANCE) or (
+            direction < 0 and hi > VELOCITY_TOLERANCE)  # reversal
         job = self.queue.active
         unsafe |= job is not None and job.kind == "stop"  # a stricter stop runs already
         if job is not None and job.kind in ("position", "velocity"):
             peak = max(abs(lo), abs(hi))
-            unsafe |= peak > job.limits.velocity * (1 + 1e-9) and peak > abs(start.velocity)
+            unsafe |= peak > job.limits.velocity * (1 + LIMIT_TOLERANCE) \
+                and peak > abs(start.velocity)
             if job.target is not None and job.kind == "position" and direction:
                 end = profile.end.position
-                unsafe |= (end - job.target) * direction > 1e-9  # would overshoot the target
+                # would overshoot the target
+                unsafe |= (end - job.target) * direction > POSITION_TOLERANCE
         if not unsafe:
             return profile
         return jobs.plan_brake(start, stricter.deceleration, stricter.jerk, p)
@@ -932,12 +942,14 @@ def _check_dynamics_change(job: Job, profile: Profile, start: KinematicState) ->
     if job.kind == "position" and job.target is not None:
         p_lo, p_hi = profile.position_extrema()
         over = (p_hi - job.target) if direction > 0 else (job.target - p_lo)
-        if over > 1e-9 * max(1.0, abs(job.target)):
+        if over > POSITION_TOLERANCE * max(1.0, abs(job.target)):
             raise CommandRejected(ErrorId.DYN_TARGET_OVERSHOT, "the target would be overshot")
-    if (direction > 0 and lo < -1e-9) or (direction < 0 and hi > 1e-9):
+    if (direction > 0 and lo < -VELOCITY_TOLERANCE) or (
+            direction < 0 and hi > VELOCITY_TOLERANCE):
         raise CommandRejected(ErrorId.DYN_DIRECTION_REVERSAL, "braking would reverse direction")
     peak = max(abs(lo), abs(hi))
-    if peak > job.limits.velocity * (1 + 1e-9) and peak > abs(start.velocity) * (1 + 1e-9):
+    slack = 1 + LIMIT_TOLERANCE
+    if peak > job.limits.velocity * slack and peak > abs(start.velocity) * slack:
         raise CommandRejected(ErrorId.DYN_VELOCITY_EXCEEDED,
                               "the travel velocity would be exceeded")
 

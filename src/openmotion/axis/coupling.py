@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 from openmotion.axis.commands import Command, CommandStatus, Job
 from openmotion.axis.dynamics import require_position, resolve, resolve_limits
 from openmotion.axis.jobs import check_soft_limits, oriented_target
+from openmotion.axis.tolerances import MIN_SPEED
 from openmotion.core.enums import AxisState, DecoupleMode, Direction
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, MC_INVALID, InputValue
@@ -146,7 +147,7 @@ class GearCoupling:
         if mode is DecoupleMode.ENDLESS:
             velocity = speed or MC_INVALID
         elif mode is DecoupleMode.NEW_POSITION:
-            velocity = max(speed, 1e-9)
+            velocity = max(speed, MIN_SPEED)
         if moving and self.queue.active is not None and self.queue.active.kind == "gear":
             try:  # a rejected command leaves the slave coupled
                 self._check_follow_up(mode, position, velocity, acceleration, deceleration, jerk)

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 from openmotion.axis.commands import Command, CommandStatus, Job
 from openmotion.axis.dynamics import require_position
 from openmotion.axis.jobs import plan_brake
+from openmotion.axis.tolerances import LIMIT_TOLERANCE
 from openmotion.core.enums import AxisState, TargetPositionType
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import MC_INVALID, InputValue
@@ -103,8 +104,9 @@ class ExternalSetpoints:
         grace[0] = False
         k.fed[row] = False
         v, a = abs(self.axis.set_velocity), abs(self.axis.set_acceleration)
-        if not (math.isfinite(self.axis.set_position) and v <= p.max_velocity * (1 + 1e-9)
-                and a <= max(p.max_acceleration, p.max_deceleration) * (1 + 1e-9)):
+        slack = 1 + LIMIT_TOLERANCE
+        if not (math.isfinite(self.axis.set_position) and v <= p.max_velocity * slack
+                and a <= max(p.max_acceleration, p.max_deceleration) * slack):
             self.axis.fault(ErrorId.EXT_SETPOINT_LIMIT,
                         f"fed setpoint {v:.6g} mm/s, {a:.6g} mm/s² beyond the axis maxima")
             return False

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 
 from openmotion.axis import jobs
 from openmotion.axis.commands import CommandStatus
+from openmotion.axis.tolerances import MIN_SPEED
 from openmotion.core.enums import AxisState, Direction, ReferenceMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.trajectory.plan import Limits, plan_velocity
@@ -106,7 +107,7 @@ class HomingSequence:
     def _travel(self, direction: int, speed: float) -> None:
         axis = self.axis
         p = axis.parameters
-        limits = Limits(max(speed, 1e-9), p.acceleration, p.deceleration, p.jerk)
+        limits = Limits(max(speed, MIN_SPEED), p.acceleration, p.deceleration, p.jerk)
         axis.queue.install(plan_velocity(axis.kernel.state(axis.row), direction * speed, limits),
                            has_job=False)
 

@@ -11,6 +11,7 @@ import math
 from openmotion.axis.commands import Job
 from openmotion.axis.dynamics import require_position
 from openmotion.axis.parameters import AxisParameters
+from openmotion.axis.tolerances import MIN_OVERRIDE, POSITION_TOLERANCE
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.trajectory.plan import (
     Limits,
@@ -22,7 +23,6 @@ from openmotion.trajectory.plan import (
 from openmotion.trajectory.segments import KinematicState, Profile
 
 BLEND_ITERATIONS = 12  #: bisection steps when a blend velocity cannot be reached
-MIN_OVERRIDE = 1e-8  #: below 1e-6 % the override counts as 0: the job pauses (D-007)
 
 
 def plan_job(job: Job, start: KinematicState, override: float,
@@ -101,7 +101,7 @@ def check_soft_limits(parameters: AxisParameters, profile: Profile, target: floa
             f"target {target} lies outside the software limits [{lo_limit}, {hi_limit}]",
         )
     lo, hi = profile.position_extrema()
-    tolerance = 1e-9 * max(1.0, abs(lo), abs(hi))
+    tolerance = POSITION_TOLERANCE * max(1.0, abs(lo), abs(hi))
     if lo < lo_allowed - tolerance or hi > hi_allowed + tolerance:
         raise CommandRejected(
             ErrorId.PATH_BEYOND_SOFT_LIMIT,
@@ -167,7 +167,7 @@ def blend_velocity(
 
 def _monotonic(profile: Profile, direction: int) -> bool:
     lo, hi = profile.velocity_extrema()
-    tolerance = 1e-9 * max(abs(lo), abs(hi), 1.0)
+    tolerance = POSITION_TOLERANCE * max(abs(lo), abs(hi), 1.0)
     return lo >= -tolerance if direction > 0 else hi <= tolerance
 
 

@@ -16,13 +16,13 @@ from typing import TYPE_CHECKING
 
 from openmotion.axis.commands import Command, CommandStatus, Job
 from openmotion.axis.jobs import (
-    MIN_OVERRIDE,
     blend_velocity,
     check_soft_limits,
     plan_job,
     sign,
 )
 from openmotion.axis.superposition import room_beside
+from openmotion.axis.tolerances import LIMIT_TOLERANCE, MIN_OVERRIDE, TIME_TOLERANCE
 from openmotion.core.enums import AxisState, BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.trajectory.plan import Limits
@@ -194,7 +194,8 @@ class JobQueue:
         commanded = job.velocity * self.override
         k, row = self.kernel, self.row
         job.command.in_velocity = bool(
-            k.set_a[row] == 0.0 and abs(k.set_v[row] - commanded) <= 1e-9 * abs(commanded)
+            k.set_a[row] == 0.0
+            and abs(k.set_v[row] - commanded) <= LIMIT_TOLERANCE * abs(commanded)
         )
         return True
 
@@ -270,7 +271,7 @@ class JobQueue:
         job.settling_for += cycle
         error = abs(self.axis.position - job.target)
         job.settle_time = job.settle_time + cycle if error <= p.target_position_window else 0.0
-        at_target = job.settle_time >= p.target_position_monitoring_time - 1e-9
+        at_target = job.settle_time >= p.target_position_monitoring_time - TIME_TOLERANCE
         if p.enable_target_position_monitoring:
             ready = at_target
         elif p.enable_position_range_monitoring:

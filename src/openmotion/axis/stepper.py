@@ -21,6 +21,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from openmotion.axis.tolerances import TIME_TOLERANCE
+
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
 
@@ -81,7 +83,7 @@ class StepperTerminal:
         if duration is None:
             return
         end = axis.runtime.now + float(duration)
-        eps = 1e-9 * max(1.0, abs(end))
+        eps = TIME_TOLERANCE * max(1.0, abs(end))
 
         def release_when_due(now: float) -> bool:
             if serial != self._stall_serial or not self.stalled:

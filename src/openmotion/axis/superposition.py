@@ -26,6 +26,7 @@ from openmotion.axis.commands import Command, CommandStatus
 from openmotion.axis.dynamics import require_position, resolve
 from openmotion.axis.jobs import sign
 from openmotion.axis.parameters import AxisParameters
+from openmotion.axis.tolerances import BUDGET_TOLERANCE, ROOM_FLOOR
 from openmotion.core.enums import AxisState, SuperpositionMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, InputValue
@@ -36,7 +37,6 @@ if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
 
 BISECTION_STEPS = 40
-ROOM_FLOOR = 1e-6  #: less room than this fraction of a maximum counts as none (D-180)
 #: parameters without a velocity cap: a velocity *difference* is checked, not clamped
 _UNBOUNDED = AxisParameters(max_velocity=1e300)
 
@@ -73,7 +73,7 @@ def plan_superposition(mode: SuperpositionMode, distance: float, velocity_diff: 
         dv = min(dv, abs(base_velocity)) if base_velocity else dv
     limits = Limits(dv, acceleration, deceleration, jerk)
     fastest = plan_in_time(distance, limits, None)
-    complete = fastest.duration <= budget * (1 + 1e-12)
+    complete = fastest.duration <= budget * (1 + BUDGET_TOLERANCE)
     if not complete:  # the largest distance that fits the time its own Length leaves
         distance = _reachable(distance, limits, budget_for)
         budget = budget_for(distance)

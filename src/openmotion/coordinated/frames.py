@@ -27,12 +27,10 @@ from typing import NamedTuple, Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from openmotion.coordinated.tolerances import GIMBAL_LOCK, ORTHONORMAL_TOLERANCE
 from openmotion.core.angles import cos_sin
 from openmotion.core.checks import finite_number
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
-
-_ORTHONORMAL_TOLERANCE = 1e-9  #: how far R^T R may be from the identity for a Frame
-_GIMBAL_LOCK = 1e-12  #: cos(rot_angle2) below this: rot_angle1 and rot_angle3 share one axis
 
 
 class CartesianTransform(NamedTuple):
@@ -64,7 +62,7 @@ class Frame:
                               f"{rotation!r}, {translation!r}") from None
         if r.shape != (3, 3) or not np.all(np.isfinite(r)):
             raise ConfigError(f"rotation: must be a finite 3x3 matrix, got {r.tolist()}")
-        if (not np.allclose(r.T @ r, np.eye(3), rtol=0.0, atol=_ORTHONORMAL_TOLERANCE)
+        if (not np.allclose(r.T @ r, np.eye(3), rtol=0.0, atol=ORTHONORMAL_TOLERANCE)
                 or np.linalg.det(r) < 0.0):
             raise ConfigError(f"rotation: must be orthonormal with det +1, got {r.tolist()}")
         if t.shape != (3,) or not np.all(np.isfinite(t)):
@@ -110,7 +108,7 @@ class Frame:
         r = self._rotation
         cos2 = math.hypot(r[0, 0], r[1, 0])
         angle2 = math.atan2(-r[2, 0], cos2)
-        if cos2 > _GIMBAL_LOCK:
+        if cos2 > GIMBAL_LOCK:
             angle1 = math.atan2(r[2, 1], r[2, 2])
             angle3 = math.atan2(r[1, 0], r[0, 0])
         else:

@@ -28,6 +28,7 @@ from openmotion.coordinated.inputs import CoordSystem, TransitionMode
 from openmotion.coordinated.limits_bridge import caps_for, caps_for_many
 from openmotion.coordinated.states import ExecutionMode
 from openmotion.coordinated.timing import Piece, TimeLaw
+from openmotion.coordinated.tolerances import JOIN_SLACK, MIN_CORNER_DISTANCE, TAKE_OVER_TOLERANCE
 from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.geometry.blend import Blend, corner_distance_blend, max_corner_deviation_blend
@@ -44,9 +45,7 @@ _TRANSITION_SPEED: dict[BufferMode, Callable[[float, float], float]] = {
     BufferMode.BLENDING_NEXT: lambda _v1, v2: v2,
     BufferMode.BLENDING_HIGH: max,
 }
-_TAKE_OVER_TOLERANCE = 1e-6  #: tangent [1] and curvature [1/mm] a halted path is taken over at
 _JOIN_LENGTH = 1e-3  #: [mm] added to a lead-out (D-195), so that it is never empty
-_JOIN_SLACK = 1e-9  #: relative: the speed now may lie this far above the lead-out's cap
 _CONTOURS = (TransitionMode.TM_START_VELOCITY, TransitionMode.TM_CONSTANT_VELOCITY,
              TransitionMode.TM_CORNER_DISTANCE, TransitionMode.TM_MAX_CORNER_DEVIATION)
 
@@ -184,8 +183,8 @@ class PathMotion:
             return None
         _, tangent, curvature = evaluate(entry.geometry, local)
         _, new_tangent, new_curvature = evaluate(geometry[0], 0.0)
-        if np.linalg.norm(new_tangent - tangent) > _TAKE_OVER_TOLERANCE \
-                or np.linalg.norm(new_curvature - curvature) > _TAKE_OVER_TOLERANCE:
+        if np.linalg.norm(new_tangent - tangent) > TAKE_OVER_TOLERANCE \
+                or np.linalg.norm(new_curvature - curvature) > TAKE_OVER_TOLERANCE:
             return None
         v, a = self.path_velocity, self.path_acceleration
         try:
@@ -239,7 +238,7 @@ class PathMotion:
                 return None
             kept = [blend.before, blend.contour, blend.after, *geometry[1:]]
             first = caps_for(self.group, blend.before, request.space,
-                             (v * (1.0 + _JOIN_SLACK), a2, d2, j2))
+                             (v * (1.0 + JOIN_SLACK), a2, d2, j2))
             joint = self._piece(blend.contour, request.space, request, math.inf,
                                 speed_cap=speed, other=previous)
             rest = self._pieces(request, kept[2:], exit_last=0.0)
@@ -250,7 +249,7 @@ class PathMotion:
         slow = _speed_change_distance(v, min(speed, joint.velocity), d2, j2) \
             if v > min(speed, joint.velocity) else 0.0
         slow += v * abs(a) / j2  # while the acceleration it has now ramps out
-        if v > lead_piece.velocity * (1.0 + _JOIN_SLACK) or -a > lead_piece.deceleration \
+        if v > lead_piece.velocity * (1.0 + JOIN_SLACK) or -a > lead_piece.deceleration \
                 or a > lead_piece.acceleration or blend.before.length < slow:
             return None
         return (time, v, a), kept, [lead_piece, joint, *rest]
@@ -587,7 +586,7 @@ class PathMotion:
             d = _speed_change_distance(v1, p / 100.0 * v1, dec, jerk)
             if d >= widest.corner_distance:
                 return widest
-            return corner_distance_blend(before, after, max(d, 1e-6))
+            return corner_distance_blend(before, after, max(d, MIN_CORNER_DISTANCE))
         # TM_CONSTANT_VELOCITY: the largest contour, smaller only if its curvature allows
         target = p / 100.0 * speed
         acc = min(previous.dynamics[1], request.dynamics[1])
@@ -728,7 +727,7 @@ def _lead_out(point: np.ndarray, tangent: np.ndarray, curvature: np.ndarray,
     """The path a TCP at ``point`` would run on for ``length`` [mm] keeping its tangent and
     curvature vector: a line, or an arc of at most a quarter turn on its osculating circle."""
     kappa = float(np.linalg.norm(curvature))
-    if kappa * length <= _TAKE_OVER_TOLERANCE:
+    if kappa * length <= TAKE_OVER_TOLERANCE:
         return Line(point, point + length * tangent)
     radius = 1.0 / kappa
     inward = curvature / kappa

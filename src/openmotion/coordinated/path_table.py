@@ -45,6 +45,7 @@ from openmotion.axis.commands import Command, CommandStatus
 from openmotion.coordinated.frames import CartesianTransform, Frame
 from openmotion.coordinated.inputs import CoordSystem, TransitionMode
 from openmotion.coordinated.states import ExecutionMode
+from openmotion.coordinated.tolerances import DWELL_SLACK
 from openmotion.core.checks import is_finite
 from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
@@ -71,7 +72,6 @@ MIN_ACCELERATION = 1.0  #: [mm/s²] Acceleration and Deceleration must be >= 1 (
 MIN_JERK = 100.0  #: [mm/s³] Jerk must be >= 100 (§9.3.1.2.3)
 JERK_MAXIMUM_FACTOR = 100.0  #: MC_MAXIMUM jerk = 100 x MC_DEFAULT (§9.3.1.2.3, V3.2.27)
 AUX_POINT_COUNT = 3  #: AuxPoint is always (x, y, z) (§9.3.1.2.4)
-_DWELL_SLACK = 1e-9  #: [s] a dwell is over once the clock is within this of its end
 
 
 class McTransitionMode(IntEnum):
@@ -598,7 +598,7 @@ class PathTableRun:
             self.command.status = CommandStatus.ACTIVE
             if self.dwell_until is None:
                 self.dwell_until = now + row.seconds
-            if now >= self.dwell_until - _DWELL_SLACK:
+            if now >= self.dwell_until - DWELL_SLACK:
                 self.dwell_until = None
                 self.index += 1
                 self._feed()

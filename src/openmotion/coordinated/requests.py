@@ -28,6 +28,7 @@ from openmotion.coordinated.inputs import (
 from openmotion.coordinated.limits_bridge import DirectLine
 from openmotion.coordinated.moves import ACS, MCS, PCS, PathCommand
 from openmotion.coordinated.paths import PathData, _contour
+from openmotion.coordinated.tolerances import ORIENTATION_TOLERANCE
 from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.geometry.path import TOLERANCE, Arc, CircMode, Line, PathChoice
@@ -35,7 +36,6 @@ from openmotion.geometry.path import TOLERANCE, Arc, CircMode, Line, PathChoice
 if TYPE_CHECKING:
     from openmotion.coordinated.group import AxesGroup
 
-_ORIENTATION_TOLERANCE = 1e-9
 
 
 def build_request(group: AxesGroup, command: Command, kind: str, target: Any, circle: Any,
@@ -151,7 +151,7 @@ def _check_orientation(spaces: Any, start: np.ndarray, goal: np.ndarray, relativ
     if not mask.any():
         return
     change = values[mask] if relative else goal[mask] - start[mask]
-    if np.any(np.abs(change) > _ORIENTATION_TOLERANCE):
+    if np.any(np.abs(change) > ORIENTATION_TOLERANCE):
         raise CommandRejected(ErrorId.INVALID_POSITION,
                               "path moves keep the orientation (a, b, c); change it with "
                               "MC_MoveDirect* (decisions D-111)")

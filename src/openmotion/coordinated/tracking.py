@@ -23,6 +23,7 @@ import numpy as np
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.coordinated.frames import Frame, FrameMotion
 from openmotion.coordinated.inputs import CoordSystem
+from openmotion.coordinated.tolerances import LOCK_SLACK
 from openmotion.core.enums import AxisState
 from openmotion.trajectory.plan import Limits, plan_velocity
 from openmotion.trajectory.segments import KinematicState, Profile
@@ -31,7 +32,6 @@ if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
     from openmotion.coordinated.group import AxesGroup
 
-_LOCK_SLACK = 1e-9  #: a ramp-in that ends within this share past the cycle ends in it
 
 
 @dataclass
@@ -176,7 +176,7 @@ class AxisSync:
         profile = plan_velocity(self.state, target, Limits(top, inputs.acceleration,
                                                            inputs.deceleration, inputs.jerk))
         p, v, a, _ = profile.at(dt)
-        if profile.duration <= dt * (1.0 + _LOCK_SLACK):  # reached within this cycle
+        if profile.duration <= dt * (1.0 + LOCK_SLACK):  # reached within this cycle
             self.lock, self.length = p, 0.0
             self.in_sync = True
             self.command.in_velocity = True

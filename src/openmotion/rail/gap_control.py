@@ -28,8 +28,6 @@ import numpy as np
 from openmotion.rail.braking import brake_envelope
 from openmotion.rail.kernels import blame, brake_blamed, min_brake_gaps, pair_safety
 
-TOLERANCE = 1e-9  #: [mm] float slack of the pair checks
-
 
 class TcpPath(Protocol):
     """The monotone maps between the motor path and a TCP path (geo.StarterKitGeometry)."""

@@ -33,6 +33,12 @@ from openmotion.transport.movers import (
     CaJob,
     Mover,
 )
+from openmotion.transport.tolerances import (
+    FIT_SLACK,
+    LIMIT_TOLERANCE,
+    REST_SHARE,
+    STANDBY_DISTANCE,
+)
 
 if TYPE_CHECKING:
     pass
@@ -164,8 +170,9 @@ class GroupCycle:
             if proposal is None:  # waiting (or stopping): brake to rest with the job's limits
                 lim = job.limits  # or on along gap control's harder brake (D-206)
                 v, a = float(self.v[slot]), float(self.a[slot])
-                hard = abs(a) > lim.deceleration * (1 + 1e-9) or (  # or it would turn round
-                    v * a < 0.0 and a * a / (2.0 * lim.jerk) > abs(v) * (1 + 1e-9))
+                slack = 1 + LIMIT_TOLERANCE
+                hard = abs(a) > lim.deceleration * slack or (  # or it would turn round
+                    v * a < 0.0 and a * a / (2.0 * lim.jerk) > abs(v) * slack)
                 dec = self.bdec[slot] if hard else lim.deceleration
                 jerk = self.bjerk[slot] if hard else lim.jerk
                 step = brake_state(self.p[slot:slot + 1], self.v[slot:slot + 1],
@@ -246,7 +253,7 @@ class GroupCycle:
             for o, value in zip(out, step, strict=True):
                 o[lost] = value
         # float residue of the steps (|v| ~ 1e-17) is rest: snap it, so standstill is exact
-        still = (np.abs(out[1]) <= 1e-9 * vmax) & (np.abs(out[2]) <= 1e-9 * acc)
+        still = (np.abs(out[1]) <= REST_SHARE * vmax) & (np.abs(out[2]) <= REST_SHARE * acc)
         out[1][still], out[2][still], out[3][still] = 0.0, 0.0, 0.0
         known[0][held[still]] = False  # snapped: the filter computes their envelope
         return tuple(out)
@@ -411,10 +418,10 @@ class GroupCycle:
         b = step * self.a[slots]
         c_lo, c_hi = brake_envelope(self.p[slots], self.v[slots], self.a[slots], dec, jerk)
         fits = np.where(forward, c_hi <= goals + TOLERANCE, c_lo >= goals - TOLERANCE)
-        fits &= (b <= acc * (1 + 1e-12)) & (b >= -dec * (1 + 1e-12))
+        fits &= (b <= acc * FIT_SLACK) & (b >= -dec * FIT_SLACK)
         u = step * self.v[slots]  # and stop without turning round
-        fits &= (u >= 0.0) & (u + b * np.abs(b) / (2.0 * jerk) >= -1e-9 * vmax)
-        fits &= np.abs(self.v[slots]) <= vmax * (1 + 1e-12)
+        fits &= (u >= 0.0) & (u + b * np.abs(b) / (2.0 * jerk) >= -REST_SHARE * vmax)
+        fits &= np.abs(self.v[slots]) <= vmax * FIT_SLACK
         return fits
 
     def _restore_gaps(self) -> None:
@@ -440,11 +447,11 @@ class GroupCycle:
             return
         slots = np.flatnonzero(idle)
         room_hi, _ = self._room(slots)
-        if not np.any(self.p[slots] > room_hi + 1e-6):
+        if not np.any(self.p[slots] > room_hi + STANDBY_DISTANCE):
             return
         lo, _hi = self._envelope()
         desired = self._push(idle, np.where(idle, self.p, lo))
-        for slot in np.flatnonzero(idle & (desired < self.p - 1e-6)).tolist():
+        for slot in np.flatnonzero(idle & (desired < self.p - STANDBY_DISTANCE)).tolist():
             self._standby(self.movers[slot], float(desired[slot]))
 
     def _give_way(self, idle: np.ndarray) -> None:
@@ -469,10 +476,10 @@ class GroupCycle:
         tcp = pairs.on_tcp(m)
         if tcp.any():  # gaps on a TCP path (D-073)
             limit[tcp] = pairs.behind(m[tcp], low[pairs.pred[m[tcp]]] + pairs.offset[m[tcp]])
-        if not np.any(low[s] > limit + 1e-6):
+        if not np.any(low[s] > limit + STANDBY_DISTANCE):
             return
         desired = self._push(free, low)
-        for slot in np.flatnonzero(free & (desired < low - 1e-6)).tolist():
+        for slot in np.flatnonzero(free & (desired < low - STANDBY_DISTANCE)).tolist():
             self._standby(self.movers[slot], float(desired[slot]))
 
     def _push(self, free: np.ndarray, desired: np.ndarray) -> np.ndarray:
@@ -487,7 +494,7 @@ class GroupCycle:
                 if k < 0 or not free[slot] or self.gmode[slot] == GapControlMode.NONE:
                     continue
                 limit = self._behind(slot, desired[k] + self.offset[slot])
-                if limit < desired[slot] - 1e-9:
+                if limit < desired[slot] - TOLERANCE:
                     desired[slot] = limit
                     changed = True
             if not changed:
@@ -516,7 +523,8 @@ class GroupCycle:
     def _resting(self, slots: np.ndarray) -> np.ndarray:
         """At rest up to float residue of the tracking steps."""
         vmax, acc = self.lim[0].take(slots), self.lim[1].take(slots)
-        return (np.abs(self.v[slots]) <= 1e-9 * vmax) & (np.abs(self.a[slots]) <= 1e-9 * acc)
+        return (np.abs(self.v[slots]) <= REST_SHARE * vmax) & (
+            np.abs(self.a[slots]) <= REST_SHARE * acc)
 
     def _replan(self, mover: Mover, goal: float, limits: Limits | None = None) -> None:
         """A profile to ``goal`` with the command's limits (or ``limits``): FOLLOW again."""

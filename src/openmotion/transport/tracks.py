@@ -30,6 +30,7 @@ from openmotion.core.checks import finite_number
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.transport.enums import ModuloDirection
 from openmotion.transport.geo import GeoCompensation, MoverTemplate, StarterKitGeometry
+from openmotion.transport.tolerances import JOINT_TOLERANCE
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
@@ -121,7 +122,7 @@ class TrackTable:
         parts = tuple(self.parts[p] for p in part_ids)
         for a, b in zip(parts, parts[1:], strict=False):
             gap = (b.start - a.end) % length_ if ring else b.start - a.end
-            if abs(gap) > 1e-9 and abs(gap - length_) > 1e-9:
+            if abs(gap) > JOINT_TOLERANCE and abs(gap - length_) > JOINT_TOLERANCE:
                 raise ConfigError(f"track {track_id}: part {b.part_id} does not start where "
                                   f"part {a.part_id} ends")
         offsets = [0.0]
@@ -129,7 +130,7 @@ class TrackTable:
             offsets.append(offsets[-1] + part.length)
         total = offsets[-1] + parts[-1].length
         track = Track(track_id, parts, tuple(offsets), total,
-                      ring and math.isclose(total, length_, rel_tol=0.0, abs_tol=1e-9))
+                      ring and math.isclose(total, length_, rel_tol=0.0, abs_tol=JOINT_TOLERANCE))
         self.tracks[track_id] = track
         return track
 
