@@ -43,6 +43,7 @@ from openmotion.core.enums import (
 )
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.core.modulo import modulo_target, snap_to_period
+from openmotion.core.override import dword_from_fraction, fraction_from_percent
 from openmotion.core.special_values import (
     DEFAULT_HOME_POSITION,
     MC_DEFAULT,
@@ -79,7 +80,7 @@ class Axis:
         self.drive_ready = True  #: set False to simulate a drive that is not ready
         self.enable_positive = True  #: feed enable, positive direction (TcMC §4.1)
         self.enable_negative = True
-        self.override = 1.0  #: velocity override as a fraction (MC_Power.Override / 100)
+        self.override = 1.0  #: velocity override, a fraction 0...1 (core/override.py)
         self.calibration_state = 0  #: homing phase (TcMC §3.14 nCalibrationState)
         self.cam_input: bool | None = None  #: MC_Home.bCalibrationCam, None = simulated cam
         self.raw_offset = 0.0  #: shift between displayed and machine coordinates [mm]
@@ -133,7 +134,7 @@ class Axis:
     def override_value(self) -> int:
         """The override as the PlcToNc interface DWORD (TcMC §4.1): 0...1 000 000 for
         0...100 %, so MC_Power's Override 50.0 gives 500 000."""
-        return round(self.override * 1_000_000)
+        return dword_from_fraction(self.override)
 
     @property
     def error(self) -> bool:
@@ -333,7 +334,7 @@ class Axis:
         ):
             return self.queue.reject(command, ErrorId.INVALID_OVERRIDE,
                                 f"override must be within 0..100 %, got {percent!r}")
-        self.override = percent / 100.0
+        self.override = fraction_from_percent(percent)
         self._update_override()
         self.queue.finish(command)
         return command

@@ -15,9 +15,10 @@ from openmotion.axis.commands import CommandStatus
 from openmotion.core.errors import CommandRejected
 from openmotion.core.special_values import MC_DEFAULT
 from openmotion.rail.braking import brake_envelope, brake_state
-from openmotion.rail.gap_control import TOLERANCE, Pairs, filter_steps
+from openmotion.rail.gap_control import Pairs, filter_steps
 from openmotion.rail.gear import GearSync
 from openmotion.rail.kernels import fast_candidates
+from openmotion.rail.tolerances import TOLERANCE
 from openmotion.trajectory.plan import Limits, plan_position
 from openmotion.trajectory.segments import KinematicState
 from openmotion.transport.enums import GapControlDirection, GapControlMode, GroupState
