@@ -217,7 +217,7 @@ class Axis:
             elif job.kind == "position" and job.target is not None:
                 low, high = min(low, job.target), max(high, job.target)
         tolerance = POSITION_TOLERANCE * max(1.0, abs(lo) if math.isfinite(lo) else 1.0,
-                               abs(hi) if math.isfinite(hi) else 1.0)
+                                             abs(hi) if math.isfinite(hi) else 1.0)
         past_high = high > max(hi, start.position) + tolerance
         if not past_high and low >= min(lo, start.position) - tolerance:
             return
@@ -227,7 +227,7 @@ class Axis:
                 and not k.superimposed[row] and self._stop_job_at(job, start, limit):
             return
         self.fault(ErrorId.SOFT_LIMIT_REACHED,
-                    f"the motion would pass the software limit {limit} written during it")
+                   f"the motion would pass the software limit {limit} written during it")
 
     def _stop_job_at(self, job: Job, start: KinematicState, limit: float) -> bool:
         """Turn ``job`` into a stop at ``limit`` (D-016); False when it cannot stop there."""
@@ -302,7 +302,7 @@ class Axis:
             self.powered = False
             for slave in self.gearing.slaves():  # they must not follow the frozen setpoint (D-199)
                 slave.fault(ErrorId.MASTER_DISABLED,
-                             f"its master {self.name} was disabled while coupled")
+                            f"its master {self.name} was disabled while coupled")
             self.queue.abort_all("the axis was disabled")
             self.kernel.reset_setpoint_to_actual(self.row)
             self.queue.install(Profile.hold(KinematicState(self.position)), has_job=False)
@@ -333,7 +333,7 @@ class Axis:
             math.isfinite(percent) and 0.0 <= percent <= 100.0
         ):
             return self.queue.reject(command, ErrorId.INVALID_OVERRIDE,
-                                f"override must be within 0..100 %, got {percent!r}")
+                                     f"override must be within 0..100 %, got {percent!r}")
         self.override = fraction_from_percent(percent)
         self._update_override()
         self.queue.finish(command)
@@ -439,7 +439,7 @@ class Axis:
         self.queue.start(Job("stop", command, limits), profile)
         if bad is not None:
             self.queue.reject(command, bad.error_id, bad.message + "; stopped with the running "
-                         "move's dynamics")
+                              "move's dynamics")
         return command
 
     def home(self, position: InputValue = DEFAULT_HOME_POSITION) -> Command:
@@ -540,7 +540,7 @@ class Axis:
         self.queue.start(Job("stop", command, limits), profile)
         if failure is not None:
             self.queue.reject(command, failure.error_id,
-                         failure.message + "; stopped without orientation")
+                              failure.message + "; stopped without orientation")
         return command
 
     # -- gearing, superposition, external setpoints: their collaborators do the work ---------
@@ -761,7 +761,7 @@ class Axis:
         time = self.kernel.sample_time if time is None else time
         start = self.kernel.segments.state(self.row, time)
         self.queue.install(jobs.plan_brake(start, p.max_deceleration, p.max_jerk, p), has_job=False,
-                      time=time)
+                           time=time)
 
     def _try_reset(self, command: Command, now: float) -> bool:
         if command.finished:
@@ -841,7 +841,7 @@ class Axis:
                 return False
             if job is not self.queue.active:
                 command.end(CommandStatus.ABORTED, now, message="the move ended before the "
-                             "switch position")
+                            "switch position")
                 return False
             position = self.set_position
             if reach and speed is not None:  # look one cycle ahead: the change starts there

@@ -67,7 +67,7 @@ class GearCoupling:
         self.queue.abort_all("aborted by MC_GearIn")
         self.queue.hold = None
         self.kernel.couplings.couple(self.row, master.row, ratio, master.set_position,
-                                 self.axis.set_position)
+                                     self.axis.set_position)
         p = self.axis.parameters
         job = Job("gear", command, Limits(p.max_velocity, p.acceleration, p.deceleration, p.jerk))
         job.extra.update(master=master, target_ratio=ratio, ratio_rate=rate)
@@ -153,7 +153,7 @@ class GearCoupling:
                 self._check_follow_up(mode, position, velocity, acceleration, deceleration, jerk)
             except CommandRejected as rejected:
                 return self.queue.reject(self.queue.new("gear_out_ext"), rejected.error_id,
-                                    rejected.message)
+                                         rejected.message)
         out = self.gear_out()
         if out.error or not moving:
             return out
@@ -185,7 +185,7 @@ class GearCoupling:
         if mode in (DecoupleMode.NEW_POSITION, DecoupleMode.NEW_POSITION_AND_VELOCITY):
             target = require_position("position", position)
             check_soft_limits(self.axis.parameters, Profile.hold(KinematicState(target)), target,
-                                   start=self.axis.set_position)
+                              start=self.axis.set_position)
 
     def _cycle(self, job: Job) -> bool:
         """Per cycle while coupled: slew a dynamic ratio, watch the slave's limits."""
@@ -211,11 +211,11 @@ class GearCoupling:
         v, a, j = self.axis.set_velocity, self.axis.set_acceleration, self.axis.set_jerk
         time, start = self.kernel.previous_sample(self.row)
         self.axis.fault(ErrorId.GEAR_LIMIT_EXCEEDED,
-                    f"the geared slave would reach {v:.6g} mm/s, {a:.6g} mm/s², {j:.6g} mm/s³ "
-                    "beyond its maxima")
+                        f"the geared slave would reach {v:.6g} mm/s, {a:.6g} mm/s², {j:.6g} mm/s³ "
+                        "beyond its maxima")
         p = self.axis.parameters
         self.queue.install(plan_stop(start, p.max_deceleration, p.max_jerk), has_job=False,
-                      time=time)
+                           time=time)
 
     def release(self) -> None:
         """Decouple: continue from the coupled state, releasing the acceleration (§3.20)."""

@@ -53,7 +53,7 @@ class ExternalSetpoints:
                 target += self.axis.set_position
         except ValueError:
             return self.queue.reject(command, ErrorId.INVALID_MODE,
-                                f"position type {position_type!r} is unknown")
+                                     f"position type {position_type!r} is unknown")
         except CommandRejected as rejected:
             return self.queue.reject(command, rejected.error_id, rejected.message)
         if self.enabled:
@@ -108,7 +108,7 @@ class ExternalSetpoints:
         if not (math.isfinite(self.axis.set_position) and v <= p.max_velocity * slack
                 and a <= max(p.max_acceleration, p.max_deceleration) * slack):
             self.axis.fault(ErrorId.EXT_SETPOINT_LIMIT,
-                        f"fed setpoint {v:.6g} mm/s, {a:.6g} mm/s² beyond the axis maxima")
+                            f"fed setpoint {v:.6g} mm/s, {a:.6g} mm/s² beyond the axis maxima")
             return False
         target, kind = self.goal
         if target is not None:

@@ -67,19 +67,25 @@ class JobQueue:
                 job.target += offset
 
     def new(self, kind: str) -> Command:
+        """A command issued now."""
         return Command(kind, self.runtime.now)
 
     def finish(self, command: Command) -> None:
+        """``command`` is Done now."""
         command.end(CommandStatus.DONE, self.runtime.now)
 
     def reject(self, command: Command, error_id: ErrorId, message: str) -> Command:
+        """``command`` ends now with an error; returned for the caller to hand back."""
         command.end(CommandStatus.ERROR, self.runtime.now, error_id, message)
         return command
 
     def fail(self, job: Job, error_id: ErrorId, message: str) -> None:
+        """``job``'s command ends now with an error (the job itself stays)."""
         job.command.end(CommandStatus.ERROR, self.runtime.now, error_id, message)
 
     def install(self, profile: Profile, has_job: bool = True, time: float | None = None) -> None:
+        """The setpoint follows ``profile`` from ``time`` (default: the last sample);
+        ``has_job``: the kernel reports the profile's end as an event."""
         k = self.kernel
         k.segments.install(self.row, profile, k.sample_time if time is None else time)
         k.has_job[self.row] = has_job
@@ -118,7 +124,7 @@ class JobQueue:
     def _blend(self, previous: Job, following: Job) -> None:
         assert following.target is not None
         magnitude = BLEND_SPEED[following.buffer_mode](previous.limits.velocity,
-                                                         following.limits.velocity)
+                                                       following.limits.velocity)
         running = previous is self.active and self.axis.has_job
         if running:
             start = self.kernel.base_state(self.row)
@@ -128,7 +134,7 @@ class JobQueue:
             before = self.buffered[-3] if len(self.buffered) >= 3 else self.active
             start = KinematicState(self._end_position_of(before), before.end_velocity)
         previous.end_velocity = blend_velocity(start, previous, following.target,
-                                                    following.limits, magnitude)
+                                               following.limits, magnitude)
         if running and previous.end_velocity != 0.0:
             self.install(self.plan(previous))
 
@@ -234,8 +240,8 @@ class JobQueue:
         elif job.kind == "position":
             if job.soft_limit_stop:
                 self.axis.fault(ErrorId.SOFT_LIMIT_REACHED,
-                            f"stopped at the software limit {job.target}",
-                            time=end_time)
+                                f"stopped at the software limit {job.target}",
+                                time=end_time)
             elif self.buffered and self.buffered[0].buffer_mode in BLEND_SPEED:
                 self.finish(job.command)
                 self.start_next(end_time)
@@ -286,7 +292,7 @@ class JobQueue:
             return False
         if p.enable_in_target_timeout and job.settling_for > p.in_target_timeout:
             self.axis.fault(ErrorId.IN_TARGET_TIMEOUT,
-                        f"not in the target window {p.in_target_timeout} s after the profile")
+                            f"not in the target window {p.in_target_timeout} s after the profile")
             return False
         return True
 
@@ -315,7 +321,7 @@ class JobQueue:
         previous = self.active
         if previous is not None and previous.kind == "velocity":  # never Done by itself (D-178)
             previous.command.end(CommandStatus.ABORTED, self.runtime.now,
-                                  message=f"taken over by the buffered {job.command.kind}")
+                                 message=f"taken over by the buffered {job.command.kind}")
         start = self.kernel.segments.state(self.row, time)
         job.extra["start"] = start.position
         try:

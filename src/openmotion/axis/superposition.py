@@ -225,7 +225,7 @@ class Superposition:
                                 max(min(p.jerk, room.jerk), p.jerk * ROOM_FLOOR))
             k.overlay.install(self.row, profile, k.sample_time)
             self.command.end(CommandStatus.ABORTED, self.runtime.now,
-                                     message="aborted by MC_AbortSuperposition")
+                             message="aborted by MC_AbortSuperposition")
             self.command = None
         self.queue.finish(command)
         return command
@@ -240,8 +240,8 @@ class Superposition:
                 self.fold(CommandStatus.DONE, "", ended=True)
             else:
                 self.fold(CommandStatus.ERROR, "the distance was compensated only "
-                                   "partly (TcMC §3.9)", ErrorId.SUPERPOSITION_INCOMPLETE,
-                                   ended=True)
+                          "partly (TcMC §3.9)", ErrorId.SUPERPOSITION_INCOMPLETE,
+                          ended=True)
         else:
             self.fold(CommandStatus.DONE, "", ended=True)
 

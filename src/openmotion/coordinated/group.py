@@ -1126,7 +1126,7 @@ class AxesGroup:
             event = member_event(state)
             if event is GroupEvent.ERROR and self.state is not G.ERROR_STOP:
                 self.fault(ErrorId.GROUP_ERROR,
-                            f"member {axis.name} is in ErrorStop: {axis.axis_error_message}")
+                           f"member {axis.name} is in ErrorStop: {axis.axis_error_message}")
             elif event is GroupEvent.MEMBER_POWER_OFF and self.state in (
                     G.HOMING, G.MOVING, G.STOPPING):
                 self.motion.abort_all(f"member {axis.name} lost power")
