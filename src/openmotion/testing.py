@@ -437,8 +437,8 @@ def _place(axis: Axis, state: KinematicState) -> None:
         np.array([0.0, h]), np.array([p, p + h * (v + h * a / 2.0)]), np.array([v, v + h * a]),
         np.array([a, 0.0]), np.zeros(2),
     )
-    axis._install(profile, has_job=False)
-    kernel = axis._k
+    axis.queue.install(profile, has_job=False)
+    kernel = axis.kernel
     kernel.evaluate(kernel.sample_time)
 
 

@@ -337,7 +337,7 @@ def aborted_at_speed(mode: TransitionMode, target: list[float], parameter: float
         assert not second.error and rt.now < 5.0
         rt.step()
         speeds.append(group.motion.path_velocity)
-        accelerations.append(group._k.set_a[group.rows].copy())
+        accelerations.append(group.kernel.set_a[group.rows].copy())
     return rt, group, first, second, np.array(speeds), np.array(accelerations)
 
 
@@ -397,7 +397,7 @@ def test_aborting_with_constant_velocity_on_an_arc_keeps_the_acceleration_contin
         assert rt.now < 5.0
         rt.step()
         speeds.append(group.motion.path_velocity)
-        accelerations.append(group._k.set_a[group.rows].copy())
+        accelerations.append(group.kernel.set_a[group.rows].copy())
     assert min(speeds[:-1]) > 0.0
     _smooth(rt, np.array(accelerations))
     assert group.position(CoordSystem.MCS, actual=False) == pytest.approx(

@@ -41,7 +41,7 @@ def test_stops_at_the_first_oriented_position_after_the_normal_stop(position: fl
     normal braking end, so the travel exceeds a normal stop by less than one period."""
     rt, axis = rotating()
     p = axis.parameters
-    normal_end = plan_stop(axis._k.state(axis.row), p.deceleration, p.jerk).end.position
+    normal_end = plan_stop(axis.kernel.state(axis.row), p.deceleration, p.jerk).end.position
     stop = MC_OrientedStop(axis)
     stop(execute=True, position=position)
     assert stop.busy and axis.state is om.AxisState.STOPPING
@@ -69,7 +69,7 @@ def test_software_limit_before_the_oriented_point_stops_normally_with_an_error()
     """Rule 80: the oriented point lies beyond an enabled software limit: error, safe stop."""
     rt, axis = rotating(velocity=360.0)
     p = axis.parameters
-    normal_end = plan_stop(axis._k.state(axis.row), p.deceleration, p.jerk).end.position
+    normal_end = plan_stop(axis.kernel.state(axis.row), p.deceleration, p.jerk).end.position
     axis.write_parameter(om.AxisPara.AxisMaxSoftPosLimit, normal_end + 1.0)
     axis.write_parameter(om.AxisPara.AxisEnMaxSoftPosLimit, True, bool)
     target = (normal_end + 90.0) % 360.0  # 90 beyond the normal end, past the limit

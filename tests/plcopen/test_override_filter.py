@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 
 import openmotion as om
-from openmotion.plcopen.override_filter import FULL_SCALE, MC_OverrideFilter, quantise
+from openmotion.core.override import DWORD_FULL_SCALE as FULL_SCALE
+from openmotion.plcopen.override_filter import MC_OverrideFilter, quantise
 
 ErrorId = om.ErrorId
 FULL = 32767

@@ -437,7 +437,7 @@ class Storm:
         self._check_hang(name, axis, v1, a1)
         # a peek, for the context only: no FB shows an overlay that still brakes after its
         # block ended, nor one that a fault ended (its reaction starts in the next cycle)
-        if axis._k.superimposed[axis.row]:
+        if axis.kernel.superimposed[axis.row]:
             self._superimposed[name] = SUPERPOSITION_MEMORY
         elif self._superimposed[name]:
             self._superimposed[name] -= 1
@@ -477,7 +477,7 @@ class Storm:
         if axis.state is AxisState.ERROR_STOP:
             tags.add(f"axis error:{axis.axis_error_id.name}")
         tags |= {f"busy:{w.key}" for w in self.blocks[name].values() if w.busy}
-        if self._superimposed[name] or axis._k.superimposed[axis.row]:  # now or just before
+        if self._superimposed[name] or axis.kernel.superimposed[axis.row]:  # now or just before
             tags.add("superimposed")
         master = self._master.get(name)
         if axis.state is AxisState.SYNCHRONIZED_MOTION and master is not None \

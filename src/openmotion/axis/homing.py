@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 
 from openmotion.axis import jobs
 from openmotion.axis.commands import CommandStatus
+from openmotion.axis.tolerances import MIN_SPEED
 from openmotion.core.enums import AxisState, Direction, ReferenceMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.trajectory.plan import Limits, plan_velocity
@@ -41,7 +42,7 @@ class HomingSequence:
     # the axis calls step() every cycle while homing; False ends the watch
     def step(self, now: float) -> bool:
         axis = self.axis
-        job = axis._job
+        job = axis.queue.active
         if job is None or job.kind != "home" or job.command.finished:
             return False
         raw = axis.position - axis.raw_offset
@@ -66,9 +67,9 @@ class HomingSequence:
             axis.calibration_state = 7
             axis.homed = True
             job.command.end(CommandStatus.DONE, now)
-            axis._job = None
+            axis.queue.active = None
             axis.state = AxisState.STANDSTILL
-            axis._start_next(now)
+            axis.queue.start_next(now)
             self._previous_raw = raw
             return False
         self._previous_raw = raw
@@ -106,15 +107,15 @@ class HomingSequence:
     def _travel(self, direction: int, speed: float) -> None:
         axis = self.axis
         p = axis.parameters
-        limits = Limits(max(speed, 1e-9), p.acceleration, p.deceleration, p.jerk)
-        axis._install(plan_velocity(axis._k.state(axis.row), direction * speed, limits),
-                      has_job=False)
+        limits = Limits(max(speed, MIN_SPEED), p.acceleration, p.deceleration, p.jerk)
+        axis.queue.install(plan_velocity(axis.kernel.state(axis.row), direction * speed, limits),
+                           has_job=False)
 
     def _reference(self, raw: float) -> None:
         """The reference event: the machine position ``raw`` now reads ``home_position``."""
         axis = self.axis
         axis.shift_coordinates(self.home_position - (raw + axis.raw_offset))
         p = axis.parameters
-        axis._install(jobs.plan_brake(axis._k.state(axis.row), p.deceleration, p.jerk, p),
-                      has_job=False)
+        brake = jobs.plan_brake(axis.kernel.state(axis.row), p.deceleration, p.jerk, p)
+        axis.queue.install(brake, has_job=False)
         axis.calibration_state = 6

@@ -9,7 +9,9 @@ from __future__ import annotations
 import math
 
 from openmotion.axis.commands import Job
+from openmotion.axis.dynamics import require_position
 from openmotion.axis.parameters import AxisParameters
+from openmotion.axis.tolerances import MIN_OVERRIDE, POSITION_TOLERANCE
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.trajectory.plan import (
     Limits,
@@ -21,7 +23,6 @@ from openmotion.trajectory.plan import (
 from openmotion.trajectory.segments import KinematicState, Profile
 
 BLEND_ITERATIONS = 12  #: bisection steps when a blend velocity cannot be reached
-MIN_OVERRIDE = 1e-8  #: below 1e-6 % the override counts as 0: the job pauses (D-007)
 
 
 def plan_job(job: Job, start: KinematicState, override: float,
@@ -100,7 +101,7 @@ def check_soft_limits(parameters: AxisParameters, profile: Profile, target: floa
             f"target {target} lies outside the software limits [{lo_limit}, {hi_limit}]",
         )
     lo, hi = profile.position_extrema()
-    tolerance = 1e-9 * max(1.0, abs(lo), abs(hi))
+    tolerance = POSITION_TOLERANCE * max(1.0, abs(lo), abs(hi))
     if lo < lo_allowed - tolerance or hi > hi_allowed + tolerance:
         raise CommandRejected(
             ErrorId.PATH_BEYOND_SOFT_LIMIT,
@@ -118,6 +119,16 @@ def soft_limit_in_direction(parameters: AxisParameters, direction: int) -> float
     return None
 
 
+def oriented_target(parameters: AxisParameters, position: object) -> float:
+    """MC_OrientedStop's Position: a modulo value in [0, period) (TcMC §3.16)."""
+    target = require_position("position", position)
+    period = parameters.modulo_period
+    if not 0.0 <= target < period:
+        raise CommandRejected(ErrorId.INVALID_MODULO_TARGET,
+                              f"position must lie in [0, {period}), got {target}")
+    return target
+
+
 def blend_velocity(
     start: KinematicState, first: Job, second_target: float, second_limits: Limits, magnitude: float
 ) -> float:
@@ -128,8 +139,8 @@ def blend_velocity(
     make ruckig overshoot, so it is reduced by bisection.
     """
     assert first.target is not None
-    direction = _sign(first.target - start.position)
-    if direction == 0 or _sign(second_target - first.target) != direction or magnitude <= 0.0:
+    direction = sign(first.target - start.position)
+    if direction == 0 or sign(second_target - first.target) != direction or magnitude <= 0.0:
         return 0.0
 
     def feasible(speed: float) -> bool:
@@ -156,9 +167,10 @@ def blend_velocity(
 
 def _monotonic(profile: Profile, direction: int) -> bool:
     lo, hi = profile.velocity_extrema()
-    tolerance = 1e-9 * max(abs(lo), abs(hi), 1.0)
+    tolerance = POSITION_TOLERANCE * max(abs(lo), abs(hi), 1.0)
     return lo >= -tolerance if direction > 0 else hi <= tolerance
 
 
-def _sign(value: float) -> int:
+def sign(value: float) -> int:
+    """-1, 0 or 1 as ``value`` is negative, zero or positive."""
     return (value > 0.0) - (value < 0.0)

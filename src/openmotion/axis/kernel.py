@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from openmotion.axis.gearing import Couplings
+from openmotion.axis.tolerances import LAG_FILTER_TOLERANCE, LIMIT_TOLERANCE
 from openmotion.trajectory.evaluate import SegmentTable
 from openmotion.trajectory.segments import KinematicState, Profile
 
@@ -17,7 +18,6 @@ _FLOAT_FIELDS = ("set_p", "set_v", "set_a", "set_j", "act_p", "act_v", "alpha", 
                  "lag_filter", "lag_timer", "ext_p", "ext_v", "ext_a", "v_max", "a_max", "j_max")
 _BOOL_FIELDS = ("has_job", "lag_on", "monitored", "blocked", "external", "fed", "superimposed")
 _EMPTY = np.zeros(0, dtype=np.int64)
-LIMIT_TOLERANCE = 1e-9  #: relative slack of the limit checks (rounding of the cubic)
 
 
 class AxisKernel:
@@ -178,7 +178,8 @@ class AxisKernel:
             np.abs(self.set_p[:n] - self.act_p[:n]) > self.lag_max[:n]
         )
         self.lag_timer[:n] = np.where(over, self.lag_timer[:n] + self.cycle_time, 0.0)
-        return np.flatnonzero(over & (self.lag_timer[:n] > self.lag_filter[:n] + 1e-12))
+        late = self.lag_timer[:n] > self.lag_filter[:n] + LAG_FILTER_TOLERANCE
+        return np.flatnonzero(over & late)
 
     # -- per-row operations on events ------------------------------------------------------
 

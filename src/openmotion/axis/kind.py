@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 from openmotion.core.enums import AxisState
 from openmotion.core.errors import ErrorId
+from openmotion.core.override import percent_from_fraction
 from openmotion.kernel.model import BulkReader, Kind, SignalSpec, compact_index
 
 if TYPE_CHECKING:
@@ -64,7 +65,7 @@ AXIS = Kind(
         _kinematic("velocity", "mm/s", "actual velocity", scope=True),
         _kinematic("following_error", "mm", "set minus actual position", scope=True),
         SignalSpec("state", "", AxisState, _whole("state"), "PLCopen axis state"),
-        SignalSpec("override", "%", float, lambda axis: float(axis.override) * 100.0,
+        SignalSpec("override", "%", float, lambda axis: percent_from_fraction(float(axis.override)),
                    "velocity override, 0-100 %"),
         SignalSpec("homed", "", bool, _whole("homed"), "the axis is referenced"),
         SignalSpec("axis_error_id", "", ErrorId, _whole("axis_error_id"),

@@ -108,7 +108,7 @@ class ProbeSignal:
         self.axis = axis
         self.positions = _intervals("positions", positions)
         self.times = _intervals("times", times)
-        self._t = axis._k.sample_time  # the instant the current actual position belongs to
+        self._t = axis.kernel.sample_time  # the instant the current actual position belongs to
         self._p = self._machine()
         self._edges: list[tuple[float, float, SignalEdge]] = []
         self.level = self._level(self._t, self._p)
@@ -260,7 +260,7 @@ def _check_window(ref: InputRef, axis: Axis, first: object, last: object) -> Pro
 def arm_probe(axis: Axis, ref: InputRef, window_only: bool = False,
               first_position: float = 0.0, last_position: float = 0.0) -> Command:
     """Start a probe cycle; the command ends DONE with ``value`` = the recorded position."""
-    rt = axis._rt
+    rt = axis.runtime
     command = Command("touch_probe", rt.now)
     try:
         if ref.touch_probe not in TouchProbeSource.__members__.values():

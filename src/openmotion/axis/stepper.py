@@ -21,6 +21,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from openmotion.axis.tolerances import TIME_TOLERANCE
+
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
 
@@ -77,11 +79,11 @@ class StepperTerminal:
         self._stall_serial += 1
         serial = self._stall_serial
         self.stalled = True
-        axis._k.set_blocked(axis.row, True)
+        axis.kernel.set_blocked(axis.row, True)
         if duration is None:
             return
-        end = axis._rt.now + float(duration)
-        eps = 1e-9 * max(1.0, abs(end))
+        end = axis.runtime.now + float(duration)
+        eps = TIME_TOLERANCE * max(1.0, abs(end))
 
         def release_when_due(now: float) -> bool:
             if serial != self._stall_serial or not self.stalled:
@@ -97,7 +99,7 @@ class StepperTerminal:
         """End a stall: the mechanics follow again, the stall bits clear."""
         self.stalled = False
         self._stall_serial += 1
-        self.axis._k.set_blocked(self.axis.row, False)
+        self.axis.kernel.set_blocked(self.axis.row, False)
 
     def set_error(self, bits: int) -> None:
         """Set bits of the status word (e.g. :data:`STATUS2_OVERTEMPERATURE`)."""

@@ -93,19 +93,19 @@ class AxisSystem:
         kernel = self.kernel
         if kernel.size:  # a machine of planar movers only has no single axes to advance
             for row in kernel.overlay_ended(now).tolist():
-                self._rows[row].superposition_ended()
+                self._rows[row].superposition.ended()
             ended = kernel.ended(now)
             if ended.size:
                 end = kernel.segments.end
                 for row in ended.tolist():
-                    self._rows[row].profile_ended(float(end[row]))
+                    self._rows[row].queue.profile_ended(float(end[row]))
         kernel.evaluate(now)  # also without axes: the sample time an axis added later starts at
         for _ in range(kernel.size):  # a faulted master changes its slaves' samples too
             bad = kernel.slave_violations()
             if not bad.size:
                 break
             for row in bad.tolist():
-                self._rows[row].gear_limit_fault()
+                self._rows[row].gearing.limit_fault()
             kernel.evaluate(now, again=True)
 
     def monitor(self, now: float) -> None:

@@ -179,7 +179,7 @@ class MC_PathSelect(GroupCommand):
         self.path_data: PathData | None = None
 
     def _issue(self, group: Any) -> Command:  # type: ignore[override]
-        command = Command("MC_PathSelect", _group(group)._rt.now)
+        command = Command("MC_PathSelect", _group(group).runtime.now)
         try:
             self.path_data = select_path(group, self.path_description, self.coord_system,
                                          self.transition_mode, self.transition_parameter)
@@ -441,7 +441,7 @@ class MC_ReadCartesianTransform(GroupRead):
 
     def _read(self, group: Any) -> None:
         group = _group(group)
-        values = group.spaces.frame(group._rt.now).cartesian()
+        values = group.spaces.frame(group.runtime.now).cartesian()
         (self.trans_x, self.trans_y, self.trans_z,
          self.rot_x, self.rot_y, self.rot_z) = values
 
@@ -468,7 +468,7 @@ class MC_ReadCoordinateTransform(GroupRead):
 
     def _read(self, group: Any) -> None:
         group = _group(group)
-        self.coord_transform = group.spaces.frame(group._rt.now)
+        self.coord_transform = group.spaces.frame(group.runtime.now)
 
 
 def _frame(value: Any) -> Frame:

@@ -23,6 +23,7 @@ import math
 from enum import IntEnum
 from typing import TYPE_CHECKING
 
+from openmotion.coordinated.tolerances import CLOSED_PATH_TOLERANCE
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.rail.enums import SyncStrategy
 from openmotion.rail.gear import GearSync
@@ -50,7 +51,7 @@ class CamLaw:
         self.law, self.master, self.mode = law, master, mode
         self.length = law.length
         self.command = command
-        self.dt = cycle_time
+        self.cycle_time = cycle_time
         self.sync = GearSync(master_row=-1, ratio=ratio, master_sync_position=master.set_position,
                              slave_sync_position=0.0, strategy=SyncStrategy.EARLY,
                              start_distance=None, limits=limits, after_sync=limits)
@@ -108,19 +109,19 @@ class CamLaw:
         return KinematicState(*self.state)
 
     def _start_brake(self, now: float, profile: Profile) -> None:
-        self._brake = (profile, now - self.dt)
+        self._brake = (profile, now - self.cycle_time)
         self.sync.in_sync = False
 
     def _follow(self, now: float) -> tuple[float, float, float, float]:
         """The sync's step, kept on a non-periodic path: one that could not stop before an
         end of the path with the command's dynamics brakes exactly onto that end."""
         try:
-            proposal = self.sync.step(now, self.state, self._master(), self.dt)
+            proposal = self.sync.step(now, self.state, self._master(), self.cycle_time)
         except CommandRejected:
             proposal = None
         if proposal is None:
             profile = plan_stop(self._kinematic(), self.limits.deceleration, self.limits.jerk)
-            return profile.at(self.dt)
+            return profile.at(self.cycle_time)
         if self.mode is PathMode.NON_PERIODIC:
             s, v, a, j = proposal
             # the group follows the master's acceleration and jerk (ratio x), which may be
@@ -137,12 +138,12 @@ class CamLaw:
                 except CommandRejected:
                     profile = plan_stop(self._kinematic(), hard.deceleration, hard.jerk)
                 self._start_brake(now, profile)
-                return profile.at(self.dt)
+                return profile.at(self.cycle_time)
         return proposal
 
 
 def check_periodic(start: tuple[float, ...], end: tuple[float, ...]) -> None:
     """A periodic cam needs a path that ends where it starts."""
-    if math.dist(start, end) > 1e-6:
+    if math.dist(start, end) > CLOSED_PATH_TOLERANCE:
         raise CommandRejected(ErrorId.INVALID_MODE, "Mode periodic needs a path that ends "
                               "where it starts (§6.4)")

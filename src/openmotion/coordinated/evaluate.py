@@ -40,14 +40,14 @@ def evaluate(element: Any, s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray
     if kind is Arc:
         phi = min(max(s, 0.0), element.length) / element.radius
         c, d = math.cos(phi), math.sin(phi)
-        radial = c * element._u + d * element._v
+        radial = c * element.u + d * element.v
         if s >= element.length:
             point = element.end
         elif s <= 0.0:
             point = element.start
         else:
             point = element.center + element.radius * radial
-        return point, -d * element._u + c * element._v, -radial / element.radius
+        return point, -d * element.u + c * element.v, -radial / element.radius
     if kind is Contour:
         return _contour_frame(element, s)
     return (element.position(s), element.tangent(s),
@@ -82,11 +82,11 @@ def _tables(contour: Contour) -> tuple[np.ndarray, tuple[list[float], np.ndarray
     table) and B', B'', B''' in powers of u, (5, 9), for ``_parameter``."""
     cached = contour.__dict__.get("_openmotion_tables")
     if cached is None:
-        derivatives = contour._derivatives_in_powers  # the caps built it already
+        derivatives = contour.derivatives_in_powers  # the caps built it already
         frame = np.zeros((6, 9))
-        frame[:, 0:3] = _MONOMIAL5 @ contour._local
+        frame[:, 0:3] = _MONOMIAL5 @ contour.control_offsets
         frame[:5, 3:9] = derivatives[:, 0:6]
-        cached = (frame, (np.asarray(contour._cumulative, dtype=float).tolist(), derivatives))
+        cached = (frame, (np.asarray(contour.arc_length_table, dtype=float).tolist(), derivatives))
         contour.__dict__["_openmotion_tables"] = cached
     return cached
 

@@ -27,12 +27,10 @@ from typing import NamedTuple, Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from openmotion.coordinated.tolerances import GIMBAL_LOCK, ORTHONORMAL_TOLERANCE
 from openmotion.core.angles import cos_sin
 from openmotion.core.checks import finite_number
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
-
-_ORTHONORMAL_TOLERANCE = 1e-9  #: how far R^T R may be from the identity for a Frame
-_GIMBAL_LOCK = 1e-12  #: cos(rot_angle2) below this: rot_angle1 and rot_angle3 share one axis
 
 
 class CartesianTransform(NamedTuple):
@@ -64,7 +62,7 @@ class Frame:
                               f"{rotation!r}, {translation!r}") from None
         if r.shape != (3, 3) or not np.all(np.isfinite(r)):
             raise ConfigError(f"rotation: must be a finite 3x3 matrix, got {r.tolist()}")
-        if (not np.allclose(r.T @ r, np.eye(3), rtol=0.0, atol=_ORTHONORMAL_TOLERANCE)
+        if (not np.allclose(r.T @ r, np.eye(3), rtol=0.0, atol=ORTHONORMAL_TOLERANCE)
                 or np.linalg.det(r) < 0.0):
             raise ConfigError(f"rotation: must be orthonormal with det +1, got {r.tolist()}")
         if t.shape != (3,) or not np.all(np.isfinite(t)):
@@ -81,7 +79,7 @@ class Frame:
     def _trusted(cls, rotation: NDArray[np.float64], translation: NDArray[np.float64]) -> Frame:
         """Skip the checks for results of our own products, which are rotations already."""
         frame = cls.__new__(cls)
-        frame._set(rotation, translation)
+        cls._set(frame, rotation, translation)
         return frame
 
     @classmethod
@@ -110,7 +108,7 @@ class Frame:
         r = self._rotation
         cos2 = math.hypot(r[0, 0], r[1, 0])
         angle2 = math.atan2(-r[2, 0], cos2)
-        if cos2 > _GIMBAL_LOCK:
+        if cos2 > GIMBAL_LOCK:
             angle1 = math.atan2(r[2, 1], r[2, 2])
             angle3 = math.atan2(r[1, 0], r[0, 0])
         else:
@@ -144,6 +142,10 @@ class Frame:
         """
         return Frame._trusted(self._rotation @ inner._rotation,
                               self._rotation @ inner._translation + self._translation)
+
+    def shifted(self, shift: NDArray[np.float64]) -> Frame:
+        """The same frame with its origin moved by ``shift`` in the parent [mm]."""
+        return Frame._trusted(self._rotation, self._translation + shift)
 
     def inverse(self) -> Frame:
         """The parent placed in the child: turns MCS coordinates into PCS coordinates."""
@@ -225,8 +227,7 @@ class LinearFrame:
     def __call__(self, now: float) -> FrameMotion:
         velocity = np.array(self.velocity, dtype=float)
         shift = velocity * (now - self.start_time)
-        frame = Frame._trusted(self.start.rotation, self.start.translation + shift)
-        return FrameMotion(frame, velocity, np.zeros(3))
+        return FrameMotion(self.start.shifted(shift), velocity, np.zeros(3))
 
 
 def _vectors(values: ArrayLike) -> NDArray[np.float64]:

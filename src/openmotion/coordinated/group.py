@@ -26,6 +26,7 @@ from openmotion.coordinated.frames import Frame
 from openmotion.coordinated.inputs import (
     CoordSystem,
     PathDynamics,
+    PathMoveOptions,
     TransitionMode,
     dynamic_value,
     enum_value,
@@ -33,6 +34,7 @@ from openmotion.coordinated.inputs import (
 from openmotion.coordinated.inputs import buffer_mode as part4_buffer_mode
 from openmotion.coordinated.kind import AXES_GROUP
 from openmotion.coordinated.kinematics import Kinematics
+from openmotion.coordinated.members import GroupMembers
 from openmotion.coordinated.moves import PathMotion
 from openmotion.coordinated.requests import build_request
 from openmotion.coordinated.spaces import Spaces, default_kinematics
@@ -58,7 +60,6 @@ from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.core.special_values import MC_DEFAULT, InputValue
 from openmotion.geometry.path import CircMode, PathChoice
 from openmotion.trajectory.plan import Limits
-from openmotion.trajectory.segments import KinematicState, Profile
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
@@ -93,10 +94,10 @@ class AxesGroup:
             raise ConfigError(f"axes group {name!r}: dynamics must be a PathDynamics, got "
                               f"{type(dynamics).__name__}")
         self.name = name
-        self._rt = runtime
-        self._k = runtime.axis_system.kernel
+        self.runtime = runtime
+        self.kernel = runtime.axis_system.kernel
         self.machine = GroupStateMachine()
-        self.members: dict[int, Axis] = {}  #: IdentInGroup -> axis, in insertion order
+        self.members = GroupMembers(self)  #: IdentInGroup -> axis; their setpoints
         self.dynamics = dynamics or PathDynamics()
         self.spaces = Spaces(default_kinematics(0))
         self.error_id = ErrorId.NO_ERROR  #: the group error behind GroupErrorStop
@@ -107,13 +108,10 @@ class AxesGroup:
         self._home: list[Command] = []
         self._home_command: Command | None = None
         self._pending: list[tuple[Command, set[int], Callable[[], None]]] = []
-        self._last_axis_states: dict[int, AxisState] = {}
         self._syncs: dict[int, AxisSync] = {}  #: MC_SyncAxisToGroup slaves by kernel row
         #: Buffered MC_SyncAxisToGroup calls waiting for their slave's own command to end
         self._waiting_syncs: list[tuple[Axis, SyncInputs, Command]] = []
-        self._written: tuple[float, np.ndarray, np.ndarray, np.ndarray] | None = None
         self._reset: tuple[Command, list[Command]] | None = None
-        self._solo: dict[int, Axis] = {}  #: members running their own MC_Stop / MC_Home
         #: commands buffered behind the motion: a Buffered MC_GroupHome or MC_GroupSetPosition
         #: (§5.7, §5.9), and the motions buffered behind those; (command, is_motion, start)
         self._queued: list[tuple[Command, bool, Callable[[], None]]] = []
@@ -132,40 +130,41 @@ class AxesGroup:
     @property
     def axes(self) -> list[Axis]:
         """Members in IdentInGroup order (the ACS order, §5.10)."""
-        return [self.members[i] for i in sorted(self.members)]
+        return self.members.axes
 
     @property
     def rows(self) -> np.ndarray:
-        return np.array([a.row for a in self.axes], dtype=np.int64)
+        """The members' kernel rows in IdentInGroup order (read-only)."""
+        return self.members.rows
 
     @property
     def kinematics(self) -> Kinematics:
         return self.spaces.kinematics
 
     def acs_set(self) -> np.ndarray:
-        return self._k.set_p[self.rows].copy()
+        return self.kernel.set_p[self.rows].copy()
 
     def position(self, coord_system: CoordSystem = CoordSystem.ACS, actual: bool = True
                  ) -> np.ndarray:
         """MC_GroupReadActualPosition (§5.10): one value per axis (ACS) or per coordinate."""
         rows = self.rows
-        acs = (self._k.act_p if actual else self._k.set_p)[rows].copy()
+        acs = (self.kernel.act_p if actual else self.kernel.set_p)[rows].copy()
         if coord_system is CoordSystem.ACS:
             return acs
         mcs = self.spaces.to_mcs(acs)
-        return mcs if coord_system is CoordSystem.MCS else self.spaces.pcs_of(mcs, self._rt.now)
+        return mcs if coord_system is CoordSystem.MCS else self.spaces.pcs_of(mcs, self.runtime.now)
 
     def velocity(self, coord_system: CoordSystem = CoordSystem.ACS) -> tuple[np.ndarray, float]:
         """MC_GroupReadActualVelocity (§5.11): velocities and the path velocity (TCP speed)."""
         rows = self.rows
-        acs, vel = self._k.act_p[rows].copy(), self._k.act_v[rows].copy()
+        acs, vel = self.kernel.act_p[rows].copy(), self.kernel.act_v[rows].copy()
         mcs_v = self.kinematics.forward_velocity(acs, vel) if rows.size else np.zeros(0)
         path = float(np.linalg.norm(self.spaces.xyz(mcs_v))) if rows.size else 0.0
         if coord_system is CoordSystem.ACS:
             return vel, path
         if coord_system is CoordSystem.PCS:
             mcs_v = self.spaces.with_xyz(
-                mcs_v, self.spaces.frame(self._rt.now).inverse().rotate(self.spaces.xyz(mcs_v)))
+                mcs_v, self.spaces.frame(self.runtime.now).inverse().rotate(self.spaces.xyz(mcs_v)))
         return mcs_v, path
 
     def acceleration(self, coord_system: CoordSystem = CoordSystem.ACS
@@ -174,22 +173,21 @@ class AxesGroup:
         acceleration (positive while the path speed grows). The drives report no
         acceleration, so the setpoint's is shown (decisions D-108)."""
         rows = self.rows
-        acs, vel, acc = (self._k.set_p[rows].copy(), self._k.set_v[rows].copy(),
-                         self._k.set_a[rows].copy())
+        acs, vel, acc = (self.kernel.set_p[rows].copy(), self.kernel.set_v[rows].copy(),
+                         self.kernel.set_a[rows].copy())
         path_acc = self.motion.path_acceleration
         if coord_system is CoordSystem.ACS or not rows.size:
             return acc, path_acc
         mcs_a = self.kinematics.forward_velocity(acs, acc)  # exact for linear kinematics
         if coord_system is CoordSystem.PCS:
             mcs_a = self.spaces.with_xyz(
-                mcs_a, self.spaces.frame(self._rt.now).inverse().rotate(self.spaces.xyz(mcs_a)))
+                mcs_a, self.spaces.frame(self.runtime.now).inverse().rotate(self.spaces.xyz(mcs_a)))
         del vel
         return mcs_a, path_acc
 
     @property
     def all_axes_standing(self) -> bool:
-        rows = self.rows
-        return bool(np.all(self._k.set_v[rows] == 0.0) and np.all(self._k.set_a[rows] == 0.0))
+        return self.members.standing
 
     def status_flags(self) -> dict[str, bool]:
         """MC_GroupReadStatus (§5.17): one state flag, and the motion flags of the path."""
@@ -226,7 +224,7 @@ class AxesGroup:
         except CommandRejected as rejected:
             return self._reject(command, rejected)
         self.machine.fire(GroupEvent.ADD_AXIS)
-        self.members[number] = axis
+        self.members.add(number, axis)
         axis.group = self
         self._regrouped()
         return self._finish(command)
@@ -242,7 +240,7 @@ class AxesGroup:
                                       f"no member has IdentInGroup {number}")
         except CommandRejected as rejected:
             return self._reject(command, rejected)
-        self._release(self.members.pop(number))
+        self.members.release(self.members.pop(number))
         self.machine.fire(GroupEvent.REMOVE_AXIS)
         self._regrouped()
         return self._finish(command)
@@ -256,7 +254,7 @@ class AxesGroup:
             return self._reject(command, rejected)
         self.motion.abort_all("the axes were ungrouped")
         for axis in list(self.members.values()):
-            self._release(axis)
+            self.members.release(axis)
         self.members.clear()
         self.machine.fire(GroupEvent.UNGROUP)
         self._regrouped()
@@ -270,7 +268,7 @@ class AxesGroup:
         except CommandRejected as rejected:
             return self._reject(command, rejected)
         self.machine.fire(GroupEvent.ENABLE)
-        self._last_axis_states = {}
+        self.members.last_states = {}
         self._check_members()
         return self._finish(command)
 
@@ -281,9 +279,10 @@ class AxesGroup:
             command.warnings.append("the group was moving: its axes stopped at once")
         self.motion.abort_all("the group was disabled")
         self._home_abort("the group was disabled")
-        self._hold_members()
+        self.members.hold()
         if self._stop is not None:
-            self._stop.end(CommandStatus.ABORTED, self._rt.now, message="the group was disabled")
+            self._stop.end(CommandStatus.ABORTED, self.runtime.now,
+                           message="the group was disabled")
             self._stop = None
         self.machine.fire(GroupEvent.DISABLE)
         self._couple()
@@ -299,14 +298,14 @@ class AxesGroup:
         parts = []
         for axis in self.axes:
             if axis.state is AxisState.ERROR_STOP:
-                with self._ungrouped(axis):
+                with self.members.ungrouped(axis):
                     part = axis.reset()
                 if part.error:
                     return self._reject(command, CommandRejected(part.error_id, part.message))
                 parts.append(part)
         self._reset = (command, parts)
         command.status = CommandStatus.ACTIVE
-        self._end_reset(self._rt.now)
+        self._end_reset(self.runtime.now)
         return command
 
     def _end_reset(self, now: float) -> None:
@@ -324,7 +323,7 @@ class AxesGroup:
         if self.state is G.ERROR_STOP or self.state is G.STANDBY or self.state is G.DISABLED:
             self.error_id, self.error_message = ErrorId.NO_ERROR, ""
             self.machine.fire(GroupEvent.RESET)
-            self._last_axis_states = {}
+            self.members.last_states = {}
             self._couple()
         command.end(CommandStatus.DONE, now)
 
@@ -410,7 +409,7 @@ class AxesGroup:
 
         def apply() -> None:
             self._set_position(value, relative, coord_system)
-            command.end(CommandStatus.DONE, self._rt.now)
+            command.end(CommandStatus.DONE, self.runtime.now)
         return self._after_motion(command, mode, apply)
 
     def _set_position(self, value: np.ndarray, relative: bool, coord_system: CoordSystem
@@ -454,7 +453,8 @@ class AxesGroup:
             if self._home_command is not None or self.state not in (G.STANDBY, G.MOVING):
                 return
             if not is_motion:
-                if not self.motion.finished or self._solo_running() or self.table is not None:
+                if not self.motion.finished or self.members.solo_running() \
+                        or self.table is not None:
                     return
                 if self.state is G.MOVING:
                     self.machine.fire(GroupEvent.MOTION_END)
@@ -469,7 +469,7 @@ class AxesGroup:
         """An Aborting motion, a halt or stop, disable, an error: what waits is aborted."""
         queued, self._queued = self._queued, []
         for command, _, _ in queued:
-            command.end(CommandStatus.ABORTED, self._rt.now, message=reason)
+            command.end(CommandStatus.ABORTED, self.runtime.now, message=reason)
 
     def _set_acs(self, value: np.ndarray, relative: bool) -> None:
         """Each member's setpoint reads ``value`` (or moves by it), its actual position
@@ -477,7 +477,7 @@ class AxesGroup:
         acts in the cycle the motion ends, before the drives caught up)."""
         for axis, new in zip(self.axes, value, strict=True):
             target = axis.set_position + new if relative else new
-            with self._ungrouped(axis):
+            with self.members.ungrouped(axis):
                 part = axis.set_actual_position(axis.position + float(target)
                                                 - axis.set_position)
             if part.error:
@@ -502,7 +502,7 @@ class AxesGroup:
 
         def start() -> None:
             self.motion.brake(dec, jerk_value, "aborted by MC_GroupStop")
-            self._end_table("aborted by MC_GroupStop")
+            self.end_table("aborted by MC_GroupStop")
             self._home_abort("aborted by MC_GroupStop")
             self.machine.fire(GroupEvent.STOP)
             self._couple()
@@ -527,7 +527,7 @@ class AxesGroup:
             self.machine.fire(GroupEvent.HALT)
             self._couple()
             self.motion.halt(command, dec, jerk_value)
-            self._end_table("aborted by MC_GroupHalt")  # a blocker is released (§9.3.1.2.6)
+            self.end_table("aborted by MC_GroupHalt")  # a blocker is released (§9.3.1.2.6)
             if mode is BufferMode.ABORTING:  # a buffered halt keeps what was issued after it
                 self._abort_queued("aborted by MC_GroupHalt")
         return self._after_motion(command, mode, start)
@@ -602,14 +602,14 @@ class AxesGroup:
         if coord is CoordSystem.ACS:
             return vector(position, len(self.members), "Position").tolist()
         value = vector(position, self.spaces.size, "Position")
-        mcs = value if coord is CoordSystem.MCS else self.spaces.mcs_of(value, self._rt.now)
+        mcs = value if coord is CoordSystem.MCS else self.spaces.mcs_of(value, self.runtime.now)
         return [float(x) for x in self.spaces.to_acs(mcs, near=self.acs_set())]
 
     def _start_home(self, command: Command, values: list[Any]) -> None:
         self.machine.fire(GroupEvent.HOME_START)
         self._home = []
         for axis, value in zip(self.axes, values, strict=True):
-            with self._ungrouped(axis):
+            with self.members.ungrouped(axis):
                 part = axis.home() if value is None else axis.home(value)
             self._home.append(part)
         self._couple()
@@ -618,7 +618,7 @@ class AxesGroup:
         # after the members' homing sequences (watchers run by row, then by age): the group
         # is GroupStandby in the cycle its last member is homed, never StandStill under
         # GroupHoming (Table 5)
-        self._rt.axis_system.watch(max(self.axes, key=lambda a: a.row), self._watch_home)
+        self.runtime.axis_system.watch(max(self.axes, key=lambda a: a.row), self._watch_home)
         return command
 
     def _watch_home(self, now: float) -> bool:
@@ -635,9 +635,10 @@ class AxesGroup:
                              transition_mode: TransitionMode = TransitionMode.TM_NONE,
                              transition_parameter: Any = None) -> Command:
         """MC_MoveLinearAbsolute (§5.20): a straight line to ``position`` in ``coord_system``."""
-        return self._path("MC_MoveLinearAbsolute", "linear", position, None, velocity,
-                          acceleration, deceleration, jerk, coord_system, buffer_mode,
-                          transition_mode, transition_parameter, relative=False)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        return self._path("MC_MoveLinearAbsolute", "linear", position, None, options,
+                          relative=False)
 
     def move_linear_relative(self, distance: Any, velocity: InputValue = MC_DEFAULT,
                              acceleration: InputValue = MC_DEFAULT,
@@ -648,9 +649,10 @@ class AxesGroup:
                              transition_parameter: Any = None) -> Command:
         """MC_MoveLinearRelative (§5.21): ``distance`` from where the TCP is when the FB is
         accepted, or from the end of the queue when it is buffered."""
-        return self._path("MC_MoveLinearRelative", "linear", distance, None, velocity,
-                          acceleration, deceleration, jerk, coord_system, buffer_mode,
-                          transition_mode, transition_parameter, relative=True)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        return self._path("MC_MoveLinearRelative", "linear", distance, None, options,
+                          relative=True)
 
     def move_circular_absolute(self, aux_point: Any, end_point: Any,
                                circ_mode: CircMode = CircMode.BORDER,
@@ -664,10 +666,11 @@ class AxesGroup:
                                transition_mode: TransitionMode = TransitionMode.TM_NONE,
                                transition_parameter: Any = None) -> Command:
         """MC_MoveCircularAbsolute (§5.22): BORDER, CENTER or RADIUS, see geometry/path.py."""
-        return self._path("MC_MoveCircularAbsolute", "circular", end_point,
-                          (aux_point, circ_mode, path_choice), velocity, acceleration,
-                          deceleration, jerk, coord_system, buffer_mode, transition_mode,
-                          transition_parameter, relative=False)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        circle = (aux_point, circ_mode, path_choice)
+        return self._path("MC_MoveCircularAbsolute", "circular", end_point, circle, options,
+                          relative=False)
 
     def move_circular_relative(self, aux_point: Any, end_point: Any,
                                circ_mode: CircMode = CircMode.BORDER,
@@ -681,10 +684,11 @@ class AxesGroup:
                                transition_mode: TransitionMode = TransitionMode.TM_NONE,
                                transition_parameter: Any = None) -> Command:
         """MC_MoveCircularRelative (§5.23): AuxPoint and EndPoint are offsets from the start."""
-        return self._path("MC_MoveCircularRelative", "circular", end_point,
-                          (aux_point, circ_mode, path_choice), velocity, acceleration,
-                          deceleration, jerk, coord_system, buffer_mode, transition_mode,
-                          transition_parameter, relative=True)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        circle = (aux_point, circ_mode, path_choice)
+        return self._path("MC_MoveCircularRelative", "circular", end_point, circle, options,
+                          relative=True)
 
     def move_direct_absolute(self, position: Any, velocity: InputValue = MC_DEFAULT,
                              acceleration: InputValue = MC_DEFAULT,
@@ -695,9 +699,10 @@ class AxesGroup:
                              transition_parameter: Any = None) -> Command:
         """MC_MoveDirectAbsolute (§5.24): point to point in joint space, every axis within its
         own limits and all ending together; the dynamics inputs are in ACS units."""
-        return self._path("MC_MoveDirectAbsolute", "direct", position, None, velocity,
-                          acceleration, deceleration, jerk, coord_system, buffer_mode,
-                          transition_mode, transition_parameter, relative=False)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        return self._path("MC_MoveDirectAbsolute", "direct", position, None, options,
+                          relative=False)
 
     def move_direct_relative(self, distance: Any, velocity: InputValue = MC_DEFAULT,
                              acceleration: InputValue = MC_DEFAULT,
@@ -707,9 +712,10 @@ class AxesGroup:
                              transition_mode: TransitionMode = TransitionMode.TM_NONE,
                              transition_parameter: Any = None) -> Command:
         """MC_MoveDirectRelative (§5.25)."""
-        return self._path("MC_MoveDirectRelative", "direct", distance, None, velocity,
-                          acceleration, deceleration, jerk, coord_system, buffer_mode,
-                          transition_mode, transition_parameter, relative=True)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        return self._path("MC_MoveDirectRelative", "direct", distance, None, options,
+                          relative=True)
 
     def move_path(self, path: Any, velocity: InputValue = MC_DEFAULT,
                   acceleration: InputValue = MC_DEFAULT, deceleration: InputValue = MC_DEFAULT,
@@ -718,9 +724,10 @@ class AxesGroup:
                   transition_mode: TransitionMode = TransitionMode.TM_NONE,
                   transition_parameter: Any = None) -> Command:
         """MC_MovePath (§5.27): run a path prepared by MC_PathSelect (``PathData``)."""
-        return self._path("MC_MovePath", "path", path, None, velocity, acceleration,
-                          deceleration, jerk, coord_system, buffer_mode, transition_mode,
-                          transition_parameter, relative=False)
+        options = PathMoveOptions(velocity, acceleration, deceleration, jerk, coord_system,
+                                  buffer_mode, transition_mode, transition_parameter)
+        return self._path("MC_MovePath", "path", path, None, options,
+                          relative=False)
 
     def move_path_table(self, path_data: Any) -> Command:
         """MC_MovePath of TF5410 §9.3.1.2.5: run the rows of an ``MC_PATH_DATA_REF``
@@ -761,7 +768,7 @@ class AxesGroup:
             if first is not BufferMode.ABORTING:
                 self.table.defer(command, start)
                 return command
-            self._end_table("aborted by MC_MovePath")
+            self.end_table("aborted by MC_MovePath")
         start()
         return command
 
@@ -794,29 +801,26 @@ class AxesGroup:
         finally:
             self._feeding = False
 
-    def _end_table(self, reason: str, error: tuple[ErrorId, str] | None = None) -> None:
+    def end_table(self, reason: str, error: tuple[ErrorId, str] | None = None) -> None:
         """A halt, stop, disable, group error or an Aborting motion ends a running path
         table: MC_MovePath CommandAborted (Error for a group error), blockers released."""
         table, self.table = self.table, None
         if table is not None and table.command.busy:
             table.end(reason, error)
 
-    def _path(self, block: str, kind: str, target: Any, circle: Any, velocity: InputValue,
-              acceleration: InputValue, deceleration: InputValue, jerk: InputValue,
-              coord_system: Any, buffer_mode: Any, transition_mode: Any,
-              transition_parameter: Any, relative: bool) -> Command:
+    def _path(self, block: str, kind: str, target: Any, circle: Any, options: PathMoveOptions,
+              relative: bool) -> Command:
         command = self._command(block)
         try:
-            buffer_mode = part4_buffer_mode(buffer_mode)
+            buffer_mode = part4_buffer_mode(options.buffer_mode)
             self.machine.accept(block, buffer_mode)
-            request = build_request(self, command, kind, target, circle, velocity,
-                                    acceleration, deceleration, jerk, coord_system, buffer_mode,
-                                    transition_mode, transition_parameter, relative)
+            request = build_request(self, command, kind, target, circle, options, buffer_mode,
+                                    relative)
             if self.table is not None and not self._feeding:  # a path table runs (D-213)
                 if buffer_mode is not BufferMode.ABORTING:
                     self.table.defer(command, lambda: self._submit(block, request))
                     return command
-                self._end_table(f"aborted by {block}")
+                self.end_table(f"aborted by {block}")
             if self._queued and buffer_mode is not BufferMode.ABORTING:  # behind them
                 self._queued.append((command, True, lambda: self._submit(block, request)))
                 return command
@@ -856,9 +860,9 @@ class AxesGroup:
             self.machine.accept("MC_SyncGroupToAxis", queue_mode)
             ratio = _conversion(tuc_numerator, tuc_denominator)
             mode = PathMode(mode)
-            request = build_request(self, command, "path", path, None, MC_DEFAULT, acceleration,
-                                    deceleration, jerk, coord_system, BufferMode.ABORTING,
-                                    TransitionMode.TM_NONE, None, False)
+            options = PathMoveOptions(MC_DEFAULT, acceleration, deceleration, jerk, coord_system)
+            request = build_request(self, command, "path", path, None, options,
+                                    BufferMode.ABORTING, False)
         except CommandRejected as rejected:
             return self._reject(command, rejected)
         _, a, d, j = request.dynamics  # §6.4 has no velocity: the group's maximum
@@ -870,11 +874,11 @@ class AxesGroup:
                 try:
                     check_periodic(tuple(start), tuple(request.end))
                 except CommandRejected:
-                    self.motion._clear()
+                    self.motion.clear()
                     raise
             assert self.motion.law is not None
             self.motion.law = CamLaw(self.motion.law, master, ratio, mode, limits, command,
-                                     self._rt.cycle_time)
+                                     self.runtime.cycle_time)
 
         def start() -> None:
             request.extra["couple"] = couple
@@ -991,10 +995,10 @@ class AxesGroup:
     def _start_sync(self, slave: Axis, inputs: SyncInputs, command: Command) -> None:
         old = self._syncs.pop(slave.row, None)
         if old is not None:
-            old.end(self._rt.now, "replaced by a new MC_SyncAxisToGroup")
+            old.end(self.runtime.now, "replaced by a new MC_SyncAxisToGroup")
         if slave.has_job:
-            slave._abort_all("aborted by MC_SyncAxisToGroup")
-            slave._k.has_job[slave.row] = False
+            slave.queue.abort_all("aborted by MC_SyncAxisToGroup")
+            slave.kernel.has_job[slave.row] = False
         command.status = CommandStatus.ACTIVE
         self._syncs[slave.row] = AxisSync(self, slave, inputs, command)
 
@@ -1033,14 +1037,14 @@ class AxesGroup:
             self._start_waiting_syncs()
         if self._syncs:
             for row, sync in list(self._syncs.items()):
-                sync.step(now, self._rt.cycle_time)
+                sync.step(now, self.runtime.cycle_time)
                 if sync.command.finished:
                     del self._syncs[row]
         self._end_home(now)
         self._end_stop(now)
         self._end_pending()
         self._run_queued()
-        solo = self._solo_running()
+        solo = self.members.solo_running()
         if self.state is G.MOVING and self.motion.finished and self._home_command is None \
                 and not solo and self.table is None:
             self.machine.fire(GroupEvent.MOTION_END)
@@ -1075,7 +1079,7 @@ class AxesGroup:
             axis.group = self
         if failed is not None:
             command.end(CommandStatus.ERROR, now, failed.error_id, failed.message)
-            self._fault(failed.error_id, f"homing failed: {failed.message}")
+            self.fault(failed.error_id, f"homing failed: {failed.message}")
             return
         if self.state is G.HOMING:
             command.end(CommandStatus.DONE, now)
@@ -1090,10 +1094,10 @@ class AxesGroup:
         if self._home_command is None:
             return
         for axis in self.axes:
-            with self._ungrouped(axis):
+            with self.members.ungrouped(axis):
                 axis.stop()
             axis.group = self
-        self._home_command.end(CommandStatus.ABORTED, self._rt.now, message=reason)
+        self._home_command.end(CommandStatus.ABORTED, self.runtime.now, message=reason)
         self._home_command, self._home = None, []
 
     def _end_pending(self) -> None:
@@ -1105,7 +1109,7 @@ class AxesGroup:
                 continue
             if self.motion.all_ended(wait):
                 apply()
-                command.end(CommandStatus.DONE, self._rt.now)
+                command.end(CommandStatus.DONE, self.runtime.now)
             elif command.busy:
                 keep.append((command, wait, apply))
         self._pending = keep
@@ -1116,39 +1120,39 @@ class AxesGroup:
             return
         for axis in self.axes:
             state = axis.state
-            if self._last_axis_states.get(axis.row) is state:
+            if self.members.last_states.get(axis.row) is state:
                 continue
-            self._last_axis_states[axis.row] = state
+            self.members.last_states[axis.row] = state
             event = member_event(state)
             if event is GroupEvent.ERROR and self.state is not G.ERROR_STOP:
-                self._fault(ErrorId.GROUP_ERROR,
-                            f"member {axis.name} is in ErrorStop: {axis.axis_error_message}")
+                self.fault(ErrorId.GROUP_ERROR,
+                           f"member {axis.name} is in ErrorStop: {axis.axis_error_message}")
             elif event is GroupEvent.MEMBER_POWER_OFF and self.state in (
                     G.HOMING, G.MOVING, G.STOPPING):
                 self.motion.abort_all(f"member {axis.name} lost power")
-                self._hold_members()
+                self.members.hold()
                 if self._stop is not None:
-                    self._stop.end(CommandStatus.ABORTED, self._rt.now,
+                    self._stop.end(CommandStatus.ABORTED, self.runtime.now,
                                     message=f"member {axis.name} lost power")
                     self._stop = None
                 self._home_abort(f"member {axis.name} lost power")
                 self.machine.fire(event)
                 self._couple()
 
-    def _fault(self, error_id: ErrorId, message: str) -> None:
+    def fault(self, error_id: ErrorId, message: str) -> None:
         """GroupErrorStop (§3.1): motion aborted, every healthy axis brakes on its own."""
         self.error_id, self.error_message = error_id, message
         self.motion.abort_all(f"group error: {message}", error=(error_id, message))
         self._home_abort(f"group error: {message}")
         if self._stop is not None:
-            self._stop.end(CommandStatus.ABORTED, self._rt.now, message=message)
+            self._stop.end(CommandStatus.ABORTED, self.runtime.now, message=message)
             self._stop = None
-        self._brake_members()
+        self.members.brake()
         self.machine.fire(GroupEvent.ERROR)
 
     # -- single-axis commands on members (§3.2) ----------------------------------------------
 
-    def _admit_member(self, axis: Axis, family: str) -> None:
+    def admit_member(self, axis: Axis, family: str) -> None:
         """``Axis._admit`` of a member: moves are refused (§3.2 option 1); MC_Stop always
         passes and MC_Home in GroupStandby, and the group is GroupMoving until that command
         is over and every member stands (§3.2 general rules; decisions D-129). A running
@@ -1165,24 +1169,12 @@ class AxesGroup:
         elif self.state in (G.MOVING, G.STOPPING) and (self.motion.running
                                                         or not self.all_axes_standing):
             self.motion.abort_all(reason)
-            self._brake_members()
-        self._solo[axis.row] = axis
+            self.members.brake()
+        self.members.solo[axis.row] = axis
         event = member_command_event(self.state, family)
         if event is not None:
             self.machine.fire(event)
             self._couple()
-
-    def _solo_running(self) -> bool:
-        """A member's own MC_Stop or MC_Home runs or is held, or the members still brake
-        after it; once all is over the members follow the group again."""
-        if not self._solo:
-            return False
-        own = (AxisState.STOPPING, AxisState.HOMING)
-        if self.all_axes_standing and not any(a.state in own or a.has_job
-                                              for a in self._solo.values()):
-            self._solo = {}
-            return False
-        return True
 
     # -- members' setpoints --------------------------------------------------------------------
 
@@ -1190,86 +1182,14 @@ class AxesGroup:
         """Table 5: members show SynchronizedMotion while the group moves, homes or stops
         (a member's own MC_Home, run by MC_GroupHome, included: D-104)."""
         for axis in self.axes:
-            if axis.row in self._solo:  # its own MC_Stop or MC_Home shows (§3.2)
+            if axis.row in self.members.solo:  # its own MC_Stop or MC_Home shows (§3.2)
                 continue
             axis.state = member_state(self.state, axis.state)
-            self._last_axis_states[axis.row] = axis.state
-
-    def _hold_members(self) -> None:
-        """Stop at once where the setpoints are (GroupDisable, power loss)."""
-        k = self._k
-        p, _, _ = self._last_setpoints()
-        for axis, value in zip(self.axes, p.tolist(), strict=True):
-            row = axis.row
-            k.set_p[row] = value
-            k.set_v[row] = k.set_a[row] = k.set_j[row] = 0.0
-            k.segments.install(row, Profile.hold(KinematicState(value)), k.sample_time)
-        self._written = None
-
-    def _brake_members(self) -> None:
-        """Each healthy member brakes on its own profile (the group error reaction)."""
-        from openmotion.trajectory.plan import plan_stop
-        k = self._k
-        p, v, a = self._last_setpoints()
-        for index, axis in enumerate(self.axes):
-            if axis.state is AxisState.ERROR_STOP:
-                continue
-            row = axis.row
-            start = KinematicState(float(p[index]), float(v[index]), float(a[index]))
-            profile = plan_stop(start, axis.parameters.max_deceleration, axis.parameters.max_jerk)
-            k.segments.install(row, profile, k.sample_time)
-            k.set_p[row], k.set_v[row], k.set_a[row] = start.position, start.velocity, \
-                start.acceleration
-        self._written = None
-
-    def write_setpoints(self, p: np.ndarray, v: np.ndarray, a: np.ndarray,
-                        j: np.ndarray | None = None) -> None:
-        """The path cycle's output: the member rows' setpoints, after the kernel evaluated."""
-        k, rows = self._k, self.rows
-        k.set_p[rows], k.set_v[rows], k.set_a[rows] = p, v, a
-        k.set_j[rows] = 0.0 if j is None else j
-        self._written = (self._rt.now, np.array(p, dtype=float), np.array(v, dtype=float),
-                         np.array(a, dtype=float))
-
-    def _last_setpoints(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The members' setpoints as the group last wrote them: in a cycle where the group
-        reacts before its path output (a fault, a power loss), the kernel has already
-        evaluated the rows' own resting profiles, which lag behind the path."""
-        k, rows = self._k, self.rows
-        written = self._written
-        if written is not None and written[1].shape == rows.shape \
-                and written[0] >= self._rt.now - 1.5 * self._rt.cycle_time:
-            return written[1], written[2], written[3]
-        return k.set_p[rows].copy(), k.set_v[rows].copy(), k.set_a[rows].copy()
-
-    def settle(self, p: np.ndarray) -> None:
-        """The path ended at ``p``: the rows hold there on their own profiles."""
-        k = self._k
-        self._written = None
-        for row, value in zip(self.rows.tolist(), p.tolist(), strict=True):
-            k.set_p[row] = value
-            k.set_v[row] = k.set_a[row] = k.set_j[row] = 0.0
-            k.segments.install(row, Profile.hold(KinematicState(value)), k.sample_time)
-
-    def _release(self, axis: Axis) -> None:
-        axis.group = None
-        self._solo.pop(axis.row, None)
-        if axis.state is AxisState.SYNCHRONIZED_MOTION:
-            axis.state = AxisState.STANDSTILL
-        self._last_axis_states.pop(axis.row, None)
+            self.members.last_states[axis.row] = axis.state
 
     def _regrouped(self) -> None:
         if not self.spaces.explicit or self.spaces.kinematics.n_axes != len(self.members):
             self.spaces.set_kinematics(default_kinematics(len(self.members)), explicit=False)
-
-    @contextmanager
-    def _ungrouped(self, axis: Axis) -> Iterator[None]:
-        """Let the group issue a single-axis command to its member (home, set position)."""
-        axis.group = None
-        try:
-            yield
-        finally:
-            axis.group = self
 
     # -- helpers -------------------------------------------------------------------------------
 
@@ -1279,14 +1199,14 @@ class AxesGroup:
                 dynamic_value("jerk", jerk, self.dynamics, command.warnings))
 
     def _command(self, kind: str) -> Command:
-        return Command(kind, self._rt.now)
+        return Command(kind, self.runtime.now)
 
     def _finish(self, command: Command) -> Command:
-        command.end(CommandStatus.DONE, self._rt.now)
+        command.end(CommandStatus.DONE, self.runtime.now)
         return command
 
     def _reject(self, command: Command, rejected: CommandRejected) -> Command:
-        command.end(CommandStatus.ERROR, self._rt.now, rejected.error_id, rejected.message)
+        command.end(CommandStatus.ERROR, self.runtime.now, rejected.error_id, rejected.message)
         return command
 
 

@@ -40,6 +40,22 @@ class TransitionMode(IntEnum):
     TM_MAX_CORNER_DEVIATION = 4  #: contour passes at most TPCornerDeviation from the corner
 
 
+@dataclass(frozen=True)
+class PathMoveOptions:
+    """The inputs every path move of Part 4 shares (§5.20-§5.27), as the FB gives them: the
+    dynamics (MC_DEFAULT: the group's PathDynamics), the coordinate system, the buffer mode
+    and the transition to the motion before. Checked when the move is built (requests.py)."""
+
+    velocity: InputValue = MC_DEFAULT  #: [mm/s] along the path (ACS units for MC_MoveDirect*)
+    acceleration: InputValue = MC_DEFAULT  #: [mm/s²]
+    deceleration: InputValue = MC_DEFAULT  #: [mm/s²]
+    jerk: InputValue = MC_DEFAULT  #: [mm/s³]
+    coord_system: CoordSystem = CoordSystem.MCS  #: ACS for MC_MoveDirect*
+    buffer_mode: BufferMode = BufferMode.ABORTING
+    transition_mode: TransitionMode = TransitionMode.TM_NONE
+    transition_parameter: Any = None  #: TransitionParameter, per mode (§2.4.3)
+
+
 @dataclass(frozen=True, slots=True)
 class PathDynamics:
     """The group's dynamics on the path: defaults for MC_DEFAULT and caps (§5.20)."""

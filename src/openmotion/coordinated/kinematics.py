@@ -24,6 +24,7 @@ from enum import Enum
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from openmotion.coordinated.tolerances import AXIS_LIMIT_TOLERANCE, REACH_TOLERANCE
 from openmotion.core.checks import (
     finite_number,
     finite_pair,
@@ -40,8 +41,6 @@ COORDINATES = ("x", "y", "z", "a", "b", "c")  #: MCS slots in their fixed order 
 _UNREACHABLE = ErrorId.TARGET_UNREACHABLE
 _SINGULAR = ErrorId.KINEMATICS_SINGULAR
 _SINGULAR_CONDITION = 1e12  #: a Jacobian worse conditioned than this is not inverted
-_REACH_TOLERANCE = 1e-9  #: [mm] rounding beyond the workspace border still counts as inside
-_LIMIT_TOLERANCE = 1e-9  #: [mm or °] rounding beyond an axis limit counts as on it
 _DEG = math.pi / 180.0  #: [rad/°] scales the Jacobian's angle columns to the public units
 
 
@@ -94,8 +93,8 @@ class Kinematics(ABC):
             reference, _ = self._points(near, self.n_axes, "ACS position")
             q = self._nearest_turn(q, np.broadcast_to(reference, q.shape))
         low, high = self.limits[:, 0], self.limits[:, 1]  # a target on a limit, rounded
-        q = np.where((q < low) & (q >= low - _LIMIT_TOLERANCE), low, q)  # past it, is on it
-        q = np.where((q > high) & (q <= high + _LIMIT_TOLERANCE), high, q)
+        q = np.where((q < low) & (q >= low - AXIS_LIMIT_TOLERANCE), low, q)  # past it, is on it
+        q = np.where((q > high) & (q <= high + AXIS_LIMIT_TOLERANCE), high, q)
         bad = np.any((q < self.limits[:, 0]) | (q > self.limits[:, 1]), axis=1)
         self._reject(bad, lambda i: self._limit_message(x[i], q[i]))
         return q[0] if single else q
@@ -211,21 +210,22 @@ class CartesianGantry(Kinematics):
             raise ConfigError(f"sign: must be {n} values of +1 or -1, got {signs.tolist()}")
         super().__init__(n, tuple(c for c in COORDINATES if c in mapping))
         self.mapping = mapping  #: the MCS coordinate of each ACS axis
-        self._slot = np.array([self.coordinates.index(c) for c in mapping])
-        self._sign = signs
-        self._offset = offsets
+        #: the MCS slot of each ACS axis: acs[k] = signs[k] * (mcs[slots[k]] - offsets[k])
+        self.slots = np.array([self.coordinates.index(c) for c in mapping])
+        self.signs = signs  #: +1 or -1 per ACS axis
+        self.offsets = offsets  #: [mm] per ACS axis
 
     def _forward(self, q: Array) -> Array:
         x = np.empty_like(q)
-        x[:, self._slot] = self._sign * q + self._offset
+        x[:, self.slots] = self.signs * q + self.offsets
         return x
 
     def _inverse(self, x: Array, configuration: Configuration | None) -> Array:
-        return (x[:, self._slot] - self._offset) * self._sign
+        return (x[:, self.slots] - self.offsets) * self.signs
 
     def _jacobian(self, q: Array) -> Array:
         j = np.zeros((self.n_axes, self.n_axes))
-        j[self._slot, np.arange(self.n_axes)] = self._sign
+        j[self.slots, np.arange(self.n_axes)] = self.signs
         return np.broadcast_to(j, (len(q), self.n_axes, self.n_axes)).copy()
 
 
@@ -271,7 +271,7 @@ class Scara(Kinematics):
         l1, l2 = self.l1, self.l2
         r = np.hypot(x[:, 0], x[:, 1])
         outer, inner = r - (l1 + l2), abs(l1 - l2) - r
-        self._reject((outer > _REACH_TOLERANCE) | (inner > _REACH_TOLERANCE), lambda i: (
+        self._reject((outer > REACH_TOLERANCE) | (inner > REACH_TOLERANCE), lambda i: (
             f"MCS position {_fmt(x[i, :2])} is out of reach: {r[i]:.6g} mm from the base, "
             f"the arm reaches {abs(l1 - l2):g} to {l1 + l2:g} mm"))
         # sin(theta2) from the two distances to the borders: accurate where 1 - cos^2 is not
@@ -372,7 +372,7 @@ class DeltaRobot(Kinematics):
         aa, bb = np.einsum("mi,mi->m", a, a), np.einsum("mi,mi->m", b, b)
         centre = c[:, 2] + np.cross(aa[:, None] * b - bb[:, None] * a, n) / (2.0 * nn[:, None])
         h2 = self.forearm**2 - np.einsum("mi,mi->m", centre - c[:, 0], centre - c[:, 0])
-        self._reject(h2 < -_REACH_TOLERANCE * self.forearm, lambda i: (
+        self._reject(h2 < -REACH_TOLERANCE * self.forearm, lambda i: (
             f"ACS position {_fmt(q[i])} cannot be assembled: the elbows are more than two "
             "forearms apart"))
         down = np.where(n[:, 2:] >= 0.0, 1.0, -1.0) * n / np.sqrt(nn)[:, None]
@@ -406,7 +406,7 @@ class DeltaRobot(Kinematics):
 def _fit_turn(angle: Array, limits: Array) -> Array:
     """Shift angles by a full turn where that brings them inside the axis limits (or a
     rounding beyond one, which ``Kinematics.inverse`` puts on it)."""
-    low, high = limits[0] - _LIMIT_TOLERANCE, limits[1] + _LIMIT_TOLERANCE
+    low, high = limits[0] - AXIS_LIMIT_TOLERANCE, limits[1] + AXIS_LIMIT_TOLERANCE
     for shift in (360.0, -360.0):
         outside = (angle < low) | (angle > high)
         moved = angle + shift

@@ -73,6 +73,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from openmotion.coordinated.kinematics import CartesianGantry, Configuration, Kinematics
+from openmotion.coordinated.tolerances import UNDRIVEN
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.geometry.blend import Contour
 from openmotion.geometry.path import TOLERANCE, Arc, Line
@@ -88,7 +89,6 @@ _CONVERGED = 0.01  #: caps from n and n/2 samples that agree this well are taken
 _RESOLVED = 0.05  #: largest change of any axis' q_s/v between samples, of the largest q_s/v
 _MIN_SAMPLES, _MAX_SAMPLES = 32, 2**15  #: sample intervals along one element
 _SINGULAR_CONDITION = 1e8  #: a Jacobian worse than this on the path: the axes cannot follow
-_UNDRIVEN = 1e-9  #: largest |tangent| along a coordinate that no axis drives
 CENTRIPETAL_SHARE = 0.5  #: of an axis' acceleration, the most K·V² takes on a curve
 CURVATURE_RATE_SHARE = 0.75  #: of an axis' jerk, the most R·V³ takes
 TURNING_SHARE = 0.125  #: of an axis' jerk, the most 3·K·V·M takes; the path keeps the rest
@@ -184,8 +184,8 @@ def line_limits(directions: ArrayLike, gantry: CartesianGantry, axis_limits: Seq
                               "line directions: every row must be finite and not zero")
     d = np.abs(d / size)
     undriven = [i for i, c in enumerate(PATH_COORDINATES) if c not in gantry.coordinates]
-    if undriven and np.any(d[:, undriven] > _UNDRIVEN):
-        row = int(np.argmax(np.any(d[:, undriven] > _UNDRIVEN, axis=1)))
+    if undriven and np.any(d[:, undriven] > UNDRIVEN):
+        row = int(np.argmax(np.any(d[:, undriven] > UNDRIVEN, axis=1)))
         _check_driven(d[row], gantry.coordinates, f"line {row}")
     columns = _gantry_columns(gantry)
     tangent = np.where(columns >= 0, d[:, columns], 0.0)  # (m, n_axes)
@@ -331,7 +331,7 @@ def _check_driven(tangent_bounds: Array, coordinates: tuple[str, ...],
                   what: object) -> None:
     """Reject a path that moves along x, y or z where the model has no such coordinate."""
     for i, name in enumerate(PATH_COORDINATES):
-        if name not in coordinates and tangent_bounds[i] > _UNDRIVEN:
+        if name not in coordinates and tangent_bounds[i] > UNDRIVEN:
             raise CommandRejected(ErrorId.TARGET_UNREACHABLE, (
                 f"{what!s}: the path moves along {name}, which no axis of the group drives "
                 f"(the kinematics has {', '.join(coordinates)})"))

@@ -28,6 +28,7 @@ from openmotion.coordinated.inputs import CoordSystem, TransitionMode
 from openmotion.coordinated.limits_bridge import caps_for, caps_for_many
 from openmotion.coordinated.states import ExecutionMode
 from openmotion.coordinated.timing import Piece, TimeLaw
+from openmotion.coordinated.tolerances import JOIN_SLACK, MIN_CORNER_DISTANCE, TAKE_OVER_TOLERANCE
 from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.geometry.blend import Blend, corner_distance_blend, max_corner_deviation_blend
@@ -44,9 +45,7 @@ _TRANSITION_SPEED: dict[BufferMode, Callable[[float, float], float]] = {
     BufferMode.BLENDING_NEXT: lambda _v1, v2: v2,
     BufferMode.BLENDING_HIGH: max,
 }
-_TAKE_OVER_TOLERANCE = 1e-6  #: tangent [1] and curvature [1/mm] a halted path is taken over at
 _JOIN_LENGTH = 1e-3  #: [mm] added to a lead-out (D-195), so that it is never empty
-_JOIN_SLACK = 1e-9  #: relative: the speed now may lie this far above the lead-out's cap
 _CONTOURS = (TransitionMode.TM_START_VELOCITY, TransitionMode.TM_CONSTANT_VELOCITY,
              TransitionMode.TM_CORNER_DISTANCE, TransitionMode.TM_MAX_CORNER_DEVIATION)
 
@@ -131,7 +130,7 @@ class PathMotion:
 
     def submit(self, request: PathCommand) -> Command:
         """Queue or start ``request`` by its BufferMode; rejections come back as errors."""
-        now = self.group._rt.now
+        now = self.group.runtime.now
         command = request.command
         quiet = self.law is None and self.waiting is None
         cam = self.law is not None and not isinstance(self.law, TimeLaw)  # SyncGroupToAxis
@@ -184,8 +183,8 @@ class PathMotion:
             return None
         _, tangent, curvature = evaluate(entry.geometry, local)
         _, new_tangent, new_curvature = evaluate(geometry[0], 0.0)
-        if np.linalg.norm(new_tangent - tangent) > _TAKE_OVER_TOLERANCE \
-                or np.linalg.norm(new_curvature - curvature) > _TAKE_OVER_TOLERANCE:
+        if np.linalg.norm(new_tangent - tangent) > TAKE_OVER_TOLERANCE \
+                or np.linalg.norm(new_curvature - curvature) > TAKE_OVER_TOLERANCE:
             return None
         v, a = self.path_velocity, self.path_acceleration
         try:
@@ -239,7 +238,7 @@ class PathMotion:
                 return None
             kept = [blend.before, blend.contour, blend.after, *geometry[1:]]
             first = caps_for(self.group, blend.before, request.space,
-                             (v * (1.0 + _JOIN_SLACK), a2, d2, j2))
+                             (v * (1.0 + JOIN_SLACK), a2, d2, j2))
             joint = self._piece(blend.contour, request.space, request, math.inf,
                                 speed_cap=speed, other=previous)
             rest = self._pieces(request, kept[2:], exit_last=0.0)
@@ -250,7 +249,7 @@ class PathMotion:
         slow = _speed_change_distance(v, min(speed, joint.velocity), d2, j2) \
             if v > min(speed, joint.velocity) else 0.0
         slow += v * abs(a) / j2  # while the acceleration it has now ramps out
-        if v > lead_piece.velocity * (1.0 + _JOIN_SLACK) or -a > lead_piece.deceleration \
+        if v > lead_piece.velocity * (1.0 + JOIN_SLACK) or -a > lead_piece.deceleration \
                 or a > lead_piece.acceleration or blend.before.length < slow:
             return None
         return (time, v, a), kept, [lead_piece, joint, *rest]
@@ -261,19 +260,19 @@ class PathMotion:
         """Start the joined path of ``_join_plan`` from the last sample's state."""
         group = self.group
         last_acs_v = self._last_acs_v
-        self._clear()
+        self.clear()
         self._last_acs_v = last_acs_v
         self._orientation = start.copy()
         self._acs_start = group.acs_set()
         self.law = TimeLaw(*moving)
         if group.factors != (1.0, 1.0, 1.0):
-            self.law.set_factors(group._rt.now, *group.factors)
+            self.law.set_factors(group.runtime.now, *group.factors)
         request.command.status = CommandStatus.ACTIVE
         request.end = self._end_of(request, geometry, start)
         self._push(request, geometry, pieces)
 
     def halt(self, command: Command, deceleration: float, jerk: float) -> None:
-        now = self.group._rt.now
+        now = self.group.runtime.now
         self._abort_queue("aborted by MC_GroupHalt")
         self.follow = None
         self.interrupted = False
@@ -287,10 +286,10 @@ class PathMotion:
     def interrupt(self, command: Command, deceleration: float, jerk: float) -> None:
         active = self.active
         if self.law is None or active is None:
-            command.end(CommandStatus.ERROR, self.group._rt.now, ErrorId.NOTHING_TO_DO,
+            command.end(CommandStatus.ERROR, self.group.runtime.now, ErrorId.NOTHING_TO_DO,
                          "no path motion to interrupt (§5.15)")
             return
-        self.law.stop(self.group._rt.now, deceleration, jerk, keep=True)
+        self.law.stop(self.group.runtime.now, deceleration, jerk, keep=True)
         self.interrupted = True
         active.command.status = CommandStatus.BUFFERED  # Busy, not Active (§5.15)
         command.status = CommandStatus.ACTIVE
@@ -301,16 +300,16 @@ class PathMotion:
             raise CommandRejected(ErrorId.NOTHING_TO_DO, "no interrupted motion to continue "
                                                          "(§5.16)")
         if self.interrupt_command is not None and self.interrupt_command.busy:
-            self.interrupt_command.end(CommandStatus.ABORTED, self.group._rt.now,
+            self.interrupt_command.end(CommandStatus.ABORTED, self.group.runtime.now,
                                         message="continued before standstill")
         self.interrupt_command = None
         self.interrupted = False
-        self.law.resume(self.group._rt.now)
+        self.law.resume(self.group.runtime.now)
         active = self.active
         if active is not None:
             active.command.status = CommandStatus.ACTIVE  # at Continue.Done (§5.16)
         if self.group.factors[0] == 0.0:
-            self.law.set_factors(self.group._rt.now, *self.group.factors)
+            self.law.set_factors(self.group.runtime.now, *self.group.factors)
 
     def brake(self, deceleration: float, jerk: float, reason: str) -> None:
         """MC_GroupStop: brake along the path, abort every command (§5.13)."""
@@ -318,19 +317,19 @@ class PathMotion:
         self.follow = None
         self.interrupted = False
         if self.halt_command is not None:
-            self.halt_command.end(CommandStatus.ABORTED, self.group._rt.now, message=reason)
+            self.halt_command.end(CommandStatus.ABORTED, self.group.runtime.now, message=reason)
             self.halt_command = None
         if self.law is not None:
-            self.law.stop(self.group._rt.now, deceleration, jerk, keep=False)
+            self.law.stop(self.group.runtime.now, deceleration, jerk, keep=False)
 
     def set_factors(self, velocity: float, acceleration: float, jerk: float) -> None:
         if self.law is not None and not self.interrupted:
-            self.law.set_factors(self.group._rt.now, velocity, acceleration, jerk)
+            self.law.set_factors(self.group.runtime.now, velocity, acceleration, jerk)
 
     def abort_all(self, reason: str, error: tuple[ErrorId, str] | None = None) -> None:
         """Everything ends now: disable, ungroup, power loss, group error."""
-        now = self.group._rt.now
-        self.group._end_table(reason, error)  # a path table ends with it (path_table.py)
+        now = self.group.runtime.now
+        self.group.end_table(reason, error)  # a path table ends with it (path_table.py)
         ended = [c.command for c in self.commands]
         if self.waiting is not None:
             ended.append(self.waiting.command)
@@ -342,7 +341,7 @@ class PathMotion:
                 command.end(CommandStatus.ABORTED, now, message=reason)
             else:
                 command.end(CommandStatus.ERROR, now, error[0], error[1])
-        self._clear()
+        self.clear()
 
     def end_tracking(self, reason: str) -> None:
         """A transform FB replaced the moving PCS: stop following it (§6.6)."""
@@ -350,10 +349,10 @@ class PathMotion:
         self.group.spaces.dynamic = None
         command = getattr(tracker, "command", None)
         if isinstance(command, Command):
-            command.end(CommandStatus.ABORTED, self.group._rt.now, message=reason)
+            command.end(CommandStatus.ABORTED, self.group.runtime.now, message=reason)
         if self.follow is not None:  # hold where the frame carried the TCP last
             self.follow = None
-            self.group.settle(self.group._last_setpoints()[0])
+            self.group.members.settle(self.group.members.last_setpoints()[0])
 
     # -- the cycle -----------------------------------------------------------------------------
 
@@ -368,7 +367,7 @@ class PathMotion:
             try:
                 self._output(entry, local, v, a, now)
             except CommandRejected as rejected:  # the axes cannot follow: a group error
-                group._fault(rejected.error_id, rejected.message)
+                group.fault(rejected.error_id, rejected.message)
                 return
             self._update_statuses(piece, now)
             if self.law.done:
@@ -403,7 +402,7 @@ class PathMotion:
             self.law = None
             self.path_velocity = self.path_acceleration = 0.0
             if self.follow is None:
-                group.settle(group.acs_set())
+                group.members.settle(group.acs_set())
             if self.halt_command is not None:
                 self.halt_command.end(CommandStatus.DONE, now)
                 self.halt_command = None
@@ -434,7 +433,7 @@ class PathMotion:
         mcs = spaces.to_mcs(acs)
         if space == MCS:
             return mcs
-        return spaces.pcs_of(mcs, self.group._rt.now)
+        return spaces.pcs_of(mcs, self.group.runtime.now)
 
     def _tail(self, space: str) -> np.ndarray:
         """Where the queued path ends, in ``space``."""
@@ -442,7 +441,7 @@ class PathMotion:
         assert last.end is not None
         if last.space == space:
             return np.array(last.end)
-        spaces, now = self.group.spaces, self.group._rt.now
+        spaces, now = self.group.spaces, self.group.runtime.now
         if last.space == ACS:
             acs = last.end
         else:
@@ -457,7 +456,7 @@ class PathMotion:
         move buffered after the path must start on the turn the path leaves it on, not on the
         principal angle. Every element is sampled, and from one sample to the next each such
         axis keeps the turn nearest to the one before, starting from the path's start."""
-        spaces, now = self.group.spaces, self.group._rt.now
+        spaces, now = self.group.spaces, self.group.runtime.now
         acs = self._acs_start if self._acs_start is not None else self.group.acs_set()
         for index in sorted(self.entries):
             entry = self.entries[index]
@@ -482,15 +481,15 @@ class PathMotion:
         group = self.group
         geometry = request.build(start, request.extra["reference"])
         last_acs_v = self._last_acs_v
-        self._clear()
+        self.clear()
         couple = request.extra.get("couple")  # MC_SyncGroupToAxis: the law becomes a cam
         if not geometry and couple is not None:
             raise CommandRejected(ErrorId.GROUP_MOVING, "the path could not start: the TCP "
                                   "is at its end already")
         if not geometry:  # already there: Done without motion
             request.end = start
-            request.command.end(CommandStatus.DONE, group._rt.now)
-            group.settle(group.acs_set())
+            request.command.end(CommandStatus.DONE, group.runtime.now)
+            group.members.settle(group.acs_set())
             return
         self._orientation = start.copy() if request.space != ACS else None
         # the path starts from rest: the first difference quotient of the axis velocities
@@ -500,7 +499,7 @@ class PathMotion:
         if moving is not None and last_acs_v is not None:
             self._last_acs_v = last_acs_v
         self._acs_start = group.acs_set()
-        now = group._rt.now
+        now = group.runtime.now
         pieces = self._pieces(request, geometry, exit_last=0.0)  # may reject: nothing changed
         self.law = TimeLaw(now) if moving is None else TimeLaw(*moving)
         if group.factors != (1.0, 1.0, 1.0):
@@ -587,7 +586,7 @@ class PathMotion:
             d = _speed_change_distance(v1, p / 100.0 * v1, dec, jerk)
             if d >= widest.corner_distance:
                 return widest
-            return corner_distance_blend(before, after, max(d, 1e-6))
+            return corner_distance_blend(before, after, max(d, MIN_CORNER_DISTANCE))
         # TM_CONSTANT_VELOCITY: the largest contour, smaller only if its curvature allows
         target = p / 100.0 * speed
         acc = min(previous.dynamics[1], request.dynamics[1])
@@ -645,7 +644,7 @@ class PathMotion:
         point, tangent, curvature = evaluate(entry.geometry, local)
         if entry.space == ACS:
             self._last_acs_v = tangent * v  # what the next MCS piece differences against
-            group.write_setpoints(point, self._last_acs_v, tangent * a)
+            group.members.write_setpoints(point, self._last_acs_v, tangent * a)
             return
         x_v, x_a = tangent * v, tangent * a + curvature * v * v
         assert self._orientation is not None
@@ -664,24 +663,24 @@ class PathMotion:
         group, spaces = self.group, self.group.spaces
         # the turn nearest to the last setpoints: a SCARA's base runs on past ±180° (the
         # principal angle would make it jump a whole turn within one cycle)
-        acs = spaces.to_acs(mcs, near=group._last_setpoints()[0])
+        acs = spaces.to_acs(mcs, near=group.members.last_setpoints()[0])
         zero = np.zeros(spaces.size)
         acs_v = spaces.acs_rates(acs, spaces.with_xyz(zero, x_v))
         if exact_a:
             acs_a = spaces.acs_rates(acs, spaces.with_xyz(zero, x_a))
         else:  # the Jacobian changes along the path: the setpoint's own difference quotient
             previous = self._last_acs_v
-            dt = group._rt.cycle_time
+            dt = group.runtime.cycle_time
             acs_a = np.zeros_like(acs_v) if previous is None else (acs_v - previous) / dt
         self._last_acs_v = acs_v
-        group.write_setpoints(acs, acs_v, acs_a)
+        group.members.write_setpoints(acs, acs_v, acs_a)
 
     def _output_follow(self, now: float) -> None:
         spaces = self.group.spaces
         assert self.follow is not None
         if spaces.dynamic is None:
             self.follow = None
-            self.group.settle(self.group.acs_set())
+            self.group.members.settle(self.group.acs_set())
             return
         motion = spaces.dynamic(now)
         point = spaces.xyz(self.follow)
@@ -692,7 +691,7 @@ class PathMotion:
     # -- ending --------------------------------------------------------------------------------
 
     def _abort_queue(self, reason: str) -> None:
-        now = self.group._rt.now
+        now = self.group.runtime.now
         for request in self.commands:
             request.command.end(CommandStatus.ABORTED, now, message=reason)
         if self.waiting is not None:
@@ -706,7 +705,8 @@ class PathMotion:
             self.interrupt_command = None
         self.interrupted = False
 
-    def _clear(self) -> None:
+    def clear(self) -> None:
+        """Forget the path and its commands (they have ended): the group holds still."""
         self.law = None
         self.entries = {}
         self.commands = []
@@ -727,7 +727,7 @@ def _lead_out(point: np.ndarray, tangent: np.ndarray, curvature: np.ndarray,
     """The path a TCP at ``point`` would run on for ``length`` [mm] keeping its tangent and
     curvature vector: a line, or an arc of at most a quarter turn on its osculating circle."""
     kappa = float(np.linalg.norm(curvature))
-    if kappa * length <= _TAKE_OVER_TOLERANCE:
+    if kappa * length <= TAKE_OVER_TOLERANCE:
         return Line(point, point + length * tangent)
     radius = 1.0 / kappa
     inward = curvature / kappa

@@ -45,6 +45,7 @@ from openmotion.axis.commands import Command, CommandStatus
 from openmotion.coordinated.frames import CartesianTransform, Frame
 from openmotion.coordinated.inputs import CoordSystem, TransitionMode
 from openmotion.coordinated.states import ExecutionMode
+from openmotion.coordinated.tolerances import DWELL_SLACK
 from openmotion.core.checks import is_finite
 from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
@@ -71,7 +72,6 @@ MIN_ACCELERATION = 1.0  #: [mm/s²] Acceleration and Deceleration must be >= 1 (
 MIN_JERK = 100.0  #: [mm/s³] Jerk must be >= 100 (§9.3.1.2.3)
 JERK_MAXIMUM_FACTOR = 100.0  #: MC_MAXIMUM jerk = 100 x MC_DEFAULT (§9.3.1.2.3, V3.2.27)
 AUX_POINT_COUNT = 3  #: AuxPoint is always (x, y, z) (§9.3.1.2.4)
-_DWELL_SLACK = 1e-9  #: [s] a dwell is over once the clock is within this of its end
 
 
 class McTransitionMode(IntEnum):
@@ -189,7 +189,8 @@ class MC_PATH_DATA_REF:
         """Delete every row (§9.3.2.4.1); a run that started keeps its own copy."""
         self._rows.clear()
 
-    def _append(self, row: Row) -> None:
+    def append(self, row: Row) -> None:
+        """Add a row at the end (the path-row FBs call this); a full table refuses it."""
         if len(self._rows) >= MAX_ROWS or self.occupied_buffer + ROW_BYTES > self.buffer_size:
             limit = min(MAX_ROWS, self.buffer_size // ROW_BYTES)
             raise CommandRejected(ErrorId.PATH_TABLE_FULL,
@@ -369,7 +370,7 @@ class _Preparation(FunctionBlock):
                             "fb(MC_PATH_DATA_REF(), ...)")
         self._reset_outputs()
         try:
-            table._append(self._row(table))
+            table.append(self._row(table))
         except CommandRejected as rejected:
             self.error, self.error_id, self.message = True, rejected.error_id, rejected.message
 
@@ -564,7 +565,7 @@ class PathTableRun:
 
     def end(self, reason: str, error: tuple[ErrorId, str] | None = None) -> None:
         """The path ends early: CommandAborted (or Error), what waits is aborted too."""
-        now = self.group._rt.now
+        now = self.group.runtime.now
         for transform in self.transforms:
             transform.end(CommandStatus.ABORTED, now, message=reason)
         if error is None:
@@ -597,7 +598,7 @@ class PathTableRun:
             self.command.status = CommandStatus.ACTIVE
             if self.dwell_until is None:
                 self.dwell_until = now + row.seconds
-            if now >= self.dwell_until - _DWELL_SLACK:
+            if now >= self.dwell_until - DWELL_SLACK:
                 self.dwell_until = None
                 self.index += 1
                 self._feed()

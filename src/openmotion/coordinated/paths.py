@@ -66,7 +66,7 @@ def select_path(group: AxesGroup, description: Any, coord_system: Any = CoordSys
                               "PathDescription: a non-empty list of elements")
     default = (transition_mode(mode), 0.0)
     default = (default[0], transition_parameter(default[0], parameter))
-    frame = group.spaces.frame(group._rt.now) if coord is CoordSystem.PCS else None
+    frame = group.spaces.frame(group.runtime.now) if coord is CoordSystem.PCS else None
     parsed = [_parse(i, item, frame, default) for i, item in enumerate(description)]
     elements: list[Any] = []
     exits: list[float] = []

@@ -18,6 +18,7 @@ import numpy as np
 from openmotion.axis.commands import Command
 from openmotion.coordinated.inputs import (
     CoordSystem,
+    PathMoveOptions,
     enum_value,
     path_dynamics,
     transition_mode,
@@ -27,6 +28,7 @@ from openmotion.coordinated.inputs import (
 from openmotion.coordinated.limits_bridge import DirectLine
 from openmotion.coordinated.moves import ACS, MCS, PCS, PathCommand
 from openmotion.coordinated.paths import PathData, _contour
+from openmotion.coordinated.tolerances import ORIENTATION_TOLERANCE
 from openmotion.core.enums import BufferMode
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.geometry.path import TOLERANCE, Arc, CircMode, Line, PathChoice
@@ -34,28 +36,28 @@ from openmotion.geometry.path import TOLERANCE, Arc, CircMode, Line, PathChoice
 if TYPE_CHECKING:
     from openmotion.coordinated.group import AxesGroup
 
-_ORIENTATION_TOLERANCE = 1e-9
 
 
 def build_request(group: AxesGroup, command: Command, kind: str, target: Any, circle: Any,
-                  velocity: Any, acceleration: Any, deceleration: Any, jerk: Any,
-                  coord_system: Any, buffer_mode: BufferMode, transition: Any,
-                  parameter: Any, relative: bool) -> PathCommand:
-    coord = enum_value(CoordSystem, coord_system, "CoordSystem")
-    mode = transition_mode(transition)
+                  options: PathMoveOptions, buffer_mode: BufferMode,
+                  relative: bool) -> PathCommand:
+    """The checked request of one path move; ``buffer_mode`` is the checked
+    ``options.buffer_mode``."""
+    coord = enum_value(CoordSystem, options.coord_system, "CoordSystem")
+    mode = transition_mode(options.transition_mode)
     if buffer_mode is BufferMode.ABORTING and mode in (
             mode.TM_CORNER_DISTANCE, mode.TM_MAX_CORNER_DEVIATION):
         raise CommandRejected(ErrorId.INVALID_MODE,
                               f"BufferMode Aborting with {mode.name} is not defined (§2.4.4)")
     joins = buffer_mode is BufferMode.ABORTING and mode in (
         mode.TM_START_VELOCITY, mode.TM_CONSTANT_VELOCITY)  # at speed (moves.py, D-195)
-    value = transition_parameter(mode, parameter) \
+    value = transition_parameter(mode, options.transition_parameter) \
         if buffer_mode is not BufferMode.BUFFERED and (
             buffer_mode is not BufferMode.ABORTING or joins) else 0.0
     if buffer_mode is BufferMode.BUFFERED:
         mode = mode.TM_NONE  # §7.3.2: TransitionMode is not evaluated
-    dynamics = path_dynamics(group.dynamics, command.warnings, velocity, acceleration,
-                             deceleration, jerk)
+    dynamics = path_dynamics(group.dynamics, command.warnings, options.velocity,
+                             options.acceleration, options.deceleration, options.jerk)
     spaces = group.spaces
     if kind == "direct" or (kind == "linear" and coord is CoordSystem.ACS):
         size = len(group.members) if coord is CoordSystem.ACS else spaces.size
@@ -90,7 +92,7 @@ def _direct(group: AxesGroup, coord: CoordSystem, values: np.ndarray, relative: 
         if coord is CoordSystem.ACS:
             goal = reference + values if relative else values
         else:
-            now = group._rt.now
+            now = group.runtime.now
             mcs = spaces.to_mcs(reference)
             if coord is CoordSystem.PCS:
                 base = spaces.pcs_of(mcs, now)
@@ -117,7 +119,7 @@ def _cartesian(group: AxesGroup, coord: CoordSystem, space: str, kind: str,
     def placed(point: np.ndarray, offset: bool = False) -> np.ndarray:
         """A PCS point (or offset) of the FB in the build space."""
         if coord is CoordSystem.PCS and space == MCS:
-            frame = spaces.frame(group._rt.now)
+            frame = spaces.frame(group.runtime.now)
             return frame.rotate(point) if offset else frame.apply(point)
         return point
 
@@ -149,7 +151,7 @@ def _check_orientation(spaces: Any, start: np.ndarray, goal: np.ndarray, relativ
     if not mask.any():
         return
     change = values[mask] if relative else goal[mask] - start[mask]
-    if np.any(np.abs(change) > _ORIENTATION_TOLERANCE):
+    if np.any(np.abs(change) > ORIENTATION_TOLERANCE):
         raise CommandRejected(ErrorId.INVALID_POSITION,
                               "path moves keep the orientation (a, b, c); change it with "
                               "MC_MoveDirect* (decisions D-111)")

@@ -53,7 +53,7 @@ class Spaces:
         self.size = len(coordinates)
         if self.linear:  # acs[k] = sign[k] * (mcs[slot[k]] - offset[k]): no Jacobian needed
             model = self.kinematics
-            self._slot, self._sign, self._offset = model._slot, model._sign, model._offset
+            self._slot, self._sign, self._offset = model.slots, model.signs, model.offsets
 
     # -- MCS <-> 3-D points ---------------------------------------------------------------------
 

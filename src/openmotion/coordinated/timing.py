@@ -50,12 +50,17 @@ from openmotion.coordinated.timing_kernels import (
     other_end,
     zones,
 )
+from openmotion.coordinated.tolerances import (
+    ABSOLUTE_SLACK,
+    LENGTH_TOLERANCE,
+    RELATIVE_TOLERANCE,
+    SPEED_FLOOR,
+    ZERO_ACCELERATION,
+)
 from openmotion.core.errors import CommandRejected
 from openmotion.trajectory.plan import Limits, plan_position, plan_stop, plan_velocity
 from openmotion.trajectory.segments import KinematicState, Profile
 
-_REL = 1e-9  #: relative slack of the checks on ruckig's profiles and the brake against caps
-_ZERO_ACCELERATION = 1e-10  #: |a| below this share of the caps is round-off, not a state
 _MAX_EVENTS = 1_000_000  #: legs one sample may run through before we call it a bug
 
 
@@ -386,8 +391,8 @@ class TimeLaw:
         target = w.speeds[k] if w is not None and 0 <= k < w.n else 0.0
         _, acc, dec, _ = self._caps(zone)
         _, reached, final_a = leg_.final
-        return reached <= target * (1.0 + _REL) + 1e-12 \
-            and abs(final_a) <= _ZERO_ACCELERATION * max(acc, dec)
+        return reached <= target * (1.0 + RELATIVE_TOLERANCE) + ABSOLUTE_SLACK \
+            and abs(final_a) <= ZERO_ACCELERATION * max(acc, dec)
 
     # -- legs ----------------------------------------------------------------------------------
 
@@ -455,7 +460,7 @@ class TimeLaw:
         v_max, acc, dec, jerk = caps
         if self._mode == _PENDING:
             v_max = min(v_max, v)  # a stop in waiting never speeds up (§5.13)
-        if abs(a) <= _ZERO_ACCELERATION * max(acc, dec):
+        if abs(a) <= ZERO_ACCELERATION * max(acc, dec):
             a = 0.0
         if a == 0.0 and v <= v_max:
             data, reached, ok = leg(v, end - s, target, v_max, acc, dec, jerk)
@@ -626,7 +631,8 @@ class TimeLaw:
         deceleration, jerk = self._brake_rates(state, deceleration, jerk)
         profile = plan_stop(KinematicState(s, v, a), deceleration, jerk)
         rest = float(profile.p[-1])
-        if rest > self._length or profile.velocity_extrema()[0] < -_REL * max(v, 1e-9):
+        if rest > self._length or (profile.velocity_extrema()[0]
+                                   < -RELATIVE_TOLERANCE * max(v, SPEED_FLOOR)):
             return profile, False  # past the end, or a jerk too low to brake without reversing
         fv = self._velocity_factor
         pieces = self._pieces
@@ -634,7 +640,7 @@ class TimeLaw:
         k0 = min(int(np.searchsorted(ends, s, side="right")), pieces.n - 1)
         k1 = min(int(np.searchsorted(ends, rest, side="left")), pieces.n - 1)
         peak = v + a * a / (2.0 * jerk) if a > 0.0 else v
-        if peak > fv * pieces.data[_V, k0] * (1.0 + _REL):
+        if peak > fv * pieces.data[_V, k0] * (1.0 + RELATIVE_TOLERANCE):
             return profile, False
         if k1 == k0:
             return profile, True
@@ -642,18 +648,18 @@ class TimeLaw:
         caps = np.minimum(pieces.data[_EXIT, inner], pieces.data[_V, k0 + 1:k1 + 1]) * fv
         caps[pieces.data[_SPACE, inner] != pieces.data[_SPACE, k0 + 1:k1 + 1]] = 0.0
         self._work[1] += k1 - k0
-        for k in np.flatnonzero(caps * (1.0 + _REL) < peak):  # the others hold anyway
+        for k in np.flatnonzero(caps * (1.0 + RELATIVE_TOLERANCE) < peak):  # the others hold anyway
             junction = float(ends[k0 + k])
-            if _speed_at(profile, junction) > caps[k] * (1.0 + _REL) + 1e-12:
+            if _speed_at(profile, junction) > caps[k] * (1.0 + RELATIVE_TOLERANCE) + ABSOLUTE_SLACK:
                 return profile, False
         # |a| exceeds the brake's own rates only while it releases the start acceleration, so
         # a piece whose caps lie below |a0| is checked where the brake enters it
         fa = self._factors[1]
         after = slice(k0 + 1, k1 + 1)
         bound = (pieces.data[_A, after] if a > 0.0 else pieces.data[_D, after]) * fa
-        for k in np.flatnonzero(bound * (1.0 + _REL) < abs(a)):
+        for k in np.flatnonzero(bound * (1.0 + RELATIVE_TOLERANCE) < abs(a)):
             entry = profile.at(_time_at(profile, float(ends[k0 + k])))[2]
-            if abs(entry) > bound[k] * (1.0 + _REL) and entry * a > 0.0:
+            if abs(entry) > bound[k] * (1.0 + RELATIVE_TOLERANCE) and entry * a > 0.0:
                 return profile, False
         return profile, True
 
@@ -802,8 +808,8 @@ def _reachable_below(state: tuple[float, float, float], length: float, target: f
 
     def fits(u: float) -> bool:
         change = _velocity_change(start, u, dec, jerk, acc)
-        return (change.velocity_extrema()[0] >= -_REL * max(state[1], 1e-9)
-                and change.p[-1] - state[0] <= length * (1.0 + 1e-12))
+        return (change.velocity_extrema()[0] >= -RELATIVE_TOLERANCE * max(state[1], SPEED_FLOOR)
+                and change.p[-1] - state[0] <= length * (1.0 + LENGTH_TOLERANCE))
 
     grid = [target * k / 32 for k in range(32, -1, -1)]
     for upper, lower in zip([None, *grid], grid, strict=False):
@@ -828,8 +834,8 @@ def _reachable_above(state: tuple[float, float, float], length: float, target: f
 
     def fits(u: float) -> bool:
         change = _velocity_change(start, u, dec, jerk, acc)
-        return (change.velocity_extrema()[0] >= -_REL * max(v, 1e-9)
-                and change.p[-1] - s <= length * (1.0 + 1e-12))
+        return (change.velocity_extrema()[0] >= -RELATIVE_TOLERANCE * max(v, SPEED_FLOOR)
+                and change.p[-1] - s <= length * (1.0 + LENGTH_TOLERANCE))
 
     grid = [target + (top - target) * k / 32 for k in range(33)]
     for lower, upper in zip([None, *grid], grid, strict=False):
@@ -862,10 +868,10 @@ def _keeps(profile: Profile, state: tuple[float, float, float], limits: Limits) 
     top = max(limits.velocity, v + max(a, 0.0) ** 2 / (2.0 * limits.jerk))
     accelerations = profile.a
     return bool(
-        lo >= -_REL * limits.velocity and hi <= top * (1.0 + _REL)
-        and accelerations.max() <= max(limits.acceleration, a) * (1.0 + _REL)
-        and accelerations.min() >= min(-limits.deceleration, a) * (1.0 + _REL)
-        and np.abs(profile.j).max() <= limits.jerk * (1.0 + _REL)
+        lo >= -RELATIVE_TOLERANCE * limits.velocity and hi <= top * (1.0 + RELATIVE_TOLERANCE)
+        and accelerations.max() <= max(limits.acceleration, a) * (1.0 + RELATIVE_TOLERANCE)
+        and accelerations.min() >= min(-limits.deceleration, a) * (1.0 + RELATIVE_TOLERANCE)
+        and np.abs(profile.j).max() <= limits.jerk * (1.0 + RELATIVE_TOLERANCE)
     )
 
 
@@ -875,7 +881,7 @@ def _scale_to_stop(state: tuple[float, float, float], dec: float, jerk: float,
     reversing: 1 normally; more only when an override drop left no other way."""
     def rest(scale: float) -> float:
         profile = plan_stop(KinematicState(*state), dec * scale, jerk * scale)
-        if profile.velocity_extrema()[0] < -_REL * max(state[1], 1e-9):
+        if profile.velocity_extrema()[0] < -RELATIVE_TOLERANCE * max(state[1], SPEED_FLOOR):
             return math.inf
         return float(profile.p[-1])
 

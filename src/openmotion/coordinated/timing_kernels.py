@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from openmotion.coordinated.tolerances import RELATIVE_TOLERANCE
 from openmotion.core.compiled import compiled, true_indices
 
 #: a zone's velocity caps lie within this factor of each other; a zone runs at its smallest
@@ -105,7 +106,7 @@ def leg(v0: float, length: float, u: float, v_max: float, acc: float, dec: float
     w = u
     if w > v0:
         w = min(w, other_end(v0, length, acc, j))
-    elif ramp_distance(v0, w, acc, dec, j) > length * (1.0 + 1e-9):  # the passes' round-off
+    elif ramp_distance(v0, w, acc, dec, j) > length * (1.0 + RELATIVE_TOLERANCE):  # round-off
         return np.zeros((5, 1)), w, False
     lo = max(v0, w)
     hi = v_max

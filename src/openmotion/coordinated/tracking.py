@@ -23,6 +23,7 @@ import numpy as np
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.coordinated.frames import Frame, FrameMotion
 from openmotion.coordinated.inputs import CoordSystem
+from openmotion.coordinated.tolerances import LOCK_SLACK
 from openmotion.core.enums import AxisState
 from openmotion.trajectory.plan import Limits, plan_velocity
 from openmotion.trajectory.segments import KinematicState, Profile
@@ -31,7 +32,6 @@ if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
     from openmotion.coordinated.group import AxesGroup
 
-_LOCK_SLACK = 1e-9  #: a ramp-in that ends within this share past the cycle ends in it
 
 
 @dataclass
@@ -87,8 +87,8 @@ class GroupFrame:
         velocity = np.zeros(3)
         rows = self.master.rows
         if rows.size:
-            acs = self.master._k.set_p[rows]
-            mcs_v = self.master.kinematics.forward_velocity(acs, self.master._k.set_v[rows])
+            acs = self.master.kernel.set_p[rows]
+            mcs_v = self.master.kinematics.forward_velocity(acs, self.master.kernel.set_v[rows])
             velocity = self.master.spaces.xyz(mcs_v)
         return FrameMotion(frame, velocity, np.zeros(3))
 
@@ -100,14 +100,14 @@ def path_speed(group: AxesGroup, coord_system: CoordSystem) -> float:
     rows = group.rows
     if not rows.size:
         return 0.0
-    k = group._k
+    k = group.kernel
     acs, vel = k.set_p[rows], k.set_v[rows]
     if coord_system is CoordSystem.ACS:
         return float(np.linalg.norm(vel))
     spaces = group.spaces
     mcs_v = spaces.xyz(group.kinematics.forward_velocity(acs, vel))
     if coord_system is CoordSystem.PCS and spaces.dynamic is not None:
-        motion = spaces.dynamic(group._rt.now)
+        motion = spaces.dynamic(group.runtime.now)
         point = motion.frame.inverse().apply(spaces.xyz(spaces.to_mcs(acs)))
         mcs_v = mcs_v - motion.point_velocity(point)
     return float(np.linalg.norm(mcs_v))  # a static PCS turns the MCS velocity: same norm
@@ -142,7 +142,7 @@ class AxisSync:
         self.ratio = inputs.ratio
         self.command = command
         self.in_sync = False
-        k, row = group._k, slave.row
+        k, row = group.kernel, slave.row
         self.state = KinematicState(float(k.set_p[row]), float(k.set_v[row]),
                                     float(k.set_a[row]))
         self.lock: float | None = None  #: slave position at the lock
@@ -151,7 +151,7 @@ class AxisSync:
         slave.state = AxisState.SYNCHRONIZED_MOTION
 
     def step(self, now: float, dt: float) -> None:
-        slave, k = self.slave, self.group._k
+        slave, k = self.slave, self.group.kernel
         if slave.has_job or slave.state is not AxisState.SYNCHRONIZED_MOTION:
             self.command.end(CommandStatus.ABORTED, now,
                               message=f"{slave.name} got a command of its own (§6.3)")
@@ -176,7 +176,7 @@ class AxisSync:
         profile = plan_velocity(self.state, target, Limits(top, inputs.acceleration,
                                                            inputs.deceleration, inputs.jerk))
         p, v, a, _ = profile.at(dt)
-        if profile.duration <= dt * (1.0 + _LOCK_SLACK):  # reached within this cycle
+        if profile.duration <= dt * (1.0 + LOCK_SLACK):  # reached within this cycle
             self.lock, self.length = p, 0.0
             self.in_sync = True
             self.command.in_velocity = True

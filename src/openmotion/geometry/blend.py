@@ -123,14 +123,15 @@ class Contour:
         step[4] = handle * t1
         step[3] = step[4] - bend1
         step[2] = (self.end - self.start) - step[0] - step[1] - step[3] - step[4]
-        self._local = np.vstack([np.zeros(3), np.cumsum(step, axis=0)])
+        #: the control points less the start [mm]
+        self.control_offsets = np.vstack([np.zeros(3), np.cumsum(step, axis=0)])
         self._first = 5.0 * step
         self._second = 20.0 * np.diff(step, axis=0)
         # the ends exactly: on a contour much smaller than the radii next to it, bend is
         # rounding against handle·t, and the difference above loses the curvature's digits
         self._second[0], self._second[3] = 20.0 * bend0, 20.0 * bend1
         self._power = _monomial(4) @ self._first  # B' in powers of u, for fast arc lengths
-        self.control_points = self.start + self._local  #: [mm], for plots
+        self.control_points = self.start + self.control_offsets  #: [mm], for plots
         speed = self._speed(np.linspace(0.0, 1.0, _SAMPLES))
         if not np.all(np.isfinite(speed)) or speed.min() <= _REGULAR * speed.max():
             raise _reject("contour: the curve would stop in a cusp (turn too close to 180°)")
@@ -159,18 +160,19 @@ class Contour:
         return half * (self._speed(u) @ _WEIGHTS)
 
     @cached_property
-    def _cumulative(self) -> NDArray[np.float64]:
+    def arc_length_table(self) -> NDArray[np.float64]:
+        """Arc length [mm] at the curve parameters k/_PIECES, k = 0.._PIECES."""
         edges = np.linspace(0.0, 1.0, _PIECES + 1)
         return np.concatenate([[0.0], np.cumsum(self._integral(edges[:-1], edges[1:]))])
 
     @property
     def length(self) -> float:
         """[mm]"""
-        return float(self._cumulative[-1])
+        return float(self.arc_length_table[-1])
 
     def _parameter(self, s: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The curve parameter u at arc length s (Newton on the arc-length integral)."""
-        table = self._cumulative
+        table = self.arc_length_table
         s = np.clip(np.asarray(s, dtype=float), 0.0, table[-1])
         k = np.clip(np.searchsorted(table, s, side="right") - 1, 0, _PIECES - 1)
         lo, hi = k / _PIECES, (k + 1) / _PIECES
@@ -182,7 +184,7 @@ class Contour:
 
     def position(self, s: ArrayLike) -> Vector:
         s, u = self._parameter(s)
-        values = self.start + _bernstein(5, u) @ self._local
+        values = self.start + _bernstein(5, u) @ self.control_offsets
         values = np.where((s <= 0.0)[..., None], self.start, values)
         return np.where((s >= self.length)[..., None], self.end, values)
 
@@ -220,7 +222,7 @@ class Contour:
         powers = np.empty(u.shape + (5,))
         powers[..., 0], powers[..., 1], powers[..., 2] = 1.0, u, u * u
         powers[..., 3], powers[..., 4] = powers[..., 2] * u, powers[..., 2] * powers[..., 2]
-        r = powers @ self._derivatives_in_powers
+        r = powers @ self.derivatives_in_powers
         r1, r2, r3 = r[..., 0:3], r[..., 3:6], r[..., 6:9]
         speed2, d12 = _dot(r1, r1), _dot(r1, r2)
         n = speed2 * r2 - d12 * r1
@@ -229,7 +231,7 @@ class Contour:
         return r1 / speed, n / speed4, (n_rate - 4.0 * d12 * n / speed2) / (speed4 * speed)
 
     @cached_property
-    def _derivatives_in_powers(self) -> NDArray[np.float64]:
+    def derivatives_in_powers(self) -> NDArray[np.float64]:
         """B', B'', B''' side by side in powers of u: (5, 9), one product evaluates all three."""
         third = 3.0 * np.diff(self._second, axis=0)  # 60 x third differences of the points
         table = np.zeros((5, 9))
@@ -271,7 +273,8 @@ class Contour:
     def distance_to(self, target: ArrayLike) -> float:
         """Shortest distance [mm] from ``target`` to the contour."""
         offset = as_point(target, "point") - self.start
-        return -_peak(lambda u: -np.linalg.norm(_bernstein(5, u) @ self._local - offset, axis=-1))
+        local = self.control_offsets
+        return -_peak(lambda u: -np.linalg.norm(_bernstein(5, u) @ local - offset, axis=-1))
 
 
 def _dot(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -170,7 +170,9 @@ class Arc:
         self.sweep = sweep  #: [rad], in (0, 2π)
         self.length = radius * sweep  #: [mm]
         self.max_curvature = 1.0 / radius  #: [1/mm]
-        self._u, self._v = u, v
+        #: the arc's plane: point(φ) = center + radius·(cos φ·u + sin φ·v); u points from the
+        #: center to the start, v is the unit tangent at the start
+        self.u, self.v = u, v
 
     def __repr__(self) -> str:
         return (f"Arc(start={self.start.tolist()}, end={self.end.tolist()}, "
@@ -260,13 +262,13 @@ class Arc:
 
     def position(self, s: ArrayLike) -> Vector:
         s, phi = self._angle(s)
-        radial = np.cos(phi)[..., None] * self._u + np.sin(phi)[..., None] * self._v
+        radial = np.cos(phi)[..., None] * self.u + np.sin(phi)[..., None] * self.v
         values = self.center + self.radius * radial
         return _with_ends(values, s, self.length, self.start, self.end)
 
     def tangent(self, s: ArrayLike) -> Vector:
         _, phi = self._angle(s)
-        return -np.sin(phi)[..., None] * self._u + np.cos(phi)[..., None] * self._v
+        return -np.sin(phi)[..., None] * self.u + np.cos(phi)[..., None] * self.v
 
     def curvature(self, s: ArrayLike) -> NDArray[np.float64]:
         return np.full(np.shape(s), 1.0 / self.radius)
@@ -274,7 +276,7 @@ class Arc:
     def curvature_vector(self, s: ArrayLike) -> Vector:
         """Curvature times the principal normal [1/mm]: towards the centre, length 1/radius."""
         _, phi = self._angle(s)
-        radial = np.cos(phi)[..., None] * self._u + np.sin(phi)[..., None] * self._v
+        radial = np.cos(phi)[..., None] * self.u + np.sin(phi)[..., None] * self.v
         return -radial / self.radius
 
     def curvature_rate(self, s: ArrayLike) -> Vector:
@@ -294,8 +296,8 @@ class Arc:
         (φ = α + mπ) lies in the sweep, else the larger end value. The rate is -tangent/R².
         """
         bounds = np.empty((3, 3))
-        bounds[0] = _sinusoid_peak(self._v, -self._u, self.sweep)
-        bounds[1] = _sinusoid_peak(-self._u, -self._v, self.sweep) / self.radius
+        bounds[0] = _sinusoid_peak(self.v, -self.u, self.sweep)
+        bounds[1] = _sinusoid_peak(-self.u, -self.v, self.sweep) / self.radius
         bounds[2] = bounds[0] / self.radius**2
         return bounds
 
@@ -305,7 +307,7 @@ class Arc:
         if s1 - s0 <= TOLERANCE:
             raise _reject("arc: the part to keep is shorter than the tolerance")
         phi = s0 / self.radius
-        u = math.cos(phi) * self._u + math.sin(phi) * self._v
+        u = math.cos(phi) * self.u + math.sin(phi) * self.v
         v = np.cross(self.normal, u)
         part = object.__new__(Arc)
         part._set(self.position(s0), self.position(s1), self.center, self.radius, u, v,

@@ -207,7 +207,7 @@ class MC_GroupReadStatus(GroupRead):
 
     #: by state name: TF5410's GroupState and Part 4's AxesGroupState name (and number)
     #: their common states alike
-    _STATE_FLAG: ClassVar[dict[str, str]] = {
+    STATE_FLAGS: ClassVar[dict[str, str]] = {
         "MOVING": "group_moving", "HOMING": "group_homing", "ERROR_STOP": "group_error_stop",
         "NOT_READY": "group_not_ready", "STANDBY": "group_standby",
         "STOPPING": "group_stopping", "DISABLED": "group_disabled",
@@ -215,7 +215,7 @@ class MC_GroupReadStatus(GroupRead):
 
     def _reset_outputs(self) -> None:
         super()._reset_outputs()
-        for flag in self._STATE_FLAG.values():
+        for flag in self.STATE_FLAGS.values():
             setattr(self, flag, False)
         self.all_axes_standing = False
         self.constant_velocity = self.accelerating = self.decelerating = False
@@ -223,7 +223,7 @@ class MC_GroupReadStatus(GroupRead):
 
     def _read(self, group: Any) -> None:
         name = group.state.name
-        for state, flag in self._STATE_FLAG.items():
+        for state, flag in self.STATE_FLAGS.items():
             setattr(self, flag, name == state)
         self.all_axes_standing = group.all_axes_standing
         flags = getattr(group, "status_flags", None)  # Part 4's motion flags (§5.17)

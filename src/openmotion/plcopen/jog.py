@@ -162,7 +162,7 @@ class MC_Jog(FunctionBlock):
         return step  # not a number: the axis rejects it with INVALID_POSITION
 
     def _fail(self, error_id: ErrorId, message: str) -> None:
-        now = self._axis()._rt.now
+        now = self._axis().runtime.now
         command = Command("MC_Jog", now)
         command.end(CommandStatus.ERROR, now, error_id, message)
         self._command = command

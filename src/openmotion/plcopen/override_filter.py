@@ -36,9 +36,9 @@ from numbers import Integral, Real
 from typing import Any, ClassVar, Protocol
 
 from openmotion.core.errors import ErrorId
+from openmotion.core.override import DWORD_FULL_SCALE, PERCENT
 from openmotion.kernel.handshake import FunctionBlock
 
-FULL_SCALE = 1_000_000  #: override_value_filtered at 100 % (TcMC cyclic interface DWORD)
 _TIME_TOLERANCE = 1e-9  #: [s] absorbs float noise in ``now`` (cycle * cycle_time)
 
 
@@ -134,8 +134,8 @@ class MC_OverrideFilter(FunctionBlock):
     def _apply(self, step: int, steps: int, now: float) -> None:
         self._step = step
         self._changed_at = now
-        self.override_percent_filtered = step * 100.0 / steps
-        self.override_value_filtered = (2 * step * FULL_SCALE + steps) // (2 * steps)
+        self.override_percent_filtered = step * PERCENT / steps
+        self.override_value_filtered = (2 * step * DWORD_FULL_SCALE + steps) // (2 * steps)
 
     def _fail(self, message: str) -> None:
         self.error, self.error_id, self.message = True, ErrorId.INVALID_PARAMETER_VALUE, message
@@ -146,7 +146,7 @@ class MC_OverrideFilter(FunctionBlock):
 
     def _check_invariants(self) -> None:
         assert self.error or self.error_id == ErrorId.NO_ERROR, "error_id without error"
-        assert 0 <= self.override_value_filtered <= FULL_SCALE
+        assert 0 <= self.override_value_filtered <= DWORD_FULL_SCALE
         assert 0.0 <= self.override_percent_filtered <= 100.0
 
 

@@ -28,9 +28,10 @@ class MC_ReadStatus(EnableBlock):
     are our additions, so every state has exactly one flag.
     """
 
-    _FLAGS = ("error_stop", "disabled", "stopping", "standstill", "discrete_motion",
-              "continuous_motion", "synchronized_motion", "homing_busy", "homing",
-              "constant_velocity", "accelerating", "decelerating")
+    #: its status outputs, the state flags first
+    FLAGS = ("error_stop", "disabled", "stopping", "standstill", "discrete_motion",
+             "continuous_motion", "synchronized_motion", "homing_busy", "homing",
+             "constant_velocity", "accelerating", "decelerating")
     _STATE_FLAG = {
         AxisState.ERROR_STOP: "error_stop", AxisState.DISABLED: "disabled",
         AxisState.STOPPING: "stopping", AxisState.STANDSTILL: "standstill",
@@ -41,11 +42,11 @@ class MC_ReadStatus(EnableBlock):
 
     def _reset_outputs(self) -> None:
         super()._reset_outputs()
-        for flag in self._FLAGS:
+        for flag in self.FLAGS:
             setattr(self, flag, False)
 
     def _enabled(self, axis: Axis, rising: bool) -> None:
-        for flag in self._FLAGS:
+        for flag in self.FLAGS:
             setattr(self, flag, False)
         setattr(self, self._STATE_FLAG[axis.state], True)
         self.homing = axis.homed

@@ -12,7 +12,7 @@ from openmotion.kernel.handshake import ExecuteBlock
 
 
 def _done(axis: Axis, kind: str, value: object = None) -> Command:
-    now = axis._rt.now
+    now = axis.runtime.now
     command = Command(kind, now)
     command.value = value
     command.end(CommandStatus.DONE, now)

@@ -165,11 +165,11 @@ class MC_PowerStepper(FunctionBlock):
             if abs(axis.following_error) <= p.max_position_lag:
                 self._lag_since = None
                 return False
-            now = axis._rt.now
+            now = axis.runtime.now
             if self._lag_since is None:
                 self._lag_since = now
             # the kernel's timer counts the first cycle over the limit as one cycle time
-            over_for = now - self._lag_since + axis._rt.cycle_time
+            over_for = now - self._lag_since + axis.runtime.cycle_time
             return over_for > p.position_lag_filter_time + 1e-12
         return False
 

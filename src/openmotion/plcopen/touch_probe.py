@@ -79,7 +79,7 @@ class MC_AbortTrigger(ExecuteBlock):
 
     def _issue(self, axis: Axis) -> Command:
         ref = _trigger_input(self)
-        now = axis._rt.now
+        now = axis.runtime.now
         command = Command("abort_trigger", now)
         abort_probe(ref, now)
         if ref.probe_state is TouchProbeState.ACTIVATED:  # written by the user: repair it

@@ -27,8 +27,7 @@ import numpy as np
 
 from openmotion.rail.braking import brake_envelope
 from openmotion.rail.kernels import blame, brake_blamed, min_brake_gaps, pair_safety
-
-TOLERANCE = 1e-9  #: [mm] float slack of the pair checks
+from openmotion.rail.tolerances import TOLERANCE as TOLERANCE  # the gap checks (planar, CA)
 
 
 class TcpPath(Protocol):

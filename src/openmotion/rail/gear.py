@@ -32,15 +32,18 @@ import numpy as np
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.rail.braking import brake_envelope, brake_state
 from openmotion.rail.enums import MasterSignalCorrection, SyncStrategy
+from openmotion.rail.tolerances import (
+    PROFILE_END_TOLERANCE,
+    RELATIVE_TOLERANCE,
+    SAMPLE_TIME_TOLERANCE,
+    SIGNAL_TOLERANCE,
+)
 from openmotion.trajectory.plan import Limits, plan_position, plan_position_in, plan_velocity
 from openmotion.trajectory.segments import KinematicState, Profile
 
 #: WAITING: before the sync phase (MasterStartDistance, Late's start); HOLDING: in the sync
 #: phase, at rest until a profile that keeps the options' restrictions exists (D-204)
 WAITING, SYNCING, IN_SYNC, HOLDING = 0, 1, 2, 3
-#: relative tolerance of the master signal check (D-205), on top of what a jerk-limited
-#: master can do within one cycle
-_SIGNAL_TOLERANCE = 1e-9
 _ROUNDING = 64.0 * sys.float_info.epsilon  #: relative rounding of a second difference
 _AT_REST = 1e9  #: [s] far enough into any brake to be at rest
 
@@ -119,12 +122,13 @@ class GearSync:
         mp, mv, ma, mj = master
         stretched = self._stretch_from is not None
         if (self.strategy is SyncStrategy.LATE and not self.synced_once
-                and not self.override_restrictions and abs(ma) > 1e-9 * max(1.0, abs(mv))):
+                and not self.override_restrictions
+                and abs(ma) > RELATIVE_TOLERANCE * max(1.0, abs(mv))):
             self.error = (ErrorId.SYNC_FAILED, "the master accelerated after StartSync "
                           "(SyncStrategy Late)")
             return None
         if (self.strategy is SyncStrategy.SLOW and not self.synced_once and not stretched
-                and abs(mv - self._planned_for) > 1e-9 * max(1.0, abs(mv))):
+                and abs(mv - self._planned_for) > RELATIVE_TOLERANCE * max(1.0, abs(mv))):
             # the master changed speed: plan the rest again to arrive in time (§9.4.1.5)
             self._begin(now, cycle_time, slave, self._previous_master, master, self.limits)
             self._planned_for = mv
@@ -143,7 +147,7 @@ class GearSync:
             error = self.profile.at(at)
         self._previous_master = master
         cp, cv, ca, cj = self.coupled(mp, mv, ma, mj)
-        if at >= self.profile.duration - 1e-12:
+        if at >= self.profile.duration - PROFILE_END_TOLERANCE:
             self.phase, self.start_sync, self.in_sync = IN_SYNC, False, True
             self.synced_once = True
             self._stretch_from = None
@@ -193,7 +197,7 @@ class GearSync:
             return self._signal[1]
         signal, history, expected = master, [], now - cycle_time
         for then, values in reversed(self._history):  # samples of the cycles just before
-            if cycle_time <= 0.0 or abs(then - expected) > 1e-6 * cycle_time:
+            if cycle_time <= 0.0 or abs(then - expected) > SAMPLE_TIME_TOLERANCE * cycle_time:
                 break
             history.insert(0, values)
             expected -= cycle_time
@@ -209,32 +213,34 @@ class GearSync:
         self._history = ((now, master),)
 
     def _corrected(self, master: tuple[float, float, float, float],
-                   history: list[tuple[float, float, float, float]], dt: float
+                   history: list[tuple[float, float, float, float]], cycle_time: float
                    ) -> tuple[float, float, float, float]:
         """``master``, or its velocity and acceleration from its positions (D-205)."""
         p = master[0]
         p1, v1, a1, j1 = history[-1]  # as reported in the last cycle
-        predicted = p1 + dt * (v1 + dt * (a1 / 2.0 + dt * j1 / 6.0))
-        bound = self.master_max_jerk * dt ** 3 / 3.0  # a jerk swing of ±max within a cycle
-        slack = _SIGNAL_TOLERANCE * max(1.0, abs(p), abs(p - p1))
+        predicted = p1 + cycle_time * (v1 + cycle_time * (a1 / 2.0 + cycle_time * j1 / 6.0))
+        bound = self.master_max_jerk * cycle_time ** 3 / 3.0  # a jerk swing of ±max within a cycle
+        slack = SIGNAL_TOLERANCE * max(1.0, abs(p), abs(p - p1))
         if abs(p - predicted) <= bound + slack:
             return master
         if len(history) < 2:
-            return p, (p - p1) / dt, 0.0, 0.0
+            return p, (p - p1) / cycle_time, 0.0, 0.0
         p2 = history[-2][0]
-        acceleration = (p - 2.0 * p1 + p2) / (dt * dt)
+        acceleration = (p - 2.0 * p1 + p2) / (cycle_time * cycle_time)
         # the rounding of three positions is no acceleration (Late would take it for one)
-        if abs(acceleration) <= _ROUNDING * max(1.0, abs(p), abs(p1), abs(p2)) / (dt * dt):
+        rounding = _ROUNDING * max(1.0, abs(p), abs(p1), abs(p2)) / (cycle_time * cycle_time)
+        if abs(acceleration) <= rounding:
             acceleration = 0.0
-        return p, (3.0 * p - 4.0 * p1 + p2) / (2.0 * dt), acceleration, 0.0
+        return p, (3.0 * p - 4.0 * p1 + p2) / (2.0 * cycle_time), acceleration, 0.0
 
     def _may_start(self, now: float, slave: tuple[float, float, float],
                    master: tuple[float, float, float, float], cycle_time: float) -> bool:
         if self._previous_master is None:  # the master of the slave's cycle: no jump back
             mp, mv, ma, mj = master
-            dt = cycle_time
-            self._previous_master = (mp - dt * (mv - dt * (ma / 2.0 - dt * mj / 6.0)),
-                                     mv - dt * (ma - dt * mj / 2.0), ma - dt * mj, mj)
+            step = cycle_time  # one cycle back along the master's cubic
+            self._previous_master = (
+                mp - step * (mv - step * (ma / 2.0 - step * mj / 6.0)),
+                mv - step * (ma - step * mj / 2.0), ma - step * mj, mj)
         mp, mv = master[0], master[1]
         if self.start_distance is not None:
             threshold = self.master_sync_position - self.start_distance
@@ -280,7 +286,7 @@ class GearSync:
         _, cv, _, _ = self.coupled(*master)
         v = slave[1]
         low, high = self.profile.velocity_extrema()
-        tolerance = 1e-9 * max(1.0, abs(v), self.limits.velocity)
+        tolerance = RELATIVE_TOLERANCE * max(1.0, abs(v), self.limits.velocity)
         return (v > tolerance and cv + low < -tolerance) or \
             (v < -tolerance and cv + high > tolerance)
 
@@ -329,7 +335,7 @@ class GearSync:
         assert maxima is not None
         _, cv, ca, _ = self.coupled(*master)
         v, a = cv + ev, ca + ea
-        tolerance = 1.0 + 1e-9
+        tolerance = 1.0 + RELATIVE_TOLERANCE
         if abs(v) > maxima.velocity * tolerance or \
                 a > maxima.acceleration * tolerance or -a > maxima.deceleration * tolerance:
             return None, at
@@ -356,7 +362,7 @@ class GearSync:
         judged after the lead that first brings the slave to the master's velocity
         (``main``); reversal and MinimalSlavePosition on all of it."""
         cp, cv, _, _ = self.coupled(*master)
-        tolerance = 1e-9 * max(1.0, abs(cv), self.limits.velocity)
+        tolerance = RELATIVE_TOLERANCE * max(1.0, abs(cv), self.limits.velocity)
         low, high = main.velocity_extrema()  # of the sync error's velocity
         sign = 1.0 if cv >= 0.0 else -1.0
         error_low, error_high = (low, high) if sign > 0 else (-high, -low)
@@ -390,7 +396,7 @@ class GearSync:
         breaks the restriction already."""
         cp, cv, _, _ = self.coupled(*master)
         p, v, a = slave
-        tolerance = 1e-9 * max(1.0, abs(cv), limits.velocity)
+        tolerance = RELATIVE_TOLERANCE * max(1.0, abs(cv), limits.velocity)
         if not self.undershoot_allowed and abs(cv) > tolerance:
             return "holding would leave it slower than the master"
         direction = self._direction(slave, master)
@@ -422,7 +428,7 @@ class GearSync:
                           limits.acceleration, limits.deceleration, limits.jerk)
         lead = None
         toward = e.velocity if cv >= 0.0 else -e.velocity  # > 0: the slave is faster
-        tolerance = 1e-9 * max(1.0, abs(cv), limits.velocity)
+        tolerance = RELATIVE_TOLERANCE * max(1.0, abs(cv), limits.velocity)
         if (not self.undershoot_allowed and toward < -tolerance) or \
                 (not self.overshoot_allowed and toward > tolerance):
             lead = plan_velocity(e, 0.0, relative)

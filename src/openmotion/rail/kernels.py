@@ -18,9 +18,7 @@ import math
 import numpy as np
 
 from openmotion.core.compiled import compiled, sort_in_place, true_indices
-
-TOLERANCE = 1e-9  #: [mm] as gap_control.TOLERANCE
-_SLACK = 1 + 1e-12  #: relative float slack of the limit checks
+from openmotion.rail.tolerances import LIMIT_SLACK, PHASE_END_TOLERANCE, TOLERANCE
 
 
 @compiled
@@ -120,8 +118,8 @@ def _first_step(k: int, dt: float, p: np.ndarray, v: np.ndarray, a: np.ndarray, 
         a1 = a[k] + dt * j
         u, b = s * v1, s * a1
         release = u + b * abs(b) / (2.0 * jk)
-        if not (b <= acc * _SLACK and b >= -dk * _SLACK
-                and release <= vmax * _SLACK and u >= 0.0 and release >= 0.0):
+        if not (b <= acc * LIMIT_SLACK and b >= -dk * LIMIT_SLACK
+                and release <= vmax * LIMIT_SLACK and u >= 0.0 and release >= 0.0):
             continue
         top = max(u, release)
         t_stop = (max(b, 0.0) + 2.0 * dk) / jk + top / dk
@@ -269,7 +267,7 @@ def _brake_at(table: tuple, t: float) -> tuple[float, float, float, float]:
     ends, jerks, ps, vs, accs = table
     phase = 0
     for q in range(3):
-        if t >= ends[q] - 1e-15:
+        if t >= ends[q] - PHASE_END_TOLERANCE:
             phase += 1
     start = 0.0 if phase == 0 else ends[phase - 1]
     tau = t - start

@@ -169,8 +169,8 @@ def _move_path_table(group: AxesGroup, entry: MovePathTable) -> Command:
         block = _PREPARATIONS[row.kind]()
         block(table, **row.inputs())
         if block.error:
-            command = Command(type(block).__name__, group._rt.now)
-            command.end(CommandStatus.ERROR, group._rt.now, block.error_id,
+            command = Command(type(block).__name__, group.runtime.now)
+            command.end(CommandStatus.ERROR, group.runtime.now, block.error_id,
                          f"row {number}: {block.message}")
             return command
     return group.move_path_table(table)

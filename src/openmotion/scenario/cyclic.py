@@ -380,7 +380,7 @@ class ReadStatus(_Call, Query):
     block = "MC_ReadStatus"
     block_type = MC_ReadStatus
     command: Literal["read_status"]
-    outputs = MC_ReadStatus._FLAGS
+    outputs = MC_ReadStatus.FLAGS
 
 
 class ReadAxisError(_Call, Query):

@@ -564,7 +564,7 @@ class GroupReadStatus(_GroupCall, Query):
     block_type = MC_GroupReadStatus
     trigger = "enable"
     command: Literal["group_read_status"]
-    outputs = (*MC_GroupReadStatus._STATE_FLAG.values(), "all_axes_standing",
+    outputs = (*MC_GroupReadStatus.STATE_FLAGS.values(), "all_axes_standing",
                "constant_velocity", "accelerating", "decelerating", "in_position")
 
 

@@ -15,9 +15,10 @@ from openmotion.axis.commands import CommandStatus
 from openmotion.core.errors import CommandRejected
 from openmotion.core.special_values import MC_DEFAULT
 from openmotion.rail.braking import brake_envelope, brake_state
-from openmotion.rail.gap_control import TOLERANCE, Pairs, filter_steps
+from openmotion.rail.gap_control import Pairs, filter_steps
 from openmotion.rail.gear import GearSync
 from openmotion.rail.kernels import fast_candidates
+from openmotion.rail.tolerances import TOLERANCE
 from openmotion.trajectory.plan import Limits, plan_position
 from openmotion.trajectory.segments import KinematicState
 from openmotion.transport.enums import GapControlDirection, GapControlMode, GroupState
@@ -33,6 +34,12 @@ from openmotion.transport.movers import (
     CaJob,
     Mover,
 )
+from openmotion.transport.tolerances import (
+    FIT_SLACK,
+    LIMIT_TOLERANCE,
+    REST_SHARE,
+    STANDBY_DISTANCE,
+)
 
 if TYPE_CHECKING:
     pass
@@ -41,6 +48,12 @@ if TYPE_CHECKING:
 class GroupCycle:
     """The per-cycle methods of ``CaGroup`` (a mixin: the state lives in the group)."""
 
+
+    def pairs_changed(self) -> None:
+        """The order, modes or gap paths of the movers changed: the pairs and the room
+        between them are found again in the next cycle."""
+        self._pairs_dirty = True
+        self._room_of = None
 
     def _pairs(self) -> Pairs:
         if self._pairs_dirty:
@@ -64,11 +77,11 @@ class GroupCycle:
         self._watch_members()
         if self.state not in MOVING_STATES:
             if self.state is not GroupState.DISABLED:  # the brakes' states, for the next fault
-                k, rows = self._k, self.rows
+                k, rows = self.kernel, self.rows
                 self.p, self.v, self.a = k.set_p[rows], k.set_v[rows], k.set_a[rows]
                 self._env = None
             return
-        k, rows, dt = self._k, self.rows, self._rt.cycle_time
+        k, rows, dt = self.kernel, self.rows, self.runtime.cycle_time
         nxt = [k.set_p[rows].copy(), k.set_v[rows].copy(), k.set_a[rows].copy(),
                k.set_j[rows].copy()]
         n = rows.size
@@ -128,17 +141,16 @@ class GroupCycle:
                 + TOLERANCE
         if safe.any():
             self.fast_grace[s[safe]] = False
-            self._pairs_dirty = True
-            self._room_of = None
+            self.pairs_changed()
         self.fast_grace[self.pred < 0] = False  # no pair at all
 
     def _master(self, sync: GearSync) -> tuple[float, float, float, float]:
-        k, row = self._k, sync.master_row
+        k, row = self.kernel, sync.master_row
         return float(k.set_p[row]), float(k.set_v[row]), float(k.set_a[row]), float(k.set_j[row])
 
     def _gear_steps(self, slots: np.ndarray, now: float, nxt: list[np.ndarray]) -> None:
         """Proposals of coupled slaves (few: a loop); a failed sync ends in error and brakes."""
-        dt = self._rt.cycle_time
+        dt = self.runtime.cycle_time
         for slot in slots.tolist():
             mover = self.movers[slot]
             job = mover.job
@@ -159,8 +171,9 @@ class GroupCycle:
             if proposal is None:  # waiting (or stopping): brake to rest with the job's limits
                 lim = job.limits  # or on along gap control's harder brake (D-206)
                 v, a = float(self.v[slot]), float(self.a[slot])
-                hard = abs(a) > lim.deceleration * (1 + 1e-9) or (  # or it would turn round
-                    v * a < 0.0 and a * a / (2.0 * lim.jerk) > abs(v) * (1 + 1e-9))
+                slack = 1 + LIMIT_TOLERANCE
+                hard = abs(a) > lim.deceleration * slack or (  # or it would turn round
+                    v * a < 0.0 and a * a / (2.0 * lim.jerk) > abs(v) * slack)
                 dec = self.bdec[slot] if hard else lim.deceleration
                 jerk = self.bjerk[slot] if hard else lim.jerk
                 step = brake_state(self.p[slot:slot + 1], self.v[slot:slot + 1],
@@ -241,7 +254,7 @@ class GroupCycle:
             for o, value in zip(out, step, strict=True):
                 o[lost] = value
         # float residue of the steps (|v| ~ 1e-17) is rest: snap it, so standstill is exact
-        still = (np.abs(out[1]) <= 1e-9 * vmax) & (np.abs(out[2]) <= 1e-9 * acc)
+        still = (np.abs(out[1]) <= REST_SHARE * vmax) & (np.abs(out[2]) <= REST_SHARE * acc)
         out[1][still], out[2][still], out[3][still] = 0.0, 0.0, 0.0
         known[0][held[still]] = False  # snapped: the filter computes their envelope
         return tuple(out)
@@ -307,7 +320,7 @@ class GroupCycle:
         return room_hi[slots], room_lo[slots]
 
     def _events(self, now: float) -> None:
-        k = self._k
+        k = self.kernel
         ended = np.flatnonzero((self.mode == FOLLOW) & (k.segments.end[self.rows] <= now))
         for slot in ended.tolist():
             mover = self.movers[slot]
@@ -406,10 +419,10 @@ class GroupCycle:
         b = step * self.a[slots]
         c_lo, c_hi = brake_envelope(self.p[slots], self.v[slots], self.a[slots], dec, jerk)
         fits = np.where(forward, c_hi <= goals + TOLERANCE, c_lo >= goals - TOLERANCE)
-        fits &= (b <= acc * (1 + 1e-12)) & (b >= -dec * (1 + 1e-12))
+        fits &= (b <= acc * FIT_SLACK) & (b >= -dec * FIT_SLACK)
         u = step * self.v[slots]  # and stop without turning round
-        fits &= (u >= 0.0) & (u + b * np.abs(b) / (2.0 * jerk) >= -1e-9 * vmax)
-        fits &= np.abs(self.v[slots]) <= vmax * (1 + 1e-12)
+        fits &= (u >= 0.0) & (u + b * np.abs(b) / (2.0 * jerk) >= -REST_SHARE * vmax)
+        fits &= np.abs(self.v[slots]) <= vmax * FIT_SLACK
         return fits
 
     def _restore_gaps(self) -> None:
@@ -435,11 +448,11 @@ class GroupCycle:
             return
         slots = np.flatnonzero(idle)
         room_hi, _ = self._room(slots)
-        if not np.any(self.p[slots] > room_hi + 1e-6):
+        if not np.any(self.p[slots] > room_hi + STANDBY_DISTANCE):
             return
         lo, _hi = self._envelope()
         desired = self._push(idle, np.where(idle, self.p, lo))
-        for slot in np.flatnonzero(idle & (desired < self.p - 1e-6)).tolist():
+        for slot in np.flatnonzero(idle & (desired < self.p - STANDBY_DISTANCE)).tolist():
             self._standby(self.movers[slot], float(desired[slot]))
 
     def _give_way(self, idle: np.ndarray) -> None:
@@ -464,10 +477,10 @@ class GroupCycle:
         tcp = pairs.on_tcp(m)
         if tcp.any():  # gaps on a TCP path (D-073)
             limit[tcp] = pairs.behind(m[tcp], low[pairs.pred[m[tcp]]] + pairs.offset[m[tcp]])
-        if not np.any(low[s] > limit + 1e-6):
+        if not np.any(low[s] > limit + STANDBY_DISTANCE):
             return
         desired = self._push(free, low)
-        for slot in np.flatnonzero(free & (desired < low - 1e-6)).tolist():
+        for slot in np.flatnonzero(free & (desired < low - STANDBY_DISTANCE)).tolist():
             self._standby(self.movers[slot], float(desired[slot]))
 
     def _push(self, free: np.ndarray, desired: np.ndarray) -> np.ndarray:
@@ -482,7 +495,7 @@ class GroupCycle:
                 if k < 0 or not free[slot] or self.gmode[slot] == GapControlMode.NONE:
                     continue
                 limit = self._behind(slot, desired[k] + self.offset[slot])
-                if limit < desired[slot] - 1e-9:
+                if limit < desired[slot] - TOLERANCE:
                     desired[slot] = limit
                     changed = True
             if not changed:
@@ -511,7 +524,8 @@ class GroupCycle:
     def _resting(self, slots: np.ndarray) -> np.ndarray:
         """At rest up to float residue of the tracking steps."""
         vmax, acc = self.lim[0].take(slots), self.lim[1].take(slots)
-        return (np.abs(self.v[slots]) <= 1e-9 * vmax) & (np.abs(self.a[slots]) <= 1e-9 * acc)
+        return (np.abs(self.v[slots]) <= REST_SHARE * vmax) & (
+            np.abs(self.a[slots]) <= REST_SHARE * acc)
 
     def _replan(self, mover: Mover, goal: float, limits: Limits | None = None) -> None:
         """A profile to ``goal`` with the command's limits (or ``limits``): FOLLOW again."""
@@ -523,6 +537,6 @@ class GroupCycle:
             profile = plan_position(start, goal, limits or job.limits)
         except CommandRejected:
             return  # stay held; the tracking step goes on
-        self._k.segments.install(mover.axis.row, profile, self._rt.now)
+        self.kernel.segments.install(mover.axis.row, profile, self.runtime.now)
         self.mode[slot] = FOLLOW
         self.goal[slot] = goal

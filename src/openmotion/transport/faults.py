@@ -47,7 +47,7 @@ class GroupFaults:
         lost, self._power_lost = self._power_lost, None  # also if MC_Power came back since
         if self.state in (GroupState.DISABLED, GroupState.ERROR_STOP):
             return
-        if lost is None and self._k.monitored[self.rows].all():  # all powered, no errors
+        if lost is None and self.kernel.monitored[self.rows].all():  # all powered, no errors
             if self.state is GroupState.NOT_READY:
                 self._check_ready()
             return
@@ -72,7 +72,7 @@ class GroupFaults:
     def _brake_all(self, status: CommandStatus, message: str) -> None:
         """End every command and brake every mover, powered or not, with its maximum
         dynamics from the state of the last cycle (a mover braking already goes on)."""
-        now = self._rt.now
+        now = self.runtime.now
         error_id = ErrorId.GROUP_ERROR if status is CommandStatus.ERROR else ErrorId.NO_ERROR
         for mover in self.movers:
             for job in ([mover.job] if mover.job else []) + mover.queue:
@@ -85,13 +85,12 @@ class GroupFaults:
                 start = KinematicState(float(self.p[slot]), float(self.v[slot]),
                                        float(self.a[slot]))
                 profile = plan_stop(start, float(self.bdec[slot]), float(self.bjerk[slot]))
-                self._install_brake(mover, FaultBrake(now - self._rt.cycle_time, profile), now)
+                self._install_brake(mover, FaultBrake(now - self.runtime.cycle_time, profile), now)
         for command in (self._stop, self._halt):
             if command is not None:
                 command.end(status, now, error_id, message)
         self._stop = self._halt = None
-        self._pairs_dirty = True
-        self._room_of = None
+        self.pairs_changed()
         self._env = None
 
     def member_power_changed(self, axis: Axis) -> None:
@@ -101,7 +100,7 @@ class GroupFaults:
         if self.state is GroupState.DISABLED:
             return
         self._fresh()
-        mover, now = self.mover_of(axis), self._k.sample_time  # the time of the last state
+        mover, now = self.mover_of(axis), self.kernel.sample_time  # the time of the last state
         if not axis.powered:
             self._power_lost = axis.name  # the group reacts in phase 2 (_watch_members)
         if mover.brake is None and not axis.powered:
@@ -116,7 +115,7 @@ class GroupFaults:
 
     def _install_brake(self, mover: Mover, brake: FaultBrake, now: float) -> None:
         """Let the mover follow ``brake``; its setpoint of this cycle is the brake's."""
-        k, row = self._k, mover.axis.row
+        k, row = self.kernel, mover.axis.row
         k.segments.install(row, brake.profile, brake.start)
         brake.end = float(k.segments.end[row])
         k.set_p[row], k.set_v[row], k.set_a[row], k.set_j[row] = brake.profile.at(
@@ -127,7 +126,7 @@ class GroupFaults:
     def _follow_brakes(self, now: float) -> None:
         """Keep the running brakes (MC_Power or an error reaction may have planned the row
         anew) and end those that reached rest."""
-        k = self._k
+        k = self.kernel
         for mover in self.movers:
             brake = mover.brake
             if brake is None:

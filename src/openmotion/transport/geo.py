@@ -174,7 +174,7 @@ class GeoCompensation:
         """MC_RegisterCompensation (§9.2.1.1): later CA moves of ``axis`` may refer to this
         template (PositionReferenceSystem, DynamicsReferenceSystem). A new registration
         replaces the old one; there is no unregister (D-075)."""
-        command = Command("register_compensation", self._group._rt.now)
+        command = Command("register_compensation", self._group.runtime.now)
         try:
             if isinstance(compensation_type, bool) or compensation_type != CompensationType.GEO:
                 raise CommandRejected(ErrorId.INVALID_COMPENSATION_TYPE,
@@ -183,14 +183,18 @@ class GeoCompensation:
                 raise CommandRejected(ErrorId.AXIS_NOT_IN_GROUP,
                                       f"{axis.name} is not in CA group {self._group.name!r}")
             self._registered[axis.row] = self.template(template_id).template_id
-            self._group._pairs_dirty = True  # its gaps are now on the TCP path (D-073)
-            self._group._room_of = None
+            self._group.pairs_changed()  # its gaps are now on the TCP path (D-073)
         except CommandRejected as rejected:
             command.end(CommandStatus.ERROR, command.issued_at, rejected.error_id,
                          rejected.message)
             return command
         command.end(CommandStatus.DONE, command.issued_at)
         return command
+
+    @property
+    def any_registered(self) -> bool:
+        """At least one mover registered a template (MC_RegisterCompensation)."""
+        return bool(self._registered)
 
     def registered(self, axis: Axis) -> MoverTemplate | None:
         """The template ``axis`` registered, if any."""

@@ -92,8 +92,8 @@ class CaGroup(GroupCycle, GroupFaults):
         self.name = name
         self.oid = 0x05030000 + runtime.serial("ca_group")  #: TcCOM-like object id (ours)
         self.parameters = parameters
-        self._rt = runtime
-        self._k = runtime.axis_system.kernel
+        self.runtime = runtime
+        self.kernel = runtime.axis_system.kernel
         self.state = GroupState.DISABLED
         self.error_disabled = False  #: internal GroupErrorDisabled (not visible, §7.2)
         self.error_id = ErrorId.NO_ERROR  #: GroupErrorId of the cyclic interface
@@ -126,7 +126,7 @@ class CaGroup(GroupCycle, GroupFaults):
     def all_axes_standing(self) -> bool:
         """MC_GroupReadStatus.AllAxesStanding: no member moves (v = 0 and a = 0)."""
         self._fresh()
-        k, rows = self._k, self.rows
+        k, rows = self.kernel, self.rows
         return bool(np.all(k.set_v[rows] == 0.0) and np.all(k.set_a[rows] == 0.0))
 
     def _fresh(self) -> None:
@@ -149,7 +149,7 @@ class CaGroup(GroupCycle, GroupFaults):
     def gaps(self) -> np.ndarray:
         """Setpoint gap of each mover to its predecessor, in CA order (inf: none)."""
         self._fresh()
-        k = self._k
+        k = self.kernel
         p = k.set_p[self.rows] if self.rows.size else np.zeros(0)
         gaps = np.full(len(self.movers), np.inf)
         has = self.pred >= 0
@@ -513,10 +513,10 @@ class CaGroup(GroupCycle, GroupFaults):
                                  bool(master_velocity_overshoot_allowed),
                                  bool(direction_reversal_allowed), minimum, correction,
                                  master.parameters.max_jerk, maxima)
-            k = self._k
-            job.extra.seed(self._rt.now, (float(k.set_p[master.row]), float(k.set_v[master.row]),
-                                          float(k.set_a[master.row]),
-                                          float(k.set_j[master.row])))
+            k = self.kernel
+            row = master.row
+            job.extra.seed(self.runtime.now, (float(k.set_p[row]), float(k.set_v[row]),
+                                              float(k.set_a[row]), float(k.set_j[row])))
             return job
 
         return self._submit(slave, command, build)
@@ -541,21 +541,20 @@ class CaGroup(GroupCycle, GroupFaults):
                 if job.gap_mode is not GapControlMode.NONE:
                     mover.gap = job.gap
                     self.gap[mover.slot] = job.gap
-                    self._pairs_dirty = True
-                    self._room_of = None
+                    self.pairs_changed()
                 return
 
     # -- internals: commands --------------------------------------------------------------------
 
     def _command(self, kind: str) -> Command:
-        return Command(kind, self._rt.now)
+        return Command(kind, self.runtime.now)
 
     def _finish(self, command: Command) -> Command:
-        command.end(CommandStatus.DONE, self._rt.now)
+        command.end(CommandStatus.DONE, self.runtime.now)
         return command
 
     def _reject(self, command: Command, error_id: ErrorId, message: str) -> Command:
-        command.end(CommandStatus.ERROR, self._rt.now, error_id, message)
+        command.end(CommandStatus.ERROR, self.runtime.now, error_id, message)
         return command
 
     def _refusal(self) -> tuple[ErrorId, str]:
@@ -654,7 +653,7 @@ class CaGroup(GroupCycle, GroupFaults):
         if profile is None:
             self.mode[slot] = GEAR
         else:
-            self._k.segments.install(mover.axis.row, profile, self._k.sample_time)
+            self.kernel.segments.install(mover.axis.row, profile, self.kernel.sample_time)
             self.mode[slot] = FOLLOW
         self.goal[slot] = job.target
         self._load_job(mover)
@@ -675,8 +674,7 @@ class CaGroup(GroupCycle, GroupFaults):
         self.target[slot] = job.target
         self.lim[:, slot] = (lim.velocity, lim.acceleration, lim.deceleration, lim.jerk)
         self.halting[slot] = job.kind == HALT
-        self._pairs_dirty = True
-        self._room_of = None
+        self.pairs_changed()
 
     def _set_gap_mode(self, slot: int, mode: int) -> None:
         """A mover's gap control mode changes. From FAST to STANDARD its pair may be safe only
@@ -689,7 +687,7 @@ class CaGroup(GroupCycle, GroupFaults):
         self.gmode[slot] = mode
 
     def _abort(self, mover: Mover, reason: str) -> None:
-        now = self._rt.now
+        now = self.runtime.now
         if mover.job is not None:
             mover.job.command.end(CommandStatus.ABORTED, now, message=reason)
             mover.job = None
@@ -700,13 +698,12 @@ class CaGroup(GroupCycle, GroupFaults):
     def _finish_job(self, mover: Mover) -> None:
         job = mover.job
         assert job is not None
-        job.command.end(CommandStatus.DONE, self._rt.now)
+        job.command.end(CommandStatus.DONE, self.runtime.now)
         mover.job = None
         slot = mover.slot
         self.mode[slot] = IDLE
         self._set_gap_mode(slot, int(self.parameters.default_gap_control_mode))
-        self._pairs_dirty = True
-        self._room_of = None
+        self.pairs_changed()
         if mover.queue:
             self._start(mover, mover.queue.pop(0))
         elif mover.axis.state is AxisState.DISCRETE_MOTION:
@@ -716,15 +713,16 @@ class CaGroup(GroupCycle, GroupFaults):
 
     def _moving(self, mover: Mover) -> bool:
         row = mover.axis.row
-        return mover.brake is not None or bool(self._k.set_v[row] != 0.0
-                                               or self._k.set_a[row] != 0.0)
+        return mover.brake is not None or bool(self.kernel.set_v[row] != 0.0
+                                               or self.kernel.set_a[row] != 0.0)
 
     def _drop(self, mover: Mover) -> None:
         self._abort(mover, "removed from the group")
         self._stand(mover)  # it rests (removal waits for that): StandStill, its brake is over
         mover.axis.group = None
         row = mover.axis.row
-        self._k.segments.install(row, hold(float(self._k.set_p[row])), self._k.sample_time)
+        k = self.kernel
+        k.segments.install(row, hold(float(k.set_p[row])), k.sample_time)
         self.movers.remove(mover)
         self._reorder()
         if not self.movers and self.state is not GroupState.DISABLED:
@@ -734,13 +732,14 @@ class CaGroup(GroupCycle, GroupFaults):
         for mover in self.movers:
             self._abort(mover, "the group was disabled")
             row = mover.axis.row
-            k = self._k
+            k = self.kernel
             k.set_v[row] = k.set_a[row] = k.set_j[row] = 0.0
             k.segments.install(row, hold(float(k.set_p[row])), k.sample_time)
             self._stand(mover)
         for command in (self._stop, self._halt):
             if command is not None:
-                command.end(CommandStatus.ABORTED, self._rt.now, message="the group was disabled")
+                command.end(CommandStatus.ABORTED, self.runtime.now,
+                            message="the group was disabled")
         self._stop = self._halt = None
         if self.state is GroupState.ERROR_STOP:
             self.error_disabled = True
@@ -751,7 +750,7 @@ class CaGroup(GroupCycle, GroupFaults):
         """CA order by position (§8.1.1): the largest first; equal: the last added first."""
         length = self.parameters.rail_length
         ring = self.parameters.rail_is_ring
-        k = self._k
+        k = self.kernel
 
         def key(m: Mover) -> tuple[float, int]:
             p = float(k.set_p[m.axis.row])
@@ -777,8 +776,7 @@ class CaGroup(GroupCycle, GroupFaults):
             if id(mover) in grace:  # the gap mode as it was, before and after a reorder
                 self.gmode[slot], self.fast_grace[slot] = grace[id(mover)]
         self._sync_states()
-        self._pairs_dirty = True
-        self._room_of = None
+        self.pairs_changed()
 
     def _arrays(self, n: int) -> None:
         self.rows = np.array([m.axis.row for m in self.movers], dtype=np.int64) if n else \
@@ -811,7 +809,7 @@ class CaGroup(GroupCycle, GroupFaults):
 
     def _sync_states(self) -> None:
         """Take the members' setpoints as the group's state (enable, reset, reorder)."""
-        k, rows = self._k, self.rows
+        k, rows = self.kernel, self.rows
         if not rows.size:
             return
         self.p, self.v, self.a = k.set_p[rows].copy(), k.set_v[rows].copy(), \
@@ -824,8 +822,7 @@ class CaGroup(GroupCycle, GroupFaults):
             first = np.flatnonzero(has) == 0
             wrapped = np.where(first & (wrapped == 0.0), length, wrapped)
             self.offset[has] = wrapped - raw
-        self._pairs_dirty = True
-        self._room_of = None
+        self.pairs_changed()
         self._env = None
 
     def _check_ready(self) -> None:

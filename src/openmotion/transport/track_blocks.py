@@ -103,7 +103,7 @@ class MC_TransformPosition(GroupCommand):
     def _issue(self, group: CaGroup) -> Command:  # type: ignore[override]
         value = group.tracks.geo.transform_position(self.origin_oid, self.destination_oid,
                                                     self.origin_position)
-        command = Command("transform_position", group._rt.now)
+        command = Command("transform_position", group.runtime.now)
         command.value = value
         command.end(CommandStatus.DONE, command.issued_at)
         return command

@@ -30,6 +30,7 @@ from openmotion.core.checks import finite_number
 from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.transport.enums import ModuloDirection
 from openmotion.transport.geo import GeoCompensation, MoverTemplate, StarterKitGeometry
+from openmotion.transport.tolerances import JOINT_TOLERANCE
 
 if TYPE_CHECKING:
     from openmotion.axis.axis import Axis
@@ -121,7 +122,7 @@ class TrackTable:
         parts = tuple(self.parts[p] for p in part_ids)
         for a, b in zip(parts, parts[1:], strict=False):
             gap = (b.start - a.end) % length_ if ring else b.start - a.end
-            if abs(gap) > 1e-9 and abs(gap - length_) > 1e-9:
+            if abs(gap) > JOINT_TOLERANCE and abs(gap - length_) > JOINT_TOLERANCE:
                 raise ConfigError(f"track {track_id}: part {b.part_id} does not start where "
                                   f"part {a.part_id} ends")
         offsets = [0.0]
@@ -129,7 +130,7 @@ class TrackTable:
             offsets.append(offsets[-1] + part.length)
         total = offsets[-1] + parts[-1].length
         track = Track(track_id, parts, tuple(offsets), total,
-                      ring and math.isclose(total, length_, rel_tol=0.0, abs_tol=1e-9))
+                      ring and math.isclose(total, length_, rel_tol=0.0, abs_tol=JOINT_TOLERANCE))
         self.tracks[track_id] = track
         return track
 
@@ -138,7 +139,7 @@ class TrackTable:
     def activate_track(self, axis: Axis, track_id: int) -> Command:
         """MC_ActivateTrack (§9.1.1.1.6): ``track_id`` becomes the frame of the mover's later
         positions; the set position must lie on a part of the track. 0: the absolute frame."""
-        command = Command("activate_track", self._group._rt.now)
+        command = Command("activate_track", self._group.runtime.now)
         try:
             self._member(axis)
             if not (isinstance(track_id, int) and not isinstance(track_id, bool) and
@@ -227,7 +228,7 @@ class TrackTable:
         geometry: gaps of registered successors are measured on their TCP path (D-073).
         (None, None) when no mover of the group registered one."""
         geo = self.geo
-        if geo.geometry is None or not geo._registered:
+        if geo.geometry is None or not geo.any_registered:
             return None, None
         movers = self._group.movers
         y = np.array([getattr(geo.registered(movers[slot].axis), "y_shift", 0.0)
