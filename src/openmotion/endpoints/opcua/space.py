@@ -63,7 +63,8 @@ class AddressSpace:
     methods: dict[ua.NodeId, dict[ua.NodeId, Served]] = field(default_factory=dict)
     #: the HasComponent references from each object to the methods of its kind
     references: list[ua.AddReferencesItem] = field(default_factory=list)
-    _shared: dict[tuple[object, ...], ua.NodeId] = field(default_factory=dict)
+    #: the method node of each (kind, command, inputs): one per kind, shared by its objects
+    shared: dict[tuple[object, ...], ua.NodeId] = field(default_factory=dict)
     paths: set[str] = field(default_factory=set)  #: the object paths given
     _enums: dict[type, ua.NodeId] = field(default_factory=dict)
 
@@ -223,9 +224,9 @@ def _method(space: AddressSpace, obj: MachineObject, command: WireCommand, path:
     copies of 27 methods with their arguments."""
     key = (obj.kind, type(obj.target), command.name,
            tuple((put.name, put.kind, put.type) for put in command.inputs), command.spec.level)
-    node = space._shared.get(key)
+    node = space.shared.get(key)
     if node is None:
-        node = space._shared[key] = space.id(_unique(f"type:{obj.kind}:{command.name}", space))
+        node = space.shared[key] = space.id(_unique(f"type:{obj.kind}:{command.name}", space))
         _method_node(space, node, command, space.id(f"type:{obj.kind}"))
         space.methods[node] = {}
     space.methods[node][space.id(path)] = Served(obj, command)
