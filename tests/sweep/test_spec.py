@@ -66,7 +66,7 @@ def _error(path: Path) -> SweepError:
     ({"parameters": [{"first": ["timeline"], "name": "n", "values": [0.5]}]},
      "parameters[0]: first: the values must be whole numbers >= 0"),
     ({"metrics": [{"signals": "x.position"}]},
-     "metrics[0]: give exactly one of signal, commands, run, cycle_cost"),
+     "metrics[0]: give exactly one of signal, commands, run, station, cycle_cost"),
     ({"metrics": [{"signal": "x.position", "stats": ["median"]}]},
      "metrics[0].stats[0]: must be 'min', 'max', 'mean' or 'final', got 'median'"),
     ({"metrics": [{"commands": ["finished"]}]}, "metrics[0].commands[0]: must be 'done'"),
