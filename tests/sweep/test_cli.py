@@ -77,7 +77,7 @@ def test_a_bad_sweep_file_is_one_line_and_exit_2(in_tmp: Path) -> None:
     result = runner.invoke(app, ["sweep", str(sweep)])
     assert result.exit_code == 2
     assert result.stderr == f"ConfigError: {sweep}:2: metrics[0]: give exactly one of signal, " \
-                            "commands, run, cycle_cost\n"
+                            "commands, run, station, cycle_cost\n"
     assert not (in_tmp / "bad.sweep").exists()
 
 
