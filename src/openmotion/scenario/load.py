@@ -147,12 +147,12 @@ def _problem(error: Any, root: yaml.Node, file: str) -> Problem:
         message = re.sub(r"^List should have at least (\d+) items?.*",
                          r"must hold at least \1 item(s)", message)
         field = re.match(r"^([a-z_]+): (.*)$", message, re.S)
-        node = _node_at(root, loc)[0]
+        node = node_at(root, loc)[0]
         if field and isinstance(node, yaml.MappingNode) and field.group(1) in _keys(node):
             loc, message = (*loc, field.group(1)), field.group(2)  # "max_velocity: must be > 0"
         elif kind not in _SAYS_ENOUGH and not isinstance(error.get("input"), dict | list):
             message = f"{message}, got {error.get('input')!r}"
-    return Problem(file, _node_at(root, loc)[1], _dotted(loc), message)
+    return Problem(file, node_at(root, loc)[1], _dotted(loc), message)
 
 
 def _without_tags(loc: tuple) -> tuple:
@@ -174,7 +174,7 @@ def _keys(node: yaml.MappingNode) -> list[str]:
     return [key.value for key, _ in node.value if isinstance(key, yaml.ScalarNode)]
 
 
-def _node_at(root: yaml.Node, loc: tuple) -> tuple[yaml.Node, int]:
+def node_at(root: yaml.Node, loc: tuple) -> tuple[yaml.Node, int]:
     """The deepest node along ``loc`` and the 1-based line of its key (or of itself)."""
     node, line = root, root.start_mark.line
     for part in loc:

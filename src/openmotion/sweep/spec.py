@@ -29,6 +29,7 @@ from pydantic import (
 from openmotion.core.errors import ConfigError
 from openmotion.examples import find_example
 from openmotion.scenario import Problem, ScenarioError, parse_scenario
+from openmotion.scenario.load import node_at
 from openmotion.scenario.reading import Refused, ScenarioLoader, max_bytes, read_text
 from openmotion.sweep import paths
 from openmotion.sweep.metrics import METRIC_KINDS, Metric, metric_kind
@@ -299,20 +300,5 @@ def _dotted(loc: tuple) -> str:
 
 
 def _line(root: yaml.Node, loc: tuple) -> int:
-    """1-based line of the deepest node along ``loc``."""
-    node, line = root, root.start_mark.line
-    for part in loc:
-        if isinstance(node, yaml.MappingNode):
-            found = [(k, v) for k, v in node.value
-                     if isinstance(k, yaml.ScalarNode) and k.value == str(part)]
-            if not found:
-                break
-            key, node = found[-1]
-            line = key.start_mark.line
-        elif isinstance(node, yaml.SequenceNode) and isinstance(part, int) \
-                and 0 <= part < len(node.value):
-            node = node.value[part]
-            line = node.start_mark.line
-        else:
-            break
-    return line + 1
+    """1-based line of the deepest node along ``loc`` (as the scenario loader finds it)."""
+    return node_at(root, loc)[1]
