@@ -520,6 +520,10 @@ def serve_command(
         "--speed); lockstep: it moves only when a client steps it (Host.Step).")] = "wall",
     speed: Annotated[float, typer.Option(help="Virtual seconds per wall second (wall "
                                               "pace).")] = 1.0,
+    kernel: Annotated[str, typer.Option(
+        metavar="process|thread", help="process: the machine steps in a process of its own, "
+        "so busy servers never make a cycle late; thread: in the servers' process.")]
+    = "process",
     opcua: Annotated[bool, typer.Option("--opcua", help="Serve OPC UA.")] = False,
     opcua_port: Annotated[int, typer.Option(min=0, max=65535, help="TCP port of the OPC UA "
                                                                    "server (0: a free one).")]
@@ -563,6 +567,8 @@ def serve_command(
     _started()
     if pace not in ("wall", "lockstep"):
         raise _fail(f"error: --pace must be wall or lockstep, not {pace!r}")
+    if kernel not in ("process", "thread"):
+        raise _fail(f"error: --kernel must be process or thread, not {kernel!r}")
     if not (opcua or ads):
         raise _fail("error: choose at least one endpoint: --opcua, --ads")
     _check_host(bind, "--bind")
@@ -576,7 +582,7 @@ def serve_command(
                               "--users-file or --trust only they may: choose one")
         security = tuple(name.strip().lower() for name in opcua_security.split(",")
                          if name.strip())
-        served = serve(path, pace=pace, speed=speed, bind=bind,
+        served = serve(path, pace=pace, speed=speed, bind=bind, kernel=kernel,
                        opcua={"port": opcua_port, "writable": writable, "users": users,
                               "certificates": tuple(trust or ()), "security": security,
                               "certificate_dir": opcua_cert_dir} if opcua else False,

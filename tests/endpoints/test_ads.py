@@ -18,7 +18,7 @@ import pytest
 pyads = pytest.importorskip("pyads")
 
 from openmotion.core.errors import ConfigError  # noqa: E402
-from openmotion.endpoints import MachineHost  # noqa: E402
+from openmotion.endpoints import MachineHost, ProcessHost  # noqa: E402
 from openmotion.endpoints.ads import AdsServer  # noqa: E402
 from openmotion.endpoints.ads_symbols import NC_TO_PLC, camel  # noqa: E402
 from openmotion.runtime.runtime import Runtime  # noqa: E402
@@ -49,9 +49,11 @@ def two_axes() -> Runtime:
     return runtime
 
 
-@pytest.fixture
-def served() -> Iterator[tuple[MachineHost, AdsServer, pyads.Connection]]:
-    host = MachineHost(two_axes(), pace="lockstep").start()
+@pytest.fixture(params=[MachineHost, ProcessHost], ids=["kernel-thread", "kernel-process"])
+def served(request) -> Iterator[tuple[MachineHost, AdsServer, pyads.Connection]]:
+    """The same server on a kernel thread and on a kernel process (D-320)."""
+    host = request.param(two_axes(), pace="lockstep").prepare()
+    host.start()
     server = AdsServer(host, port=0, writable=True).start()
     conn = connect(server)
     try:

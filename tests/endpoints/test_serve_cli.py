@@ -18,13 +18,14 @@ runner = CliRunner()
 def test_serve_help_lists_its_options() -> None:
     result = runner.invoke(app, ["serve", "--help"])
     assert result.exit_code == 0
-    for option in ("--pace", "--speed", "--opcua", "--opcua-port", "--ads", "--ads-port",
-                   "--bind", "--user", "--users-file", "--writable", "--duration"):
+    for option in ("--pace", "--speed", "--kernel", "--opcua", "--opcua-port", "--ads",
+                   "--ads-port", "--bind", "--user", "--users-file", "--writable", "--duration"):
         assert option in result.output
 
 
 @pytest.mark.parametrize(("arguments", "message"), [
     (["--pace", "fast", "--opcua"], "--pace must be wall or lockstep"),
+    (["--kernel", "fibre", "--opcua"], "--kernel must be process or thread"),
     ([], "choose at least one endpoint"),
     (["--opcua", "--bind", "not a host!"], "--bind 'not a host!' is neither"),
     (["--opcua", "--user", "nopassword"], "NAME:PASSWORD"),
@@ -42,12 +43,13 @@ def test_bad_flags_exit_2_with_a_message(arguments: list[str], message: str) -> 
     assert runner.invoke(app, ["serve", "--help"]).exit_code == 0
 
 
-def test_serve_serves_and_stops_after_its_duration(tmp_path: Path) -> None:
+@pytest.mark.parametrize("kernel", ["process", "thread"])
+def test_serve_serves_and_stops_after_its_duration(tmp_path: Path, kernel: str) -> None:
     users = tmp_path / "users"
     users.write_text("# who may command\noperator:secret\n", encoding="utf-8")
     result = runner.invoke(app, ["serve", "single_move", "--opcua", "--opcua-port", "0",
                                  "--pace", "lockstep", "--users-file", str(users),
-                                 "--duration", "0.2"])
+                                 "--kernel", kernel, "--duration", "0.2"])
     assert result.exit_code == 0, result.output
     assert "opcua opc.tcp://127.0.0.1:" in result.output
     assert "stopped: t = 0.000 s (cycle 0) · lockstep" in result.output

@@ -361,10 +361,12 @@ SERVE_GOAL_LATE_P99_MS = 1.0  #: issue 22: p99 motion-cycle lateness under load 
 
 
 def goals_serve(results: dict[str, Any]) -> dict[str, Any]:
+    """Judged on the kernel process (what ``serve`` runs); the kernel thread is shown."""
     late = results["late_p99_ms"]
     lost = results["opcua"]["lost"]
     return {"lateness": _goal(f"p99 motion-cycle lateness < {SERVE_GOAL_LATE_P99_MS:g} ms "
-                              f"({results['axes']} axes, 1 ms cycle, both clients reading)",
+                              f"({results['axes']} axes, 1 ms cycle, both clients reading, "
+                              "the kernel in its own process)",
                               late, late < SERVE_GOAL_LATE_P99_MS),
             "lost": _goal("0 lost OPC UA notifications", lost, lost == 0)}
 
@@ -681,15 +683,25 @@ def _render_sweep(results: dict[str, Any]) -> list[str]:
 
 
 def _render_serve(results: dict[str, Any]) -> list[str]:
+    lines = []
+    for run in (results, results.get("thread")):
+        if run:
+            lines += _render_serve_run(run)
+    return lines
+
+
+def _render_serve_run(results: dict[str, Any]) -> list[str]:
     opcua, ads = results["opcua"], results["ads"]
     return [
-        f"{results['axes']} axes, 1 ms cycle paced by the wall clock, {results['seconds']:g} s "
-        f"with both clients: late p99 {_fmt(results['late_p99_ms'])} ms, max "
-        f"{_fmt(results['late_max_ms'])} ms, time slipped {results['slips']}x",
+        f"kernel in a {results.get('kernel', 'thread')}: {results['axes']} axes, 1 ms cycle "
+        f"paced by the wall clock, {results['seconds']:g} s with both clients: late p99 "
+        f"{_fmt(results['late_p99_ms'])} ms, max {_fmt(results['late_max_ms'])} ms, time "
+        f"slipped {results['slips']}x",
         *_table(["client", "what", "figure"], [
             ["asyncua", f"{opcua['subscribed']} values at 10 ms",
              f"{opcua['notifications']} notifications, {_fmt(opcua['per_value_per_second'])}"
-             f"/value/s, lost {opcua['lost']}"],
+             f"/value/s, {_fmt(opcua.get('messages_per_second', 0.0))} messages/s, "
+             f"lost {opcua['lost']}"],
             ["asyncua", "read one value [µs]",
              f"p50 {_fmt(opcua['read_us']['p50'])}, p99 {_fmt(opcua['read_us']['p99'])}"],
             ["pyads", f"sum read of {ads['symbols']} every 10 ms [ms]",

@@ -12,8 +12,10 @@ each a real library, run for the same wall time:
   by name (three requests: handle, read, release) and by handle.
 
 The host measures how late each motion cycle finished against its wall-clock slot (p99 over
-the run, after a warm-up). Clients run in their own processes, so that the kernel thread
-competes with the servers' threads, not with the clients.
+the run, after a warm-up). Clients run in their own processes. The run is made twice in one
+benchmark: with the kernel in a process of its own (``ProcessHost``, what ``serve`` does,
+D-320), and with the kernel on a thread of the servers' process (``MachineHost``), where it
+competes with the servers' threads for the interpreter.
 """
 
 from __future__ import annotations
@@ -49,14 +51,25 @@ def _machine(axes: int):  # noqa: ANN202 - a runtime
     return rt
 
 
+KERNELS = ("process", "thread")  #: where the kernel steps: the first is the one judged
+
+
 def run_serve(axes: int = 100, seconds: float = 10.0, progress: Progress = None) \
         -> dict[str, Any]:
-    from openmotion.endpoints import MachineHost, serve
+    """Both kernels, one after the other; the figures of the kernel process at the top
+    level, those of the kernel thread under ``thread``."""
+    result = _run(axes, seconds, "process", progress)
+    result["thread"] = _run(axes, seconds, "thread", progress)
+    return result
 
-    host = MachineHost(_machine(axes), pace="wall")
+
+def _run(axes: int, seconds: float, kernel: str, progress: Progress) -> dict[str, Any]:
+    from openmotion.endpoints import MachineHost, ProcessHost, serve
+
+    host = (ProcessHost if kernel == "process" else MachineHost)(_machine(axes), pace="wall")
     served = serve(host, opcua={"port": 0}, ads={"port": 0})
     if progress:
-        progress(f"serve: starting OPC UA and ADS for {axes} axes")
+        progress(f"serve: starting OPC UA and ADS for {axes} axes, the kernel in a {kernel}")
     with served:
         opcua_url = served.urls()["opcua"]
         ads_port = served.endpoints["ads"].port
@@ -72,7 +85,8 @@ def run_serve(axes: int = 100, seconds: float = 10.0, progress: Progress = None)
         cycles = host.snapshot.cycle - started
     opcua, ads = results
     return {
-        "axes": axes, "cycle_ms": 1.0, "seconds": seconds, "cycles": cycles,
+        "kernel": kernel, "kernel_nice": getattr(host, "kernel_nice", None), "axes": axes,
+        "cycle_ms": 1.0, "seconds": seconds, "cycles": cycles,
         "late_p99_ms": status.late_p99_ms, "late_max_ms": status.late_max_ms,
         "slips": status.slips - first.slips,
         "opcua": opcua, "ads": ads,
@@ -149,7 +163,8 @@ async def _opcua(url: str, axes: int, seconds: float) -> dict[str, Any]:
             await nodes[0].read_value()
             times.append(time.perf_counter() - start)
     return {"subscribed": len(nodes), "notifications": handler.values,
-            "messages": len(numbers), "lost": gaps + handler.overflows,
+            "messages": len(numbers), "messages_per_second": len(numbers) / seconds,
+            "lost": gaps + handler.overflows,
             "per_value_per_second": handler.values / len(nodes) / seconds,
             "read_us": _percentiles(times)}
 

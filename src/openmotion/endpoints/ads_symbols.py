@@ -277,7 +277,7 @@ class SymbolTable:
         def run_for(data: bytes) -> None:
             seconds = LREAL.decode(data)
             if not math.isfinite(seconds) or not 0 <= seconds <= \
-                    MAX_STEP * host.runtime.cycle_time:
+                    MAX_STEP * host.cycle_time:
                 raise AdsError(ADSERR_INVALIDDATA, f"Host.RunFor: {seconds} s is out of range")
             _advance(lambda: host.run_for(seconds))
 

@@ -154,6 +154,7 @@ class MachineHost:
         self._running = threading.Event()
         self._failure = ""
         self._switch_interval: float | None = None  #: the process's, while we run wall-paced
+        self._observers: list[Callable[[Snapshot], Any]] = []
 
     @classmethod
     def for_scenario(cls, source: str | Path | Scenario, **options: Any) -> MachineHost:
@@ -192,6 +193,25 @@ class MachineHost:
     @property
     def running(self) -> bool:
         return self._thread is not None and self._running.is_set()
+
+    @property
+    def failed(self) -> bool:
+        """Whether the kernel thread stopped on an error (``status().failure`` says which)."""
+        return bool(self._failure)
+
+    def prepare(self) -> MachineHost:
+        """Nothing to prepare for a kernel thread (a kernel process forks here)."""
+        return self
+
+    @property
+    def cycle_time(self) -> float:
+        """The machine's cycle [s]."""
+        return self.runtime.cycle_time
+
+    def observe(self, callback: Callable[[Snapshot], Any]) -> None:
+        """Call ``callback`` with every snapshot as it is published, on the kernel thread
+        (a kernel process hands its snapshots to the servers' process this way)."""
+        self._observers.append(callback)
 
     # -- reading ---------------------------------------------------------------------------
 
@@ -431,6 +451,8 @@ class MachineHost:
 
     def _publish(self) -> None:
         snapshot = self._read(self._snapshot.seq + 1)
+        for observer in self._observers:
+            observer(snapshot)
         with self._published:
             self._snapshot = snapshot
             self._published.notify_all()

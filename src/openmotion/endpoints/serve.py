@@ -20,12 +20,15 @@ from typing import Any
 
 from openmotion.core.errors import ConfigError
 from openmotion.endpoints.host import MachineHost, Pace
+from openmotion.endpoints.kernel_process import ProcessHost, kernel_process_available
 from openmotion.scenario.schema import Scenario
 
-__all__ = ["ENDPOINTS", "LOOPBACK", "EndpointUnavailable", "Serving", "endpoint_class",
+__all__ = ["ENDPOINTS", "KERNELS", "LOOPBACK", "EndpointUnavailable", "Serving", "endpoint_class",
            "is_loopback", "parse_user", "read_users", "serve"]
 
 LOOPBACK = "127.0.0.1"  #: where endpoints listen unless told otherwise
+KERNEL_PROCESS, KERNEL_THREAD = "process", "thread"
+KERNELS = (KERNEL_PROCESS, KERNEL_THREAD)  #: where a served machine's kernel steps (D-320)
 #: endpoint name -> (module, class, the extra that installs its library)
 ENDPOINTS: dict[str, tuple[str, str, str]] = {
     "opcua": ("openmotion.endpoints.opcua", "OpcUaServer", "endpoints"),
@@ -93,7 +96,7 @@ def read_users(path: str | Path) -> dict[str, str]:
 class Serving:
     """A host and its endpoints, started and stopped together."""
 
-    def __init__(self, host: MachineHost, endpoints: Mapping[str, Mapping[str, Any]],
+    def __init__(self, host: MachineHost | ProcessHost, endpoints: Mapping[str, Mapping[str, Any]],
                  bind: str = LOOPBACK) -> None:
         if not endpoints:
             raise ConfigError(f"choose at least one endpoint: {', '.join(ENDPOINTS)}")
@@ -107,6 +110,7 @@ class Serving:
         """Start the endpoints, then the machine: its time starts when clients can connect
         (building an address space takes seconds)."""
         try:
+            self.host.prepare()  # a kernel process forks before the servers' threads start
             for name, cls in self.classes.items():
                 endpoint = cls(self.host, self.bind, **self.options[name])
                 endpoint.start()
@@ -140,21 +144,26 @@ class Serving:
         return self.host.status().line()
 
 
-def serve(source: str | Path | Scenario | MachineHost | None = None, *,
+def serve(source: str | Path | Scenario | MachineHost | ProcessHost | None = None, *,
           pace: Pace | str = Pace.WALL, speed: float = 1.0, bind: str = LOOPBACK,
-          opcua: bool | Mapping[str, Any] = False, ads: bool | Mapping[str, Any] = False) \
-        -> Serving:
+          kernel: str = KERNEL_PROCESS, opcua: bool | Mapping[str, Any] = False,
+          ads: bool | Mapping[str, Any] = False) -> Serving:
     """A machine served by the endpoints chosen (``True`` or their options: ``port`` ...);
     not started: use it as a context manager or call ``start()``. ``source`` is a scenario
-    (a path, a shipped example's name, a Scenario; default the shipped default) or a host."""
+    (a path, a shipped example's name, a Scenario; default the shipped default) or a host.
+    ``kernel``: "process" steps the machine in a process of its own, away from the servers
+    (D-320; where the platform cannot fork, a thread); "thread" in the servers' process."""
     chosen = {name: ({} if options is True else dict(options))
               for name, options in (("opcua", opcua), ("ads", ads)) if options}
-    if isinstance(source, MachineHost):
+    if kernel not in KERNELS:
+        raise ConfigError(f"kernel must be one of {', '.join(KERNELS)}, not {kernel!r}")
+    if isinstance(source, MachineHost | ProcessHost):
         host = source
     else:
         from openmotion.examples import resolve_scenario
 
-        host = MachineHost.for_scenario(
-            source if isinstance(source, Scenario) else resolve_scenario(source),
-            pace=pace, speed=speed)
+        scenario = source if isinstance(source, Scenario) else resolve_scenario(source)
+        cls = ProcessHost if kernel == KERNEL_PROCESS and kernel_process_available() \
+            else MachineHost
+        host = cls.for_scenario(scenario, pace=pace, speed=speed)
     return Serving(host, chosen, bind)

@@ -208,7 +208,7 @@ def host_methods(host: MachineHost, publish: Publish) \
 
     async def run_for(parent: ua.NodeId, *given: ua.Variant) -> Any:
         seconds = checked(float(_number(given, "RunFor", NUMBERS)), "Seconds", 0.0,
-                          MAX_STEP * host.runtime.cycle_time)
+                          MAX_STEP * host.cycle_time)
         return pace_result(await _off_loop(host.run_for, seconds))
 
     async def set_speed(parent: ua.NodeId, *given: ua.Variant) -> Any:

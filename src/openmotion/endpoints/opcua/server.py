@@ -443,7 +443,7 @@ class _Writer:
         status = self.host.status()
         await self._host_values({
             "Pace": status.pace.value, "Speed": status.speed, "Paused": status.paused,
-            "CycleTime": self.host.runtime.cycle_time, "LateP99": status.late_p99_ms,
+            "CycleTime": self.host.cycle_time, "LateP99": status.late_p99_ms,
             "Slips": status.slips, "Clients": sum(status.clients.values()),
             "Failure": status.failure}, now)
 
