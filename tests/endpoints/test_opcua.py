@@ -420,3 +420,20 @@ def test_the_asyncua_recipe_of_the_docs_drives_the_example(capsys: pytest.Captur
         code = block.replace("opc.tcp://127.0.0.1:4840/openmotion", served.urls()["opcua"])
         exec(compile(code, "docs/endpoints.md", "exec"), {})  # noqa: S102 - docs must run
     assert capsys.readouterr().out.splitlines() == expected
+
+
+def test_a_served_value_is_never_deep_copied_and_encodes_as_a_plain_data_value() -> None:
+    """D-322: asyncua deep-copies what it hands to monitored items; ours are made fresh for
+    each write, so the copy is the value itself, and a client cannot tell the difference."""
+    import copy
+
+    from asyncua.ua.ua_binary import to_binary
+
+    from openmotion.endpoints.opcua.space import variant
+
+    for value, kind in ((1.5, ua.VariantType.Double), (3.0, ua.VariantType.Int32),
+                        (1.0, ua.VariantType.Boolean), (float("nan"), ua.VariantType.Int32)):
+        served = variant(value, kind)
+        assert copy.deepcopy(served) is served
+        plain = ua.DataValue(served.Value, StatusCode=served.StatusCode)
+        assert to_binary(ua.DataValue, served) == to_binary(ua.DataValue, plain)

@@ -36,6 +36,7 @@ from openmotion.endpoints.opcua.space import (
     HANDLE_OUTPUTS,
     NAMESPACE_URI,
     AddressSpace,
+    FreshValue,
     build,
     command_items,
     handle_values,
@@ -434,7 +435,7 @@ class _Writer:
             known[ticket] = state
             for label, (value, _) in zip(HANDLE_OUTPUTS, _values(state), strict=True):
                 await self._write(self.space.id(f"Commands/{ticket}.{label}"),  # type: ignore[union-attr]
-                                  ua.DataValue(value), now)
+                                  FreshValue(value), now)
 
     async def _clock(self, snapshot: Any, now: datetime) -> None:
         await self._host_values({"Cycle": snapshot.cycle, "Time": snapshot.time}, now)
@@ -452,7 +453,7 @@ class _Writer:
             if self.status.get(name) != value:
                 self.status[name] = value
                 await self._write(self.space.id(f"Host.{name}"),  # type: ignore[union-attr]
-                                  ua.DataValue(ua.Variant(value, _HOST_KINDS[name])), now)
+                                  FreshValue(ua.Variant(value, _HOST_KINDS[name])), now)
 
     def _count_clients(self) -> None:
         """Count the connected OPC UA clients on the host (its status line shows them)."""

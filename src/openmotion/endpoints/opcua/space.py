@@ -26,6 +26,7 @@ import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from enum import IntEnum
+from typing import Any
 
 from asyncua import ua
 
@@ -161,16 +162,28 @@ def signal_type(dtype: type) -> tuple[ua.VariantType, int | None]:
     return ua.VariantType.Double, ua.ObjectIds.Double
 
 
+class FreshValue(ua.DataValue):
+    """A value the server writes once and never changes afterwards (D-322).
+
+    asyncua deep-copies every value it hands to a monitored item, in case the writer changes
+    it later; for a float in a Variant that copy costs about 25 times as much as making the
+    value. The server makes a new value for every write, so the copy may be the value itself.
+    """
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> FreshValue:
+        return self
+
+
 def variant(value: float, kind: ua.VariantType) -> ua.DataValue:
     """One signal's value as the server holds it; NaN (the object cannot show it now) is
     NaN for a Double and Bad_NoData for the others (D-260)."""
     if kind is ua.VariantType.Double:
-        return ua.DataValue(ua.Variant(value, kind))
+        return FreshValue(ua.Variant(value, kind))
     if math.isnan(value):
-        return ua.DataValue(ua.Variant(None, ua.VariantType.Null),
-                            StatusCode=ua.StatusCode(ua.StatusCodes.BadNoData))
+        return FreshValue(ua.Variant(None, ua.VariantType.Null),
+                          StatusCode=ua.StatusCode(ua.StatusCodes.BadNoData))
     number = bool(value) if kind is ua.VariantType.Boolean else int(value)
-    return ua.DataValue(ua.Variant(number, kind))
+    return FreshValue(ua.Variant(number, kind))
 
 
 def _signal(space: AddressSpace, obj: MachineObject, name: str, unit: str, dtype: type,
