@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import runpy
 from pathlib import Path
 
@@ -128,3 +129,12 @@ def test_the_example_rollout_prints_its_golden_summary(capsys: pytest.CaptureFix
                                                        ) -> None:
     runpy.run_path(str(EXAMPLES / "envs_rollout.py"), run_name="__main__")
     assert capsys.readouterr().out == (EXAMPLES / "envs_rollout.out").read_text()
+
+
+def test_the_docs_session_prints_what_its_comments_say(capsys: pytest.CaptureFixture[str]
+                                                       ) -> None:
+    text = (EXAMPLES.parent / "docs" / "envs.md").read_text()
+    (block,) = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    expected = re.findall(r"^print\(.*\n# (.*)$", block, flags=re.M)
+    exec(compile(block, "docs/envs.md", "exec"), {})  # noqa: S102 - the page must run
+    assert capsys.readouterr().out.splitlines() == expected and len(expected) == 3
