@@ -25,6 +25,16 @@ def test_the_single_agent_environment_passes_gymnasium_s_checker() -> None:
     check_env(PlanarFieldEnv("random", movers=6, layout_seed=2), skip_render_check=True)
 
 
+def test_gymnasium_make_finds_the_environment_by_its_id() -> None:
+    import gymnasium
+
+    from openmotion.envs import GYMNASIUM_ID
+
+    env = gymnasium.make(GYMNASIUM_ID, layout="B7", max_steps=3)
+    observation, _ = env.reset(seed=1)
+    assert observation.shape == (4, 12) and env.unwrapped.layout.name == "B7"
+
+
 def test_the_parallel_environment_passes_pettingzoo_s_api_test() -> None:
     parallel_api_test(PlanarFieldParallelEnv("B3"), num_cycles=40)
 
