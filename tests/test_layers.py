@@ -20,7 +20,7 @@ LAYERS: tuple[frozenset[str], ...] = (
     frozenset({"axis"}),  # the single-axis engine every axis-based system builds on
     frozenset({"runtime"}),  # the runtime users make: the kernel with its axes
     frozenset({"plcopen", "transport", "coordinated", "planar"}),  # the systems
-    frozenset({"trace", "scenario", "sweep", "viewer", "endpoints", "bench", "examples",
+    frozenset({"trace", "scenario", "sweep", "viewer", "endpoints", "bench", "examples", "envs",
                "testing", "warm", "cli", "__main__", "__init__"}),  # the edges
 )
 SYSTEMS = LAYERS[5]

@@ -20,6 +20,8 @@ import ruckig
 
 from openmotion.bench.axes import run_axes
 from openmotion.bench.ca import run_ca
+from openmotion.bench.envs import QUICK_COUNTS as ENVS_QUICK_COUNTS
+from openmotion.bench.envs import run_envs
 from openmotion.bench.fbcall import run_fbcall
 from openmotion.bench.otg import ORACLE_GRACE as OTG_ORACLE_GRACE
 from openmotion.bench.otg import run_otg
@@ -56,6 +58,7 @@ STARTUP_FIRST_GOAL_S = 10.0  #: first run of any shipped example, with the packa
 SWEEP_POOL_GOAL_EFFICIENCY = 0.5  #: issue #23: the pool's points/s per worker over serial's
 SWEEP_RAY_GOAL_EFFICIENCY = 0.25  #: the same on Ray, whose tasks cost more to dispatch
 QUICK_SWEEP_POINTS = 20  #: --quick: points, and no Ray cluster
+ENVS_QUICK_SECONDS = 0.3  #: --quick: timing budget per environment and mover count [s]
 
 
 def _axes(quick: bool, progress: Progress) -> dict[str, Any]:
@@ -130,6 +133,12 @@ def _serve(quick: bool, progress: Progress) -> dict[str, Any]:
     return run_serve(progress=progress)
 
 
+def _envs(quick: bool, progress: Progress) -> dict[str, Any]:
+    if quick:
+        return run_envs(counts=ENVS_QUICK_COUNTS, seconds=ENVS_QUICK_SECONDS, progress=progress)
+    return run_envs(progress=progress)
+
+
 #: the benchmarks that take ``cycles`` (the length of their long run)
 LONG_RUNS = ("trace",)
 BENCHMARKS: dict[str, Callable[..., dict[str, Any]]] = {
@@ -144,6 +153,7 @@ BENCHMARKS: dict[str, Callable[..., dict[str, Any]]] = {
     "startup": _startup,
     "sweep": _sweep,
     "serve": _serve,
+    "envs": _envs,
 }
 
 
@@ -371,6 +381,23 @@ def goals_serve(results: dict[str, Any]) -> dict[str, Any]:
             "lost": _goal("0 lost OPC UA notifications", lost, lost == 0)}
 
 
+def goals_envs(results: dict[str, Any]) -> dict[str, Any]:
+    rows = results["by_n"]
+    measured = [n for n, r in rows.items() if r["ours"]["steps"] > 0]
+    goals = {"measured": _goal("environment steps/s measured at every N", ", ".join(measured),
+                               len(measured) == len(rows))}
+    if results["magbotsim"]["version"] is None:
+        goals["magbotsim"] = _goal("beside MagBotSim's environment step, same run",
+                                   results["magbotsim"]["unavailable"], None)
+        return goals
+    slower = [n for n, r in rows.items() if r["ratio_steps_per_s"] < 1.0]
+    goals["magbotsim"] = _goal(
+        f"env steps/s at least MagBotSim {results['magbotsim']['version']}'s at every N "
+        "(same run, same field)", ", ".join(f"{n}: {r['ratio_steps_per_s']:.2f}x"
+                                            for n, r in rows.items()), not slower)
+    return goals
+
+
 GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "axes": goals_axes,
     "otg": goals_otg,
@@ -383,6 +410,7 @@ GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "startup": goals_startup,
     "sweep": goals_sweep,
     "serve": goals_serve,
+    "envs": goals_envs,
 }
 
 
@@ -715,10 +743,31 @@ def _render_serve_run(results: dict[str, Any]) -> list[str]:
     ]
 
 
+def _render_envs(results: dict[str, Any]) -> list[str]:
+    header = ["N", "stators", "ours steps/s", "ours ms/cycle", "refused", "MagBotSim steps/s",
+              "MagBotSim ms/cycle", "mj_step ms", "ratio"]
+    rows = []
+    for n, r in results["by_n"].items():
+        ours, theirs = r["ours"], r["magbotsim"] or {}
+        rows.append([int(n), ours["stators"], ours["steps_per_s"], ours["ms_per_cycle"],
+                     ours["rejected_share"], theirs.get("steps_per_s"),
+                     theirs.get("ms_per_cycle"), theirs.get("mj_step_ms"),
+                     r.get("ratio_steps_per_s")])
+    peer = results["magbotsim"]
+    published = ", ".join(f"{n}: {v:g} ms" for n, v in
+                          results["published_magbotsim_ms_per_cycle"].items())
+    return [f"environment steps of {results['cycles_per_step']} cycles of 1 ms, random policy, "
+            f"square fields of {results['stators_per_mover']:g} stators per mover; refused: "
+            "share of commands the group refused; MagBotSim "
+            f"{peer['version'] or 'unavailable: ' + str(peer['unavailable'])}",
+            *_table(header, rows),
+            f"MagBotSim's published mj_step by movers (its authors' machine): {published}"]
+
+
 _RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
            "ca": _render_ca, "planar": _render_planar, "path": _render_path,
            "tracks": _render_tracks, "trace": _render_trace, "startup": _render_startup,
-           "sweep": _render_sweep, "serve": _render_serve}
+           "sweep": _render_sweep, "serve": _render_serve, "envs": _render_envs}
 
 
 def render(result: dict[str, Any]) -> str:

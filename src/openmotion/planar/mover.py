@@ -414,6 +414,12 @@ class MC_PlanarMover(StatefulObject):
         return MoverVector(*self._vector(0))
 
     @property
+    def velocity(self) -> MoverVector:
+        """The published set velocity (x, y, z [mm/s]; a, b, c [°/s]): ``mc_to_plc.set.set_velo``
+        without building the whole status (learning environments read it every step)."""
+        return MoverVector(*self._vector(1))
+
+    @property
     def pose(self) -> Pose:
         x, y, _, _, _, c = self._vector(0)
         return Pose(x, y, c)
