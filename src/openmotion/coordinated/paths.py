@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from openmotion.coordinated.dense import DENSE_MIN, blend_lines, blendable
 from openmotion.coordinated.inputs import (
     CoordSystem,
     TransitionMode,
@@ -71,13 +72,23 @@ def select_path(group: AxesGroup, description: Any, coord_system: Any = CoordSys
     elements: list[Any] = []
     exits: list[float] = []
     previous_end = parsed[0][1]
-    for index, (kind, end, aux, circ, choice, transition) in enumerate(parsed[1:], start=1):
+    index = 1
+    while index < len(parsed):
+        kind, end, aux, circ, choice, transition = parsed[index]
+        run = _line_run(parsed, index) if elements and type(elements[-1]) is Line else index
+        if run - index >= DENSE_MIN:  # many lines with one transition: in bulk (D-290)
+            blend_lines(elements, exits, np.array([p[1] for p in parsed[index:run]]), index,
+                        transition, _contour)
+            previous_end = parsed[run - 1][1]
+            index = run
+            continue
+        number, index = index, index + 1
         try:
             element = Line(previous_end, end) if kind == "line" else \
                 Arc.from_circ_mode(circ, previous_end, aux, end, choice)
         except CommandRejected as rejected:
             raise CommandRejected(rejected.error_id,
-                                  f"element {index}: {rejected.message}") from None
+                                  f"element {number}: {rejected.message}") from None
         if elements:
             contour = _contour(elements[-1], element, transition)
             if contour is None:
@@ -96,6 +107,18 @@ def select_path(group: AxesGroup, description: Any, coord_system: Any = CoordSys
     second = parsed[1][5] if len(parsed) > 1 else default
     return PathData(coord, head, tuple(elements), tuple(exits), second,
                     float(sum(e.length for e in elements)), len(parsed))
+
+
+def _line_run(parsed: list[Any], index: int) -> int:
+    """The end (exclusive) of the run of lines from ``index`` whose corners all have the
+    transition of the first, a blending one; ``index`` itself if there is none."""
+    transition = parsed[index][5]
+    if not blendable(transition):
+        return index
+    end = index
+    while end < len(parsed) and parsed[end][0] == "line" and parsed[end][5] == transition:
+        end += 1
+    return end
 
 
 def _parse(index: int, item: Any, frame: Any, default: tuple[TransitionMode, float]
