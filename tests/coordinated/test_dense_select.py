@@ -138,3 +138,31 @@ def test_bulk_caps_of_contours_are_the_caps_element_by_element() -> None:
     one = np.array([[c.velocity, c.acceleration, c.deceleration, c.jerk] for c in one])
     np.testing.assert_allclose(caps, one, rtol=1e-12)
     assert math.isfinite(caps.min()) and caps.min() > 0.0
+
+
+def test_plain_lines_read_in_one_go_are_the_lines_read_one_by_one() -> None:
+    points = wave(30)
+    group = group_at(points[0])
+    flat = paths.select_path(group, [{"line": p[:2].tolist()} for p in points[1:]])
+    spelled = paths.select_path(group, [{"line": p[:2].tolist(), "transition_mode":
+                                         TransitionMode.TM_MAX_CORNER_DEVIATION,
+                                         "transition_parameter": 0.1} for p in points[1:]])
+    assert flat.exits == spelled.exits and flat.count == spelled.count == 30
+    for a, b in zip(flat.elements, spelled.elements, strict=True):
+        np.testing.assert_array_equal(a.start, b.start)
+        np.testing.assert_array_equal(a.end, b.end)
+
+
+def test_a_bad_point_among_plain_lines_is_named() -> None:
+    points = wave(30)
+    group = group_at(points[0])
+    description = [{"line": p.tolist()} for p in points[1:]]
+    description[7] = {"line": [1.0, math.nan, 0.0]}
+    with pytest.raises(CommandRejected, match="element 7") as rejected:
+        paths.select_path(group, description)
+    assert rejected.value.error_id is ErrorId.INVALID_POSITION
+    description[7] = {"line": [1.0, 2.0, 3.0, 4.0]}
+    with pytest.raises(CommandRejected, match="element 7: line needs 1 to 3 coordinates"):
+        paths.select_path(group, description)
+    description[7] = {"line": points[8].tolist()}
+    assert paths.select_path(group, description).count == 30

@@ -68,7 +68,8 @@ def select_path(group: AxesGroup, description: Any, coord_system: Any = CoordSys
     default = (transition_mode(mode), 0.0)
     default = (default[0], transition_parameter(default[0], parameter))
     frame = group.spaces.frame(group.runtime.now) if coord is CoordSystem.PCS else None
-    parsed = [_parse(i, item, frame, default) for i, item in enumerate(description)]
+    parsed = _parse_lines(description, frame, default) or \
+        [_parse(i, item, frame, default) for i, item in enumerate(description)]
     elements: list[Any] = []
     exits: list[float] = []
     previous_end = parsed[0][1]
@@ -119,6 +120,25 @@ def _line_run(parsed: list[Any], index: int) -> int:
     while end < len(parsed) and parsed[end][0] == "line" and parsed[end][5] == transition:
         end += 1
     return end
+
+
+def _parse_lines(description: Sequence[Any], frame: Any, default: tuple[TransitionMode, float]
+                 ) -> list[Any]:
+    """``_parse`` of every element at once where all are plain ``{"line": point}`` mappings
+    of finite points with 1 to 3 coordinates in the MCS, as a CAM path's are; else [] (and
+    ``_parse`` element by element, which names what is wrong)."""
+    if frame is not None or not all(type(item) is dict and len(item) == 1 and "line" in item
+                                    for item in description):
+        return []
+    try:
+        values = np.array([item["line"] for item in description], dtype=float)
+    except (TypeError, ValueError):
+        return []
+    if values.ndim != 2 or not 1 <= values.shape[1] <= 3 or not np.all(np.isfinite(values)):
+        return []
+    points = np.zeros((len(values), 3))
+    points[:, :values.shape[1]] = values
+    return [("line", point, None, None, None, default) for point in points]
 
 
 def _parse(index: int, item: Any, frame: Any, default: tuple[TransitionMode, float]
