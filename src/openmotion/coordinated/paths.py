@@ -13,7 +13,8 @@ starts where the TCP is when MC_MovePath begins. All geometry after the first el
 contours included, is built here, so that MC_MovePath starts a 10 000-element path without
 building anything in the cycle (decisions D-112). Contours are those of the group FBs
 (geometry/blend.py) with TMCornerDistance or TMMaxCornerDeviation; a corner without contour
-is an exact stop.
+is an exact stop. A run of lines with one blending transition is rounded in bulk
+(coordinated/dense.py, D-290): the same contours to round-off, a hundredth of the time.
 """
 
 from __future__ import annotations
