@@ -166,3 +166,23 @@ def test_a_bad_point_among_plain_lines_is_named() -> None:
         paths.select_path(group, description)
     description[7] = {"line": points[8].tolist()}
     assert paths.select_path(group, description).count == 30
+
+
+def test_a_helix_with_an_arc_inside_is_rounded_alike_in_3d(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    phi = np.linspace(0.0, 3.0 * math.pi, 121)
+    helix = np.column_stack([10.0 * np.cos(phi), 10.0 * np.sin(phi), 0.5 * phi])
+    description: list[dict[str, object]] = [{"line": p.tolist()} for p in helix[1:61]]
+    description.append({"arc": [helix[60, 0] + 10.0, helix[60, 1], helix[60, 2]],
+                        "aux": [helix[60, 0] + 5.0, helix[60, 1] - 5.0, helix[60, 2]],
+                        "circ_mode": "BORDER"})
+    shifted = helix[61:] + np.array([10.0, 0.0, 0.0])
+    description += [{"line": p.tolist()} for p in shifted]
+    group = gantry(om.Runtime(cycle_time=0.001), helix[0, :2])
+    bulk = paths.select_path(group, description, parameter=0.05)
+    monkeypatch.setattr(paths, "DENSE_MIN", 10**9)
+    single = paths.select_path(group, description, parameter=0.05)
+    assert any(type(e).__name__ == "Arc" for e in bulk.elements)
+    assert any(isinstance(e, Contour) and abs(e.end[2] - e.start[2]) > 1e-3
+               for e in bulk.elements)  # contours that climb
+    assert_same(bulk, single)
