@@ -196,6 +196,45 @@ def line_limits(directions: ArrayLike, gantry: CartesianGantry, axis_limits: Seq
     return caps
 
 
+def many_limits(bounds: ArrayLike, gantry: CartesianGantry, axis_limits: Sequence[Limits],
+                commanded: Limits) -> Array:
+    """``cartesian_limits`` of many elements at once from their derivative bounds (n, 3, 3):
+    (n, 4) of velocity, acceleration, deceleration and jerk, equal to it element by element
+    to round-off (the dense contours of MC_PathSelect, coordinated/dense.py)."""
+    b = np.asarray(bounds, dtype=float)
+    for i, name in enumerate(PATH_COORDINATES):
+        if name not in gantry.coordinates and np.any(b[:, 0, i] > UNDRIVEN):
+            row = int(np.argmax(b[:, 0, i] > UNDRIVEN))
+            _check_driven(b[row, 0], gantry.coordinates, f"element {row}")
+    columns = _gantry_columns(gantry)
+    g = np.where(columns >= 0, b[:, :, columns], 0.0)  # (n, 3, n_axes): T, K, R
+    t, k, r = g[:, 0], g[:, 1], g[:, 2]
+    v, acc, dec, jerk = _axis_arrays(axis_limits, gantry.n_axes)
+    c_vel, c_acc, c_dec, c_jerk = _commanded(commanded)
+    a = np.minimum(acc, dec)
+    caps = np.empty((len(b), 4))
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        velocity = _capped_many(c_vel, np.maximum.reduce([
+            np.max(t / v, axis=1), np.sqrt(np.max(k / (CENTRIPETAL_SHARE * a), axis=1)),
+            np.cbrt(np.max(r / (CURVATURE_RATE_SHARE * jerk), axis=1))]))
+        square = velocity[:, None] ** 2
+        rate = np.maximum(np.max(t / (a - k * square), axis=1),
+                          np.max(3.0 * k * velocity[:, None] / (TURNING_SHARE * jerk), axis=1))
+        acceleration, deceleration = _capped_many(c_acc, rate), _capped_many(c_dec, rate)
+        rest = jerk - r * velocity[:, None] ** 3 \
+            - 3.0 * k * velocity[:, None] * np.maximum(acceleration, deceleration)[:, None]
+        caps[:] = np.column_stack([velocity, acceleration, deceleration,
+                                   _capped_many(c_jerk, np.max(t / rest, axis=1))])
+        straight = ~(k.any(axis=1) | r.any(axis=1))
+        if straight.any():
+            for c, (cap, lim) in enumerate(zip((c_vel, c_acc, c_dec, c_jerk),
+                                               (v, acc, dec, jerk), strict=True)):
+                caps[straight, c] = _capped_many(cap, np.max(t[straight] / lim, axis=1))
+    unbounded = ~np.isfinite(velocity) & ~straight
+    caps[unbounded] = (c_vel, c_acc, c_dec, c_jerk)  # no axis limit and no command
+    return caps
+
+
 def sampled_limits(element: PathElement, kinematics: Kinematics, axis_limits: Sequence[Limits],
                    commanded: Limits, *, configuration: Configuration | None = None,
                    orientation: Mapping[str, float] | None = None,

@@ -12,8 +12,16 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from openmotion.coordinated.dense import DENSE_MIN, derivative_bounds
 from openmotion.coordinated.kinematics import CartesianGantry
-from openmotion.coordinated.limits import DirectLine, direct_limits, line_limits, path_limits
+from openmotion.coordinated.limits import (
+    DirectLine,
+    direct_limits,
+    line_limits,
+    many_limits,
+    path_limits,
+)
+from openmotion.geometry.blend import Contour
 from openmotion.geometry.path import Line
 from openmotion.trajectory.plan import Limits
 
@@ -54,6 +62,13 @@ def caps_for_many(group: AxesGroup, elements: Sequence[Any], space: str,
     lines = [i for i, e in enumerate(elements) if type(e) is Line] \
         if space != "ACS" and isinstance(kinematics, CartesianGantry) else []
     caps: list[Any] = [None] * len(elements)
+    contours = [i for i, e in enumerate(elements) if type(e) is Contour] \
+        if space != "ACS" and isinstance(kinematics, CartesianGantry) else []
+    if len(contours) >= DENSE_MIN:  # a dense path's contours in one pass (D-290)
+        bounds = derivative_bounds([elements[i] for i in contours])
+        table = many_limits(bounds, kinematics, limits, Limits(*dynamics))
+        for i, row in zip(contours, table.tolist(), strict=True):
+            caps[i] = tuple(row)
     if len(lines) > 1:
         directions = np.array([elements[i].direction for i in lines])
         table = line_limits(directions, kinematics, limits, Limits(*dynamics))

@@ -13,7 +13,8 @@ starts where the TCP is when MC_MovePath begins. All geometry after the first el
 contours included, is built here, so that MC_MovePath starts a 10 000-element path without
 building anything in the cycle (decisions D-112). Contours are those of the group FBs
 (geometry/blend.py) with TMCornerDistance or TMMaxCornerDeviation; a corner without contour
-is an exact stop.
+is an exact stop. A run of lines with one blending transition is rounded in bulk
+(coordinated/dense.py, D-290): the same contours to round-off, a hundredth of the time.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from openmotion.coordinated.dense import DENSE_MIN, blend_lines, blendable
 from openmotion.coordinated.inputs import (
     CoordSystem,
     TransitionMode,
@@ -67,17 +69,28 @@ def select_path(group: AxesGroup, description: Any, coord_system: Any = CoordSys
     default = (transition_mode(mode), 0.0)
     default = (default[0], transition_parameter(default[0], parameter))
     frame = group.spaces.frame(group.runtime.now) if coord is CoordSystem.PCS else None
-    parsed = [_parse(i, item, frame, default) for i, item in enumerate(description)]
+    parsed = _parse_lines(description, frame, default) or \
+        [_parse(i, item, frame, default) for i, item in enumerate(description)]
     elements: list[Any] = []
     exits: list[float] = []
     previous_end = parsed[0][1]
-    for index, (kind, end, aux, circ, choice, transition) in enumerate(parsed[1:], start=1):
+    index = 1
+    while index < len(parsed):
+        kind, end, aux, circ, choice, transition = parsed[index]
+        run = _line_run(parsed, index) if elements and type(elements[-1]) is Line else index
+        if run - index >= DENSE_MIN:  # many lines with one transition: in bulk (D-290)
+            blend_lines(elements, exits, np.array([p[1] for p in parsed[index:run]]), index,
+                        transition, _contour)
+            previous_end = parsed[run - 1][1]
+            index = run
+            continue
+        number, index = index, index + 1
         try:
             element = Line(previous_end, end) if kind == "line" else \
                 Arc.from_circ_mode(circ, previous_end, aux, end, choice)
         except CommandRejected as rejected:
             raise CommandRejected(rejected.error_id,
-                                  f"element {index}: {rejected.message}") from None
+                                  f"element {number}: {rejected.message}") from None
         if elements:
             contour = _contour(elements[-1], element, transition)
             if contour is None:
@@ -96,6 +109,37 @@ def select_path(group: AxesGroup, description: Any, coord_system: Any = CoordSys
     second = parsed[1][5] if len(parsed) > 1 else default
     return PathData(coord, head, tuple(elements), tuple(exits), second,
                     float(sum(e.length for e in elements)), len(parsed))
+
+
+def _line_run(parsed: list[Any], index: int) -> int:
+    """The end (exclusive) of the run of lines from ``index`` whose corners all have the
+    transition of the first, a blending one; ``index`` itself if there is none."""
+    transition = parsed[index][5]
+    if not blendable(transition):
+        return index
+    end = index
+    while end < len(parsed) and parsed[end][0] == "line" and parsed[end][5] == transition:
+        end += 1
+    return end
+
+
+def _parse_lines(description: Sequence[Any], frame: Any, default: tuple[TransitionMode, float]
+                 ) -> list[Any]:
+    """``_parse`` of every element at once where all are plain ``{"line": point}`` mappings
+    of finite points with 1 to 3 coordinates in the MCS, as a CAM path's are; else [] (and
+    ``_parse`` element by element, which names what is wrong)."""
+    if frame is not None or not all(type(item) is dict and len(item) == 1 and "line" in item
+                                    for item in description):
+        return []
+    try:
+        values = np.array([item["line"] for item in description], dtype=float)
+    except (TypeError, ValueError):
+        return []
+    if values.ndim != 2 or not 1 <= values.shape[1] <= 3 or not np.all(np.isfinite(values)):
+        return []
+    points = np.zeros((len(values), 3))
+    points[:, :values.shape[1]] = values
+    return [("line", point, None, None, None, default) for point in points]
 
 
 def _parse(index: int, item: Any, frame: Any, default: tuple[TransitionMode, float]

@@ -136,6 +136,33 @@ class Contour:
         if not np.all(np.isfinite(speed)) or speed.min() <= _REGULAR * speed.max():
             raise _reject("contour: the curve would stop in a cusp (turn too close to 180°)")
 
+    @classmethod
+    def from_arrays(cls, start: Vector, end: Vector, control_offsets: Vector, first: Vector,
+                    second: Vector, power: Vector, arc_length_table: NDArray[np.float64],
+                    derivatives_in_powers: Vector) -> Contour:
+        """A contour whose arrays a batch builder computed for many at once, as ``__init__``
+        would to round-off, its checks passed (coordinated/dense.py): ``first`` = 5 x the
+        control-point steps, ``second`` = 20 x their differences, ``power`` = B' in powers
+        of u, ``derivatives_in_powers`` as the property. Skips the per-contour numpy calls
+        that dominate a dense path's preparation."""
+        self = cls.__new__(cls)
+        self.start, self.end, self.control_offsets = start, end, control_offsets
+        self._first, self._second, self._power = first, second, power
+        self.control_points = start + control_offsets
+        self.__dict__["arc_length_table"] = arc_length_table
+        self.__dict__["derivatives_in_powers"] = derivatives_in_powers
+        return self
+
+    @property
+    def power(self) -> Vector:
+        """B' in powers of u: (5, 3), row k the coefficient of u**k."""
+        return self._power
+
+    def keep_derivative_bounds(self, bounds: Vector) -> None:
+        """Take ``bounds`` (3, 3) as ``derivative_bounds``, computed by the same sampling for
+        many contours at once (coordinated/dense_kernels.py)."""
+        self.__dict__["_derivative_bounds"] = bounds
+
     def __repr__(self) -> str:
         return (f"Contour(start={self.start.tolist()}, end={self.end.tolist()}, "
                 f"length={self.length:.6g})")
