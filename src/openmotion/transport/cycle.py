@@ -22,7 +22,13 @@ from openmotion.rail.kernels import fast_candidates
 from openmotion.rail.tolerances import TOLERANCE
 from openmotion.trajectory.plan import Limits, plan_position
 from openmotion.trajectory.segments import KinematicState
-from openmotion.transport.cycle_kernel import group_step, resume, rooms
+from openmotion.transport.cycle_kernel import (
+    group_step,
+    no_command,
+    pair_arrays,
+    resume,
+    rooms,
+)
 from openmotion.transport.enums import GapControlDirection, GapControlMode, GroupState
 from openmotion.transport.faults import FAULT_STATES
 from openmotion.transport.movers import (
@@ -63,12 +69,12 @@ class GroupCycle:
 
     def _pairs(self) -> Pairs:
         if self._pairs_dirty:
-            succ = np.flatnonzero((self.pred >= 0) & (self.gmode != GapControlMode.NONE))
+            succ, pred, offset, gap, fast = pair_arrays(  # one compiled pass (D-281)
+                self.pred, self.gmode, int(GapControlMode.NONE), int(GapControlMode.FAST),
+                self.fast_grace, self.offset, self.gap)
             both = self.parameters.gap_control_direction is GapControlDirection.BOTH
             y, path = self.tracks.gap_paths(succ)
-            fast = (self.gmode[succ] == GapControlMode.FAST) | self.fast_grace[succ]
-            self._pair_cache = Pairs(succ, self.pred[succ], self.offset[succ], self.gap[succ],
-                                     fast, both, y, path)
+            self._pair_cache = Pairs(succ, pred, offset, gap, fast, both, y, path)
             self._pairs_dirty = False
         return self._pair_cache
 
@@ -404,7 +410,7 @@ class GroupCycle:
         if standby:
             self._restore_gaps()
         if idle is None or standby:  # standby gap control may have started jobs
-            idle = not self.mode.any()  # mode IDLE (0) exactly when the mover has no command
+            idle = no_command(self.mode)
         if self._halt is not None:
             if any(part.aborted for part in self._halt_parts):  # a new command took over
                 self._halt.end(CommandStatus.ABORTED, now,
