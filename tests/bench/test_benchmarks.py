@@ -124,9 +124,9 @@ def test_fbcall_measures_a_busy_block(results: dict[str, dict]) -> None:
 
 def test_ca_keeps_every_gap_and_limit(results: dict[str, dict]) -> None:
     ca = results["ca"]["results"]
-    assert set(ca["by_n"]) == {"10", "50"}
+    assert set(ca["by_n"]) == set(ca["by_n_250us"]) == {"10", "50"}
     assert ca["modes"] == ["standard", "fast", "mixed"]
-    for by_mode in ca["by_n"].values():
+    for by_mode in [*ca["by_n"].values(), *ca["by_n_250us"].values()]:
         for mode in ca["modes"]:
             row = by_mode[mode]
             assert row["commands"] >= row["movers"]  # every mover was commanded at least once
@@ -149,6 +149,49 @@ def test_ca_measures_fast_and_mixed_beside_standard(results: dict[str, dict]) ->
     assert goal["value"] == ca["fast"]["cycle_us_p99"] and "N=50, fast" in goal["goal"]
     text = render(results["ca"])
     assert "fast" in text and "mixed" in text and "p99 / std" in text
+
+
+def test_ca_runs_at_250_us_beside_the_ruckig_loop(results: dict[str, dict]) -> None:
+    """Issue 24, point 2: the XTS cycle, and a plain ruckig loop over the same movers (no
+    collision avoidance) in the same run as the reference of the cycle times."""
+    ca = results["ca"]["results"]
+    assert ca["cycle_times"] == {"1ms": 0.001, "250us": 0.00025}
+    for table in (ca["by_n"], ca["by_n_250us"]):
+        for n, by_mode in table.items():
+            reference = by_mode["ruckig"]
+            assert reference["movers"] == int(n) and reference["commands"] >= int(n)
+            assert 0.0 < reference["cycle_us_p50"] <= reference["cycle_us_p99"]
+            for mode in ca["modes"]:
+                ratio = by_mode[f"{mode}_over_ruckig"]
+                for key in ("p50", "p99"):
+                    assert ratio[key] == (by_mode[mode][f"cycle_us_{key}"]
+                                          / reference[f"cycle_us_{key}"])
+    goal = results["ca"]["goals"]["cycle_p50_250us_small_standard"]
+    assert goal["value"] == ca["by_n_250us"]["10"]["standard"]["cycle_us_p50"]
+    assert "N=10, 250 us" in goal["goal"]
+    text = render(results["ca"])
+    assert "250 us cycle" in text and "p50 / ruckig" in text
+
+
+def test_ca_judges_the_250_us_goals_against_the_reference() -> None:
+    """The N=1000 goals are ratios to the ruckig loop of the same run."""
+    from openmotion.bench.runner import goals_ca
+
+    def row(p50: float, p99: float) -> dict[str, float | int]:
+        return {"cycle_us_p50": p50, "cycle_us_p99": p99, "gap_violations": 0,
+                "limit_violations": 0}
+
+    by_mode: dict[str, object] = {"ruckig": row(300.0, 400.0)}
+    for mode, (p50, p99) in {"standard": (150.0, 300.0), "fast": (240.0, 380.0),
+                             "mixed": (180.0, 420.0)}.items():
+        by_mode[mode] = row(p50, p99)
+        by_mode[f"{mode}_over_ruckig"] = {"p50": p50 / 300.0, "p99": p99 / 400.0}
+    goals = goals_ca({"by_n": {}, "by_n_250us": {"1000": by_mode},
+                      "modes": ["standard", "fast", "mixed"]})
+    assert goals["cycle_p50_250us_standard_over_ruckig"]["passed"] is True
+    assert goals["cycle_p50_250us_fast_over_ruckig"]["passed"] is False  # 0.8 > 0.7
+    assert goals["cycle_p99_250us_mixed_over_ruckig"]["passed"] is False  # 1.05 > 1.0
+    assert goals["cycle_p99_250us_fast_over_ruckig"]["value"] == 380.0 / 400.0
 
 
 def test_ca_modes_are_what_their_names_say() -> None:

@@ -42,6 +42,10 @@ CA_GOAL_N = 1000
 CA_GOAL_P99_US = 500.0  #: in every gap control mode (Standard, Fast, mixed)
 CA_FAST_GOAL_N = 50
 CA_FAST_GOAL_P99_US = 1000.0  #: issue #19: Fast gap control within the 1 ms cycle
+CA_RUCKIG_P50_RATIO = 0.7  #: 250 us cycle, N=CA_GOAL_N: p50 at most this times the ruckig loop's
+CA_RUCKIG_P99_RATIO = 1.0  #: ... and p99 at most this times the ruckig loop's
+CA_SMALL_N = 10
+CA_SMALL_P50_US = 30.0  #: 250 us cycle: a 10-mover rail's cycle p50
 PLANAR_GOAL_N = 100
 PLANAR_ADMISSION_GOAL_US = 50.0
 PLANAR_GOAL_P99_US = 250.0
@@ -235,15 +239,31 @@ def goals_fbcall(results: dict[str, Any]) -> dict[str, Any]:
 
 def goals_ca(results: dict[str, Any]) -> dict[str, Any]:
     by_n, modes = results["by_n"], results["modes"]
-    rows = [r[mode] for r in by_n.values() for mode in modes]
+    fine = results.get("by_n_250us", {})
+    rows = [r[mode] for table in (by_n, fine) for r in table.values() for mode in modes]
     gaps = sum(r["gap_violations"] for r in rows)
     limits = sum(r["limit_violations"] for r in rows)
     goals = {
-        "gap_violations": _goal("no setpoint gap below the gap (all N, every mode)", gaps,
-                                gaps == 0),
-        "limit_violations": _goal("no mover beyond its own limits (all N, every mode)", limits,
-                                  limits == 0),
+        "gap_violations": _goal("no setpoint gap below the gap (all N, every mode, both "
+                                "cycle times)", gaps, gaps == 0),
+        "limit_violations": _goal("no mover beyond its own limits (all N, every mode, both "
+                                  "cycle times)", limits, limits == 0),
     }
+    row = fine.get(str(CA_GOAL_N))
+    if row is not None:  # every mode against the plain ruckig loop of the same movers
+        for mode in modes:
+            for key, bound in (("p50", CA_RUCKIG_P50_RATIO), ("p99", CA_RUCKIG_P99_RATIO)):
+                ratio = row[f"{mode}_over_ruckig"][key]
+                goals[f"cycle_{key}_250us_{mode}_over_ruckig"] = _goal(
+                    f"N={CA_GOAL_N}, 250 us, {mode}: cycle {key} <= {bound:g} x the ruckig "
+                    "loop's", ratio, ratio <= bound)
+    row = fine.get(str(CA_SMALL_N))
+    if row is not None:
+        for mode in modes:
+            p50 = row[mode]["cycle_us_p50"]
+            goals[f"cycle_p50_250us_small_{mode}"] = _goal(
+                f"N={CA_SMALL_N}, 250 us, {mode}: cycle p50 <= {CA_SMALL_P50_US:g} us", p50,
+                p50 <= CA_SMALL_P50_US)
     row = by_n.get(str(CA_GOAL_N))
     if row is not None:  # every mode meets Standard's goal
         for mode in modes:
@@ -574,21 +594,35 @@ def _render_fbcall(results: dict[str, Any]) -> list[str]:
 
 def _render_ca(results: dict[str, Any]) -> list[str]:
     header = ["N", "mode", "cycles", "commands", "done", "cycle p50", "cycle p99", "cpu p50",
-              "cpu p99", "p50 / std", "p99 / std", "min gap", "gap viol.", "limit viol."]
-    rows = []
-    for n, by_mode in results["by_n"].items():
-        for mode in results["modes"]:
-            r = by_mode[mode]
-            ratio = by_mode.get(f"{mode}_over_standard", {})
-            rows.append([int(n), mode, r["cycles"], r["commands"], r["done"], r["cycle_us_p50"],
-                         r["cycle_us_p99"], r["cpu_us_p50"], r["cpu_us_p99"], ratio.get("p50"),
-                         ratio.get("p99"), r["min_gap"], r["gap_violations"],
-                         r["limit_violations"]])
-    return [f"N movers on a ring of {_fmt(results['spacing'])} mm per mover, gap "
-            f"{_fmt(results['gap'])} mm, random modulo targets; the commands' gap control "
-            "Standard, Fast, or mixed (every second mover Fast), the three groups stepped in "
-            "turn; cycle time in us (Runtime.step with gap control: wall, and the thread's "
-            "cpu time); / std: ratio to Standard in the same run", *_table(header, rows)]
+              "cpu p99", "p50 / std", "p99 / std", "p50 / ruckig", "p99 / ruckig", "min gap",
+              "gap viol.", "limit viol."]
+
+    def rows_of(by_n: dict[str, Any]) -> list[list[Any]]:
+        rows = []
+        for n, by_mode in by_n.items():
+            for mode in [*results["modes"], "ruckig"]:
+                r = by_mode.get(mode)
+                if r is None:  # a result of a version without the reference
+                    continue
+                ratio = by_mode.get(f"{mode}_over_standard", {})
+                reference = by_mode.get(f"{mode}_over_ruckig", {})
+                rows.append([int(n), mode, r["cycles"], r["commands"], r["done"],
+                             r["cycle_us_p50"], r["cycle_us_p99"], r["cpu_us_p50"],
+                             r["cpu_us_p99"], ratio.get("p50"), ratio.get("p99"),
+                             reference.get("p50"), reference.get("p99"), r.get("min_gap"),
+                             r.get("gap_violations"), r.get("limit_violations")])
+        return rows
+
+    lines = [f"N movers on a ring of {_fmt(results['spacing'])} mm per mover, gap "
+             f"{_fmt(results['gap'])} mm, random modulo targets; the commands' gap control "
+             "Standard, Fast, or mixed (every second mover Fast), the three groups and the "
+             "reference (ruckig: one ruckig OTG per mover, no collision avoidance) stepped in "
+             "turn; cycle time in us (Runtime.step with gap control: wall, and the thread's "
+             "cpu time); / std, / ruckig: ratios in the same run", "",
+             "1 ms cycle", *_table(header, rows_of(results["by_n"]))]
+    if "by_n_250us" in results:
+        lines += ["", "250 us cycle", *_table(header, rows_of(results["by_n_250us"]))]
+    return lines
 
 
 def _render_planar(results: dict[str, Any]) -> list[str]:

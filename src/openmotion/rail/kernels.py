@@ -247,35 +247,34 @@ def _advance(p: float, v: float, a: float, t: float, j: float) -> tuple[float, f
     return (p + t * (v + t * (0.5 * a + t * j / 6.0)), v + t * (a + 0.5 * t * j), a + t * j)
 
 
-@compiled
-def _brake_table(p: float, v: float, a: float, dec: float, jerk: float) -> tuple:
-    """One mover's brake as gap_control's exact FAST check reads it: the ends of its three
-    phases (cumulated), their jerks, and (p, v, a) at the four phase boundaries; the brake ends
-    at rest (the float residue of v and a dropped)."""
-    t1, t2, t3, j1, j3, _ = _phases(v, a, dec, jerk)
-    p1, v1, a1 = _advance(p, v, a, t1, j1)
-    p2, v2, a2 = _advance(p1, v1, a1, t2, 0.0)
-    p3, _, _ = _advance(p2, v2, a2, t3, j3)
-    e2 = t1 + t2
-    return ((t1, e2, e2 + t3), (j1, 0.0, j3), (p, p1, p2, p3), (v, v1, v2, 0.0),
-            (a, a1, a2, 0.0))
-
-
-@compiled
-def _brake_at(table: tuple, t: float) -> tuple[float, float, float, float]:
-    """(p, v, a, jerk of the phase that starts here) of a brake ``_brake_table`` at time t."""
-    ends, jerks, ps, vs, accs = table
+@compiled(inline=True)
+def _brake_at(t: float, e1: float, e2: float, e3: float, j1: float, j3: float, p0: float,
+              v0: float, a0: float, p1: float, v1: float, a1: float, p2: float, v2: float,
+              a2: float, p3: float) -> tuple[float, float, float, float]:
+    """(p, v, a, jerk of the phase that starts here) at time t of a brake given by the ends
+    of its three phases (cumulated), their jerks (j2 = 0) and (p, v, a) at the phase
+    boundaries; it ends at rest (the float residue of v and a dropped). Scalars, not a table
+    of tuples: numba indexed those at run time, five times the cost of the arithmetic."""
     phase = 0
-    for q in range(3):
-        if t >= ends[q] - PHASE_END_TOLERANCE:
-            phase += 1
-    start = 0.0 if phase == 0 else ends[phase - 1]
+    if t >= e1 - PHASE_END_TOLERANCE:
+        phase += 1
+    if t >= e2 - PHASE_END_TOLERANCE:
+        phase += 1
+    if t >= e3 - PHASE_END_TOLERANCE:
+        phase += 1
+    if phase == 0:
+        start, j, p, v, a = 0.0, j1, p0, v0, a0
+    elif phase == 1:
+        start, j, p, v, a = e1, 0.0, p1, v1, a1
+    elif phase == 2:
+        start, j, p, v, a = e2, j3, p2, v2, a2
+    else:
+        start, j, p, v, a = e3, 0.0, p3, 0.0, 0.0
     tau = t - start
     if tau < 0.0:  # numpy.maximum(tau, 0.0): nan stays nan
         tau = 0.0
-    j = jerks[phase] if phase < 3 else 0.0
-    p, v, a = _advance(ps[phase], vs[phase], accs[phase], tau, j)
-    return p, v, a, j
+    x, u, b = _advance(p, v, a, tau, j)
+    return x, u, b, j
 
 
 @compiled
@@ -291,18 +290,29 @@ def _min_brake_gap(pk: float, vk: float, ak: float, dk: float, jk: float, pi: fl
 
     Between the merged phase boundaries of the two brakes the difference is one cubic; its
     minimum lies at an end or where its derivative (a quadratic) vanishes."""
-    brake_k = _brake_table(pk, vk, ak, dk, jk)
-    brake_i = _brake_table(pi, vi, ai, di, ji)
+    t1, t2, t3, kj1, kj3, _ = _phases(vk, ak, dk, jk)
+    kp1, kv1, ka1 = _advance(pk, vk, ak, t1, kj1)
+    kp2, kv2, ka2 = _advance(kp1, kv1, ka1, t2, 0.0)
+    kp3, _, _ = _advance(kp2, kv2, ka2, t3, kj3)
+    ke1, ke2 = t1, t1 + t2
+    ke3 = ke2 + t3
+    s1, s2, s3, ij1, ij3, _ = _phases(vi, ai, di, ji)
+    ip1, iv1, ia1 = _advance(pi, vi, ai, s1, ij1)
+    ip2, iv2, ia2 = _advance(ip1, iv1, ia1, s2, 0.0)
+    ip3, _, _ = _advance(ip2, iv2, ia2, s3, ij3)
+    ie1, ie2 = s1, s1 + s2
+    ie3 = ie2 + s3
     times[0] = 0.0
-    for q in range(3):
-        times[1 + q] = brake_k[0][q]
-        times[4 + q] = brake_i[0][q]
+    times[1], times[2], times[3] = ke1, ke2, ke3
+    times[4], times[5], times[6] = ie1, ie2, ie3
     sort_in_place(times)
     best = math.inf
     for c in range(7):
         t0 = times[c]
-        xk, uk, bk, gk = _brake_at(brake_k, t0)
-        xi, ui, bi, gi = _brake_at(brake_i, t0)
+        xk, uk, bk, gk = _brake_at(t0, ke1, ke2, ke3, kj1, kj3, pk, vk, ak, kp1, kv1, ka1, kp2,
+                                   kv2, ka2, kp3)
+        xi, ui, bi, gi = _brake_at(t0, ie1, ie2, ie3, ij1, ij3, pi, vi, ai, ip1, iv1, ia1, ip2,
+                                   iv2, ia2, ip3)
         best = _minimum(best, xk - xi)
         if c == 6:
             break
@@ -317,9 +327,10 @@ def _min_brake_gap(pk: float, vk: float, ak: float, dk: float, jk: float, pi: fl
             r1, r2 = (-da - disc) / dj, (-da + disc) / dj
         else:
             r1, r2 = -dv / da, math.nan
-        for s in (r1, r2):
-            if math.isfinite(s) and s > 0.0 and s < length:
-                best = _minimum(best, (xk - xi) + s * (dv + s * (0.5 * da + s * dj / 6.0)))
+        if math.isfinite(r1) and r1 > 0.0 and r1 < length:
+            best = _minimum(best, (xk - xi) + r1 * (dv + r1 * (0.5 * da + r1 * dj / 6.0)))
+        if math.isfinite(r2) and r2 > 0.0 and r2 < length:
+            best = _minimum(best, (xk - xi) + r2 * (dv + r2 * (0.5 * da + r2 * dj / 6.0)))
     return best
 
 

@@ -7,6 +7,7 @@ docs/collision-avoidance.md describes the algorithm and its safety argument.
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -21,6 +22,13 @@ from openmotion.rail.kernels import fast_candidates
 from openmotion.rail.tolerances import TOLERANCE
 from openmotion.trajectory.plan import Limits, plan_position
 from openmotion.trajectory.segments import KinematicState
+from openmotion.transport.cycle_kernel import (
+    group_step,
+    no_command,
+    pair_arrays,
+    resume,
+    rooms,
+)
 from openmotion.transport.enums import GapControlDirection, GapControlMode, GroupState
 from openmotion.transport.faults import FAULT_STATES
 from openmotion.transport.movers import (
@@ -48,6 +56,10 @@ if TYPE_CHECKING:
 class GroupCycle:
     """The per-cycle methods of ``CaGroup`` (a mixin: the state lives in the group)."""
 
+    #: run the cycle as one compiled call where it can (cycle_kernel.py); False: always the
+    #: numpy formulation, the reference the tests compare it with
+    compiled_cycle = True
+
 
     def pairs_changed(self) -> None:
         """The order, modes or gap paths of the movers changed: the pairs and the room
@@ -57,12 +69,12 @@ class GroupCycle:
 
     def _pairs(self) -> Pairs:
         if self._pairs_dirty:
-            succ = np.flatnonzero((self.pred >= 0) & (self.gmode != GapControlMode.NONE))
+            succ, pred, offset, gap, fast = pair_arrays(  # one compiled pass (D-281)
+                self.pred, self.gmode, int(GapControlMode.NONE), int(GapControlMode.FAST),
+                self.fast_grace, self.offset, self.gap)
             both = self.parameters.gap_control_direction is GapControlDirection.BOTH
             y, path = self.tracks.gap_paths(succ)
-            fast = (self.gmode[succ] == GapControlMode.FAST) | self.fast_grace[succ]
-            self._pair_cache = Pairs(succ, self.pred[succ], self.offset[succ], self.gap[succ],
-                                     fast, both, y, path)
+            self._pair_cache = Pairs(succ, pred, offset, gap, fast, both, y, path)
             self._pairs_dirty = False
         return self._pair_cache
 
@@ -82,6 +94,9 @@ class GroupCycle:
                 self._env = None
             return
         k, rows, dt = self.kernel, self.rows, self.runtime.cycle_time
+        pairs = self._pairs()
+        if self.compiled_cycle and pairs.y is None and self._advance_compiled(now, pairs):
+            return
         nxt = [k.set_p[rows].copy(), k.set_v[rows].copy(), k.set_a[rows].copy(),
                k.set_j[rows].copy()]
         n = rows.size
@@ -114,6 +129,55 @@ class GroupCycle:
             sync.held(now, (float(self.p[slot]), float(self.v[slot]), float(self.a[slot])),
                       self._master(sync))
         self._events(now)
+
+    def _advance_compiled(self, now: float, pairs: Pairs) -> bool:
+        """``advance`` in one compiled call (cycle_kernel.py, D-281): the same steps, the
+        same numbers; Python only for the movers whose job ends or replans. The states and
+        envelopes are written in place: the envelope of two cycles ago is this cycle's
+        buffer (no allocation per cycle). False: a coupled mover, nothing done."""
+        k, rows = self.kernel, self.rows
+        n = rows.size
+        lo_cur, hi_cur = env = self._envelope()
+        spare = self._spare_env
+        if spare is None or spare[0].size != n or spare[0] is lo_cur:
+            spare = (np.empty(n), np.empty(n))
+            self._slot_buf, self._goal_buf = np.empty(2 * n, dtype=np.int64), np.empty((n, 5))
+        lo, hi = spare
+        slots, goals = self._slot_buf, self._goal_buf
+        grace_changed, ended, nf, nr, idle = group_step(
+            self.runtime.cycle_time, now, rows, k.set_p, k.set_v, k.set_a, k.set_j,
+            k.segments.end, self.p, self.v, self.a, self.mode, self.goal, self.target,
+            self.lim, self.halting, self.bdec, self.bjerk, self.pred, self.succ, lo_cur,
+            hi_cur, pairs.succ, pairs.pred, pairs.offset, pairs.gap, pairs.fast, pairs.both,
+            self.fast_grace, lo, hi, slots, goals)
+        if grace_changed < 0:
+            return False
+        self._env, self._spare_env = (lo, hi), env
+        if grace_changed:
+            self.pairs_changed()
+        if ended:
+            self._end_profiles(slots[:ended].copy())
+            pairs = self._pairs()
+            room_hi, room_lo = rooms(lo, hi, pairs.succ, pairs.pred, pairs.offset, pairs.gap,
+                                     pairs.both)
+            finish, replan, there, limits = resume(
+                self.p, self.v, self.a, self.mode, self.target, self.lim, self.halting,
+                self.bdec, self.bjerk, self.pred, self.succ, lo, hi, room_hi, room_lo)
+            self._apply_resume(finish.tolist(), replan.tolist(), there.tolist(),
+                               limits.tolist())
+        elif nf or nr:
+            self._apply_resume(slots[:nf].tolist(), slots[nf:nf + nr].tolist(),
+                               goals[:nr, 0].tolist(), goals[:nr, 1:].tolist())
+        self._after_resume(now, idle if not (ended or nf or nr) else None)
+        return True
+
+    def _apply_resume(self, finish: list[int], replan: list[int], goals: list[float],
+                      limits: list[list[float]]) -> None:
+        """What ``resume`` decided: jobs that end, profiles to plan (as ``_resume``)."""
+        for slot in finish:
+            self._finish_job(self.movers[slot])
+        for slot, goal, lim in zip(replan, goals, limits, strict=True):
+            self._replan(self.movers[slot], goal, None if math.isnan(lim[0]) else Limits(*lim))
 
     def _leave_stale_queues(self) -> None:
         """A mover on its way to a queue place tracks again once the neighbour in its way has
@@ -321,7 +385,15 @@ class GroupCycle:
 
     def _events(self, now: float) -> None:
         k = self.kernel
-        ended = np.flatnonzero((self.mode == FOLLOW) & (k.segments.end[self.rows] <= now))
+        self._end_profiles(np.flatnonzero((self.mode == FOLLOW)
+                                          & (k.segments.end[self.rows] <= now)))
+        held = np.flatnonzero(self.mode == HELD)
+        if held.size:
+            self._resume(held)
+        self._after_resume(now)
+
+    def _end_profiles(self, ended: np.ndarray) -> None:
+        """Movers whose profile ended: done, idle, or held at a queue position."""
         for slot in ended.tolist():
             mover = self.movers[slot]
             if mover.job is None:
@@ -330,12 +402,15 @@ class GroupCycle:
                 self._finish_job(mover)
             else:
                 self.mode[slot] = HELD  # a queue position: wait for the way to clear
-        held = np.flatnonzero(self.mode == HELD)
-        if held.size:
-            self._resume(held)
-        if self.parameters.standby_gap_control or self.parameters.active_gap_establishing:
+
+    def _after_resume(self, now: float, idle: bool | None = None) -> None:
+        """Standby gap control and the group commands' ends, after the movers' events;
+        ``idle``: whether no mover has a command, when the caller knows."""
+        standby = self.parameters.standby_gap_control or self.parameters.active_gap_establishing
+        if standby:
             self._restore_gaps()
-        idle = not self.mode.any()  # mode IDLE (0) exactly when the mover has no command
+        if idle is None or standby:  # standby gap control may have started jobs
+            idle = no_command(self.mode)
         if self._halt is not None:
             if any(part.aborted for part in self._halt_parts):  # a new command took over
                 self._halt.end(CommandStatus.ABORTED, now,

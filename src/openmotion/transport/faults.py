@@ -27,6 +27,7 @@ from openmotion.core.enums import AxisState
 from openmotion.core.errors import ErrorId
 from openmotion.trajectory.plan import plan_stop
 from openmotion.trajectory.segments import KinematicState
+from openmotion.transport.cycle_kernel import all_at
 from openmotion.transport.enums import GroupState
 from openmotion.transport.movers import IDLE, FaultBrake, Mover
 
@@ -47,7 +48,7 @@ class GroupFaults:
         lost, self._power_lost = self._power_lost, None  # also if MC_Power came back since
         if self.state in (GroupState.DISABLED, GroupState.ERROR_STOP):
             return
-        if lost is None and self.kernel.monitored[self.rows].all():  # all powered, no errors
+        if lost is None and all_at(self.kernel.monitored, self.rows):  # powered, no errors
             if self.state is GroupState.NOT_READY:
                 self._check_ready()
             return

@@ -798,6 +798,9 @@ class CaGroup(GroupCycle, GroupFaults):
         self.succ = np.full(n, -1, dtype=np.int64)
         self.offset = np.zeros(n)
         self._env: tuple[np.ndarray, np.ndarray] | None = None
+        #: envelope arrays the compiled cycle writes the next envelope into (cycle.py)
+        self._spare_env: tuple[np.ndarray, np.ndarray] | None = None
+        self._slot_buf, self._goal_buf = np.empty(0, dtype=np.int64), np.empty((0, 5))
         self._room_of: object = None  #: the envelope ``_room_all`` was computed from
         self._room_all: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
         if n:
