@@ -1,6 +1,6 @@
 """`planar` benchmark: M movers in one planar group on a stator field, random free moves.
 
-Two figures of performance.md, per M (10, 100):
+Two figures of performance.md, per M (10, 100, 1000):
 
 (a) The admission check per command: ``planar_admission.measure_admission`` (the group's
     ``ReservationRegistry.request`` on the swept area of a free move, timed alone, on a field
@@ -61,7 +61,7 @@ from openmotion.planar import (
 )
 from openmotion.planar.stators import STATOR_SIZE
 
-DEFAULT_COUNTS = (10, 100)
+DEFAULT_COUNTS = (10, 100, 1000)
 CYCLE_TIME = 0.001  #: [s]
 STATORS_PER_MOVER = 1.44  #: field area per mover: 100 movers on 12 x 12 stators
 REACH = 2  #: targets lie up to this many stators away in x and in y
