@@ -49,8 +49,8 @@ members block, the one added to the group first is named, whether mover, track o
 Touching is not meeting: areas that share only edges or corners do not block each other.
 
 Speed: the boxes of all members' pieces sit in one numpy array, updated in place on every
-change, so an admission check is one vectorised bounding-box scan, then a plain-Python box test
-of each piece against the few slots near, then the exact test (interiors meet: shapely's
+change, so an admission check is one compiled bounding-box scan that also tests each piece
+against the few slots near and orders the pairs, then the exact test (interiors meet: shapely's
 ``intersects`` and not ``touches``) on the candidates in member order, stopping at the first
 meeting. An STRtree would need a rebuild after every accepted command and every release. A
 piece's outline is computed when an exact test first needs it (``SweptArea.outline``): its
@@ -630,23 +630,14 @@ class ReservationRegistry:
         """Lowest rank among the members whose pieces meet (not only touch) ``swept``; the
         pieces of the members ranked ``excluded`` do not count.
 
-        The whole area's box against every slot in one compiled pass; then, for the few
-        slots near, each piece's box in plain Python, and the exact test pair by pair in rank
-        order, stopping at the first meeting: compiled for two convex outlines, else shapely's
-        scalar calls (they beat its ufuncs for a handful of pairs)."""
-        found = kernels.near_slots(self._box, swept.key, self._ranks, excluded)
-        if not found.shape[1]:
+        The whole area's box against every slot, then each piece's box against the few slots
+        near, in one compiled pass (``area_kernels.meeting_pairs``); then the exact test pair
+        by pair in rank order, stopping at the first meeting: compiled for two convex
+        outlines, else shapely's scalar calls (they beat its ufuncs for a handful of pairs)."""
+        pairs = kernels.meeting_pairs(self._box, swept.key, swept.keys, self._ranks, excluded)
+        if not pairs.shape[1]:
             return None
-        near, ranks = found.tolist()
-        if len(swept.until) == 1:  # its box is the area's: every slot near meets it
-            pairs = [(rank, 0, j) for j, rank in zip(near, ranks, strict=True)]
-        else:
-            near_boxes = list(zip(near, ranks, self._box[found[0]].tolist(), strict=True))
-            pairs = [(rank, i, j) for i, (k0, k1, k2, k3) in enumerate(swept.keys.tolist())
-                     for j, rank, (b0, b1, b2, b3) in near_boxes
-                     if b0 < k0 and b1 < k1 and b2 < k2 and b3 < k3]
-        pairs.sort(key=_RANK)  # stable: piece by piece, slot by slot within a rank
-        for rank, i, j in pairs:
+        for rank, i, j in zip(*pairs.tolist(), strict=True):
             area, index = self._piece_of[j]  # type: ignore[misc]
             mine, theirs = swept.outline(i), area.outline(index)
             if mine is not None and theirs is not None:  # two convex outlines: compiled
