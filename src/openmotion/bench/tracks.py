@@ -34,6 +34,7 @@ import numpy as np
 import shapely
 
 import openmotion as om
+from openmotion.bench.planar import near_pairs
 from openmotion.planar import (
     MC_PlanarMover,
     MC_PlanarTrack,
@@ -198,33 +199,12 @@ def _place(rt: om.Runtime, tracks: list[MC_PlanarTrack], movers: int, first: int
     return fleet
 
 
-def _near_pairs(xy: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Index pairs (i, j) of the points ``xy`` (n, 2) closer than ``reach``, and their
-    distances: a sweep along x (the pairs within ``reach`` in x), not all n² pairs."""
-    order = np.argsort(xy[:, 0], kind="stable")
-    x = xy[order, 0]
-    ends = np.searchsorted(x, x + reach, side="right")
-    index = np.arange(len(x))
-    firsts, seconds = [], []
-    for k in range(1, int((ends - index).max(initial=1))):
-        i = index[index + k < ends]
-        firsts.append(order[i])
-        seconds.append(order[i + k])
-    if not firsts:
-        empty = np.zeros(0, dtype=np.int64)
-        return empty, empty, np.zeros(0)
-    i, j = np.concatenate(firsts), np.concatenate(seconds)
-    distance = np.hypot(*(xy[i] - xy[j]).T)
-    close = distance < reach
-    return i[close], j[close], distance[close]
-
-
 def _check(fleet: list[tuple[MC_PlanarMover, MC_PlanarTrack]]) -> tuple[int, int, float]:
     """Overlapping footprints, gap violations on one track, and the closest two centres
     (within ``CLOSE_REACH``)."""
     status = [mover.mc_to_plc for mover, _ in fleet]
     xy = np.array([(s.set.set_pos.x, s.set.set_pos.y) for s in status])
-    first, second, distance = _near_pairs(xy, CLOSE_REACH)
+    first, second, distance = near_pairs(xy, CLOSE_REACH)
     near = distance < FOOTPRINT * math.sqrt(2.0)
     overlaps = 0
     for i, j in zip(first[near].tolist(), second[near].tolist(), strict=True):

@@ -97,6 +97,7 @@ _NEVER = np.array([NEVER], dtype=np.int64)  #: the ``until`` of an area never re
 _FLIP = np.array([1.0, 1.0, -1.0, -1.0])  #: bounds to the stored box, keys to query keys
 _KEY_ORDER = np.array([2, 3, 0, 1])
 _NO_RANKS = np.empty(0, dtype=np.int64)  #: no member's slots are left out
+_CONVEX_VERTICES = 8  #: a polygon area of up to this many vertices is tested compiled if convex
 
 
 class MemberId(NamedTuple):
@@ -190,23 +191,50 @@ class SweptArea:
 
     def outline(self, i: int) -> np.ndarray | None:
         """Piece ``i``'s vertices, counter-clockwise, when it is known convex (a piece given by
-        its bounds); None for a piece given as a polygon."""
+        its bounds, a convex polygon); None for any other piece given as a polygon."""
         if self.outlines is None:
             return None
         vertices = self.outlines[i]
         if vertices is None:
-            vertices = self.outlines[i] = self.vertices(i)  # type: ignore[misc]
+            vertices = self.vertices(i)  # type: ignore[misc]
+            if vertices is None:  # not convex: shapely compares it
+                self.outlines = None
+                return None
+            self.outlines[i] = vertices
         return vertices
 
     @classmethod
     def from_geometry(cls, geometry: BaseGeometry) -> SweptArea:
-        """One piece that progress never releases (a standing footprint, a track's band)."""
-        return cls.from_pieces(np.array([geometry], dtype=object), [NEVER])
+        """One piece that progress never releases (a standing footprint, a track's band).
+        A convex polygon of a few vertices (a footprint) also gets its outline, so that the
+        exact test against a convex piece is compiled (``_convex_vertices``)."""
+        area = cls.from_pieces(np.array([geometry], dtype=object), [NEVER])
+        if isinstance(geometry, Polygon) and not geometry.interiors:
+            area.outlines = [None]
+            area.vertices = lambda _: _convex_vertices(geometry)
+        return area
 
     @cached_property
     def geometry(self) -> BaseGeometry:
         """The union of the pieces (for views and tests; checks use the pieces)."""
         return shapely.union_all(self.pieces)
+
+
+def _convex_vertices(polygon: Polygon) -> np.ndarray | None:
+    """The vertices of ``polygon`` counter-clockwise when it is strictly convex with at most
+    ``_CONVEX_VERTICES`` of them (a footprint), else None."""
+    ring = polygon.exterior.coords
+    count = len(ring) - 1
+    if not 3 <= count <= _CONVEX_VERTICES:
+        return None
+    points = np.array(ring[:-1], dtype=float)
+    edges = np.roll(points, -1, axis=0) - points
+    turns = edges[:, 0] * np.roll(edges[:, 1], -1) - edges[:, 1] * np.roll(edges[:, 0], -1)
+    if (turns > 0.0).all():
+        return points
+    if (turns < 0.0).all():
+        return points[::-1].copy()
+    return None
 
 
 def swept_area(path: np.ndarray, width: float = MOVER_WIDTH, height: float = MOVER_HEIGHT,
