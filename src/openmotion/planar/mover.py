@@ -943,7 +943,7 @@ class MC_PlanarMover(StatefulObject):
         for motion in list(self._motions):
             if motion.releases and now >= motion.releases[0] and self._group is not None:
                 elapsed = now - motion.start
-                reached = int(np.searchsorted(motion.samples, elapsed, side="right"))
+                reached = int(motion.samples.searchsorted(elapsed, side="right"))
                 self._group.registry.release(self._member, reached - 1)
                 while motion.releases and now >= motion.releases[0]:
                     motion.releases.pop(0)
