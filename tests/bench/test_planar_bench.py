@@ -96,8 +96,8 @@ def test_cli_runs_the_planar_benchmark(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def test_the_goals_judge_1000_movers_and_the_growth() -> None:
-    def row(cycle_p50: float, cycle_p99: float, admission_p50: float) -> dict:
-        return {"overlaps": 0, "off_surface": 0, "cycle_us_p50": cycle_p50,
+    def row(cycle_mean: float, cycle_p99: float, admission_p50: float) -> dict:
+        return {"overlaps": 0, "off_surface": 0, "cycle_us_mean": cycle_mean,
                 "cycle_us_p99": cycle_p99,
                 "admission": {"mismatches": 0, "overlaps": 0, "admission_us_p50": admission_p50}}
 

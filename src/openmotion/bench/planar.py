@@ -189,7 +189,7 @@ def run_one(movers: int, cycles: int, seed: int = 0, c_range: float = C_RANGE
                 + counts["rejected_other"])
     return {"movers": movers, "stators": side * side, "cycles": cycles, **counts,
             "rejected": rejected, **_stats("cycle_us", us),
-            "cycle_us_max": float(us.max()),
+            "cycle_us_max": float(us.max()), "cycle_us_mean": float(us.mean()),
             **_stats("idle_cycle_us", us[~busy]), **_stats("command_cycle_us", us[busy]),
             "command_cycles": int(np.count_nonzero(busy)),
             **_stats("request_us", np.asarray(admissions) * 1e6),

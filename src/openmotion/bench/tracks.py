@@ -176,7 +176,7 @@ def run_one(movers: int, cycles: int, seed: int = 0,
             "network_mm": total, **counts,
             "cycle_us_p50": float(np.percentile(us, 50)),
             "cycle_us_p99": float(np.percentile(us, 99)),
-            "cycle_us_max": float(us.max()),
+            "cycle_us_max": float(us.max()), "cycle_us_mean": float(us.mean()),
             "overlaps": overlaps, "gap_violations": gap_violations,
             "closest_centres_mm": closest}
 
