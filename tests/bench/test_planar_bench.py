@@ -9,7 +9,7 @@ from typer.testing import CliRunner
 
 import openmotion as om
 from openmotion.bench import planar
-from openmotion.bench.runner import BENCHMARKS, render, run_benchmark
+from openmotion.bench.runner import BENCHMARKS, goals_planar, render, run_benchmark
 from openmotion.cli import app
 from openmotion.planar import MC_PlanarMover, MoverVector, PlanarMoverParameters
 
@@ -93,3 +93,20 @@ def test_cli_runs_the_planar_benchmark(monkeypatch: pytest.MonkeyPatch) -> None:
     assert result.exit_code == 0, result.output
     data = json.loads(result.stdout)
     assert data["benchmark"] == "planar" and list(data["results"]["by_n"]) == ["2"]
+
+
+def test_the_goals_judge_1000_movers_and_the_growth() -> None:
+    def row(cycle_mean: float, cycle_p99: float, admission_p50: float) -> dict:
+        return {"overlaps": 0, "off_surface": 0, "cycle_us_mean": cycle_mean,
+                "cycle_us_p99": cycle_p99,
+                "admission": {"mismatches": 0, "overlaps": 0, "admission_us_p50": admission_p50}}
+
+    results = {"by_n": {"100": row(40.0, 200.0, 30.0), "1000": row(300.0, 1100.0, 45.0)},
+               "translation": {}}
+    goals = goals_planar(results)
+    assert goals["admission_us_large"]["passed"] and goals["admission_linear"]["passed"]
+    assert goals["cycle_linear"]["passed"]  # 7.5x for 10x the movers
+    assert goals["cycle_linear"]["value"] == pytest.approx(0.75)
+    assert not goals["cycle_p99_large"]["passed"]  # 1.1 ms: over the 1 ms cycle
+    del results["by_n"]["1000"]
+    assert "cycle_p99_large" not in goals_planar(results)

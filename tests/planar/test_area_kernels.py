@@ -8,7 +8,12 @@ import shapely
 from hypothesis import given
 from hypothesis import strategies as st
 
-from openmotion.planar.area_kernels import convex_hull, interiors_meet, line_piece_hull
+from openmotion.planar.area_kernels import (
+    convex_hull,
+    interiors_meet,
+    line_piece_hull,
+    meeting_pairs,
+)
 from openmotion.planar.reservation import footprint, footprint_area
 from openmotion.planar.tolerances import DISTANCE_NOISE as NOISE
 
@@ -83,3 +88,36 @@ def test_footprints_side_by_side_touch_and_one_micrometre_closer_meet():
     assert not interiors_meet(left, footprint_area(155.0, 155.0).outline(0))
     assert interiors_meet(left, footprint_area(154.999, 0.0).outline(0))
     assert interiors_meet(left, footprint_area(10.0, 10.0, 45.0).outline(0))
+
+
+def _reference_pairs(boxes, key, piece_keys, ranks, skip):
+    """The candidate pairs as the registry built them in plain Python before they were
+    compiled: slots near the whole key, then each piece's key, stable-sorted by rank."""
+    near = [slot for slot in range(len(boxes)) if (boxes[slot] < key).all()
+            and ranks[slot] not in skip.tolist()]
+    if len(piece_keys) == 1:
+        pairs = [(int(ranks[j]), 0, j) for j in near]
+    else:
+        pairs = [(int(ranks[j]), i, j) for i, k in enumerate(piece_keys) for j in near
+                 if (boxes[j] < k).all()]
+    return sorted(pairs, key=lambda pair: pair[0])
+
+
+@given(seed=st.integers(0, 2**32 - 1), pieces=st.integers(1, 6), slots=st.integers(0, 40))
+def test_meeting_pairs_are_the_near_boxes_in_rank_piece_and_slot_order(seed, pieces, slots):
+    """The compiled broad phase finds the pairs the plain loops found, in the same order
+    (rank, then piece, then slot), leaving out skipped ranks and free (+inf) slots."""
+    rng = np.random.default_rng(seed)
+    low = rng.uniform(0.0, 100.0, (slots, 2))
+    boxes = np.concatenate((low, -(low + rng.uniform(1.0, 30.0, (slots, 2)))), axis=1)
+    ranks = rng.integers(0, 6, slots)
+    free = rng.random(slots) < 0.2
+    boxes[free], ranks[free] = np.inf, -1
+    piece_low = rng.uniform(0.0, 100.0, (pieces, 2))
+    piece_keys = np.concatenate((piece_low + rng.uniform(1.0, 30.0, (pieces, 2)), -piece_low),
+                                axis=1)
+    key = piece_keys.max(axis=0)
+    skip = np.array(rng.choice(6, size=int(rng.integers(0, 3)), replace=False), dtype=np.int64)
+    pairs = meeting_pairs(boxes, key, piece_keys, ranks.astype(np.int64), skip)
+    expected = _reference_pairs(boxes, key, piece_keys, ranks, skip)
+    assert [tuple(p) for p in pairs.T.tolist()] == expected

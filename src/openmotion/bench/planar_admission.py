@@ -34,7 +34,7 @@ from openmotion.planar.reservation import (
 )
 from openmotion.planar.stators import STATOR_SIZE, StatorField
 
-DEFAULT_COUNTS = (10, 100)
+DEFAULT_COUNTS = (10, 100, 1000)
 CYCLE_TIME = 0.001  #: path sample step [s]
 VELOCITY = 1000.0  #: travel speed of the benchmark moves [mm/s]
 C_VELOCITY = 360.0  #: turning speed of the benchmark moves [deg/s]

@@ -49,12 +49,16 @@ CA_SMALL_P50_US = 30.0  #: 250 us cycle: a 10-mover rail's cycle p50
 PLANAR_GOAL_N = 100
 PLANAR_ADMISSION_GOAL_US = 50.0
 PLANAR_GOAL_P99_US = 250.0
+PLANAR_LARGE_N = 1000  #: issue #24: 1000 planar movers in one group
+PLANAR_LARGE_P99_US = 1000.0  #: ... within the 1 ms cycle
 PATH_GOAL_SEGMENTS = 10_000
 PATH_GOAL_P99_US = 100.0  #: issue #24 (#7: 200): planner work per cycle, 10 000 segments
 PATH_GOAL_PREPARE_S = 1.5  #: issue #24: MC_PathSelect and the MovePath start together
 PATH_GOAL_SPEED_SHARE = 0.95  #: issue #24: mean path speed over the axes' steady bound
 TRACKS_GOAL_N = 100
 TRACKS_GOAL_P99_US = 500.0  #: issue #8: 100 movers on a network with 4 switches
+TRACKS_LARGE_N = 1000  #: issue #24: 1000 movers on tracks (ten ovals, D-285)
+TRACKS_LARGE_P99_US = 1000.0  #: ... within the 1 ms cycle
 QUICK_MEMORY_CYCLES = 20_000  #: samples of the trace memory part with --quick
 TRACE_GOAL_US = 1000.0  #: 100 axes, 100 signals recorded every 1 ms cycle: faster than real time
 STARTUP_CHECK_GOAL_S = 1.0  #: issue #18: warm `openmotion check` of the default example
@@ -104,8 +108,8 @@ def _path(quick: bool, progress: Progress) -> dict[str, Any]:
 
 def _tracks(quick: bool, progress: Progress) -> dict[str, Any]:
     if quick:
-        return run_tracks(movers=12, cycles=300, progress=progress)
-    return run_tracks(movers=TRACKS_GOAL_N, progress=progress)
+        return run_tracks(counts=(12,), cycles=300, progress=progress)
+    return run_tracks(progress=progress)
 
 
 def _trace(quick: bool, progress: Progress, cycles: int | None = None) -> dict[str, Any]:
@@ -303,7 +307,34 @@ def goals_planar(results: dict[str, Any]) -> dict[str, Any]:
         p99 = row["cycle_us_p99"]
         goals["cycle_p99"] = _goal(f"N={PLANAR_GOAL_N}: cycle p99 < {PLANAR_GOAL_P99_US:g} us "
                                    "(moves with c)", p99, p99 < PLANAR_GOAL_P99_US)
+    large = results["by_n"].get(str(PLANAR_LARGE_N))
+    if large is not None:
+        admission = large["admission"]["admission_us_p50"]
+        goals["admission_us_large"] = _goal(
+            f"N={PLANAR_LARGE_N}: admission check p50 < {PLANAR_ADMISSION_GOAL_US:g} us",
+            admission, admission < PLANAR_ADMISSION_GOAL_US)
+        p99 = large["cycle_us_p99"]
+        goals["cycle_p99_large"] = _goal(
+            f"N={PLANAR_LARGE_N}: cycle p99 < {PLANAR_LARGE_P99_US:g} us (moves with c)", p99,
+            p99 < PLANAR_LARGE_P99_US)
+    if row is not None and large is not None:
+        growth = _growth(row["cycle_us_mean"], large["cycle_us_mean"],
+                         PLANAR_LARGE_N / PLANAR_GOAL_N)
+        goals["cycle_linear"] = _goal(
+            f"mean cycle grows no faster than N from {PLANAR_GOAL_N} to {PLANAR_LARGE_N} "
+            "(ratio of the growth to N's, < 1)", growth, growth < 1.0)
+        growth = _growth(row["admission"]["admission_us_p50"],
+                         large["admission"]["admission_us_p50"], PLANAR_LARGE_N / PLANAR_GOAL_N)
+        goals["admission_linear"] = _goal(
+            f"admission p50 grows no faster than N from {PLANAR_GOAL_N} to {PLANAR_LARGE_N} "
+            "(ratio of the growth to N's, < 1)", growth, growth < 1.0)
     return goals
+
+
+def _growth(small: float, large: float, factor: float) -> float:
+    """How much faster than ``factor`` (the growth of N) a cost grew from ``small`` to
+    ``large``: below 1, no faster than linearly."""
+    return large / small / factor
 
 
 def goals_path(results: dict[str, Any]) -> dict[str, Any]:
@@ -343,6 +374,18 @@ def goals_tracks(results: dict[str, Any]) -> dict[str, Any]:
         p99 = row["cycle_us_p99"]
         goals["cycle_p99"] = _goal(f"N={TRACKS_GOAL_N}, 4 switches: cycle p99 < "
                                    f"{TRACKS_GOAL_P99_US:g} us", p99, p99 < TRACKS_GOAL_P99_US)
+    large = results["by_n"].get(str(TRACKS_LARGE_N))
+    if large is not None:
+        p99 = large["cycle_us_p99"]
+        goals["cycle_p99_large"] = _goal(
+            f"N={TRACKS_LARGE_N}, {large['switches']} switches: cycle p99 < "
+            f"{TRACKS_LARGE_P99_US:g} us", p99, p99 < TRACKS_LARGE_P99_US)
+    if row is not None and large is not None:
+        growth = _growth(row["cycle_us_mean"], large["cycle_us_mean"],
+                         TRACKS_LARGE_N / TRACKS_GOAL_N)
+        goals["cycle_linear"] = _goal(
+            f"mean cycle grows no faster than N from {TRACKS_GOAL_N} to {TRACKS_LARGE_N} "
+            "(ratio of the growth to N's, < 1)", growth, growth < 1.0)
     return goals
 
 
@@ -660,13 +703,14 @@ def _render_planar(results: dict[str, Any]) -> list[str]:
 
 
 def _render_tracks(results: dict[str, Any]) -> list[str]:
-    header = ["N", "tracks", "switches", "cycles", "commands", "done", "errors", "cycle p50",
-              "cycle p99", "cycle max", "overlaps", "gap violations", "closest"]
-    rows = [[int(n), r["tracks"], r["switches"], r["cycles"], r["commands"], r["done"],
-             r["errors"], r["cycle_us_p50"], r["cycle_us_p99"], r["cycle_us_max"],
-             r["overlaps"], r["gap_violations"], r["closest_centres_mm"]]
+    header = ["N", "ovals", "tracks", "switches", "cycles", "commands", "done", "errors",
+              "cycle p50", "cycle p99", "cycle max", "overlaps", "gap violations", "closest"]
+    rows = [[int(n), r.get("ovals", 1), r["tracks"], r["switches"], r["cycles"],
+             r["commands"], r["done"], r["errors"], r["cycle_us_p50"], r["cycle_us_p99"],
+             r["cycle_us_max"], r["overlaps"], r["gap_violations"], r["closest_centres_mm"]]
             for n, r in results["by_n"].items()]
-    return [f"Runtime.step in us: movers on an oval with two sidings (4 switches), random "
+    return [f"Runtime.step in us: movers on ovals with two sidings (4 switches each, up to "
+            f"{results.get('oval_movers', 100)} movers an oval), random "
             f"MoveOnTrack targets, gap {_fmt(results['gap'])} mm; closest: mm between two "
             "mover centres", *_table(header, rows)]
 

@@ -352,6 +352,39 @@ def near_slots(boxes: NDArray[np.float64], key: NDArray[np.float64], ranks: NDAr
 
 
 @compiled
+def meeting_pairs(boxes: NDArray[np.float64], key: NDArray[np.float64],
+                  piece_keys: NDArray[np.float64], ranks: NDArray[np.int64],
+                  skip: NDArray[np.int64]) -> NDArray[np.int64]:
+    """The candidate pairs of an admission check: (rank, piece, slot) of every stored box
+    that overlaps a piece's box (``piece_keys``, one row per piece; with one piece, every
+    slot ``near_slots`` finds), in rank order, then piece order, then slot order: row 0 the
+    ranks, row 1 the pieces, row 2 the slots. The boxes near the whole area (``key``) come
+    from one pass over all slots; only they are compared with each piece."""
+    near = near_slots(boxes, key, ranks, skip)
+    count, pieces = near.shape[1], piece_keys.shape[0]
+    pairs = np.empty((3, count * pieces), dtype=np.int64)
+    found = 0
+    for i in range(pieces):
+        k0, k1, k2, k3 = piece_keys[i, 0], piece_keys[i, 1], piece_keys[i, 2], piece_keys[i, 3]
+        for c in range(count):
+            slot = near[0, c]
+            if pieces == 1 or (boxes[slot, 0] < k0 and boxes[slot, 1] < k1
+                               and boxes[slot, 2] < k2 and boxes[slot, 3] < k3):
+                pairs[0, found], pairs[1, found], pairs[2, found] = near[1, c], i, slot
+                found += 1
+    # stable insertion sort on the rank: the pairs came in piece order, then slot order
+    for a in range(1, found):
+        rank, piece, slot = pairs[0, a], pairs[1, a], pairs[2, a]
+        b = a - 1
+        while b >= 0 and pairs[0, b] > rank:
+            pairs[0, b + 1], pairs[1, b + 1], pairs[2, b + 1] = \
+                pairs[0, b], pairs[1, b], pairs[2, b]
+            b -= 1
+        pairs[0, b + 1], pairs[1, b + 1], pairs[2, b + 1] = rank, piece, slot
+    return pairs[:, :found]
+
+
+@compiled
 def write_slots(boxes: NDArray[np.float64], ranks: NDArray[np.int64], until: NDArray[np.int64],
                 slots: NDArray[np.int64], bounds: NDArray[np.float64],
                 piece_until: NDArray[np.int64], rank: int) -> None:

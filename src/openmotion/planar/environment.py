@@ -118,7 +118,7 @@ class MC_PlanarEnvironment(PlanarObject):
                                     reset_parts=self._reset_parts,
                                     send_part_command=self._send_part_command)
         system.environments.append(self)
-        system.register(self)
+        self._rank = system.register(self)
         for mover in system.movers:
             self._place(mover)
 

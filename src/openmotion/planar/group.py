@@ -54,7 +54,7 @@ class MC_PlanarGroup(StatefulObject):
         #: what its members call on it besides the system's hooks
         self.port = GroupPort(self._run, self._publish, self._admit, self._leave,
                               self._check_enabled)
-        system.register(self)
+        self._rank = system.register(self)
 
     def __repr__(self) -> str:
         return f"<MC_PlanarGroup 16#{self.oid:08X} {self.state.name}>"

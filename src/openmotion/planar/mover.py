@@ -219,6 +219,7 @@ class MC_PlanarMover(StatefulObject):
         self._fed = False  #: an external setpoint came this cycle
         self._started_external = False
         self._status: tuple[int, CDT_MCTOPLC_PLANAR_MOVER] | None = None
+        self._event_index = -1  #: its place in the system's ``next_events``
         self.next_event = math.inf  #: [s] when ``port.after_motion`` has work
         self._member = MemberId(PlanarObjectType.MOVER, self.oid)
         self._rider: Rider | None = None  #: coupled to a track (traffic.py)
@@ -232,8 +233,9 @@ class MC_PlanarMover(StatefulObject):
             odometer_row=self._odometer_row, couple=self._couple,
             rows=MappingProxyType(self._rows), after_motion=self._after_motion,
             track_finished=self._on_track_finished, admit_way=self._admit_way)
-        system.movers.append(self)
-        system.register(self)
+        self._event_index = system.add_mover(self)
+        self.next_event = self._next_event
+        self._rank = system.register(self)
         environment = system.environment()
         if environment is not None:
             environment.port.place(self)
@@ -442,6 +444,17 @@ class MC_PlanarMover(StatefulObject):
     def rider(self) -> Rider | None:
         """Its place in the traffic while it is coupled to a track (JoinTrack); else None."""
         return self._rider
+
+    @property
+    def next_event(self) -> float:
+        """[s] when ``port.after_motion`` has work: an end, a release, or every cycle."""
+        return self._next_event
+
+    @next_event.setter
+    def next_event(self, value: float) -> None:
+        self._next_event = value
+        if self._event_index >= 0:  # the system scans them all at once (D-286)
+            self.system.next_events[self._event_index] = value
 
     @property
     def in_motion(self) -> bool:
@@ -936,7 +949,7 @@ class MC_PlanarMover(StatefulObject):
         for motion in list(self._motions):
             if motion.releases and now >= motion.releases[0] and self._group is not None:
                 elapsed = now - motion.start
-                reached = int(np.searchsorted(motion.samples, elapsed, side="right"))
+                reached = int(motion.samples.searchsorted(elapsed, side="right"))
                 self._group.registry.release(self._member, reached - 1)
                 while motion.releases and now >= motion.releases[0]:
                     motion.releases.pop(0)

@@ -49,8 +49,8 @@ members block, the one added to the group first is named, whether mover, track o
 Touching is not meeting: areas that share only edges or corners do not block each other.
 
 Speed: the boxes of all members' pieces sit in one numpy array, updated in place on every
-change, so an admission check is one vectorised bounding-box scan, then a plain-Python box test
-of each piece against the few slots near, then the exact test (interiors meet: shapely's
+change, so an admission check is one compiled bounding-box scan that also tests each piece
+against the few slots near and orders the pairs, then the exact test (interiors meet: shapely's
 ``intersects`` and not ``touches``) on the candidates in member order, stopping at the first
 meeting. An STRtree would need a rebuild after every accepted command and every release. A
 piece's outline is computed when an exact test first needs it (``SweptArea.outline``): its
@@ -97,6 +97,7 @@ _NEVER = np.array([NEVER], dtype=np.int64)  #: the ``until`` of an area never re
 _FLIP = np.array([1.0, 1.0, -1.0, -1.0])  #: bounds to the stored box, keys to query keys
 _KEY_ORDER = np.array([2, 3, 0, 1])
 _NO_RANKS = np.empty(0, dtype=np.int64)  #: no member's slots are left out
+_CONVEX_VERTICES = 8  #: a polygon area of up to this many vertices is tested compiled if convex
 
 
 class MemberId(NamedTuple):
@@ -190,23 +191,50 @@ class SweptArea:
 
     def outline(self, i: int) -> np.ndarray | None:
         """Piece ``i``'s vertices, counter-clockwise, when it is known convex (a piece given by
-        its bounds); None for a piece given as a polygon."""
+        its bounds, a convex polygon); None for any other piece given as a polygon."""
         if self.outlines is None:
             return None
         vertices = self.outlines[i]
         if vertices is None:
-            vertices = self.outlines[i] = self.vertices(i)  # type: ignore[misc]
+            vertices = self.vertices(i)  # type: ignore[misc]
+            if vertices is None:  # not convex: shapely compares it
+                self.outlines = None
+                return None
+            self.outlines[i] = vertices
         return vertices
 
     @classmethod
     def from_geometry(cls, geometry: BaseGeometry) -> SweptArea:
-        """One piece that progress never releases (a standing footprint, a track's band)."""
-        return cls.from_pieces(np.array([geometry], dtype=object), [NEVER])
+        """One piece that progress never releases (a standing footprint, a track's band).
+        A convex polygon of a few vertices (a footprint) also gets its outline, so that the
+        exact test against a convex piece is compiled (``_convex_vertices``)."""
+        area = cls.from_pieces(np.array([geometry], dtype=object), [NEVER])
+        if isinstance(geometry, Polygon) and not geometry.interiors:
+            area.outlines = [None]
+            area.vertices = lambda _: _convex_vertices(geometry)
+        return area
 
     @cached_property
     def geometry(self) -> BaseGeometry:
         """The union of the pieces (for views and tests; checks use the pieces)."""
         return shapely.union_all(self.pieces)
+
+
+def _convex_vertices(polygon: Polygon) -> np.ndarray | None:
+    """The vertices of ``polygon`` counter-clockwise when it is strictly convex with at most
+    ``_CONVEX_VERTICES`` of them (a footprint), else None."""
+    ring = polygon.exterior.coords
+    count = len(ring) - 1
+    if not 3 <= count <= _CONVEX_VERTICES:
+        return None
+    points = np.array(ring[:-1], dtype=float)
+    edges = np.roll(points, -1, axis=0) - points
+    turns = edges[:, 0] * np.roll(edges[:, 1], -1) - edges[:, 1] * np.roll(edges[:, 0], -1)
+    if (turns > 0.0).all():
+        return points
+    if (turns < 0.0).all():
+        return points[::-1].copy()
+    return None
 
 
 def swept_area(path: np.ndarray, width: float = MOVER_WIDTH, height: float = MOVER_HEIGHT,
@@ -630,23 +658,14 @@ class ReservationRegistry:
         """Lowest rank among the members whose pieces meet (not only touch) ``swept``; the
         pieces of the members ranked ``excluded`` do not count.
 
-        The whole area's box against every slot in one compiled pass; then, for the few
-        slots near, each piece's box in plain Python, and the exact test pair by pair in rank
-        order, stopping at the first meeting: compiled for two convex outlines, else shapely's
-        scalar calls (they beat its ufuncs for a handful of pairs)."""
-        found = kernels.near_slots(self._box, swept.key, self._ranks, excluded)
-        if not found.shape[1]:
+        The whole area's box against every slot, then each piece's box against the few slots
+        near, in one compiled pass (``area_kernels.meeting_pairs``); then the exact test pair
+        by pair in rank order, stopping at the first meeting: compiled for two convex
+        outlines, else shapely's scalar calls (they beat its ufuncs for a handful of pairs)."""
+        pairs = kernels.meeting_pairs(self._box, swept.key, swept.keys, self._ranks, excluded)
+        if not pairs.shape[1]:
             return None
-        near, ranks = found.tolist()
-        if len(swept.until) == 1:  # its box is the area's: every slot near meets it
-            pairs = [(rank, 0, j) for j, rank in zip(near, ranks, strict=True)]
-        else:
-            near_boxes = list(zip(near, ranks, self._box[found[0]].tolist(), strict=True))
-            pairs = [(rank, i, j) for i, (k0, k1, k2, k3) in enumerate(swept.keys.tolist())
-                     for j, rank, (b0, b1, b2, b3) in near_boxes
-                     if b0 < k0 and b1 < k1 and b2 < k2 and b3 < k3]
-        pairs.sort(key=_RANK)  # stable: piece by piece, slot by slot within a rank
-        for rank, i, j in pairs:
+        for rank, i, j in zip(*pairs.tolist(), strict=True):
             area, index = self._piece_of[j]  # type: ignore[misc]
             mine, theirs = swept.outline(i), area.outline(index)
             if mine is not None and theirs is not None:  # two convex outlines: compiled

@@ -388,8 +388,28 @@ def _curve_limits(limits: Limits, tracks: list[MC_PlanarTrack]) -> Limits:
     """Slow enough for the tightest curve of the route: the centripetal acceleration v²κ
     stays within the acceleration limit (§6.2.2 warns that tight curves limit dynamics;
     docs/decisions.md)."""
-    curvature = max(t.path.max_curvature for t in tracks)
+    curvature = max(_max_curvature(t) for t in tracks)
     if curvature <= 0.0:
         return limits
     cap = math.sqrt(min(limits.acceleration, limits.deceleration) / curvature)
     return limits if cap >= limits.velocity else limits.scaled_velocity(cap / limits.velocity)
+
+
+#: per track path: (its table, its largest |curvature|); a new table is a new geometry
+_CURVATURES: dict[int, tuple[object, float]] = {}
+_CURVATURES_KEPT = 4096  #: entries before the cache starts afresh (tracks rebuilt often)
+
+
+def _max_curvature(track: MC_PlanarTrack) -> float:
+    """``track.path.max_curvature``, computed once per geometry: every MoveOnTrack asks it of
+    each track on its route, and a blend's peak takes a search (D-287)."""
+    path = track.path
+    table = path.table
+    known = _CURVATURES.get(id(path))
+    if known is not None and known[0] is table:
+        return known[1]
+    if len(_CURVATURES) >= _CURVATURES_KEPT:
+        _CURVATURES.clear()
+    curvature = path.max_curvature
+    _CURVATURES[id(path)] = (table, curvature)
+    return curvature

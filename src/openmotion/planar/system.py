@@ -32,6 +32,10 @@ if TYPE_CHECKING:
 _MOVER_OIDS = 0x05110000  #: movers count up from 16#05110010 (§6.1.8 watch window)
 _OBJECT_OIDS = 0x05120000  #: tracks, groups and environments share 16#0512xxxx (§6.2, §6.7.2)
 _OID_STEP = 0x10
+_FLAG_CAPACITY = 64  #: first size of the per-object flag arrays (doubled as objects come)
+#: below this many movers the cycle visits every mover and object in a plain loop; from it
+#: on, numpy finds the few that have work (the same calls in the same order, D-286)
+_SCAN_BELOW = 64
 
 
 @dataclass(frozen=True)
@@ -52,6 +56,8 @@ class PlanarObject:
     motion ended, a state transition runs); the system publishes only awake objects, so that
     a hundred standing movers cost next to nothing per cycle.
     """
+
+    _rank = -1  #: its place in the system's creation order, once registered
 
     def __init__(self, system: PlanarSystem, oid: int) -> None:
         self.system = system  #: the PlanarSystem that runs it
@@ -82,6 +88,17 @@ class PlanarObject:
         """Show the new status (read in the next cycle); returns whether to stay awake."""
         self.commands.publish()
         return False
+
+    @property
+    def awake(self) -> bool:
+        """Whether the system publishes it after this motion phase (``_publish``)."""
+        return self._awake
+
+    @awake.setter
+    def awake(self, value: bool) -> None:
+        self._awake = value
+        if self._rank >= 0:  # the system finds the awake ones without visiting every object
+            self.system.awake_flags[self._rank] = value
 
     def update(self) -> None:
         """The manual's Update(): the runtime exchanges the data of every planar object each
@@ -130,6 +147,9 @@ class PlanarSystem:
         self._sent: list[tuple[PlanarObject, PlanarCommand]] = []
         self._counts = {"mover": 0, "object": 0}
         self.published = 0  #: counts motion phases: cached statuses older than this are stale
+        #: per object (creation order): ``awake``; per mover: ``next_event`` (D-286)
+        self.awake_flags = np.zeros(_FLAG_CAPACITY, dtype=bool)
+        self.next_events = np.full(_FLAG_CAPACITY, np.inf)
         self.network: Any = None  #: the TrackNetwork, made with the first track (track.py)
         self.traffic: Any = None  #: the movers on tracks (traffic.py)
         runtime.add_system(self)
@@ -161,8 +181,25 @@ class PlanarSystem:
         """Time of the last published setpoints: new plans start there (docs D-001)."""
         return self.runtime.now - self.cycle_time if self.runtime.cycle else 0.0
 
-    def register(self, obj: PlanarObject) -> None:
+    def register(self, obj: PlanarObject) -> int:
+        """``obj`` joins the objects; returns its place in creation order (its index in
+        ``awake_flags``)."""
+        rank = len(self._objects)
         self._objects.append(obj)
+        if rank >= self.awake_flags.size:
+            self.awake_flags = np.concatenate([self.awake_flags,
+                                               np.zeros_like(self.awake_flags)])
+        self.awake_flags[rank] = obj.awake
+        return rank
+
+    def add_mover(self, mover: MC_PlanarMover) -> int:
+        """``mover`` joins the movers; returns its index in ``next_events``."""
+        index = len(self.movers)
+        self.movers.append(mover)
+        if index >= self.next_events.size:
+            self.next_events = np.concatenate([self.next_events,
+                                               np.full(self.next_events.size, np.inf)])
+        return index
 
     def next_oid(self, kind: str) -> int:
         """OIDs as TwinCAT hands them out: 16#05110010, 16#05110020, ... for movers."""
@@ -218,10 +255,42 @@ class PlanarSystem:
             self.table.evaluate(now, *self._values)
         if self.traffic is not None:
             self.traffic.advance(now, self._values)
-        for mover in self.movers:
-            if mover.next_event <= now:
-                mover.port.after_motion(now)
-        for obj in self._objects:
-            if obj.awake:
-                obj.awake = obj.port.publish()
+        if len(self.movers) < _SCAN_BELOW:
+            for mover in self.movers:
+                if mover.next_event <= now:
+                    mover.port.after_motion(now)
+            for obj in self._objects:
+                if obj.awake:
+                    obj.awake = obj.port.publish()
+        else:
+            self._after_motions(now)
+            self._publish_awake()
         self.published += 1
+
+    def _after_motions(self, now: float) -> None:
+        """``for mover in movers: if mover.next_event <= now: after_motion(now)`` with the
+        search for the next mover due in numpy (D-286): the same movers in the same order,
+        a mover made due by an earlier one's call included."""
+        movers, count, k = self.movers, len(self.movers), 0
+        while k < count:
+            due = self.next_events[k:count] <= now
+            i = int(due.argmax())
+            if not due[i]:
+                return
+            k += i
+            movers[k].port.after_motion(now)
+            k += 1
+
+    def _publish_awake(self) -> None:
+        """``for obj in objects: if obj.awake: obj.awake = obj.port.publish()`` with the
+        search for the next awake object in numpy (D-286), in the same order."""
+        objects, count, k = self._objects, len(self._objects), 0
+        while k < count:
+            flags = self.awake_flags[k:count]
+            i = int(flags.argmax())
+            if not flags[i]:
+                return
+            k += i
+            obj = objects[k]
+            obj.awake = obj.port.publish()
+            k += 1

@@ -100,7 +100,7 @@ class MC_PlanarTrack(StatefulObject):
         self.band = False  #: the track holds its surface in its group (while Moving, §4.3)
         self.configuring: set[int] = set()  #: OIDs of movers joining or leaving
         self.states = PlanarStateMachine()
-        system.register(self)
+        self._rank = system.register(self)
 
     def __repr__(self) -> str:
         return f"<MC_PlanarTrack {self.name} 16#{self.oid:08X} {self.state.name}>"
