@@ -13,6 +13,7 @@ import os
 import platform
 import sys
 from collections.abc import Callable
+from contextvars import ContextVar
 from typing import Any
 
 import numpy as np
@@ -423,7 +424,15 @@ def _fmt(value: Any, digits: int = 3) -> str:
     return str(value)
 
 
+#: set by render_figures: the renderers' tables come out as GitHub markdown (the docs' figures)
+_MARKDOWN: ContextVar[bool] = ContextVar("markdown tables", default=False)
+
+
 def _table(header: list[str], rows: list[list[Any]]) -> list[str]:
+    if _MARKDOWN.get():  # blank lines around it: a table must not continue a paragraph
+        cells = [[_fmt(c).replace("|", "\\|") for c in row] for row in rows]
+        return ["", f"| {' | '.join(header)} |", "|" + "---|" * len(header),
+                *(f"| {' | '.join(row)} |" for row in cells), ""]
     cells = [header] + [[_fmt(c) for c in row] for row in rows]
     widths = [max(len(r[i]) for r in cells) for i in range(len(header))]
     lines = ["  ".join(c.ljust(w) if i == 0 and not c.lstrip("-").isdigit() else c.rjust(w)
@@ -707,6 +716,30 @@ _RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
            "ca": _render_ca, "planar": _render_planar, "path": _render_path,
            "tracks": _render_tracks, "trace": _render_trace, "startup": _render_startup,
            "sweep": _render_sweep, "serve": _render_serve}
+
+
+def render_figures(name: str, results: dict[str, Any], markdown: bool = False) -> list[str]:
+    """The figure lines of benchmark ``name`` (KeyError if it has no renderer); ``markdown``
+    makes its tables GitHub tables, for docs/benchmarks.md (bench.report)."""
+    token = _MARKDOWN.set(markdown)
+    try:
+        return _RENDER[name](results)
+    finally:
+        _MARKDOWN.reset(token)
+
+
+def markdown_table(header: list[str], rows: list[list[Any]]) -> list[str]:
+    """A GitHub table in the renderers' number format (bench.report's own tables)."""
+    token = _MARKDOWN.set(True)
+    try:
+        return _table(header, rows)
+    finally:
+        _MARKDOWN.reset(token)
+
+
+def format_value(value: Any, digits: int = 3) -> str:
+    """A figure as the renderers write it: None as "-", whole floats without decimals."""
+    return _fmt(value, digits)
 
 
 def render(result: dict[str, Any]) -> str:
