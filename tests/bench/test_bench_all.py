@@ -77,6 +77,8 @@ def test_a_benchmark_that_raises_is_recorded_and_the_others_still_run() -> None:
         "axes": "passed", "ca": "error", "path": "failed"}
     assert run["benchmarks"]["ca"]["error"] == "ImportError: the sweep extra is missing"
     assert run["benchmarks"]["ca"]["results"] is None and run["passed"] is False
+    assert all(b["seconds"] >= 0 and "cpu_seconds" in b and "load_average" in b
+               for b in run["benchmarks"].values())
     assert any("ca" in line and "working" in line for line in said)  # progress, with its name
     assert any("[2/3] ca: error" in line for line in said)
     json.loads(json.dumps(run, allow_nan=False))
@@ -165,7 +167,7 @@ def test_report_renders_machine_verdicts_new_keys_and_unknown_benchmarks() -> No
     assert "2026-12-07 20:00:00 UTC, commit abcdef1234 with local changes" in text
     assert "Test CPU, 2 cores, Linux-test, Python 3.11.7, load average 0.50 / 0.25 / 1.50" in text
     assert "numpy 2.4.6; not installed: ray." in text
-    assert "| routing | failed | 0 / 1 | p99 < 50 us | 3.0 |" in text
+    assert "| routing | failed | 0 / 1 | p99 < 50 us | 3.0 | - | - |" in text
     assert "| serve | error | 0 / 0 | ImportError: asyncua is missing | 3.0 |" in text
     assert "| MC_MoveAbsolute(axis, execute=True, ...) us/call | 1.250 |" in text  # its renderer
     assert "| bulk.per_call_us | 0.250 |" in text  # a key the renderer does not read

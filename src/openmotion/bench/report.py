@@ -235,9 +235,13 @@ def summary_block(run: dict[str, Any], elsewhere: set[str]) -> list[str]:
                      f"{sum(g['passed'] is True for g in goals)} / {len(goals)}",
                      "; ".join(missed) or ("-" if entry["error"] is None
                                            else entry["error"].splitlines()[0]),
-                     f"{entry['seconds']:.1f}"])
-    lines += runner.markdown_table(["benchmark", "result", "goals met", "missed", "seconds"],
-                                   rows)
+                     f"{entry['seconds']:.1f}", entry.get("cpu_seconds"),
+                     entry.get("load_average")])
+    lines += runner.markdown_table(["benchmark", "result", "goals met", "missed", "wall s",
+                                    "cpu s", "load"], rows)
+    lines.append("cpu s: CPU seconds of the benchmark's processes; load: the machine's load "
+                 "average (1 min) as it started. A load near the core count or above stretches "
+                 "wall times and their p99 most.")
     for name in run["benchmarks"]:
         if name not in elsewhere:
             lines += ["", f"### {name}", "", *benchmark_block(name, run)]

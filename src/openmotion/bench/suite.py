@@ -133,6 +133,25 @@ def run_in_process(name: str, quick: bool, progress: Callable[[str], None],
                        f"result:\n{detail}")
 
 
+def _children_cpu() -> float | None:
+    """CPU seconds of the processes this one has waited for (None where the OS does not
+    say): a benchmark's own, next to its wall seconds, shows how much a load on the machine
+    stretched the run."""
+    try:
+        import resource
+    except ImportError:
+        return None
+    used = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return used.ru_utime + used.ru_stime
+
+
+def _load() -> float | None:
+    try:
+        return round(os.getloadavg()[0], 2)
+    except OSError:
+        return None
+
+
 def run_suite(names: list[str], quick: bool = False, echo: Callable[[str], None] | None = None,
               run_one: RunOne = run_in_process, command: str = "openmotion bench all"
               ) -> dict[str, Any]:
@@ -157,6 +176,7 @@ def run_suite(names: list[str], quick: bool = False, echo: Callable[[str], None]
 
         say(f"[{number}/{len(names)}] {name} (run {time.monotonic() - started:.0f} s so far)")
         entry: dict[str, Any]
+        used, load = _children_cpu(), _load()
         try:
             result = run_one(name, quick, progress)
             entry = {"status": "passed" if result["passed"] else "failed", "error": None,
@@ -165,6 +185,9 @@ def run_suite(names: list[str], quick: bool = False, echo: Callable[[str], None]
             error = str(exc) if isinstance(exc, BenchmarkError) else f"{type(exc).__name__}: {exc}"
             entry = {"status": "error", "error": error, "goals": {}, "results": None}
         entry["seconds"] = round(time.monotonic() - begun, 1)
+        now = _children_cpu()
+        entry["cpu_seconds"] = None if now is None or used is None else round(now - used, 1)
+        entry["load_average"] = load
         run["benchmarks"][name] = entry
         say(f"[{number}/{len(names)}] {name}: {entry['status']} in {entry['seconds']:.1f} s"
             + (f"  ({entry['error'].splitlines()[0]})" if entry["error"] else ""))
