@@ -109,6 +109,24 @@ def test_the_child_writes_the_error_of_its_benchmark(tmp_path: Path,
     assert suite._child(["fbcall", "--out", str(out), "--quick"]) == 0
     answer = json.loads(out.read_text())
     assert answer["benchmark"] == "fbcall" and "machine" not in answer
+    assert answer["options"] == {}
+
+
+def test_in_a_suite_startup_leaves_out_the_empty_cache_run_of_every_example(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    from openmotion.bench import runner
+
+    seen: list[dict[str, Any]] = []
+
+    def startup(quick: bool, progress: Any, **options: Any) -> dict[str, Any]:
+        seen.append(options)
+        raise KeyError("stop here")
+
+    monkeypatch.setitem(runner.BENCHMARKS, "startup", startup)
+    for in_suite in (False, True):
+        with pytest.raises(KeyError, match="stop here"):
+            runner.run_benchmark("startup", in_suite=in_suite)
+    assert seen == [{}, {"cold_examples": False}]
 
 
 def test_cli_bench_all_quick_writes_one_file_and_the_page(tmp_path: Path) -> None:

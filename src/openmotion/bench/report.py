@@ -37,6 +37,9 @@ UNSHOWN = {
              "by_n.*.ruckig", "by_n.*.ours_all_us", "by_n.*.ours_trace_all_us",
              "by_n.*.pyplcopen_all_us", "by_n.*.ruckig_all_us"),
     "otg": ("failures", "acc_ne_dec", "reversals", "cycle_time"),
+    "ca": ("by_n.*.*.movers",),
+    "planar": ("by_n.*.movers", "translation.*.movers"),
+    "tracks": ("by_n.*.movers",),
     "trace": ("goal",),
 }
 GENERIC_COLUMNS = 16  #: widest generic table; the rest of the columns go in another table

@@ -180,7 +180,8 @@ def run_suite(names: list[str], quick: bool = False, echo: Callable[[str], None]
         try:
             result = run_one(name, quick, progress)
             entry = {"status": "passed" if result["passed"] else "failed", "error": None,
-                     "goals": result["goals"], "results": result["results"]}
+                     "options": result.get("options", {}), "goals": result["goals"],
+                     "results": result["results"]}
         except Exception as exc:  # recorded; the next benchmark still runs
             error = str(exc) if isinstance(exc, BenchmarkError) else f"{type(exc).__name__}: {exc}"
             entry = {"status": "error", "error": error, "goals": {}, "results": None}
@@ -226,11 +227,12 @@ def _child(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true")
     args = parser.parse_args(argv)
     try:
-        from openmotion.bench.runner import run_benchmark
+        from openmotion.bench.runner import IN_SUITE, run_benchmark
 
-        result = run_benchmark(args.name, quick=args.quick,
+        result = run_benchmark(args.name, quick=args.quick, in_suite=True,
                                progress=lambda text: print(text, file=sys.stderr, flush=True))
         result.pop("machine", None)  # the run's machine is written once, at the top
+        result["options"] = IN_SUITE.get(args.name, {})
         answer: dict[str, Any] = result
         code = 0
     except Exception as exc:
