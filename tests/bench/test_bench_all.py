@@ -241,7 +241,7 @@ def test_cli_report_prints_markdown_and_refuses_a_bad_file(tmp_path: Path) -> No
     assert bad.exit_code == 2 and "cannot read a bench all file" in bad.stderr
     file.write_text(json.dumps(_run({"fbcall": _entry(_fbcall())})))
     good = runner.invoke(app, ["bench", "report", str(file)])
-    assert good.exit_code == 0 and good.stdout.startswith("# Figures\n")
+    assert good.exit_code == 0 and good.stdout.startswith("# Current figures\n")
     assert "### fbcall" in good.stdout
 
 

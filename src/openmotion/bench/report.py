@@ -43,6 +43,7 @@ UNSHOWN = {
     "trace": ("goal",),
 }
 GENERIC_COLUMNS = 16  #: widest generic table; the rest of the columns go in another table
+ERROR_CHARS = 120  #: of an error's first line in the summary (its block has all of it)
 
 
 class _Tracked(dict):  # type: ignore[type-arg]
@@ -237,7 +238,7 @@ def summary_block(run: dict[str, Any], elsewhere: set[str]) -> list[str]:
         rows.append([f"[{name}](#{name})" if name in elsewhere else name, entry["status"],
                      f"{sum(g['passed'] is True for g in goals)} / {len(goals)}",
                      "; ".join(missed) or ("-" if entry["error"] is None
-                                           else entry["error"].splitlines()[0]),
+                                           else entry["error"].splitlines()[0][:ERROR_CHARS]),
                      f"{entry['seconds']:.1f}", entry.get("cpu_seconds"),
                      entry.get("load_average")])
     lines += runner.markdown_table(["benchmark", "result", "goals met", "missed", "wall s",
@@ -286,4 +287,4 @@ def fill(page: str, run: dict[str, Any]) -> str:
 
 def markdown(run: dict[str, Any]) -> str:
     """The figures of a run as one markdown page (``openmotion bench report FILE``)."""
-    return "\n".join(_markdown(["# Figures", "", *summary_block(run, set())])) + "\n"
+    return "\n".join(_markdown(["# Current figures", "", *summary_block(run, set())])) + "\n"
