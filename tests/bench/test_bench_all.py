@@ -180,6 +180,8 @@ def test_report_renders_machine_verdicts_new_keys_and_unknown_benchmarks() -> No
                                                   "1000": {"p99_us": 80.0, "routes": 7}}},
                           {"p99": _goal("p99 < 50 us", 80.0, False)}),
         "serve": _entry(None, error="ImportError: asyncua is missing"),
+        "sweep": _entry(None, error="RuntimeError: a client failed:\n  File \"/home/x.py\"\n"
+                                    "ConnectionError: client is disconnected"),
     })
     text = report.markdown(run)
     assert "2026-12-07 20:00:00 UTC, commit abcdef1234 with local changes" in text
@@ -194,6 +196,8 @@ def test_report_renders_machine_verdicts_new_keys_and_unknown_benchmarks() -> No
     assert "| movers | 4 |" in text and "| 1000 | 80 | 7 |" in text  # no renderer: generic
     assert "| p99 < 50 us | 80 | **missed** |" in text
     assert "```\nImportError: asyncua is missing\n```" in text
+    assert ("```\nRuntimeError: a client failed:\n...\nConnectionError: client is disconnected"
+            "\n```") in text and "/home/x.py" not in text  # a traceback's ends only
 
 
 def test_a_renderer_that_cannot_read_an_older_file_gives_way_to_generic_tables() -> None:

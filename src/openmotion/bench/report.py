@@ -200,8 +200,10 @@ def benchmark_block(name: str, run: dict[str, Any]) -> list[str]:
     if entry is None:
         return [f"`{name}` was not part of the run of {run['date'][:10]}."]
     if entry["status"] == "error":
-        return [f"`{name}` did not run ({run['date'][:10]}, {entry['seconds']:g} s):",
-                f"```\n{entry['error']}\n```"]
+        lines = entry["error"].splitlines()  # a traceback: its first and last line
+        shown = "\n".join(lines if len(lines) <= 2 else [lines[0], "...", lines[-1]])
+        return [f"`{name}` did not run ({run['date'][:10]}, {entry['seconds']:g} s; the file "
+                "has the whole error):", f"```\n{shown}\n```"]
     lines = [f"`openmotion bench {name}` in the run of {run['date'][:10]} "
              f"([summary](#current-figures)), {entry['seconds']:g} s:",
              *figures(name, entry["results"])]
