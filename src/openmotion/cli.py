@@ -258,29 +258,60 @@ def plot(
 def _bench_help() -> str:
     from openmotion.bench import BENCHMARK_NAMES
 
-    return f"Benchmark to run: {', '.join(BENCHMARK_NAMES)}."
+    return (f"Benchmark to run: {', '.join(BENCHMARK_NAMES)}; 'all' runs every one and writes "
+            "one file; 'report FILE' renders such a file as markdown.")
 
 
 @app.command()
 def bench(
     name: Annotated[str, typer.Argument(metavar="NAME", help=_bench_help())],
+    file: Annotated[Path | None, typer.Argument(
+        metavar="[FILE]", show_default=False,
+        help="report: the JSON file of a 'bench all' run.")] = None,
     json_output: JsonFlag = False,
     quick: Annotated[bool, typer.Option("--quick", help="Small sizes: a smoke run, not a "
                                                         "measurement.")] = False,
     cycles: Annotated[int | None, typer.Option(
         min=1, help="Length of the long run (trace: samples of the memory part; default "
         "1000000, 20000 with --quick).", show_default=False)] = None,
+    only: Annotated[str | None, typer.Option(
+        help="all: run only these benchmarks (comma-separated).", show_default=False)] = None,
+    skip: Annotated[str | None, typer.Option(
+        help="all: leave these benchmarks out (comma-separated).", show_default=False)] = None,
+    output: Annotated[Path | None, typer.Option(
+        "--output", "-o", help="all: write the run (JSON) to this file.",
+        show_default=False)] = None,
+    write_docs: Annotated[Path | None, typer.Option(
+        "--write-docs", metavar="PAGE", show_default=False,
+        help="all, report: render the figures into the generated blocks of this page "
+             "(docs/benchmarks.md).")] = None,
 ) -> None:
-    """Run one benchmark and print its figures and goals (docs/benchmarks.md)."""
+    """Run one benchmark and print its figures and goals (docs/benchmarks.md); or every
+    benchmark ('all'), or render the file of such a run ('report')."""
     from openmotion.bench import BENCHMARK_NAMES
 
-    if name not in BENCHMARK_NAMES:
+    if name not in (*BENCHMARK_NAMES, "all", "report"):
         raise _fail(f"error: unknown benchmark {name!r}; choose one of: "
-                    f"{', '.join(BENCHMARK_NAMES)}")
+                    f"{', '.join(BENCHMARK_NAMES)}, all, report")
+    given = {"FILE": file is not None and name != "report",
+             "--only": only is not None and name != "all",
+             "--skip": skip is not None and name != "all",
+             "--output": output is not None and name != "all",
+             "--write-docs": write_docs is not None and name not in ("all", "report"),
+             "--cycles": cycles is not None and name in ("all", "report")}
+    misplaced = [option for option, wrong in given.items() if wrong]
+    if misplaced:
+        raise _fail(f"error: {misplaced[0]} does not go with 'bench {name}'")
+    if name == "report":
+        _bench_report(file, write_docs)
+        return
     try:
         from openmotion.bench import runner
     except ImportError as exc:
         raise _fail(f"error: the benchmarks are not available ({exc})") from None
+    if name == "all":
+        _bench_all(json_output, quick, only, skip, output, write_docs)
+        return
     if cycles is not None and name not in runner.LONG_RUNS:
         raise _fail(f"error: --cycles: only for {', '.join(runner.LONG_RUNS)}, not {name}")
     _started()
@@ -293,6 +324,88 @@ def bench(
         bar.close()
     typer.echo(json.dumps(result, indent=2, default=str) if json_output
                else runner.render(result))
+
+
+def _names(value: str | None) -> list[str] | None:
+    return None if value is None else [n.strip() for n in value.split(",") if n.strip()]
+
+
+def _bench_all(json_output: bool, quick: bool, only: str | None, skip: str | None,
+               output: Path | None, write_docs: Path | None) -> None:
+    """Every benchmark (or --only some), each in a process of its own; progress on stderr,
+    the run on stdout (summary, or JSON) and in --output; exit 1 unless every goal was met."""
+    import shlex
+
+    from openmotion.bench import report, suite
+
+    try:
+        names = suite.select(_names(only), _names(skip) or ())
+    except ValueError as exc:
+        raise _fail(f"error: {exc}") from None
+    if not names:
+        raise _fail("error: --only and --skip leave no benchmark to run")
+    _read_page(write_docs)  # a wrong page fails before the long run, which reads it again
+    _started()
+    command = shlex.join(["openmotion", "bench", "all", *(["--quick"] if quick else []),
+                          *(["--only", only] if only else []), *(["--skip", skip] if skip else []),
+                          *(["-o", str(output)] if output else []),
+                          *(["--write-docs", str(write_docs)] if write_docs else [])])
+    run = suite.run_suite(names, quick=quick, command=command,
+                          echo=lambda text: typer.echo(text, err=True))
+    text = json.dumps(run, indent=1, default=str)
+    if output is not None:
+        try:
+            output.parent.mkdir(parents=True, exist_ok=True)
+            output.write_text(text + "\n")
+        except OSError as exc:
+            raise _fail(f"error: cannot write {output}: {exc.strerror}") from None
+        typer.echo(f"bench all: written to {output}", err=True)
+    if write_docs is not None:
+        _write_page(write_docs, None, run, report)
+    typer.echo(text if json_output else suite.summary(run))
+    if not run["passed"]:
+        raise typer.Exit(1)
+
+
+def _read_page(page: Path | None) -> str | None:
+    """The page --write-docs names, read before a long run so that a wrong path fails first."""
+    if page is None:
+        return None
+    try:
+        text = page.read_text()
+    except OSError as exc:
+        raise _fail(f"error: cannot read {page}: {exc.strerror}") from None
+    from openmotion.bench import report
+
+    if report.BEGIN.format(name=report.SUMMARY) not in text:
+        raise _fail(f"error: {page} has no {report.BEGIN.format(name=report.SUMMARY)} block")
+    return text
+
+
+def _write_page(page: Path, text: str | None, run: dict[str, Any], report: Any) -> None:
+    try:
+        page.write_text(report.fill(text or page.read_text(), run))
+    except ConfigError as exc:
+        raise _fail(f"ConfigError: {exc}") from None
+    except OSError as exc:
+        raise _fail(f"error: cannot write {page}: {exc.strerror}") from None
+    typer.echo(f"bench: figures written to {page}", err=True)
+
+
+def _bench_report(file: Path | None, write_docs: Path | None) -> None:
+    """Render the file of a 'bench all' run: markdown on stdout, or into --write-docs."""
+    from openmotion.bench import report
+
+    if file is None:
+        raise _fail("error: bench report needs FILE, the JSON file of a 'bench all' run")
+    try:
+        run = report.load_run(file)
+    except ConfigError as exc:
+        raise _fail(f"ConfigError: {exc}") from None
+    if write_docs is None:
+        typer.echo(report.markdown(run), nl=False)
+        return
+    _write_page(write_docs, _read_page(write_docs), run, report)
 
 
 class _OptionalRayAddress(TyperCommand):

@@ -86,7 +86,8 @@ def test_bench_help_and_errors_name_every_benchmark_and_nothing_outside_the_repo
         assert re.search(rf"\b{name}\b", help_text), name
     assert "performance.md" not in help_text
     err = _plain_error(runner.invoke(app, ["bench", "nope"]))
-    assert err == f"error: unknown benchmark 'nope'; choose one of: {', '.join(BENCHMARK_NAMES)}\n"
+    assert err == (f"error: unknown benchmark 'nope'; choose one of: "
+                   f"{', '.join(BENCHMARK_NAMES)}, all, report\n")
 
 
 @pytest.mark.parametrize("command", ["run", "view", "bench", "examples"])

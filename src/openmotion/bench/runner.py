@@ -13,6 +13,7 @@ import os
 import platform
 import sys
 from collections.abc import Callable
+from contextvars import ContextVar
 from typing import Any
 
 import numpy as np
@@ -120,10 +121,10 @@ def _trace(quick: bool, progress: Progress, cycles: int | None = None) -> dict[s
     return run_trace(progress=progress, memory_cycles=cycles or MEMORY_CYCLES)
 
 
-def _startup(quick: bool, progress: Progress) -> dict[str, Any]:
+def _startup(quick: bool, progress: Progress, cold_examples: bool = True) -> dict[str, Any]:
     if quick:
         return run_startup(repeats=1, cold_repeats=1, every_example=False, progress=progress)
-    return run_startup(progress=progress)
+    return run_startup(progress=progress, cold_examples=cold_examples)
 
 
 def _sweep(quick: bool, progress: Progress) -> dict[str, Any]:
@@ -151,6 +152,9 @@ def _envs(quick: bool, progress: Progress) -> dict[str, Any]:
 
 #: the benchmarks that take ``cycles`` (the length of their long run)
 LONG_RUNS = ("trace",)
+#: what ``bench all`` changes in a benchmark to keep the whole run within about 15 minutes
+#: on a 2-core machine (D-295): startup without the empty-cache run of every example
+IN_SUITE: dict[str, dict[str, Any]] = {"startup": {"cold_examples": False}}
 BENCHMARKS: dict[str, Callable[..., dict[str, Any]]] = {
     "axes": _axes,
     "otg": _otg,
@@ -487,14 +491,17 @@ GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
 
 
 def run_benchmark(name: str, quick: bool = False, progress: Progress = None,
-                  cycles: int | None = None) -> dict[str, Any]:
+                  cycles: int | None = None, in_suite: bool = False) -> dict[str, Any]:
     """Run benchmark ``name``; ``quick`` uses tiny sizes (a smoke test of a few seconds);
-    ``cycles`` sets the length of the long run of the benchmarks in LONG_RUNS."""
+    ``cycles`` sets the length of the long run of the benchmarks in LONG_RUNS; ``in_suite``
+    applies IN_SUITE (``bench all``)."""
     if name not in BENCHMARKS:
         raise KeyError(f"unknown benchmark {name!r}; choose one of {sorted(BENCHMARKS)}")
     if cycles is not None and name not in LONG_RUNS:
         raise ValueError(f"cycles: only for {', '.join(LONG_RUNS)}, not {name!r}")
-    options = {} if cycles is None else {"cycles": cycles}
+    options: dict[str, Any] = {} if cycles is None else {"cycles": cycles}
+    if in_suite:
+        options.update(IN_SUITE.get(name, {}))
     results = BENCHMARKS[name](quick, progress, **options)
     goals = GOALS[name](results)
     return {
@@ -525,7 +532,15 @@ def _fmt(value: Any, digits: int = 3) -> str:
     return str(value)
 
 
+#: set by render_figures: the renderers' tables come out as GitHub markdown (the docs' figures)
+_MARKDOWN: ContextVar[bool] = ContextVar("markdown tables", default=False)
+
+
 def _table(header: list[str], rows: list[list[Any]]) -> list[str]:
+    if _MARKDOWN.get():  # blank lines around it: a table must not continue a paragraph
+        cells = [[_fmt(c).replace("|", "\\|") for c in row] for row in rows]
+        return ["", f"| {' | '.join(header)} |", "|" + "---|" * len(header),
+                *(f"| {' | '.join(row)} |" for row in cells), ""]
     cells = [header] + [[_fmt(c) for c in row] for row in rows]
     widths = [max(len(r[i]) for r in cells) for i in range(len(header))]
     lines = ["  ".join(c.ljust(w) if i == 0 and not c.lstrip("-").isdigit() else c.rjust(w)
@@ -855,6 +870,30 @@ _RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
            "ca": _render_ca, "planar": _render_planar, "path": _render_path,
            "tracks": _render_tracks, "trace": _render_trace, "startup": _render_startup,
            "sweep": _render_sweep, "serve": _render_serve, "envs": _render_envs}
+
+
+def render_figures(name: str, results: dict[str, Any], markdown: bool = False) -> list[str]:
+    """The figure lines of benchmark ``name`` (KeyError if it has no renderer); ``markdown``
+    makes its tables GitHub tables, for docs/benchmarks.md (bench.report)."""
+    token = _MARKDOWN.set(markdown)
+    try:
+        return _RENDER[name](results)
+    finally:
+        _MARKDOWN.reset(token)
+
+
+def markdown_table(header: list[str], rows: list[list[Any]]) -> list[str]:
+    """A GitHub table in the renderers' number format (bench.report's own tables)."""
+    token = _MARKDOWN.set(True)
+    try:
+        return _table(header, rows)
+    finally:
+        _MARKDOWN.reset(token)
+
+
+def format_value(value: Any, digits: int = 3) -> str:
+    """A figure as the renderers write it: None as "-", whole floats without decimals."""
+    return _fmt(value, digits)
 
 
 def render(result: dict[str, Any]) -> str:

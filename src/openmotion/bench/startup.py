@@ -97,8 +97,9 @@ def _stats(samples: list[float]) -> dict[str, Any]:
 
 
 def run_startup(repeats: int = 5, cold_repeats: int = 3, every_example: bool = True,
-                progress: Progress = None) -> dict[str, Any]:
-    """Time the start-up figures of the module docstring."""
+                progress: Progress = None, cold_examples: bool = True) -> dict[str, Any]:
+    """Time the start-up figures of the module docstring; ``cold_examples`` False leaves out
+    the empty-cache run of every example (minutes of compiling: ``bench all`` does, D-295)."""
     say = progress or (lambda _text: None)
     examples = {example.name: example.path for example in list_examples()}
     default = examples[DEFAULT_EXAMPLE]
@@ -135,11 +136,11 @@ def run_startup(repeats: int = 5, cold_repeats: int = 3, every_example: bool = T
             say(f"startup: first run of {name}")
             first[name] = time_process(
                 _openmotion("run", str(path), "--trace", trace, "--quiet"), _environment(), work)
-        cold_examples: dict[str, float] = {}
-        for name, path in examples.items() if every_example else ():
+        cold: dict[str, float] = {}
+        for name, path in examples.items() if every_example and cold_examples else ():
             say(f"startup: cold first run of {name}")
             with tempfile.TemporaryDirectory(dir=work) as cache:
-                cold_examples[name] = time_process(
+                cold[name] = time_process(
                     _openmotion("run", str(path), "--trace", trace, "--quiet"),
                     _environment(cache), work)
     warm = {name: _stats(rounds[name]) for name in warm_commands}
@@ -152,5 +153,5 @@ def run_startup(repeats: int = 5, cold_repeats: int = 3, every_example: bool = T
         "warm": warm,
         "over_python": {name: row["median_s"] / python for name, row in warm.items()},
         "first": first,
-        "cold": {"run": _stats(cold_default), "examples": cold_examples},
+        "cold": {"run": _stats(cold_default), "examples": cold},
     }
