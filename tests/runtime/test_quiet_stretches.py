@@ -178,8 +178,9 @@ def first_cycle_at_or_after(time: float) -> int:
 
 
 def test_events_force_steps_exactly_where_they_are_due():
-    """A move: one block up to the cycle before its profile ends, a step for every cycle of
-    the Done window (target monitoring, 20 ms), then one block to the end."""
+    """A move: one block up to the cycle before its profile ends, a step there (the Done
+    window opens: target monitoring, 20 ms), one block up to the cycle before it closes, a
+    step there (Done), then one block to the end."""
     rt, (axis,) = build(1, lag_axis=False)
     tape = Tape(rt, [], blocks=True)
     rt.add_observer(tape)
@@ -188,11 +189,33 @@ def test_events_force_steps_exactly_where_they_are_due():
     end = first_cycle_at_or_after(float(rt.axis_system.kernel.segments.end[axis.row]))
     rt.run(2.0)
     done = round(command.ended_at / CYCLE)
-    assert command.done and end < done < 2000
-    assert tape.calls == [("block", 1, end - 1),
-                          *(("step", c, c) for c in range(end, done + 1)),
-                          ("block", done + 1, 2000)]
+    assert command.done and end + 15 < done < 2000
+    assert tape.calls == [("block", 1, end - 1), ("step", end, end), ("block", end + 1, done - 1),
+                          ("step", done, done), ("block", done + 1, 2000)]
     assert [edge[0] for edge in tape.edges] == [1, done]  # Busy/Active at 1, Done at done
+    stepped, (twin,) = build(1, lag_axis=False)
+    twin.move_absolute(100.0, 200.0, 2000.0, 2000.0, 20000.0)
+    for _ in range(2000):
+        stepped.step()
+    assert twin.queue.jobs() == [] and twin.state == axis.state
+
+
+@pytest.mark.parametrize("monitoring", ["target", "range", "none"])
+def test_the_done_window_ends_in_the_cycle_stepping_gives(monitoring):
+    ends = []
+    for bulk in (False, True):
+        rt, (axis,) = build(1, lag_axis=False)
+        axis.parameters.enable_target_position_monitoring = monitoring == "target"
+        axis.parameters.enable_position_range_monitoring = monitoring == "range"
+        axis.parameters.target_position_monitoring_time = 0.0137
+        command = axis.move_relative(7.0, 50.0, 500.0, 500.0, 5000.0)
+        if bulk:
+            rt.run(1.0)
+        else:
+            for _ in range(1000):
+                rt.step()
+        ends.append((command.ended_at, int(command.status), axis.state))
+    assert ends[0] == ends[1] and ends[0][1] == int(om.CommandStatus.DONE)
 
 
 def test_run_until_a_command_stops_at_the_cycle_stepping_gives():

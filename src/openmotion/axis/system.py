@@ -170,20 +170,32 @@ class AxisSystem:
         """The first instant whose cycle must run phase by phase: the next end of a profile
         or superimposed motion; -inf (the next cycle) while a watcher runs (Done windows,
         homing, stalls, resets ...) or the kernel integrates something every cycle (lag
-        drives, geared slaves, fed setpoints); +inf when nothing is ahead."""
+        drives, geared slaves, fed setpoints); +inf when nothing is ahead. A watcher that
+        can say when its next look matters (``quiet_until``, the Done window of a position
+        job at rest) does not stop the stretch before that."""
         kernel = self.kernel
-        if self._watchers or not kernel.quiet:
+        if not kernel.quiet:
             return -math.inf
-        return kernel.next_event() if kernel.size else math.inf
+        until = kernel.next_event() if kernel.size else math.inf
+        for _, _, watcher in self._watchers:  # a Done window knows its end ahead
+            look = getattr(watcher, "quiet_until", None)
+            if look is None:
+                return -math.inf
+            until = min(until, look())
+        return until
 
-    def advance_quietly(self, now: float, times: np.ndarray | None) -> AxisBlock | None:
-        """Both phases of every cycle up to the one at ``now``, all before ``quiet_until``:
-        nothing ends and the drives follow exactly, so the state after them is the state
-        after the last one, a pure function of its time (one evaluation). ``times``: every
-        cycle's time when an observer wants the samples; then they are evaluated in one
-        compiled pass over time, bit for bit what each cycle would have given."""
+    def advance_quietly(self, now: float, cycles: int,
+                        times: np.ndarray | None) -> AxisBlock | None:
+        """Both phases of the ``cycles`` cycles up to the one at ``now``, all before
+        ``quiet_until``: nothing ends and the drives follow exactly, so the state after them
+        is the state after the last one, a pure function of its time (one evaluation), and
+        the Done windows add up their times. ``times``: every cycle's time when an observer
+        wants the samples; then they are evaluated in one compiled pass over time, bit for
+        bit what each cycle would have given."""
         kernel = self.kernel
         n = kernel.size
+        for _, _, watcher in self._watchers:  # the looks the stretch made no step for
+            watcher.skip(cycles)  # type: ignore[attr-defined]
         if times is None:
             kernel.evaluate(now)
             kernel.simulate_drives()

@@ -202,7 +202,8 @@ class CyclicRuntime:
         times = np.arange(first, last + 1) * self.cycle_time if self._observers else None
         blocks: dict[str, Any] = {"times": times}
         for system in self._systems:
-            blocks[system.name] = system.advance_quietly(now, times)  # type: ignore[attr-defined]
+            blocks[system.name] = system.advance_quietly(  # type: ignore[attr-defined]
+                now, cycles, times)
         self.cycle, self.now = last, now
         for observer in self._observers:
             observer.observe_block(self, blocks)  # type: ignore[attr-defined]
