@@ -261,3 +261,15 @@ def test_a_runtime_without_axes_runs_in_one_block_and_keeps_its_clock():
     axis.power()
     move = axis.move_relative(1.0, 10.0)
     assert rt.run_until(move) > 1.0
+
+
+def test_a_lag_axis_added_to_a_runtime_that_ran_without_axes_follows_from_its_first_cycle():
+    stepped = om.Runtime(CYCLE)
+    for _ in range(3):
+        stepped.step()  # no axes yet: the motion phase did the drives' work too
+    axis = stepped.add_axis("lag", drive=DriveModel("lag", time_constant=0.004), **LIMITS)
+    axis.power()
+    axis.move_relative(5.0, 100.0, 1000.0, 1000.0, 10000.0)
+    stepped.step()
+    kernel = stepped.axis_system.kernel
+    assert 0.0 < kernel.act_p[0] < kernel.set_p[0]  # the lag filter ran in the drive phase

@@ -123,9 +123,11 @@ class AxisSystem:
                 for row in ended.tolist():
                     self._rows[row].queue.profile_ended(float(end[row]))
             kernel.forget_events()
-        if len(self.runtime.systems) == 1 and kernel.evaluate_and_follow(now):
-            self._followed = True  # alone: no other system corrects the setpoints before
-            return  # the drive phase, so ideal drives follow in the same pass
+        # alone, no other system corrects the setpoints before the drive phase: ideal drives
+        # follow in the same pass
+        self._followed = len(self.runtime.systems) == 1 and kernel.evaluate_and_follow(now)
+        if self._followed:
+            return
         kernel.evaluate(now)  # also without axes: the sample time an axis added later starts at
         if not kernel.couplings.slaves.size:
             return
