@@ -7,13 +7,18 @@ event (a profile that ended, a following-error alarm).
 
 from __future__ import annotations
 
+import math
+from functools import partial
+
 import numpy as np
 
 from openmotion.axis.gearing import Couplings
 from openmotion.axis.tolerances import LAG_FILTER_TOLERANCE, LIMIT_TOLERANCE
-from openmotion.trajectory.evaluate import SegmentTable
+from openmotion.core.compiled import compiled
+from openmotion.trajectory.evaluate import SegmentTable, evaluate_rows
 from openmotion.trajectory.segments import KinematicState, Profile
 
+#: rows of ``AxisKernel.fields``: the setpoint (rows 0-3), then the actual values (4-5)
 _FLOAT_FIELDS = ("set_p", "set_v", "set_a", "set_j", "act_p", "act_v", "alpha", "lag_max",
                  "lag_filter", "lag_timer", "ext_p", "ext_v", "ext_a", "v_max", "a_max", "j_max")
 _BOOL_FIELDS = ("has_job", "lag_on", "monitored", "blocked", "external", "fed", "superimposed")
@@ -40,6 +45,11 @@ class AxisKernel:
         #: time, rows and (p, v, a) of the geared slaves' previous sample
         self.previous = (0.0, _EMPTY, np.zeros((0, 3)))
         self._grow(capacity)
+        self._bind()
+        #: the earliest end of a job profile or superimposed motion (``next_event``), and the
+        #: install counts of the two tables it was computed at (-1: compute it again)
+        self._next_event = -math.inf
+        self._seen_jobs = self._seen_overlays = -1
 
     def _grow(self, capacity: int) -> None:
         def grown(old: np.ndarray, dtype: type) -> np.ndarray:
@@ -47,8 +57,13 @@ class AxisKernel:
             new[: self.size] = old[: self.size]
             return new
 
-        for name in _FLOAT_FIELDS:
-            setattr(self, name, grown(getattr(self, name, np.zeros(0)), float))
+        fields = np.zeros((len(_FLOAT_FIELDS), capacity))  #: one array: one copy per phase
+        for i, name in enumerate(_FLOAT_FIELDS):
+            old = getattr(self, name, None)
+            if old is not None:
+                fields[i, : self.size] = old[: self.size]
+            setattr(self, name, fields[i])
+        self.fields = fields
         for name in _BOOL_FIELDS:
             setattr(self, name, grown(getattr(self, name, np.zeros(0, bool)), bool))
         self.dead = grown(self.dead, np.int64)
@@ -57,6 +72,13 @@ class AxisKernel:
         self.history = history
         self._capacity = capacity
 
+    def _bind(self) -> None:
+        """``sample(now, follow)``: the setpoints at ``now`` (and with ``follow``, ideal drives
+        following them) in one compiled call bound to the arrays as they are now; taken again
+        when a row comes. A cycle of one axis costs a few µs, and looking the arrays up was a
+        good part of it."""
+        self.sample = partial(_sample, *self.segments.bound(), self.fields)
+
     def add(self, position: float, alpha: float, dead_cycles: int) -> int:
         if self.size == self._capacity:
             self._grow(2 * self._capacity)
@@ -64,6 +86,7 @@ class AxisKernel:
         self.overlay.add(KinematicState(0.0), self.sample_time)
         assert row == self.size
         self.size += 1
+        self._bind()
         self.set_p[row] = self.act_p[row] = position
         self.alpha[row] = alpha
         self.dead[row] = dead_cycles
@@ -77,6 +100,49 @@ class AxisKernel:
 
     # -- the cycle -------------------------------------------------------------------------
 
+    def next_event(self) -> float:
+        """The earliest instant at which a job profile or a superimposed motion ends: the
+        first cycle whose ``now`` reaches it has rows in ``ended`` or ``overlay_ended``; none
+        before it has (+inf: no event ahead). A lower bound, cached: every install of a
+        profile makes it computed again, and ``forget_events`` after the events of a cycle
+        were handled (a job that ends without a new install clears ``has_job``); a
+        ``has_job`` cleared elsewhere only makes it early, and an early bound costs one
+        look that finds nothing."""
+        segments, overlay = self.segments, self.overlay
+        if segments.installs != self._seen_jobs or overlay.installs != self._seen_overlays:
+            self._seen_jobs, self._seen_overlays = segments.installs, overlay.installs
+            self._next_event = _earliest_end(self.has_job, segments.end, self.superimposed,
+                                             overlay.end, self.size)
+        return self._next_event
+
+    def forget_events(self) -> None:
+        """The events of this cycle were handled: ``next_event`` computes again."""
+        self._seen_jobs = -1
+
+    @property
+    def quiet(self) -> bool:
+        """Nothing in the kernel needs cycle-by-cycle work between events: ideal drives
+        (no lag filter, dead time or stall to integrate), no geared slave (its limit check),
+        no fed setpoint (the program feeds it every cycle)."""
+        return not (self._any_lag or self._blocked or self._externals
+                    or self.couplings.slaves.size)
+
+    def evaluate_and_follow(self, now: float) -> bool:
+        """``evaluate`` and, with ideal drives, ``simulate_drives`` in one pass, for the
+        axes alone in a runtime (nothing corrects their setpoints in between); False (and
+        nothing done) where either is more than that."""
+        if self._overlays or self.couplings.slaves.size or self._externals or self._any_lag \
+                or self._blocked:
+            return False
+        self.sample(now, True)
+        self.sample_time = now
+        return True
+
+    @property
+    def has_overlays(self) -> bool:
+        """Some axis runs a superimposed motion (MC_MoveSuperImposed)."""
+        return bool(self._overlays)
+
     def ended(self, now: float) -> np.ndarray:
         """Rows whose job profile reaches its end state at or before ``now`` (events)."""
         n = self.size
@@ -89,7 +155,10 @@ class AxisKernel:
         if slaves.size and not again:  # where a slave brakes from if its next sample is refused
             self.previous = (self.sample_time, slaves.copy(), np.stack(
                 (self.set_p[slaves], self.set_v[slaves], self.set_a[slaves]), axis=1))
-        self.segments.evaluate(now, self.set_p, self.set_v, self.set_a, self.set_j)
+        self.sample(now, False)
+        if not (self._overlays or slaves.size or self._externals):  # free axes only
+            self.sample_time = now
+            return
         if self._overlays:  # MC_MoveSuperImposed, free axes first: their slaves follow them
             self._add_overlays(now, slaves=False)
         # then geared slaves (flying saw); in a chain each as it is set, for its own slaves
@@ -132,8 +201,7 @@ class AxisKernel:
     def simulate_drives(self) -> None:
         n = self.size
         if not self._any_lag and not self._blocked:  # ideal drives follow exactly
-            self.act_p[:n] = self.set_p[:n]
-            self.act_v[:n] = self.set_v[:n]
+            self.fields[4:6, :n] = self.fields[0:2, :n]  # act_p, act_v = set_p, set_v
             return
         previous = self.act_p[:n].copy()
         if not self._any_lag:
@@ -185,7 +253,8 @@ class AxisKernel:
 
     def state(self, row: int) -> KinematicState:
         """The setpoint state at the last sample: where any new plan starts."""
-        if row in self.couplings or self.external[row]:  # follows a master or a feed
+        coupled = bool(self.couplings.slaves.size) and row in self.couplings
+        if coupled or self.external[row]:  # follows a master or a feed
             return KinematicState(float(self.set_p[row]), float(self.set_v[row]),
                                   float(self.set_a[row]))
         base = self.segments.state(row, self.sample_time)
@@ -231,6 +300,7 @@ class AxisKernel:
         if bool(self.superimposed[row]) != on:
             self.superimposed[row] = on
             self._overlays += 1 if on else -1
+            self._seen_overlays = -1  # its overlay's end is an event from now on, or no more
         if not on:
             self.overlay.install(row, Profile.hold(KinematicState(0.0)), self.sample_time)
 
@@ -247,3 +317,30 @@ class AxisKernel:
         self.set_p[row] = self.act_p[row]
         self.set_v[row] = self.set_a[row] = self.set_j[row] = 0.0
         self.lag_timer[row] = 0.0
+
+
+@compiled
+def _earliest_end(has_job: np.ndarray, end: np.ndarray, superimposed: np.ndarray,
+                  overlay_end: np.ndarray, n: int) -> float:
+    """``AxisKernel.next_event``: the least ``end`` of the rows with a job and the least
+    ``overlay_end`` of the superimposed rows (+inf for none)."""
+    earliest = np.inf
+    for row in range(n):
+        if has_job[row] and end[row] < earliest:
+            earliest = end[row]
+        if superimposed[row] and overlay_end[row] < earliest:
+            earliest = overlay_end[row]
+    return earliest
+
+
+@compiled
+def _sample(seg: np.ndarray, cur: np.ndarray, next_start: np.ndarray, n: int,
+            fields: np.ndarray, now: float, follow: bool) -> None:
+    """``AxisKernel.sample``: the setpoints into rows 0-3 of ``fields`` (``evaluate_rows``,
+    so bit for bit ``SegmentTable.evaluate``), and with ``follow`` rows 0-1 copied into the
+    actual values (rows 4-5), as ideal drives do."""
+    evaluate_rows(seg, cur, next_start, n, fields[0], fields[1], fields[2], fields[3], now)
+    if follow:
+        for row in range(n):
+            fields[4, row] = fields[0, row]
+            fields[5, row] = fields[1, row]

@@ -247,7 +247,7 @@ class JobQueue:
                 self.start_next(end_time)
             elif not job.extra.get("settling"):
                 job.extra["settling"] = True
-                self.axis.system.watch(self, lambda now: self._settle(job, now))
+                self.axis.system.watch(self, _Settle(self, job))
         elif job.kind in ("halt", "stop") and not self.kernel.superimposed[self.row]:
             self.end_stop(job)
         # a halt whose base came to rest under a superposition ends with it (D-181)
@@ -368,6 +368,72 @@ class JobQueue:
             return sign(job.target - self.axis.set_position) or sign(self.axis.set_velocity)
         return sign(self.axis.set_velocity)
 
+
+
+class _Settle:
+    """The watcher of a position job's Done window (``JobQueue._settle``), which also knows
+    how long it stays quiet: while the axis rests, its drives ideal, the error to the target
+    is a constant, so the cycle in which it becomes Done (or times out) is known ahead, and
+    the cycles before it only add up the times (``skip``), bit for bit as they would."""
+
+    def __init__(self, queue: JobQueue, job: Job) -> None:
+        self.queue, self.job = queue, job
+
+    def __call__(self, now: float) -> bool:
+        return self.queue._settle(self.job, now)
+
+    def _resting_error(self) -> float | None:
+        """The constant error to the target, or None where it may change from cycle to cycle
+        (or the watcher may end by another way than its own check)."""
+        queue, job = self.queue, self.job
+        k, row = queue.kernel, queue.row
+        if job is not queue.active or job.command.finished or k.has_job[row] \
+                or k.superimposed[row] or not k.quiet or k.set_v[row] != 0.0 \
+                or k.set_a[row] != 0.0 or job.target is None:
+            return None
+        return abs(queue.axis.position - job.target)
+
+    def quiet_until(self) -> float:
+        """The time of the first cycle to come whose look ends the watcher: -inf when that
+        is not known (the next cycle looks), +inf when none ever will."""
+        error = self._resting_error()
+        if error is None:
+            return -math.inf
+        p, cycle = self.queue.axis.parameters, self.queue.runtime.cycle_time
+        if p.enable_target_position_monitoring and error <= p.target_position_window:
+            limit = p.target_position_monitoring_time - TIME_TOLERANCE
+        elif p.enable_target_position_monitoring or (
+                p.enable_position_range_monitoring and error > p.position_range_window):
+            limit = math.inf  # never ready while it rests there: only a timeout ends it
+        else:
+            return -math.inf  # ready at the next look
+        settle_time, settling_for = self.job.settle_time, self.job.settling_for
+        timeout = p.in_target_timeout if p.enable_in_target_timeout else math.inf
+        if limit == math.inf and timeout == math.inf:
+            return math.inf
+        looks = 0
+        while looks < _SETTLE_LOOKAHEAD:
+            looks += 1
+            settling_for += cycle
+            settle_time = settle_time + cycle if limit != math.inf else 0.0
+            if settle_time >= limit or settling_for > timeout:
+                return (self.queue.runtime.cycle + looks) * cycle  # the runtime's clock
+        return -math.inf  # too far to count ahead: looked at each cycle as before
+
+    def skip(self, cycles: int) -> None:
+        """``cycles`` quiet cycles passed without a look (all before ``quiet_until``): add up
+        the times as each look would have."""
+        error = self._resting_error()
+        if error is None:
+            return
+        p, cycle, job = self.queue.axis.parameters, self.queue.runtime.cycle_time, self.job
+        inside = error <= p.target_position_window
+        for _ in range(cycles):
+            job.settling_for += cycle
+            job.settle_time = job.settle_time + cycle if inside else 0.0
+
+
+_SETTLE_LOOKAHEAD = 100_000  #: cycles a Done window counts ahead to find its end
 
 
 def keep_room_mark(trial: Job, job: Job) -> None:

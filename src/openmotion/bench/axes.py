@@ -5,11 +5,22 @@ work: issue that cycle's commands, then advance every axis by one cycle. Ours is
 commands from a PLC-style program (``Runtime.add_program``), so the figure includes what a
 user pays for the Python layer, not just the kernel.
 
+Two modes (issue 24):
+
+* *stepped*: one ``Runtime.step()`` per cycle, the commands issued from a PLC-style program,
+  as a PLC program needs; pyplcopen and the ruckig loop advance every axis one cycle per call.
+* *bulk*: the stretch between two cycles with commands advances in one call on both sides:
+  ours ``Runtime.run`` (quiet stretches in bulk, D-275; the commands issued between the
+  runs), pyplcopen one ``cycle(n)`` per axis. The final setpoints must be those of the
+  stepped run bit for bit (``bulk_equal``).
+
 Per N: one untimed *check* run (it also warms up; it counts setpoint limit violations and
 rejected commands), then ``repeats`` rounds in which ours with trace off, ours with a trace
 observer (set position and velocity of all axes copied into a preallocated array each
-cycle), pyplcopen and the ruckig loop take turns on the same stream. Only the stepped loops
-are timed; figures are medians over the rounds.
+cycle; in bulk a block observer copies a stretch at once), ours in bulk, pyplcopen (both
+modes) and the ruckig loop take turns on the same stream. Only the loops are timed; figures
+are medians over the rounds. Apart: ``step()`` of one moving axis alone (the runtime's fixed
+cost per cycle).
 
 The stream starts with every axis at rest and commands arrive at 2 per axis and second, so
 runs of a few hundred cycles (N = 10000) see fewer moving axes than long ones.
@@ -244,12 +255,85 @@ def timed_run(n_axes: int, stream: list[StreamCommand], cycles: int,
     return stamps[-1] - stamps[0], cpu, np.diff(np.array(stamps)) * 1e6
 
 
+class _BlockTrace:
+    """The trace observer of ``bulk_run``: set position and velocity of every cycle into a
+    preallocated buffer, a cycle at a time when stepped, a stretch at a time in bulk."""
+
+    def __init__(self, buffer: np.ndarray, kernel: Any, n_axes: int) -> None:
+        self.buffer, self.kernel, self.n = buffer, kernel, n_axes
+
+    def __call__(self, runtime: om.Runtime) -> None:
+        row = self.buffer[runtime.cycle - 1]
+        row[0] = self.kernel.set_p[: self.n]
+        row[1] = self.kernel.set_v[: self.n]
+
+    def observe_block(self, runtime: om.Runtime, blocks: dict[str, Any]) -> None:
+        block = blocks["axes"]
+        rows = self.buffer[runtime.cycle - block.times.shape[0]: runtime.cycle]
+        rows[:, 0] = block.set_p
+        rows[:, 1] = block.set_v
+
+
+def bulk_run(n_axes: int, stream: list[StreamCommand], cycles: int,
+             trace: bool = False) -> tuple[float, np.ndarray]:
+    """Wall seconds of the bulk loop (setup excluded) and the final set positions.
+
+    The commands of cycle index c are issued when the runtime has run c cycles, as the
+    stepped run's program issues them in cycle c + 1: both plan from the sample of cycle c.
+    """
+    rt, axes = build_runtime(n_axes)
+    plan = issue_plan(axes, stream, cycles)
+    busy = [(index, issued) for index, issued in enumerate(plan) if issued]
+    kernel = rt.axis_system.kernel
+    if trace:
+        buffer = np.zeros((cycles, 2, n_axes))
+        buffer.fill(1.0)
+        rt.add_observer(_BlockTrace(buffer, kernel, n_axes))
+    run, cycle_time = rt.run, rt.cycle_time
+    start = time.perf_counter()
+    for index, issued in busy:
+        if index > rt.cycle:
+            run((index - rt.cycle) * cycle_time)
+        for method, args in issued:
+            method(*args)
+    run((cycles - rt.cycle) * cycle_time)
+    elapsed = time.perf_counter() - start
+    return elapsed, kernel.set_p[:n_axes].copy()
+
+
+def step_one_axis(cycles: int = 20_000, repeats: int = REPEATS) -> dict[str, float]:
+    """µs per ``step()`` of a runtime with one axis in constant motion and nothing else (the
+    fixed cost per cycle), median and fastest of ``repeats`` (pyplcopen's stepped figure
+    for N = 1 is in ``by_n``)."""
+    rt, (axis,) = build_runtime(1)
+    axis.move_velocity(100.0, om.Direction.POSITIVE, 1000.0, 1000.0, 10000.0)
+    rt.run(0.5)  # past the ramp: constant velocity
+    step, clock, ours = rt.step, time.perf_counter, []
+    for _ in range(repeats):
+        begin = clock()
+        for _ in range(cycles):
+            step()
+        ours.append((clock() - begin) / cycles * 1e6)
+    return {"cycles": cycles, "ours_us": float(np.median(ours)), "ours_best_us": min(ours)}
+
+
+def _final_positions(n_axes: int, stream: list[StreamCommand], cycles: int) -> np.ndarray:
+    """The set positions after the stepped run (the program issues the commands)."""
+    rt, axes = build_runtime(n_axes)
+    rt.add_program(_program(issue_plan(axes, stream, cycles)))
+    for _ in range(cycles):
+        rt.step()
+    return rt.axis_system.kernel.set_p[:n_axes].copy()
+
+
 def warm_up(seed: int = 0) -> None:
     """First calls of all three implementations (imports, allocations, caches), untimed."""
     n, cycles = 10, 300
     stream = peers.random_command_stream(n, cycles, seed + 10_000)
     timed_run(n, stream, cycles)
+    bulk_run(n, stream, cycles, trace=True)
     peers.run_pyplcopen(n, stream, cycles)
+    peers.run_pyplcopen(n, stream, cycles, bulk=True)
     _ruckig_seconds(n, stream, cycles)
 
 
@@ -281,7 +365,10 @@ def run_one(n_axes: int, cycles: int, seed: int = 0, trace: bool = False,
                               "repeats": repeats}
     result["check"] = check_run(n_axes, stream, cycles)
     seconds: dict[str, list[float]] = {"ours": [], "ours_trace": [], "pyplcopen": [],
-                                       "ruckig": []}
+                                       "ruckig": [], "ours_bulk": [], "ours_bulk_trace": [],
+                                       "pyplcopen_bulk": []}
+    bulk_equal = True
+    stepped_final = _final_positions(n_axes, stream, cycles)
     per_cycle: dict[str, list[np.ndarray]] = {"ours": [], "ours_trace": []}
     cpu_seconds: dict[str, list[float]] = {"ours": [], "ours_trace": []}
     ruckig_error = ""
@@ -291,9 +378,16 @@ def run_one(n_axes: int, cycles: int, seed: int = 0, trace: bool = False,
             seconds[name].append(elapsed)
             cpu_seconds[name].append(cpu)
             per_cycle[name].append(cycle_us)
+        for name, with_trace in (("ours_bulk", False), ("ours_bulk_trace", True))[: 1 + trace]:
+            elapsed, final = bulk_run(n_axes, stream, cycles, with_trace)
+            seconds[name].append(elapsed)
+            bulk_equal &= final.tobytes() == stepped_final.tobytes()
         plc = peers.run_pyplcopen(n_axes, stream, cycles)
         if plc is not None:
             seconds["pyplcopen"].append(plc)
+        plc = peers.run_pyplcopen(n_axes, stream, cycles, bulk=True)
+        if plc is not None:
+            seconds["pyplcopen_bulk"].append(plc)
         if not ruckig_error:
             outcome = _ruckig_seconds(n_axes, stream, cycles)
             if isinstance(outcome, str):
@@ -301,6 +395,7 @@ def run_one(n_axes: int, cycles: int, seed: int = 0, trace: bool = False,
             else:
                 seconds["ruckig"].append(outcome)
     scale = 1e6 / (n_axes * cycles)
+    result["bulk_equal"] = bulk_equal
     for name, values in seconds.items():
         if values and (name != "ruckig" or not ruckig_error):
             result[f"{name}_us"] = float(np.median(values)) * scale
@@ -319,6 +414,11 @@ def run_one(n_axes: int, cycles: int, seed: int = 0, trace: bool = False,
             for ours in ("ours", "ours_trace")[: 1 + trace]:
                 key = f"ratio_{stat}{peer}{'_trace' if ours == 'ours_trace' else ''}"
                 result[key] = None if not figure else result[f"{ours}_{stat}us"] / figure
+    for stat in ("", "best_"):
+        figure = result[f"pyplcopen_bulk_{stat}us"]
+        for ours in ("ours_bulk", "ours_bulk_trace")[: 1 + trace]:
+            key = f"ratio_{stat}bulk_pyplcopen{'_trace' if ours == 'ours_bulk_trace' else ''}"
+            result[key] = None if not figure else result[f"{ours}_{stat}us"] / figure
     result["violations"] = result["check"]["violations"]
     return result
 
@@ -331,10 +431,14 @@ def run_axes(counts: Sequence[int] = DEFAULT_COUNTS, cycles: int | None = None, 
     ``cycles=None`` picks ``cycles_for(N)``: 4M axis-cycles clamped to [200, 20000] cycles.
     """
     warm_up(seed)
+    if progress is not None:
+        progress("axes: step() of one moving axis")
+    one_axis = step_one_axis(repeats=repeats)
     by_n: dict[str, Any] = {}
     for n in counts:
         c = cycles if cycles is not None else cycles_for(n)
         if progress is not None:
             progress(f"axes: N={n}, {c} cycles")
         by_n[str(n)] = run_one(n, c, seed, trace, repeats)
-    return {"trace": trace, "seed": seed, "repeats": repeats, "by_n": by_n}
+    return {"trace": trace, "seed": seed, "repeats": repeats, "step_one_axis": one_axis,
+            "by_n": by_n}

@@ -220,9 +220,14 @@ def _plc_move_absolute(ax: Any, args: tuple[float, ...]) -> int:
 
 
 def _drive_pyplcopen(
-    n_axes: int, stream: list[StreamCommand], cycles: int, cycle_time: float = 0.001
+    n_axes: int, stream: list[StreamCommand], cycles: int, cycle_time: float = 0.001,
+    bulk: bool = False,
 ) -> PeerRun | None:
-    """Step N pyplcopen axes through the stream (None when pyplcopen is not installed)."""
+    """Step N pyplcopen axes through the stream (None when pyplcopen is not installed).
+
+    ``bulk``: between two cycles with commands, every axis advances the whole stretch in one
+    ``cycle(n)`` call (its C++ loop), as ``openmotion bench axes`` lets ours run it in bulk.
+    """
     plc = _import_pyplcopen()
     if plc is None:
         return None
@@ -254,6 +259,8 @@ def _drive_pyplcopen(
     ]
     steps = [ax.cycle for ax in axes]
     reissued = 0
+    if bulk:
+        return _bulk_pyplcopen(axes, steps, plan, cycles)
 
     start = time.perf_counter()
     for issued in plan:
@@ -268,11 +275,41 @@ def _drive_pyplcopen(
     return PeerRun(elapsed, [ax.command_position() for ax in axes], reissued)
 
 
+def _bulk_pyplcopen(axes: list[Any], steps: list[Any],
+                    plan: list[list[tuple[Any, bool, tuple[float, ...]]]],
+                    cycles: int) -> PeerRun:
+    """The timed loop of ``_drive_pyplcopen(bulk=True)``: the cycles with commands, and in
+    between one ``cycle(n)`` per axis."""
+    busy = [(index, issued) for index, issued in enumerate(plan) if issued]
+    reissued = 0
+    start = time.perf_counter()
+    done = 0
+    for index, issued in busy:
+        if index > done:
+            gap = index - done
+            for step in steps:
+                step(gap)
+        done = index
+        for ax, is_abs, args in issued:
+            if is_abs:
+                reissued += _plc_move_absolute(ax, args)
+            else:
+                ax.move_velocity(*args, cycles=0)
+    if cycles > done:
+        gap = cycles - done
+        for step in steps:
+            step(gap)
+    elapsed = time.perf_counter() - start
+    return PeerRun(elapsed, [ax.command_position() for ax in axes], reissued)
+
+
 def run_pyplcopen(
-    n_axes: int, stream: list[StreamCommand], cycles: int, cycle_time: float = 0.001
+    n_axes: int, stream: list[StreamCommand], cycles: int, cycle_time: float = 0.001,
+    bulk: bool = False,
 ) -> float | None:
-    """Wall seconds of the stepped pyplcopen loop, or None when pyplcopen is not installed."""
-    result = _drive_pyplcopen(n_axes, stream, cycles, cycle_time)
+    """Wall seconds of the pyplcopen loop (``bulk``: the stretches between commands in one
+    ``cycle(n)`` per axis), or None when pyplcopen is not installed."""
+    result = _drive_pyplcopen(n_axes, stream, cycles, cycle_time, bulk)
     return None if result is None else result.seconds
 
 

@@ -38,6 +38,9 @@ Progress = Callable[[str], None] | None
 #: the goals of docs/benchmarks.md
 AXES_GOAL_N = 1000
 AXES_GOAL_US = 0.5
+AXES_STEP_GOAL_US = 2.0  #: issue #24: step() of one moving axis, the fixed cost per cycle
+AXES_STEPPED_RATIO_FROM_N = 100  #: issue #24: stepped at most pyplcopen's cost from this N on
+AXES_RATIO_GOAL = 1.0  #: issue #24: ours / pyplcopen, stepped from N = 100, bulk at every N
 FBCALL_GOAL_US = 2.0
 CA_GOAL_N = 1000
 CA_GOAL_P99_US = 500.0  #: in every gap control mode (Standard, Fast, mixed)
@@ -192,6 +195,11 @@ def _goal(goal: str, value: Any, passed: bool | None) -> dict[str, Any]:
     return {"goal": goal, "value": value, "passed": passed}
 
 
+def _rounded(ratio: float | None) -> float | None:
+    """A ratio as a goal line shows it (by N, three decimals)."""
+    return None if ratio is None else round(ratio, 3)
+
+
 def goals_axes(results: dict[str, Any]) -> dict[str, Any]:
     by_n = results["by_n"]
     row = by_n.get(str(AXES_GOAL_N))
@@ -202,6 +210,28 @@ def goals_axes(results: dict[str, Any]) -> dict[str, Any]:
                             violations == 0),
         "rejected": _goal("no command rejected (all N)", rejected, rejected == 0),
     }
+    step = results.get("step_one_axis")
+    if step is not None:
+        goals["step_one_axis"] = _goal(
+            f"step() of 1 moving axis <= {AXES_STEP_GOAL_US} us", step["ours_us"],
+            step["ours_us"] <= AXES_STEP_GOAL_US)
+    stepped = {n: _rounded(r["ratio_pyplcopen"]) for n, r in by_n.items()
+               if int(n) >= AXES_STEPPED_RATIO_FROM_N}
+    if stepped:
+        goals["stepped_ratio_pyplcopen"] = _goal(
+            f"stepped: ours / pyplcopen <= {AXES_RATIO_GOAL} for N >= "
+            f"{AXES_STEPPED_RATIO_FROM_N} (trace off)", stepped,
+            None if None in stepped.values() else
+            all(ratio <= AXES_RATIO_GOAL for ratio in stepped.values()))
+    bulk = {n: _rounded(r.get("ratio_bulk_pyplcopen")) for n, r in by_n.items()}
+    if bulk:
+        goals["bulk_ratio_pyplcopen"] = _goal(
+            f"bulk: ours / pyplcopen (cycle(n)) <= {AXES_RATIO_GOAL} at every N (trace off)",
+            bulk, None if None in bulk.values() else
+            all(ratio <= AXES_RATIO_GOAL for ratio in bulk.values()))
+        unequal = [int(n) for n, r in by_n.items() if not r.get("bulk_equal", False)]
+        goals["bulk_equal"] = _goal("bulk runs end on the stepped runs' setpoints bit for bit "
+                                    "(all N)", unequal or "all equal", not unequal)
     if row is None:
         return goals
     ours, plc = row["ours_us"], row["pyplcopen_us"]
@@ -562,9 +592,24 @@ def _render_axes(results: dict[str, Any]) -> list[str]:
                      r["pyplcopen_us"], r["ruckig_us"], r["ratio_pyplcopen"],
                      r["ratio_ruckig"], r["ours"]["cycle_us_p50"], r["ours"]["cycle_us_p99"],
                      r["violations"], r["check"]["rejected"]])
-    lines = [f"us per axis-cycle (wall loop time / (N * cycles)), median of "
-             f"{results.get('repeats', 1)} repeats; cycle p50/p99 in us (ours, trace off)"]
+    lines = []
+    step = results.get("step_one_axis")
+    if step is not None:
+        lines += [f"step() of 1 moving axis: {_fmt(step['ours_us'])} us (median), "
+                  f"{_fmt(step['ours_best_us'])} us (fastest)", ""]
+    lines += [f"stepped: us per axis-cycle (wall loop time / (N * cycles)), median of "
+              f"{results.get('repeats', 1)} repeats; cycle p50/p99 in us (ours, trace off)"]
     lines += _table(header, rows)
+    bulk = [[int(n), r["ours_bulk_us"], *([r["ours_bulk_trace_us"]] if trace else []),
+             r["pyplcopen_bulk_us"], r["ratio_bulk_pyplcopen"], r["ours_bulk_best_us"],
+             r["pyplcopen_bulk_best_us"], r["ratio_best_bulk_pyplcopen"],
+             "yes" if r["bulk_equal"] else "NO"]
+            for n, r in results["by_n"].items() if "ours_bulk_us" in r]
+    if bulk:
+        lines += ["", "bulk: the stretch between two commands in one call (ours Runtime.run, "
+                  "pyplcopen cycle(n)); us per axis-cycle, median; best = fastest repeat"]
+        lines += _table(["N", "ours", *(["ours+trace"] if trace else []), "pyplcopen",
+                         "ours/plc", "ours best", "plc best", "best ratio", "= stepped"], bulk)
     best = [[int(n), r["ours_spread"], r["ours_cpu_us"], r["ours_best_us"],
              *([r["ours_trace_best_us"]] if trace else []), r["pyplcopen_best_us"],
              r["ruckig_best_us"], r["ratio_best_pyplcopen"], r["ratio_best_ruckig"]]

@@ -23,6 +23,9 @@ class SegmentTable:
     def __init__(self, capacity: int = 16, columns: int = 24) -> None:
         self.columns = columns
         self.size = 0
+        #: profiles installed so far: a reader that caches something derived from the end
+        #: times (the axes' next event) knows it is stale when this count moved
+        self.installs = 0
         self.capacity = 0
         self._allocate(capacity)
 
@@ -54,6 +57,7 @@ class SegmentTable:
         n = data.shape[1]
         if n > self.columns:
             raise ValueError(f"profile has {n} segments, the table holds {self.columns}")
+        self.installs += 1
         _install(self.seg, self.cur, self.next_start, self.end, row, data, time)
 
     def end_position(self, row: int) -> float:
@@ -71,7 +75,20 @@ class SegmentTable:
                  j: np.ndarray) -> None:
         """Write position, velocity, acceleration and jerk of every row at ``now`` into the
         first ``size`` elements of ``p``, ``v``, ``a`` and ``j``."""
-        _evaluate(self.seg, self.cur, self.next_start, self.size, now, p, v, a, j)
+        evaluate_rows(self.seg, self.cur, self.next_start, self.size, p, v, a, j, now)
+
+    def bound(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+        """The arguments ``evaluate_rows`` takes before its outputs, as they are now (stale
+        once a row is added): for a compiled caller that evaluates as part of its own pass."""
+        return self.seg, self.cur, self.next_start, self.size
+
+    def evaluate_many(self, times: np.ndarray, p: np.ndarray, v: np.ndarray, a: np.ndarray,
+                      j: np.ndarray) -> None:
+        """``evaluate`` at every time of ``times`` (increasing) in one compiled call: row ``k``
+        of the (len(times), size) arrays ``p``, ``v``, ``a``, ``j`` gets what ``evaluate`` at
+        ``times[k]`` gives, bit for bit (it is the same loop), so a quiet stretch of cycles
+        can be sampled at once."""
+        _evaluate_many(self.seg, self.cur, self.next_start, self.size, times, p, v, a, j)
 
     def states(self, rows: list[int], time: float) -> list[KinematicState]:
         """``state`` of several rows (a plan of x, y and c starts from all three)."""
@@ -140,8 +157,9 @@ def _states(seg: np.ndarray, cur: np.ndarray, next_start: np.ndarray, end: np.nd
 
 
 @compiled
-def _evaluate(seg: np.ndarray, cur: np.ndarray, next_start: np.ndarray, n: int, now: float,
-              p: np.ndarray, v: np.ndarray, a: np.ndarray, j: np.ndarray) -> None:
+def evaluate_rows(seg: np.ndarray, cur: np.ndarray, next_start: np.ndarray, n: int,
+                  p: np.ndarray, v: np.ndarray, a: np.ndarray, j: np.ndarray,
+                  now: float) -> None:
     """``SegmentTable.evaluate`` in one compiled pass (a hundred planar movers are 600 rows;
     as numpy passes the cost was the seventeen passes, not the arithmetic). A row whose next
     segment has started moves its cached record to the segment that holds ``now``. The
@@ -162,6 +180,15 @@ def _evaluate(seg: np.ndarray, cur: np.ndarray, next_start: np.ndarray, n: int, 
         a[row] = dt * j0 + a0
         v[row] = ((j0 * 0.5) * dt + a0) * dt + v0
         p[row] = ((a0 * 0.5 + (j0 * (1.0 / 6.0)) * dt) * dt + v0) * dt + p0
+
+
+@compiled
+def _evaluate_many(seg: np.ndarray, cur: np.ndarray, next_start: np.ndarray, n: int,
+                   times: np.ndarray, p: np.ndarray, v: np.ndarray, a: np.ndarray,
+                   j: np.ndarray) -> None:
+    """``SegmentTable.evaluate_many``: ``evaluate_rows`` once per time, into one row each."""
+    for k in range(times.shape[0]):
+        evaluate_rows(seg, cur, next_start, n, p[k], v[k], a[k], j[k], times[k])
 
 
 @compiled
