@@ -122,6 +122,14 @@ def _sweep(quick: bool, progress: Progress) -> dict[str, Any]:
     return run_sweep_bench(progress=progress)
 
 
+def _routing(quick: bool, progress: Progress) -> dict[str, Any]:
+    from openmotion.bench.routing import run_routing
+
+    if quick:
+        return run_routing(seeds=1, big=(12,), big_seeds=1, progress=progress)
+    return run_routing(progress=progress)
+
+
 def _serve(quick: bool, progress: Progress) -> dict[str, Any]:
     from openmotion.bench.serve import run_serve
 
@@ -144,6 +152,7 @@ BENCHMARKS: dict[str, Callable[..., dict[str, Any]]] = {
     "startup": _startup,
     "sweep": _sweep,
     "serve": _serve,
+    "routing": _routing,
 }
 
 
@@ -369,6 +378,39 @@ def goals_serve(results: dict[str, Any]) -> dict[str, Any]:
             "lost": _goal("0 lost OPC UA notifications", lost, lost == 0)}
 
 
+ROUTING_GOAL_FIRST_PLAN_MS = 200.0  #: first plan at 78 movers [ms]
+ROUTING_GOAL_RATIO_LAYOUTS = 1.3  #: makespan / lower bound on MagBotSim's layouts
+ROUTING_GOAL_RATIO_BIG = 1.5  #: makespan / lower bound at 78 movers
+
+
+def goals_routing(results: dict[str, Any]) -> dict[str, Any]:
+    small, big = results["summary"]["magbotsim"], results["summary"].get("big") or {}
+    parts = [p for p in (small, big) if p]
+    success = min(p["success_rate"] for p in parts)
+    rejected = sum(p["rejected"] for p in parts)
+    overlaps = sum(p["overlaps"] + p["off_surface"] for p in parts)
+    goals = {
+        "success": _goal("every mover arrives (all instances)", success, success == 1.0),
+        "rejected": _goal("no command refused by the group", rejected, rejected == 0),
+        "overlaps": _goal("no footprints overlap or leave the surface (every cycle)", overlaps,
+                          overlaps == 0),
+        "ratio_layouts": _goal(f"MagBotSim layouts: makespan <= {ROUTING_GOAL_RATIO_LAYOUTS:g} x "
+                               "lower bound (worst instance)", small["ratio_max"],
+                               small["ratio_max"] <= ROUTING_GOAL_RATIO_LAYOUTS),
+    }
+    if big:
+        goals["first_plan_big"] = _goal(
+            f"{BIG_GOAL_N} movers: first plan <= {ROUTING_GOAL_FIRST_PLAN_MS:g} ms",
+            big["first_plan_ms_max"], big["first_plan_ms_max"] <= ROUTING_GOAL_FIRST_PLAN_MS)
+        goals["ratio_big"] = _goal(f"{BIG_GOAL_N} movers: makespan <= "
+                                   f"{ROUTING_GOAL_RATIO_BIG:g} x lower bound", big["ratio_max"],
+                                   big["ratio_max"] <= ROUTING_GOAL_RATIO_BIG)
+    return goals
+
+
+BIG_GOAL_N = 78  #: the Planar-Motor-scale case of the routing benchmark
+
+
 GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "axes": goals_axes,
     "otg": goals_otg,
@@ -381,6 +423,7 @@ GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "startup": goals_startup,
     "sweep": goals_sweep,
     "serve": goals_serve,
+    "routing": goals_routing,
 }
 
 
@@ -703,7 +746,18 @@ def _render_serve(results: dict[str, Any]) -> list[str]:
     ]
 
 
-_RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
+def _render_routing(results: dict[str, Any]) -> list[str]:
+    rows = [[r["layout"], r["movers"], f"{r['arrived']}/{r['movers']}",
+             _fmt(r["first_plan_ms"]),
+             _fmt(r["plan_ms"]), _fmt(r["makespan_s"]), _fmt(r["lower_bound_s"]),
+             _fmt(r["ratio"]), r["rejected"], r["overlaps"] + r["off_surface"]]
+            for r in results["magbotsim"] + results["big"]]
+    return _table(["layout", "movers", "arrived", "first plan [ms]", "plan [ms]",
+                   "makespan [s]", "bound [s]", "ratio", "rejected", "overlaps"], rows)
+
+
+_RENDER = {"routing": _render_routing, "axes": _render_axes, "otg": _render_otg,
+           "fbcall": _render_fbcall,
            "ca": _render_ca, "planar": _render_planar, "path": _render_path,
            "tracks": _render_tracks, "trace": _render_trace, "startup": _render_startup,
            "sweep": _render_sweep, "serve": _render_serve}
