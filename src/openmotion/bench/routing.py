@@ -162,7 +162,7 @@ def big_instance(movers: int = BIG_MOVERS, side: int = BIG_SIDE, seed: int = 0
             [grid.centre(cells[k]) for k in targets])
 
 
-def run_routing(seeds: int = SEEDS, big: Sequence[int] = (BIG_MOVERS,), big_seeds: int = 2,
+def run_routing(seeds: int = SEEDS, big: Sequence[int] = (BIG_MOVERS,), big_seeds: int = 1,
                 progress: Progress = None) -> dict[str, Any]:
     say = progress or (lambda _: None)
     rows = []

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 
 from openmotion.planar.routing.grid import RoutingGrid
 
-MAX_EXPANSIONS = 40_000  #: A* gives up on one agent after this many expansions
+MAX_EXPANSIONS = 20_000  #: A* gives up on one agent after this many expansions
 HORIZON_SLACK = 40  #: steps an agent may wait beyond its distance and the others' last use
 FOREVER = 1 << 30  #: a half-step after every plan
 FIRST_PLAN_LIMIT = 0.5  #: without any plan yet, orders are tried this long at least [s]
@@ -203,8 +203,7 @@ class Planner:
             elapsed = time.perf_counter() - started
             if best is not None and (elapsed >= time_budget or n <= 1):
                 break
-            if best is None and elapsed >= max(time_budget, FIRST_PLAN_LIMIT) \
-                    and tried >= 2 * n + 2:
+            if best is None and elapsed >= max(time_budget, FIRST_PLAN_LIMIT):
                 break
             if best is not None and best.cost[0] <= self._lower_bound():
                 break

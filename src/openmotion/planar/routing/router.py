@@ -22,6 +22,7 @@ routed around it standing where it is (docs/planar-routing.md).
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -50,6 +51,7 @@ if TYPE_CHECKING:
     from openmotion.planar.mover import MC_PlanarMover
     from openmotion.planar.options import IPlcDynamicConstraint
 
+PLANNING_LIMIT = 5.0  #: a route call gives up on the movers left after this long [s]
 DEFAULT_TIME_BUDGET = 0.05  #: planning time a route call may spend improving its plan [s]
 AT_POSE = 1e-6  #: a mover this close to a point stands on it [mm]
 TURN_TOLERANCE = 1e-6  #: a target c this close to the mover's c needs no turn [°]
@@ -209,8 +211,16 @@ class Router:
                       f"{m.name}: {problem}")
         routed = {m: h for m, h in active.items() if m not in failed}
         plan = None
+        started = time.perf_counter()
         for _ in range(len(routed) + 1):
             if not routed:
+                break
+            if time.perf_counter() - started > PLANNING_LIMIT:  # give up on the rest
+                for m, h in routed.items():
+                    h.blocker = "other movers"
+                    h.end(CommandStatus.ERROR, self.system.now, ErrorId.PLANAR_COLLISION,
+                          f"{m.name}: no route found within {PLANNING_LIMIT:g} s of planning")
+                routed = {}
                 break
             try:
                 plan, agents = self._plan_once(routed, budget)
