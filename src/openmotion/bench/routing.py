@@ -113,7 +113,7 @@ def run_instance(layout: StatorLayout, starts: Sequence[tuple[float, float]],
         "route_call_ms": 1e3 * call_s,
         "orders_tried": None if plan is None else plan.tried,
         "makespan_s": makespan, "lower_bound_s": bound,
-        "ratio": makespan / bound if bound > 0 else 1.0,
+        "ratio": (makespan / bound if bound > 0 else 1.0) if arrived == len(movers) else None,
         "legs": router.stats.legs, "held_back": router.stats.held_back,
         "rejected": rejected, **safety,
         "errors": [h.message for h in handles.values() if h.error][:3],
@@ -182,13 +182,18 @@ def _summary(rows: list[dict[str, Any]], big_rows: list[dict[str, Any]]) -> dict
     def part(items: list[dict[str, Any]]) -> dict[str, Any]:
         if not items:
             return {}
+        planned = [r for r in items if r["first_plan_ms"] is not None]
+        arrived = [r["ratio"] for r in items if r["ratio"] is not None]
         return {
             "instances": len(items),
             "success_rate": sum(r["success"] for r in items) / len(items),
-            "first_plan_ms_max": max((r["first_plan_ms"] or math.inf) for r in items),
-            "plan_ms_max": max((r["plan_ms"] or math.inf) for r in items),
-            "ratio_max": max(r["ratio"] for r in items),
-            "ratio_mean": sum(r["ratio"] for r in items) / len(items),
+            # None: some instance found no plan (or none arrived): the goal is not met
+            "first_plan_ms_max": max(r["first_plan_ms"] for r in planned)
+            if len(planned) == len(items) else None,
+            "plan_ms_max": max(r["plan_ms"] for r in planned)
+            if len(planned) == len(items) else None,
+            "ratio_max": max(arrived) if len(arrived) == len(items) else None,
+            "ratio_mean": sum(arrived) / len(arrived) if arrived else None,
             "rejected": sum(r["rejected"] for r in items),
             "overlaps": sum(r["overlaps"] for r in items),
             "off_surface": sum(r["off_surface"] for r in items),
