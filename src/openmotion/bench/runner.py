@@ -139,6 +139,14 @@ def _sweep(quick: bool, progress: Progress) -> dict[str, Any]:
     return run_sweep_bench(progress=progress)
 
 
+def _routing(quick: bool, progress: Progress) -> dict[str, Any]:
+    from openmotion.bench.routing import run_routing
+
+    if quick:
+        return run_routing(seeds=1, big=(12,), big_seeds=1, progress=progress)
+    return run_routing(progress=progress)
+
+
 def _serve(quick: bool, progress: Progress) -> dict[str, Any]:
     from openmotion.bench.serve import run_serve
 
@@ -171,6 +179,7 @@ BENCHMARKS: dict[str, Callable[..., dict[str, Any]]] = {
     "sweep": _sweep,
     "serve": _serve,
     "envs": _envs,
+    "routing": _routing,
 }
 
 
@@ -504,6 +513,46 @@ def goals_envs(results: dict[str, Any]) -> dict[str, Any]:
     return goals
 
 
+ROUTING_GOAL_FIRST_PLAN_MS = 200.0  #: first plan at 78 movers [ms]
+ROUTING_GOAL_RATIO_LAYOUTS = 1.3  #: makespan / lower bound on MagBotSim's layouts
+ROUTING_GOAL_RATIO_BIG = 1.5  #: makespan / lower bound at 78 movers
+
+
+def goals_routing(results: dict[str, Any]) -> dict[str, Any]:
+    small, big = results["summary"]["magbotsim"], results["summary"].get("big") or {}
+    parts = [p for p in (small, big) if p]
+    success = min(p["success_rate"] for p in parts)
+    rejected = sum(p["rejected"] for p in parts)
+    overlaps = sum(p["overlaps"] + p["off_surface"] for p in parts)
+    goals = {
+        "success": _goal("every mover arrives (all instances)", success, success == 1.0),
+        "rejected": _goal("no command refused by the group", rejected, rejected == 0),
+        "overlaps": _goal("no footprints overlap or leave the surface (every cycle)", overlaps,
+                          overlaps == 0),
+        "ratio_layouts": _goal(f"MagBotSim layouts: makespan <= {ROUTING_GOAL_RATIO_LAYOUTS:g} x "
+                               "lower bound (worst instance)", small["ratio_max"],
+                               _at_most(small["ratio_max"], ROUTING_GOAL_RATIO_LAYOUTS)),
+    }
+    if big:
+        goals["first_plan_big"] = _goal(
+            f"{BIG_GOAL_N} movers: first plan <= {ROUTING_GOAL_FIRST_PLAN_MS:g} ms",
+            big["first_plan_ms_max"], _at_most(big["first_plan_ms_max"],
+                                               ROUTING_GOAL_FIRST_PLAN_MS))
+        goals["ratio_big"] = _goal(f"{BIG_GOAL_N} movers: makespan <= "
+                                   f"{ROUTING_GOAL_RATIO_BIG:g} x lower bound", big["ratio_max"],
+                                   _at_most(big["ratio_max"], ROUTING_GOAL_RATIO_BIG))
+    return goals
+
+
+BIG_GOAL_N = 78  #: the Planar-Motor-scale case of the routing benchmark
+
+
+def _at_most(value: float | None, goal: float) -> bool:
+    """A figure that could not be measured (None: no plan, or not every mover arrived)
+    misses its goal."""
+    return value is not None and value <= goal
+
+
 GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "axes": goals_axes,
     "otg": goals_otg,
@@ -517,6 +566,7 @@ GOALS: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
     "sweep": goals_sweep,
     "serve": goals_serve,
     "envs": goals_envs,
+    "routing": goals_routing,
 }
 
 
@@ -911,10 +961,21 @@ def _render_envs(results: dict[str, Any]) -> list[str]:
             f"MagBotSim's published mj_step by movers (its authors' machine): {published}"]
 
 
+def _render_routing(results: dict[str, Any]) -> list[str]:
+    rows = [[r["layout"], r["movers"], f"{r['arrived']}/{r['movers']}",
+             _fmt(r["first_plan_ms"]),
+             _fmt(r["plan_ms"]), _fmt(r["makespan_s"]), _fmt(r["lower_bound_s"]),
+             _fmt(r["ratio"]), r["rejected"], r["overlaps"] + r["off_surface"]]
+            for r in results["magbotsim"] + results["big"]]
+    return _table(["layout", "movers", "arrived", "first plan [ms]", "plan [ms]",
+                   "makespan [s]", "bound [s]", "ratio", "rejected", "overlaps"], rows)
+
+
 _RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
            "ca": _render_ca, "planar": _render_planar, "path": _render_path,
            "tracks": _render_tracks, "trace": _render_trace, "startup": _render_startup,
-           "sweep": _render_sweep, "serve": _render_serve, "envs": _render_envs}
+           "sweep": _render_sweep, "serve": _render_serve, "envs": _render_envs,
+           "routing": _render_routing}
 
 
 def render_figures(name: str, results: dict[str, Any], markdown: bool = False) -> list[str]:

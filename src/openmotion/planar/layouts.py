@@ -171,3 +171,9 @@ def magbotsim_layout(name: str) -> Layout:
         if layout.name == name:
             return layout
     raise ConfigError(f"unknown layout {name!r}; known: {', '.join(layout_names())}")
+
+
+def square(side: int, movers: int = 0, name: str | None = None) -> Layout:
+    """A full ``side`` x ``side`` field (the routing benchmark's Planar-Motor-scale case)."""
+    return Layout(name or f"square{side}", tuple("#" * side for _ in range(side)), movers,
+                  source="full square field")

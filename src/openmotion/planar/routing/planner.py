@@ -1,0 +1,373 @@
+"""Multi-mover path planning on the routing grid: prioritized space-time A*.
+
+Every mover is an agent with a start pose and a target pose. Time runs in steps; in a step
+an agent waits or moves to one of the eight neighbouring cells. Half-steps index what an
+agent occupies: ``2t`` the cells under it at step ``t``, ``2t + 1`` the cells its move from
+step ``t`` to ``t + 1`` touches. Agents are planned one after the other (the priority order);
+each finds the earliest arrival (A*, heuristic: its distance on the static grid) that meets
+no cell another agent holds at the same half-step, and no cell an agent parks on for good.
+An agent's start pose and target pose need not be cell centres: it first moves from its pose
+to the centre of its start cell and ends with a move from its goal cell's centre to the
+target (turning there, if the target's c differs), both reserved like moves.
+
+Prioritized planning is fast but incomplete: an order may fail where another succeeds. The
+planner tries the agents that failed first (the standard repair), then random orders while
+the time budget lasts, and keeps the plan with the earliest arrival of the last agent
+(anytime). What it cannot solve it reports with the agent and the blocker it names.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+import random
+import time
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+from openmotion.planar.routing.grid import RoutingGrid
+
+MAX_EXPANSIONS = 20_000  #: A* gives up on one agent after this many expansions
+HORIZON_SLACK = 40  #: steps an agent may wait beyond its distance and the others' last use
+FOREVER = 1 << 30  #: a half-step after every plan
+FIRST_PLAN_LIMIT = 0.5  #: without any plan yet, orders are tried this long at least [s]
+
+
+@dataclass
+class Agent:
+    """One mover to route: where it is, where it goes and what it occupies on the way."""
+
+    name: str
+    start: tuple[float, float, float]  #: x, y [mm], c [°]
+    target: tuple[float, float, float]
+    hx: float  #: half extents of its footprint while it travels [mm]
+    hy: float
+    start_cell: int
+    goal_cell: int
+    start_cells: tuple[int, ...]  #: occupied by the move from the start pose to its cell
+    final_cells: tuple[int, ...]  #: occupied from the move to the target on, for good
+    start_leg: bool  #: the start pose is no cell centre: one step to reach it
+    final_leg: bool  #: the target is no cell centre (or turns): one step to reach it
+
+
+@dataclass
+class Route:
+    """One agent's planned motion: positions per step and what it occupies per half-step."""
+
+    agent: Agent
+    points: list[tuple[float, float]]  #: centre per step (step 0: the start pose)
+    occupied: list[tuple[int, ...]]  #: cells per half-step, 2 * len(points) - 1 of them
+    cells: list[int]  #: the grid cell per step (-1: the start or target pose)
+
+    @property
+    def arrival(self) -> int:
+        """The step at which it reaches its target."""
+        return len(self.points) - 1
+
+
+@dataclass
+class Plan:
+    routes: list[Route]
+    order: list[int]  #: the priority order that produced it
+    first_time: float = 0.0  #: wall time to the first plan [s]
+    time: float = 0.0  #: wall time spent planning in all [s]
+    tried: int = 0  #: priority orders tried
+    cost: tuple[int, int] = (0, 0)  #: (last arrival, sum of arrivals) [steps]
+    held: dict[tuple[int, int], int] = field(default_factory=dict)  #: (cell, half) -> agent
+    parked: dict[int, int] = field(default_factory=dict)  #: cell -> half-step parked from
+
+    @property
+    def makespan_steps(self) -> int:
+        return self.cost[0]
+
+
+class PlanningFailed(Exception):
+    """No order of the agents found a plan: ``agent`` could not be routed."""
+
+    def __init__(self, agent: Agent, reason: str) -> None:
+        super().__init__(f"{agent.name}: {reason}")
+        self.agent = agent
+        self.reason = reason
+
+
+@dataclass
+class _Table:
+    """The half-steps at which cells are held: by whom, and until when."""
+
+    held: dict[tuple[int, int], int] = field(default_factory=dict)  #: (cell, half) -> agent
+    standing: dict[int, int] = field(default_factory=dict)  #: cell -> agent not yet planned
+    parked: dict[int, int] = field(default_factory=dict)  #: cell -> first half-step held
+    last: dict[int, int] = field(default_factory=dict)  #: cell -> last half-step held
+
+    def free(self, cells: tuple[int, ...], half: int, agent: int,
+             goal: frozenset[int] = frozenset()) -> bool:
+        """No other agent holds a cell at ``half``; one not planned yet stands on none,
+        except on the agent's ``goal`` cells (it must leave them before the agent comes)."""
+        held, parked, standing = self.held, self.parked, self.standing
+        for cell in cells:
+            owner = held.get((cell, half))
+            if owner is not None and owner != agent:
+                return False
+            owner = standing.get(cell)
+            if owner is not None and owner != agent and cell not in goal:
+                return False
+            if parked.get(cell, FOREVER) <= half:
+                return False
+        return True
+
+    def free_after(self, cells: tuple[int, ...], half: int) -> bool:
+        """No cell held at ``half`` or later (to park there for good)."""
+        return all(self.last.get(cell, -1) < half and cell not in self.parked
+                   for cell in cells)
+
+    def hold(self, route: Route, agent: int) -> None:
+        for cell in route.agent.start_cells:
+            if self.standing.get(cell) == agent:
+                del self.standing[cell]
+        for half, cells in enumerate(route.occupied):
+            for cell in cells:
+                self.held[(cell, half)] = agent
+                if self.last.get(cell, -1) < half:
+                    self.last[cell] = half
+        for cell in route.occupied[-1]:
+            self.parked[cell] = len(route.occupied) - 1
+
+
+def distances(grid: RoutingGrid, goal: int) -> dict[int, int]:
+    """Steps from every free cell to ``goal`` on the static grid (breadth first)."""
+    dist = {goal: 0}
+    queue = deque([goal])
+    while queue:
+        cell = queue.popleft()
+        d = dist[cell] + 1
+        for other in grid.neighbours(cell):
+            if other not in dist:
+                dist[other] = d
+                queue.append(other)
+    return dist
+
+
+class Planner:
+    """Plans all agents on one grid; reuses the grid's distance tables between orders."""
+
+    def __init__(self, grid: RoutingGrid, agents: Sequence[Agent]) -> None:
+        self.grid = grid
+        self.agents = list(agents)
+        self._dist: dict[int, dict[int, int]] = {}
+        self._neighbours: dict[int, list[int]] = {}
+
+    def distance(self, agent: Agent) -> dict[int, int]:
+        table = self._dist.get(agent.goal_cell)
+        if table is None:
+            table = distances(self.grid, agent.goal_cell)
+            self._dist[agent.goal_cell] = table
+        return table
+
+    def plan(self, time_budget: float, seed: int = 0) -> Plan:
+        """The first plan found, improved by other orders while ``time_budget`` [s] lasts."""
+        started = time.perf_counter()
+        rng = random.Random(seed)
+        n = len(self.agents)
+        order = sorted(range(n), key=lambda a: -self.distance(self.agents[a]).get(
+            self.agents[a].start_cell, 0))
+        best: Plan | None = None
+        tried = 0
+        failure: PlanningFailed | None = None
+        seen: set[tuple[int, ...]] = set()
+        standing = True
+        while True:
+            tried += 1
+            seen.add(tuple(order))
+            try:
+                routes, table = self._plan_order(order, standing)
+            except _OrderFailed as failed:
+                failure = PlanningFailed(self.agents[failed.index], failed.reason)
+                standing = not standing  # the same order once more, the others not standing
+                if standing and best is None:  # repair: who stands on its target first
+                    order = self._repaired(order, failed.index)
+                    if tuple(order) in seen:
+                        rng.shuffle(order)
+                elif standing:
+                    rng.shuffle(order)
+            else:
+                arrivals = [r.arrival for r in routes]
+                cost = (max(arrivals, default=0), sum(arrivals))
+                if best is None or cost < best.cost:
+                    best = Plan(routes, list(order), cost=cost, held=table.held,
+                                parked=table.parked)
+                    if best.first_time == 0.0:
+                        best.first_time = time.perf_counter() - started
+                order = list(order)
+                rng.shuffle(order)
+            elapsed = time.perf_counter() - started
+            if best is not None and (elapsed >= time_budget or n <= 1):
+                break
+            if best is None and elapsed >= max(time_budget, FIRST_PLAN_LIMIT):
+                break
+            if best is not None and best.cost[0] <= self._lower_bound():
+                break
+        if best is None:
+            assert failure is not None
+            raise failure
+        if best.first_time == 0.0:
+            best.first_time = time.perf_counter() - started
+        best.time = time.perf_counter() - started
+        best.tried = tried
+        return best
+
+    def _repaired(self, order: list[int], failed: int) -> list[int]:
+        goal = set(self.agents[failed].final_cells) | {self.agents[failed].goal_cell}
+        blockers = [a for a in order if a != failed and goal & set(self.agents[a].start_cells)]
+        place = order.index(failed)
+        late = [a for a in blockers if order.index(a) > place]
+        if late:
+            rest = [a for a in order if a not in late]
+            at = rest.index(failed)
+            return rest[:at] + late + rest[at:]
+        return [failed] + [a for a in order if a != failed]
+
+    def _lower_bound(self) -> int:
+        return max((self.distance(a).get(a.start_cell, 0) + a.start_leg + a.final_leg
+                    for a in self.agents), default=0)
+
+    def _plan_order(self, order: list[int], standing: bool = True
+                    ) -> tuple[list[Route], _Table]:
+        """Plan the agents in ``order``. ``standing``: who is not planned yet stands on its
+        start for good (the others go around it); else it holds its start only at step 0
+        and must get out of the way of those planned before it (swaps need this)."""
+        table = _Table()
+        for index, agent in enumerate(self.agents):
+            for cell in agent.start_cells:
+                if standing:
+                    table.standing[cell] = index
+                else:
+                    table.held[(cell, 0)] = index
+        routes: list[Route | None] = [None] * len(self.agents)
+        for index in order:
+            route = self._plan_agent(index, table)
+            table.hold(route, index)
+            routes[index] = route
+        return [r for r in routes if r is not None], table
+
+    def _neighbours_of(self, cell: int) -> list[int]:
+        out = self._neighbours.get(cell)
+        if out is None:
+            out = [cell, *self.grid.neighbours(cell)]
+            self._neighbours[cell] = out
+        return out
+
+    def _plan_agent(self, index: int, table: _Table) -> Route:
+        agent = self.agents[index]
+        grid = self.grid
+        dist = self.distance(agent)
+        if agent.start_cell not in dist:
+            raise _OrderFailed(index, "no way on the grid from its start to its target")
+        hx, hy = agent.hx, agent.hy
+        t0 = 1 if agent.start_leg else 0
+        own = grid.touched_cells(agent.start_cell, agent.start_cell, hx, hy)
+        if agent.start_leg and not (table.free(agent.start_cells, 1, index)
+                                    and table.free(own, 2, index)):
+            raise _OrderFailed(index, "its start cell is taken at once")
+        horizon = t0 + dist[agent.start_cell] + HORIZON_SLACK + max(table.last.values(),
+                                                                    default=0) // 2
+        start = (agent.start_cell, t0)
+        parent: dict[tuple[int, int], tuple[int, int] | None] = {start: None}
+        heap = [(t0 + dist[agent.start_cell], -t0, agent.start_cell, t0)]
+        expansions = 0
+        goal_state = None
+        final = agent.final_cells
+        goal = frozenset(final) | frozenset(grid.touched_cells(agent.goal_cell,
+                                                               agent.goal_cell, hx, hy))
+        while heap:
+            _, _, u, t = heapq.heappop(heap)
+            expansions += 1
+            if expansions > MAX_EXPANSIONS:
+                break
+            if u == agent.goal_cell:
+                after = 2 * t + 1 if agent.final_leg else 2 * t
+                if table.free_after(final, after):
+                    goal_state = (u, t)
+                    break
+            if t >= horizon:
+                continue
+            for v in self._neighbours_of(u):
+                state = (v, t + 1)
+                if state in parent:
+                    continue
+                d = dist.get(v)
+                if d is None:
+                    continue
+                if not table.free(grid.touched_cells(u, v, hx, hy), 2 * t + 1, index, goal):
+                    continue
+                if not table.free(grid.touched_cells(v, v, hx, hy), 2 * t + 2, index, goal):
+                    continue
+                parent[state] = (u, t)
+                heapq.heappush(heap, (t + 1 + d, -(t + 1), v, t + 1))
+        if goal_state is None:
+            raise _OrderFailed(index, "every way to its target is taken by other movers "
+                                      "(prioritized planning found no slot)")
+        cells = []
+        state: tuple[int, int] | None = goal_state
+        while state is not None:
+            cells.append(state[0])
+            state = parent[state]
+        cells.reverse()
+        return self._route(agent, cells)
+
+    def _route(self, agent: Agent, cells: list[int]) -> Route:
+        grid = self.grid
+        hx, hy = agent.hx, agent.hy
+        points: list[tuple[float, float]] = []
+        occupied: list[tuple[int, ...]] = []
+        route_cells: list[int] = []
+        if agent.start_leg:
+            points.append(agent.start[:2])
+            route_cells.append(-1)
+            occupied += [agent.start_cells, agent.start_cells]
+        for k, cell in enumerate(cells):
+            if k:
+                occupied.append(grid.touched_cells(cells[k - 1], cell, hx, hy))
+            points.append(grid.centre(cell))
+            route_cells.append(cell)
+            occupied.append(grid.touched_cells(cell, cell, hx, hy))
+        if agent.final_leg:
+            points.append(agent.target[:2])
+            route_cells.append(-1)
+            occupied += [agent.final_cells, agent.final_cells]
+        else:
+            occupied[-1] = tuple(sorted(set(occupied[-1]) | set(agent.final_cells)))
+        return Route(agent, points, occupied, route_cells)
+
+
+class _OrderFailed(Exception):
+    def __init__(self, index: int, reason: str) -> None:
+        super().__init__(reason)
+        self.index = index
+        self.reason = reason
+
+
+def straight_runs(route: Route) -> list[tuple[int, int]]:
+    """(first, last) step of each run of moves in one direction, waits dropped."""
+    runs: list[tuple[int, int]] = []
+    points = route.points
+    k = 0
+    n = len(points)
+    while k < n - 1:
+        if points[k + 1] == points[k]:
+            k += 1
+            continue
+        d = _direction(points[k], points[k + 1])
+        end = k + 1
+        while end < n - 1 and points[end + 1] != points[end] and \
+                _direction(points[end], points[end + 1]) == d:
+            end += 1
+        runs.append((k, end))
+        k = end
+    return runs
+
+
+def _direction(a: tuple[float, float], b: tuple[float, float]) -> tuple[float, float]:
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    length = math.hypot(dx, dy)
+    return round(dx / length, 6), round(dy / length, 6)

@@ -1,0 +1,641 @@
+"""The planar router: plans routes for a group's movers and drives them with TF5430 commands.
+
+``Router(group)`` joins the runtime as a program. ``route({mover: target, ...})`` plans at
+once (planner.py) and returns one ``RouteCommand`` per mover with PLCopen-style outputs
+(busy, done, error, error_id, command_aborted, message). Each cycle the router then sends
+every mover whose next leg may start a MoveToPosition (MoveC for a final turn):
+
+- the plan's order is kept: a leg starts only when the movers that the plan lets through
+  its cells before it have passed them (an action dependency graph of the plan), so the
+  movers cannot wait on each other in a circle, whatever their real speeds;
+- consecutive moves in one direction become one leg, planned time-optimally by the mover;
+- before sending, the router asks the group whether it would admit the leg's swept area
+  now (``ReservationRegistry.blocker``) and waits a cycle if not: the group's own check
+  still decides every command, so safety never rests on the plan.
+
+Movers not routed, static obstacles given to the router, the stator surface (parts where
+they stand) are kept out of the plan; an unreachable or occupied target ends the mover's
+command with ``PLANAR_COLLISION`` and a message naming the blocker, and the other movers are
+routed around it standing where it is (docs/planar-routing.md).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import shapely
+from shapely.geometry.base import BaseGeometry
+
+from openmotion.core.errors import ConfigError, ErrorId
+from openmotion.kernel.command import Command, CommandStatus
+from openmotion.planar.enums import PlanarState
+from openmotion.planar.options import ST_MoveToPositionOptions
+from openmotion.planar.positions import PositionXYC
+from openmotion.planar.reservation import footprint
+from openmotion.planar.routing.grid import (
+    CLEARANCE,
+    RoutingGrid,
+    build_grid,
+    half_extents,
+    meets,
+)
+from openmotion.planar.routing.planner import Agent, Plan, Planner, PlanningFailed, Route
+
+if TYPE_CHECKING:
+    from openmotion.planar.environment import MC_PlanarEnvironment
+    from openmotion.planar.group import MC_PlanarGroup
+    from openmotion.planar.mover import MC_PlanarMover
+    from openmotion.planar.options import IPlcDynamicConstraint
+
+PLANNING_LIMIT = 5.0  #: a route call gives up on the movers left after this long [s]
+DEFAULT_TIME_BUDGET = 0.05  #: planning time a route call may spend improving its plan [s]
+AT_POSE = 1e-6  #: a mover this close to a point stands on it [mm]
+TURN_TOLERANCE = 1e-6  #: a target c this close to the mover's c needs no turn [°]
+TURN_MARGIN = 2.0  #: a turning footprint is kept inside its disc grown by this [mm]
+CANDIDATE_RINGS = 2  #: start and goal cells are looked for this many cells around a pose
+_TRANSLATE = ST_MoveToPositionOptions(use_orientation=False)
+
+
+class RouteCommand(Command):
+    """The handle of one mover's route: Busy until it stands on its target (Done), or Error
+    with ``error_id`` and a ``message`` naming the blocker, or CommandAborted when another
+    command took the mover or the group stopped it."""
+
+    __slots__ = ("mover", "target", "blocker", "route")
+
+    def __init__(self, mover: MC_PlanarMover, target: PositionXYC, issued_at: float) -> None:
+        super().__init__("Route", issued_at)
+        self.mover = mover
+        self.target = target
+        self.blocker: str | None = None  #: what keeps it from its target, when it failed
+        self.route: list[tuple[float, float]] = []  #: the planned way (centres) [mm]
+
+    @property
+    def command_aborted(self) -> bool:
+        """PLCopen's CommandAborted."""
+        return self.aborted
+
+    def __repr__(self) -> str:
+        detail = f" {self.error_id.name}: {self.message}" if self.error else ""
+        return f"<RouteCommand {self.mover.name} {self.status.name}{detail}>"
+
+
+@dataclass
+class _Leg:
+    command: object  #: the mover's PlanarCommand
+    first: int  #: the route point it starts from
+    last: int  #: the route point it ends on (-1: the final turn)
+    start: tuple[float, float]
+    end: tuple[float, float]
+    shortcut: bool = False  #: off the plan's cells order: its points count when it ends
+
+
+@dataclass
+class _Drive:
+    """The execution of one mover's route."""
+
+    handle: RouteCommand
+    route: Route
+    deps: list[list[tuple[int, int]]]  #: per step: (agent, points it must have reached)
+    index: int = 0  #: its agent number in the plan
+    reached: int = 0
+    leg: _Leg | None = None
+    turned: bool = False
+    waits: int = 0
+
+    @property
+    def mover(self) -> MC_PlanarMover:
+        return self.handle.mover
+
+
+@dataclass
+class RouterStats:
+    """What the router did since it was made."""
+
+    legs: int = 0  #: commands sent
+    rejected: int = 0  #: commands the group refused (the router retries them)
+    held_back: int = 0  #: legs kept for a cycle because the group would refuse them
+    plans: list[Plan] = field(default_factory=list)
+
+
+class Router:
+    """Routes movers of ``group`` around each other, the surface's edges, parts, movers it
+    does not route and ``obstacles`` (shapely geometries in the group's frame, with names
+    from ``obstacle_names``). ``pitch`` sets the routing cells' side (e.g. 240 mm: one cell
+    per stator, their centres the stators' centres); by default the cells are as small as the
+    largest mover allows, which leaves the most room between movers."""
+
+    def __init__(self, group: MC_PlanarGroup, environment: MC_PlanarEnvironment | None = None,
+                 *, obstacles: Sequence[BaseGeometry] = (),
+                 obstacle_names: Sequence[str] | None = None,
+                 constraint: IPlcDynamicConstraint | None = None,
+                 time_budget: float = DEFAULT_TIME_BUDGET, pitch: float | None = None,
+                 seed: int = 0) -> None:
+        self.group = group
+        self.system = group.system
+        self.environment = environment or self.system.environment()
+        if self.environment is None:
+            raise ConfigError("Router: the runtime has no MC_PlanarEnvironment")
+        self.obstacles = tuple(obstacles)
+        names = list(obstacle_names or [])
+        self.obstacle_names = tuple(names[i] if i < len(names) else f"obstacle {i}"
+                                    for i in range(len(self.obstacles)))
+        self.constraint = constraint
+        self.time_budget = time_budget
+        #: the routing cell's side [mm]; None: the smallest that holds the largest mover
+        self.pitch = pitch
+        self.seed = seed
+        self.stats = RouterStats()
+        self.grid: RoutingGrid | None = None
+        self._drives: list[_Drive] = []
+        self._visits: dict[int, list[tuple[int, int, int]]] = {}
+        self._plan_tables: tuple[dict[tuple[int, int], int], dict[int, int]] = ({}, {})
+        self._replan_when_standing: tuple[dict[MC_PlanarMover, RouteCommand], float] | None = None
+        self.system.runtime.add_program(self._cycle)
+
+    # -- planning ---------------------------------------------------------------------------
+
+    @property
+    def busy(self) -> bool:
+        return any(d.handle.busy for d in self._drives)
+
+    @property
+    def routes(self) -> dict[str, list[tuple[float, float]]]:
+        """The planned way of every mover routed last, by mover name (for plots)."""
+        return {d.mover.name: list(d.handle.route) for d in self._drives}
+
+    def route(self, targets: Mapping[MC_PlanarMover, PositionXYC | Sequence[float]],
+              time_budget: float | None = None) -> dict[MC_PlanarMover, RouteCommand]:
+        """Plan routes of ``targets``' movers to their poses (x, y, c) and start them in the
+        next cycle. A mover already routed gets its new target: the movers it routes are
+        re-planned together (D-303)."""
+        now = self.system.now
+        budget = self.time_budget if time_budget is None else time_budget
+        wanted: dict[MC_PlanarMover, PositionXYC] = {}
+        for mover, target in targets.items():
+            wanted[mover] = target if isinstance(target, PositionXYC) else PositionXYC(
+                *[float(v) for v in target])
+        for drive in self._drives:  # re-plan the ones still on their way as well
+            if drive.handle.busy and drive.mover not in wanted:
+                wanted[drive.mover] = drive.handle.target
+        handles = {m: RouteCommand(m, t, now) for m, t in wanted.items()}
+        for drive in self._drives:
+            if drive.handle.busy:
+                new = handles[drive.mover]
+                if drive.handle.target is new.target:  # the same route goes on
+                    handles[drive.mover] = drive.handle
+                else:
+                    drive.handle.end(CommandStatus.ABORTED, now)
+        self._plan(handles, budget)
+        return {m: handles[m] for m in targets}
+
+    def _plan(self, handles: dict[MC_PlanarMover, RouteCommand], budget: float) -> None:
+        """Plan ``handles``' movers once every one of them stands (a moving one first ends
+        its leg: ``_cycle`` calls again)."""
+        if any(d.leg is not None for d in self._drives):
+            self._replan_when_standing = (handles, budget)  # no new leg until all stand
+            return
+        self._replan_when_standing = None
+        failed: dict[MC_PlanarMover, str] = {}
+        active = {m: h for m, h in handles.items() if h.busy}
+        for m, h in active.items():
+            problem = _not_routable(m, self.group)
+            if problem:
+                failed[m] = problem
+                h.blocker = None
+                h.end(CommandStatus.ERROR, self.system.now, ErrorId.PLANAR_WRONG_STATE,
+                      f"{m.name}: {problem}")
+        routed = {m: h for m, h in active.items() if m not in failed}
+        plan = None
+        started = time.perf_counter()
+        for _ in range(len(routed) + 1):
+            if not routed:
+                break
+            if time.perf_counter() - started > PLANNING_LIMIT:  # give up on the rest
+                for m, h in routed.items():
+                    h.blocker = "other movers"
+                    h.end(CommandStatus.ERROR, self.system.now, ErrorId.PLANAR_COLLISION,
+                          f"{m.name}: no route found within {PLANNING_LIMIT:g} s of planning")
+                routed = {}
+                break
+            try:
+                plan, agents = self._plan_once(routed, budget)
+            except _Blocked as blocked:
+                handle = routed.pop(blocked.mover)
+                handle.blocker = blocked.blocker
+                handle.end(CommandStatus.ERROR, self.system.now, ErrorId.PLANAR_COLLISION,
+                           f"{blocked.mover.name}: {blocked.reason}")
+                continue
+            break
+        self._drives = []
+        if plan is None:
+            return
+        self.stats.plans.append(plan)
+        movers = list(routed)
+        deps, self._visits = _dependencies(plan.routes)
+        self._plan_tables = (plan.held, plan.parked)
+        for k, route in enumerate(plan.routes):
+            handle = routed[movers[k]]
+            handle.route = list(route.points)
+            handle.start()
+            self._drives.append(_Drive(handle, route, deps[k], k))
+
+    def _plan_once(self, routed: dict[MC_PlanarMover, RouteCommand], budget: float
+                   ) -> tuple[Plan, list[Agent]]:
+        group_movers = [m for m in self.system.movers if m.group is self.group]
+        side = max(max(m.parameters.mover_width, m.parameters.mover_height)
+                   for m in (*routed, *group_movers))
+        labels: list[str] = list(self.obstacle_names)
+        geometries: list[BaseGeometry] = list(self.obstacles)
+        for m in group_movers:
+            if m not in routed:
+                labels.append(_mover_label(m))
+                geometries.append(m.footprint())
+        surface = self.environment.surface
+        grid = build_grid(surface, side, geometries, self.pitch)
+        self.grid = grid
+        grown = shapely.buffer(surface, 1e-6, join_style="mitre")
+        shapely.prepare(grown)
+        agents: list[Agent] = []
+        targets: list[tuple[MC_PlanarMover, BaseGeometry]] = []
+        for mover, handle in routed.items():
+            agent = self._agent(mover, handle.target, grid, grown, geometries, labels, targets)
+            targets.append((mover, footprint(*agent.target, mover.parameters.mover_width,
+                                             mover.parameters.mover_height)))
+            agents.append(agent)
+        _check_pairs(agents, list(routed))
+        planner = Planner(grid, agents)
+        for mover, agent in zip(routed, agents, strict=True):
+            if agent.start_cell not in planner.distance(agent):
+                blocker = self._cut_off(agent, surface, side, labels, geometries)
+                raise _Blocked(mover, blocker, f"its target cannot be reached: {blocker} "
+                                               f"cuts it off")
+        try:
+            plan = planner.plan(budget, self.seed)
+        except PlanningFailed as failed:
+            mover = list(routed)[agents.index(failed.agent)]
+            raise _Blocked(mover, "other movers", f"no route found: {failed.reason}") from None
+        return plan, agents
+
+    def _agent(self, mover: MC_PlanarMover, target: PositionXYC, grid: RoutingGrid,
+               surface: BaseGeometry, geometries: list[BaseGeometry], labels: list[str],
+               targets: list[tuple[MC_PlanarMover, BaseGeometry]]) -> Agent:
+        p = mover.parameters
+        w, h = p.mover_width, p.mover_height
+        x, y, c = mover.pose
+        tx, ty, tc = _finite(target)
+        goal_print = footprint(tx, ty, tc, w, h)
+        if not surface.covers(goal_print):
+            raise _Blocked(mover, "the stator surface",
+                           f"its target ({tx:g}, {ty:g}, {tc:g}) leaves the stator surface")
+        for label, geometry in zip(labels, geometries, strict=True):
+            if meets(goal_print, geometry):
+                raise _Blocked(mover, label, f"its target ({tx:g}, {ty:g}) is occupied by "
+                                             f"{label}")
+        for other, geometry in targets:
+            if meets(goal_print, geometry):
+                raise _Blocked(mover, _mover_label(other),
+                               f"its target ({tx:g}, {ty:g}) overlaps the target of "
+                               f"{_mover_label(other)}")
+        hx, hy = half_extents(w, h, c)
+        turn = abs(_angle(tc - c)) > TURN_TOLERANCE
+        radius = math.hypot(w, h) / 2.0 + TURN_MARGIN
+
+        def sweep_ok(a: tuple[float, float], b: tuple[float, float], turning: bool) -> bool:
+            if turning:
+                area = shapely.buffer(shapely.linestrings([a, b]) if a != b else
+                                      shapely.points(a), radius)
+            else:
+                area = shapely.convex_hull(shapely.union(footprint(*a, c, w, h),
+                                                         footprint(*b, c, w, h)))
+            return surface.covers(area) and not any(meets(area, g) for g in geometries)
+
+        start_cell = self._nearest(grid, (x, y), lambda cen: sweep_ok((x, y), cen, False))
+        if start_cell is None:
+            raise _Blocked(mover, "the stator surface", "its start pose lies on no free "
+                                                       "routing cell")
+        goal_cell = self._nearest(grid, (tx, ty), lambda cen: sweep_ok(cen, (tx, ty), turn)
+                                  and (not turn or sweep_ok((tx, ty), (tx, ty), True)))
+        if goal_cell is None:
+            raise _Blocked(mover, "the stator surface", f"no routing cell leads to its target "
+                                                       f"({tx:g}, {ty:g}, {tc:g}): too close to "
+                                                       f"an edge or an obstacle to turn there"
+                           if turn else f"no routing cell leads to its target ({tx:g}, {ty:g})")
+        sc, gc = grid.centre(start_cell), grid.centre(goal_cell)
+        start_leg = math.hypot(x - sc[0], y - sc[1]) > AT_POSE
+        final_leg = math.hypot(tx - gc[0], ty - gc[1]) > AT_POSE or turn
+        start_cells = grid.touched((x, y), sc, hx, hy) if start_leg else \
+            grid.touched_cells(start_cell, start_cell, hx, hy)
+        if turn:
+            final_cells = grid.touched(gc, (tx, ty), radius, radius)
+        else:
+            thx, thy = half_extents(w, h, tc)
+            final_cells = grid.touched(gc, (tx, ty), max(hx, thx), max(hy, thy))
+        return Agent(mover.name, (x, y, c), (tx, ty, tc), hx, hy, start_cell, goal_cell,
+                     start_cells, final_cells, start_leg, final_leg)
+
+    @staticmethod
+    def _nearest(grid: RoutingGrid, point: tuple[float, float], ok) -> int | None:  # noqa: ANN001
+        px, py = grid.pitch
+        cells = []
+        x0, y0 = point
+        for dj in range(-CANDIDATE_RINGS, CANDIDATE_RINGS + 1):
+            for di in range(-CANDIDATE_RINGS, CANDIDATE_RINGS + 1):
+                cell = grid.cell_at(x0 + di * px, y0 + dj * py)
+                if cell is not None and grid.free[cell]:
+                    cx, cy = grid.centre(cell)
+                    cells.append((math.hypot(cx - x0, cy - y0), cell))
+        for _, cell in sorted(set(cells)):
+            if ok(grid.centre(cell)):
+                return cell
+        return None
+
+    def _cut_off(self, agent: Agent, surface: BaseGeometry,
+                 side: float, labels: list[str], geometries: list[BaseGeometry]) -> str:
+        """What separates the mover from its target: the first obstacle or mover whose
+        removal opens a way, else the stator surface."""
+        from openmotion.planar.routing.planner import distances
+
+        for k in range(len(geometries)):
+            rest = geometries[:k] + geometries[k + 1:]
+            grid = build_grid(surface, side, rest, self.pitch)
+            if agent.start_cell in distances(grid, agent.goal_cell):
+                return labels[k]
+        return "the stator surface"
+
+    # -- execution --------------------------------------------------------------------------
+
+    def _cycle(self) -> None:
+        """The router's program: follow the legs sent, send the next ones (phase 1)."""
+        if not self._drives:
+            return
+        now = self.system.now
+        for drive in self._drives:
+            self._follow(drive, now)
+        pending = self._replan_when_standing
+        if pending is not None:
+            if all(d.leg is None for d in self._drives):
+                self._plan(*pending)
+            return
+        sent: list[BaseGeometry] = []
+        reached = [d.reached for d in self._drives]
+        for drive in self._drives:
+            if drive.handle.busy and drive.leg is None:
+                self._next_leg(drive, reached, sent)
+
+    def _follow(self, drive: _Drive, now: float) -> None:
+        leg = drive.leg
+        handle = drive.handle
+        if not handle.busy:
+            return
+        mover = drive.mover
+        if mover.state is not PlanarState.ENABLED or mover.group is not self.group:
+            drive.leg = None
+            handle.end(CommandStatus.ABORTED, now, ErrorId.NO_ERROR,
+                       f"{mover.name} is {mover.state.name} or left the group")
+            return
+        if leg is None:
+            return
+        command = leg.command
+        if command.done:  # type: ignore[attr-defined]
+            drive.leg = None
+            if leg.last < 0:
+                drive.turned = True
+            else:
+                drive.reached = leg.last
+        elif command.error:  # type: ignore[attr-defined]
+            drive.leg = None
+            self.stats.rejected += 1
+        elif command.aborted:  # type: ignore[attr-defined]
+            drive.leg = None
+            handle.end(CommandStatus.ABORTED, now, ErrorId.NO_ERROR,
+                       f"{mover.name}: its leg was aborted by another command")
+            return
+        elif leg.last >= 0 and not leg.shortcut:  # passed points count as it moves
+            x, y, _ = mover.pose
+            sx, sy = leg.start
+            ex, ey = leg.end
+            length = math.hypot(ex - sx, ey - sy)
+            if length > 0.0:
+                travelled = ((x - sx) * (ex - sx) + (y - sy) * (ey - sy)) / length
+                points = drive.route.points
+                k = drive.reached
+                while k + 1 < leg.last and math.hypot(points[k + 1][0] - sx,
+                                                      points[k + 1][1] - sy) <= travelled:
+                    k += 1
+                drive.reached = k
+        if drive.leg is None and self._arrived(drive):
+            handle.end(CommandStatus.DONE, now)
+
+    def _arrived(self, drive: _Drive) -> bool:
+        if drive.reached < len(drive.route.points) - 1:
+            return False
+        return not self._needs_turn(drive) or drive.turned
+
+    def _needs_turn(self, drive: _Drive) -> bool:
+        return abs(_angle(drive.route.agent.target[2] - drive.mover.pose.c)) > TURN_TOLERANCE
+
+    def _ready(self, drive: _Drive, step: int, reached: list[int]) -> bool:
+        return all(reached[a] >= need for a, need in drive.deps[step])
+
+    def _next_leg(self, drive: _Drive, reached: list[int], sent: list[BaseGeometry]) -> None:
+        points = drive.route.points
+        k = drive.reached
+        last = len(points) - 1
+        while k < last and points[k + 1] == points[k] and self._ready(drive, k, reached):
+            k += 1  # a wait of the plan: the movers it waited for have passed
+        drive.reached = k
+        mover = drive.mover
+        if k == last:
+            if self._needs_turn(drive) and not drive.turned:
+                self._send_turn(drive, sent)
+            elif self._arrived(drive):
+                drive.handle.end(CommandStatus.DONE, self.system.now)
+            return
+        if not self._ready(drive, k, reached):
+            return
+        direction = _unit(points[k], points[k + 1])
+        end = k + 1
+        while end < last and self._ready(drive, end, reached):
+            if points[end + 1] == points[end]:
+                nxt = end + 1
+                while nxt < last and points[nxt + 1] == points[nxt]:
+                    nxt += 1
+                if nxt == last or _unit(points[nxt], points[nxt + 1]) != direction or \
+                        not all(self._ready(drive, s, reached) for s in range(end, nxt + 1)):
+                    break
+                end = nxt
+                continue
+            if _unit(points[end], points[end + 1]) != direction:
+                break
+            end += 1
+        shortcut = self._shortcut(drive, k, end, reached)
+        x, y, c = mover.pose
+        p = mover.parameters
+        for last_point in (shortcut, end):
+            if last_point is None:
+                continue
+            off_plan = last_point is shortcut
+            target = points[last_point]
+            area = shapely.convex_hull(shapely.union(
+                footprint(x, y, c, p.mover_width, p.mover_height),
+                footprint(*target, c, p.mover_width, p.mover_height)))
+            if self.group.registry.blocker(mover.member, area) is None and \
+                    not any(meets(area, other) for other in sent):
+                break
+        else:  # the group would refuse even the plan's own leg: wait for it to clear
+            self.stats.held_back += 1
+            drive.waits += 1
+            return
+        sent.append(area)
+        command = mover.move_to_position(PositionXYC(target[0], target[1], c), self.constraint,
+                                         _TRANSLATE)
+        self.stats.legs += 1
+        drive.leg = _Leg(command, k, last_point, (x, y), target, off_plan)
+
+    def _shortcut(self, drive: _Drive, k: int, straight_end: int, reached: list[int]
+                  ) -> int | None:
+        """The farthest route point beyond ``straight_end`` that a straight leg from point
+        ``k`` may reach (any angle): every cell it touches is held by no other mover in the
+        plan from step k to that point, and whoever held it before has passed."""
+        points = drive.route.points
+        last = len(points) - 1
+        if self.grid is None or straight_end >= last:
+            return None
+        held, parked = self._plan_tables
+        agent = drive.route.agent
+        me = drive.index
+        for end in range(last, straight_end, -1):
+            if points[end] == points[end - 1] and end < last:
+                continue
+            if not all(self._ready(drive, s, reached) for s in range(k, end)):
+                continue
+            cells = self.grid.touched(points[k], points[end], agent.hx, agent.hy)
+            if self._clear(cells, 2 * k, 2 * end, me, held, parked, reached):
+                return end
+        return None
+
+    def _clear(self, cells: tuple[int, ...], first: int, last: int, me: int,
+               held: dict[tuple[int, int], int], parked: dict[int, int],
+               reached: list[int]) -> bool:
+        for cell in cells:
+            if parked.get(cell, 1 << 30) <= last and held.get((cell, last)) != me:
+                return False
+            for half in range(first, last + 2):
+                owner = held.get((cell, half))
+                if owner is not None and owner != me:
+                    return False
+            for _, end, agent in self._visits.get(cell, ()):  # who was there passed
+                if agent != me and end < first and reached[agent] < end // 2 + 1:
+                    return False
+        return True
+
+    def _send_turn(self, drive: _Drive, sent: list[BaseGeometry]) -> None:
+        mover = drive.mover
+        x, y, _ = mover.pose
+        p = mover.parameters
+        area = shapely.buffer(shapely.points(x, y), math.hypot(p.mover_width, p.mover_height)
+                              / 2.0 + TURN_MARGIN)
+        if self.group.registry.blocker(mover.member, area) is not None or \
+                any(meets(area, other) for other in sent):
+            self.stats.held_back += 1
+            return
+        sent.append(area)
+        command = mover.move_c(drive.route.agent.target[2])
+        self.stats.legs += 1
+        drive.leg = _Leg(command, drive.reached, -1, (x, y), (x, y))
+
+
+class _Blocked(Exception):
+    def __init__(self, mover: MC_PlanarMover, blocker: str, reason: str) -> None:
+        super().__init__(reason)
+        self.mover = mover
+        self.blocker = blocker
+        self.reason = reason
+
+
+def _dependencies(routes: list[Route]) -> tuple[list[list[list[tuple[int, int]]]],
+                                                dict[int, list[tuple[int, int, int]]]]:
+    """Per agent and step: (other agent, points it must have reached) before the step may
+    start, from the order in which the plan lets agents through each cell; and the visits
+    per cell: (first, last half-step, agent), in order."""
+    visits: dict[int, list[tuple[int, int, int]]] = {}  # cell -> (first, last half, agent)
+    for a, route in enumerate(routes):
+        open_: dict[int, int] = {}
+        for half, cells in enumerate(route.occupied):
+            current = set(cells)
+            for cell in list(open_):
+                if cell not in current:
+                    visits.setdefault(cell, []).append((open_.pop(cell), half - 1, a))
+            for cell in cells:
+                open_.setdefault(cell, half)
+        for cell, first in open_.items():
+            visits.setdefault(cell, []).append((first, 1 << 30, a))
+    deps: list[list[list[tuple[int, int]]]] = [
+        [[] for _ in range(max(1, len(r.points)))] for r in routes]
+    for cell_visits in visits.values():
+        cell_visits.sort()
+        for (_, last, a), (first, _, b) in zip(cell_visits, cell_visits[1:], strict=False):
+            if a == b:
+                continue
+            step = max(0, (first - 1) // 2)  # the step whose move or arrival takes the cell
+            deps[b][step].append((a, last // 2 + 1))
+    return deps, visits
+
+
+def _check_pairs(agents: list[Agent], movers: list[MC_PlanarMover]) -> None:
+    starts: dict[int, int] = {}
+    for k, agent in enumerate(agents):
+        for cell in agent.start_cells:
+            if cell in starts:
+                raise _Blocked(movers[k], _mover_label(movers[starts[cell]]),
+                               f"it stands too close to {_mover_label(movers[starts[cell]])} "
+                               f"for the routing grid (one cell each)")
+            starts[cell] = k
+    goals: dict[int, int] = {}
+    for k, agent in enumerate(agents):
+        for cell in agent.final_cells:
+            if cell in goals:
+                raise _Blocked(movers[k], _mover_label(movers[goals[cell]]),
+                               f"its target is too close to the target of "
+                               f"{_mover_label(movers[goals[cell]])} for the routing grid "
+                               f"(one cell each)")
+            goals[cell] = k
+
+
+def _not_routable(mover: MC_PlanarMover, group: MC_PlanarGroup) -> str | None:
+    if mover.group is not group:
+        return "is not in the router's group"
+    if mover.state is not PlanarState.ENABLED:
+        return f"is {mover.state.name}, not Enabled"
+    if mover.in_motion:
+        return "is moving: a route starts from standstill"
+    return None
+
+
+def _mover_label(mover: MC_PlanarMover) -> str:
+    return f"mover {mover.name} (16#{mover.oid:08X})"
+
+
+def _finite(target: PositionXYC) -> tuple[float, float, float]:
+    values = (target.x, target.y, target.c)
+    if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in values):
+        raise ConfigError(f"route target {target}: x, y and c must be finite numbers")
+    return float(target.x), float(target.y), float(target.c)
+
+
+def _angle(d: float) -> float:
+    return (d + 180.0) % 360.0 - 180.0
+
+
+def _unit(a: tuple[float, float], b: tuple[float, float]) -> tuple[float, float]:
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    length = math.hypot(dx, dy)
+    return round(dx / length, 6), round(dy / length, 6)
+
+
+__all__ = ["CLEARANCE", "RouteCommand", "Router", "RouterStats"]
