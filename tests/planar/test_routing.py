@@ -180,7 +180,8 @@ def test_magbotsim_layouts_have_their_shapes_and_mover_counts() -> None:
     assert [layout.movers for layout in MAGBOTSIM_LAYOUTS] == [3, 3, 4, 4, 4, 3, 4, 4, 5, 5]
     assert [layout.shape for layout in MAGBOTSIM_LAYOUTS] == [
         (4, 3), (4, 3), (8, 5), (7, 7), (8, 6), (11, 6), (8, 6), (7, 7), (8, 6), (8, 8)]
-    assert len(magbotsim_layout("B0").stators()) == 12 and len(magbotsim_layout("B1").stators()) == 11
+    assert len(magbotsim_layout("B0").stators()) == 12
+    assert len(magbotsim_layout("B1").stators()) == 11
 
 
 @st.composite
