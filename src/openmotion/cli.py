@@ -637,6 +637,10 @@ def serve_command(
         metavar="process|thread", help="process: the machine steps in a process of its own, "
         "so busy servers never make a cycle late; thread: in the servers' process.")]
     = "process",
+    kernel_priority: Annotated[str, typer.Option(
+        metavar="realtime|nice|normal", help="What the kernel process asks the scheduler "
+        "for: real time for its thread (else a lower nice value), a lower nice value, or "
+        "nothing. Only what the system allows is taken.")] = "realtime",
     opcua: Annotated[bool, typer.Option("--opcua", help="Serve OPC UA.")] = False,
     opcua_port: Annotated[int, typer.Option(min=0, max=65535, help="TCP port of the OPC UA "
                                                                    "server (0: a free one).")]
@@ -682,6 +686,9 @@ def serve_command(
         raise _fail(f"error: --pace must be wall or lockstep, not {pace!r}")
     if kernel not in ("process", "thread"):
         raise _fail(f"error: --kernel must be process or thread, not {kernel!r}")
+    if kernel_priority not in ("realtime", "nice", "normal"):
+        raise _fail("error: --kernel-priority must be realtime, nice or normal, not "
+                    f"{kernel_priority!r}")
     if not (opcua or ads):
         raise _fail("error: choose at least one endpoint: --opcua, --ads")
     _check_host(bind, "--bind")
@@ -696,6 +703,7 @@ def serve_command(
         security = tuple(name.strip().lower() for name in opcua_security.split(",")
                          if name.strip())
         served = serve(path, pace=pace, speed=speed, bind=bind, kernel=kernel,
+                       kernel_priority=kernel_priority,
                        opcua={"port": opcua_port, "writable": writable, "users": users,
                               "certificates": tuple(trust or ()), "security": security,
                               "certificate_dir": opcua_cert_dir} if opcua else False,

@@ -19,7 +19,7 @@ def test_quick_serves_ten_axes_to_asyncua_and_pyads_at_once() -> None:
     assert ads["read_by_name_us"]["p50"] > ads["read_by_handle_us"]["p50"] > 0  # 3 requests
     assert set(result["goals"]) == {"lateness", "lost"}
     # judged on the kernel process (what serve runs); the kernel thread shown beside it
-    assert r["kernel"] == "process" and isinstance(r["kernel_nice"], int)
+    assert r["kernel"] == "process" and r["kernel_priority"] in ("realtime", "nice -10", "normal")
     thread = r["thread"]
     assert thread["kernel"] == "thread" and thread["cycles"] > 0
     assert thread["opcua"]["notifications"] > 0 and thread["ads"]["sum_reads"] > 0

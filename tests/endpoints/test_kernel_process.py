@@ -197,3 +197,22 @@ def test_a_board_keeps_only_running_commands_when_all_do_not_fit():
     board.write(Snapshot(1, 1, 0.001, np.zeros(1), many))
     assert sorted(board.read().handles) == [0, 1, 2]
     board.close()
+
+
+@pytest.mark.parametrize("priority", ["realtime", "nice", "normal"])
+def test_the_kernel_thread_gets_the_priority_asked_for_where_the_system_allows(priority):
+    with ProcessHost(two_axes(), pace="lockstep", priority=priority) as host:
+        got = host.kernel_priority
+        allowed = {"realtime": ("realtime", "nice -10", "normal"), "nice": ("nice -10", "normal"),
+                   "normal": ("normal",)}[priority]
+        assert got in allowed
+        thread = host.kernel_thread_id  # what the scheduler says of it is what was reported
+        policy = os.sched_getscheduler(thread)
+        assert (policy == os.SCHED_FIFO) == (got == "realtime")
+        if got != "realtime":
+            ours = os.getpriority(os.PRIO_PROCESS, 0)
+            assert os.getpriority(os.PRIO_PROCESS, thread) == \
+                (max(-20, ours - 10) if got == "nice -10" else ours)
+        assert host.advance(3).cycle == 3  # and it steps as before
+    with pytest.raises(ConfigError, match="priority must be one of realtime, nice, normal"):
+        ProcessHost(two_axes(), priority="urgent")

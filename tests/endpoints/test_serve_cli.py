@@ -26,6 +26,7 @@ def test_serve_help_lists_its_options() -> None:
 @pytest.mark.parametrize(("arguments", "message"), [
     (["--pace", "fast", "--opcua"], "--pace must be wall or lockstep"),
     (["--kernel", "fibre", "--opcua"], "--kernel must be process or thread"),
+    (["--kernel-priority", "urgent", "--opcua"], "--kernel-priority must be realtime"),
     ([], "choose at least one endpoint"),
     (["--opcua", "--bind", "not a host!"], "--bind 'not a host!' is neither"),
     (["--opcua", "--user", "nopassword"], "NAME:PASSWORD"),

@@ -85,7 +85,7 @@ def _run(axes: int, seconds: float, kernel: str, progress: Progress) -> dict[str
         cycles = host.snapshot.cycle - started
     opcua, ads = results
     return {
-        "kernel": kernel, "kernel_nice": getattr(host, "kernel_nice", None), "axes": axes,
+        "kernel": kernel, "kernel_priority": getattr(host, "kernel_priority", None), "axes": axes,
         "cycle_ms": 1.0, "seconds": seconds, "cycles": cycles,
         "late_p99_ms": status.late_p99_ms, "late_max_ms": status.late_max_ms,
         "slips": status.slips - first.slips,

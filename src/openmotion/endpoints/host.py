@@ -195,6 +195,11 @@ class MachineHost:
         return self._thread is not None and self._running.is_set()
 
     @property
+    def kernel_thread_id(self) -> int | None:
+        """The operating system's id of the kernel thread (None before ``start``)."""
+        return self._thread.native_id if self._thread is not None else None
+
+    @property
     def failed(self) -> bool:
         """Whether the kernel thread stopped on an error (``status().failure`` says which)."""
         return bool(self._failure)

@@ -19,6 +19,7 @@ endpoints do not know which one they serve.
 
 from __future__ import annotations
 
+import gc
 import mmap
 import multiprocessing
 import os
@@ -57,9 +58,12 @@ POLL = 0.0005  #: [s] how often a waiting reader looks at the board for a newer 
 READ_RETRIES = 10_000  #: tries of a reader before it calls the board stuck
 START_TIMEOUT = 30.0  #: [s] for the kernel process to say it is ready
 STOP_TIMEOUT = 5.0  #: [s] for the kernel process to end before it is killed
-#: how much the kernel process raises its scheduling priority where it may (a nice value;
-#: it sleeps between cycles, so it only ever takes its few per cent of a core sooner)
+#: how much the kernel process lowers its nice value where it may (D-321)
 KERNEL_NICE = -10
+#: the real-time priority (SCHED_FIFO, the lowest) of the kernel thread where it may (D-321)
+KERNEL_RT_PRIORITY = 1
+#: what a kernel process may ask of the scheduler: real time (else nice), nice, or nothing
+PRIORITIES = ("realtime", "nice", "normal")
 _HEADER = 8  #: version, seq, cycle, time, handle bytes, failed, (2 spare)
 
 
@@ -160,9 +164,13 @@ class ProcessHost:
     """
 
     def __init__(self, machine_: Machine | Runtime, *, pace: Pace | str = Pace.WALL,
-                 speed: float = 1.0) -> None:
+                 speed: float = 1.0, priority: str = "realtime") -> None:
         if not kernel_process_available():
             raise HostError("a kernel process needs fork (POSIX); use MachineHost")
+        if priority not in PRIORITIES:
+            raise ConfigError(f"priority must be one of {', '.join(PRIORITIES)}, "
+                              f"not {priority!r}")
+        self.priority = priority
         #: the machine as built; the kernel process steps its copy, this one stays at rest
         #: and describes the machine (model, names, commands) to the servers
         self._kernel = MachineHost(machine_, pace=pace, speed=speed)
@@ -183,8 +191,10 @@ class ProcessHost:
         self._clients: Counter[str] = Counter()
         self._started = False
         self._closed = False
-        #: the kernel process's nice value, once it runs (lower than ours: it got priority)
-        self.kernel_nice: int | None = None
+        #: what the scheduler gave the kernel ("realtime", "nice -10" or "normal"), once it
+        #: runs: the ``priority`` asked for, or less where the system refused it
+        self.kernel_priority: str | None = None
+        self.kernel_thread_id: int | None = None  #: the kernel thread's id in the system
 
     @classmethod
     def for_scenario(cls, source: str | Path | Scenario, **options: Any) -> ProcessHost:
@@ -200,19 +210,20 @@ class ProcessHost:
         if self._process is None:
             ours, theirs = multiprocessing.Pipe()
             process = multiprocessing.get_context("fork").Process(
-                target=_kernel_main, args=(self._kernel, self._board, theirs, ours),
+                target=_kernel_main,
+                args=(self._kernel, self._board, theirs, ours, self.priority),
                 name="openmotion-kernel", daemon=True)
             process.start()
             theirs.close()
             self._process, self._pipe = process, ours
-            self.kernel_nice = int(self._ask("ready", timeout=START_TIMEOUT))
+            self._ask("ready", timeout=START_TIMEOUT)
         return self
 
     def start(self) -> ProcessHost:
         if self._started:
             raise HostError("the host runs already")
         self.prepare()
-        self._ask("start")
+        self.kernel_thread_id, self.kernel_priority = self._ask("start")
         self._started = True
         return self
 
@@ -389,11 +400,12 @@ class ProcessHost:
 
 
 def _kernel_main(host: MachineHost, board: SnapshotBoard, pipe: Connection,
-                 other_end: Connection) -> None:
+                 other_end: Connection, priority: str) -> None:
     """The kernel process: the host steps the machine; requests come on ``pipe``."""
     other_end.close()
-    with suppress(OSError):  # not allowed to: it runs at the servers' priority
-        os.nice(KERNEL_NICE)
+    # everything the fork copied stays: the collector need not walk it again and again
+    # (a full collection over the servers' whole heap is a pause of milliseconds)
+    gc.freeze()
     host.observe(board.write)
     objects = list(host.model)
 
@@ -404,11 +416,12 @@ def _kernel_main(host: MachineHost, board: SnapshotBoard, pipe: Connection,
         host.set_speed(speed)
         return host.speed
 
-    def start() -> None:
+    def start() -> tuple[int | None, str]:
         host.start()
+        return host.kernel_thread_id, _raise_priority(host.kernel_thread_id, priority)
 
     requests: dict[str, Callable[..., Any]] = {
-        "ready": lambda: os.nice(0),
+        "ready": lambda: None,
         "start": start,
         "call": lambda ref, name, inputs: host.call(owner(ref), name, inputs),
         "switch": lambda ref, name, inputs: host.switch(owner(ref), name, inputs),
@@ -438,6 +451,22 @@ def _kernel_main(host: MachineHost, board: SnapshotBoard, pipe: Connection,
             pipe.send(reply)
     except (EOFError, OSError, KeyboardInterrupt):  # the servers' process went away
         host.stop()
+
+
+def _raise_priority(thread: int | None, priority: str) -> str:
+    """Ask the scheduler for the kernel thread's ``priority``; what it got (D-321)."""
+    if thread is None or priority == "normal":
+        return "normal"
+    if priority == "realtime":
+        with suppress(OSError, AttributeError):  # no right to, or no such scheduler here
+            os.sched_setscheduler(thread, os.SCHED_FIFO, os.sched_param(KERNEL_RT_PRIORITY))
+            return "realtime"
+    try:
+        now = os.getpriority(os.PRIO_PROCESS, thread)  # Linux: of one thread
+        os.setpriority(os.PRIO_PROCESS, thread, max(-20, now + KERNEL_NICE))
+    except (OSError, AttributeError):
+        return "normal"
+    return f"nice {KERNEL_NICE}"
 
 
 def _portable(error: Exception) -> Exception:

@@ -146,13 +146,16 @@ class Serving:
 
 def serve(source: str | Path | Scenario | MachineHost | ProcessHost | None = None, *,
           pace: Pace | str = Pace.WALL, speed: float = 1.0, bind: str = LOOPBACK,
-          kernel: str = KERNEL_PROCESS, opcua: bool | Mapping[str, Any] = False,
+          kernel: str = KERNEL_PROCESS, kernel_priority: str = "realtime",
+          opcua: bool | Mapping[str, Any] = False,
           ads: bool | Mapping[str, Any] = False) -> Serving:
     """A machine served by the endpoints chosen (``True`` or their options: ``port`` ...);
     not started: use it as a context manager or call ``start()``. ``source`` is a scenario
     (a path, a shipped example's name, a Scenario; default the shipped default) or a host.
     ``kernel``: "process" steps the machine in a process of its own, away from the servers
-    (D-320; where the platform cannot fork, a thread); "thread" in the servers' process."""
+    (D-320; where the platform cannot fork, a thread); "thread" in the servers' process.
+    ``kernel_priority``: what a kernel process asks the scheduler for (D-321): "realtime"
+    (else a lower nice value), "nice" or "normal"."""
     chosen = {name: ({} if options is True else dict(options))
               for name, options in (("opcua", opcua), ("ads", ads)) if options}
     if kernel not in KERNELS:
@@ -163,7 +166,9 @@ def serve(source: str | Path | Scenario | MachineHost | ProcessHost | None = Non
         from openmotion.examples import resolve_scenario
 
         scenario = source if isinstance(source, Scenario) else resolve_scenario(source)
-        cls = ProcessHost if kernel == KERNEL_PROCESS and kernel_process_available() \
-            else MachineHost
-        host = cls.for_scenario(scenario, pace=pace, speed=speed)
+        if kernel == KERNEL_PROCESS and kernel_process_available():
+            host = ProcessHost.for_scenario(scenario, pace=pace, speed=speed,
+                                            priority=kernel_priority)
+        else:
+            host = MachineHost.for_scenario(scenario, pace=pace, speed=speed)
     return Serving(host, chosen, bind)
