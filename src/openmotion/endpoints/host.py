@@ -241,9 +241,9 @@ class MachineHost:
             raise ConfigError(f"no signal {name!r}")
         return float((snapshot or self._snapshot).values[index])
 
-    def handle(self, ticket: int) -> HandleState:
-        """The outputs of the command ``ticket`` in the newest snapshot."""
-        state = self._snapshot.handles.get(ticket)
+    def handle(self, ticket: int, snapshot: Snapshot | None = None) -> HandleState:
+        """The outputs of the command ``ticket`` in ``snapshot`` (the newest by default)."""
+        state = (snapshot or self._snapshot).handles.get(ticket)
         if state is None:
             raise ConfigError(f"no command {ticket}")
         return state

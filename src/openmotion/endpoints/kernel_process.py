@@ -277,18 +277,13 @@ class ProcessHost:
             time.sleep(POLL)
         return self._board.read()
 
-    def value(self, name: str, snapshot: Snapshot | None = None) -> float:
-        index = self.index.get(name)
-        if index is None:
-            self.model.signal(name)  # raises ConfigError naming the choices
-            raise ConfigError(f"no signal {name!r}")
-        return float((snapshot or self.snapshot).values[index])
+    # the description is the resting copy's: it answers with the board's snapshot
 
-    def handle(self, ticket: int) -> HandleState:
-        state = self.snapshot.handles.get(ticket)
-        if state is None:
-            raise ConfigError(f"no command {ticket}")
-        return state
+    def value(self, name: str, snapshot: Snapshot | None = None) -> float:
+        return self._kernel.value(name, snapshot or self.snapshot)
+
+    def handle(self, ticket: int, snapshot: Snapshot | None = None) -> HandleState:
+        return self._kernel.handle(ticket, snapshot or self.snapshot)
 
     def command(self, owner: str | MachineObject, name: str) -> WireCommand:
         return self._kernel.command(owner, name)
