@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 
 from openmotion.rail.braking import brake_phases
 from openmotion.rail.gap_control import TOLERANCE, Pairs, _safe, min_brake_gap
+from openmotion.rail.kernels import brake_gap_holds
 
 
 def _boundaries(p: np.ndarray, v: np.ndarray, a: np.ndarray, durations: np.ndarray,
@@ -160,3 +161,30 @@ def test_pair_safety_is_the_numpy_formulation(n: int, seed: int, tcp: bool) -> N
     got = _safe(state, pairs, lo, hi, dec, jerk, check)
     assert got.dtype == np.bool_
     assert np.array_equal(got, reference_safe(state, pairs, lo, hi, dec, jerk, check))
+
+
+def test_the_fast_pair_check_answers_as_the_closest_approach_does() -> None:
+    """kernels.brake_gap_holds, which looks where both brakes end first and skips roots a
+    bound settles, says ``min_brake_gap >= need`` for every pair: needs at the closest
+    approach itself, a float step either side of it, near it and far from it."""
+    rng = np.random.default_rng(23)
+    n = 20_000
+    k, i = random_states(rng, n), random_states(rng, n)
+    same = rng.random(n) < 0.3  # equal dynamics: a FAST follower one gap behind
+    for x, y in zip(k[1:], i[1:], strict=True):
+        y[same] = x[same]
+    k[0][same] = i[0][same] + rng.uniform(50.0, 150.0, int(same.sum()))
+    closest = min_brake_gap(*k, *i)
+    needs = [closest, np.nextafter(closest, np.inf), np.nextafter(closest, -np.inf),
+             closest + rng.normal(0.0, 1e-6, n), closest + rng.normal(0.0, 10.0, n),
+             np.full(n, 100.0 - TOLERANCE)]
+    times = np.empty(7)
+    answers = {True: 0, False: 0}
+    for need in needs:
+        for m in range(n):
+            want = bool(closest[m] >= need[m])
+            got = brake_gap_holds(k[0][m], k[1][m], k[2][m], k[3][m], k[4][m], i[0][m],
+                                  i[1][m], i[2][m], i[3][m], i[4][m], need[m], times)
+            assert got == want, (m, need[m], closest[m])
+            answers[want] += 1
+    assert min(answers.values()) > n  # both answers, many times each

@@ -18,7 +18,12 @@ import math
 import numpy as np
 
 from openmotion.core.compiled import compiled, sort_in_place, true_indices
-from openmotion.rail.tolerances import LIMIT_SLACK, PHASE_END_TOLERANCE, TOLERANCE
+from openmotion.rail.tolerances import (
+    BOUND_MARGIN,
+    LIMIT_SLACK,
+    PHASE_END_TOLERANCE,
+    TOLERANCE,
+)
 
 
 @compiled
@@ -130,9 +135,8 @@ def _first_step(k: int, dt: float, p: np.ndarray, v: np.ndarray, a: np.ndarray, 
         b_lo, b_hi = envelope(p1, v1, a1, bdk, bjk)
         fits = b_hi <= room_hi and b_lo >= room_lo
         if not fits and b_lo >= room_lo and not math.isnan(ahead[5]):
-            closest = _min_brake_gap(ahead[0], ahead[1], ahead[2], ahead[3], ahead[4], p1, v1,
-                                     a1, bdk, bjk, times)
-            fits = closest >= ahead[5] - TOLERANCE
+            fits = brake_gap_holds(ahead[0], ahead[1], ahead[2], ahead[3], ahead[4], p1, v1,
+                                   a1, bdk, bjk, ahead[5] - TOLERANCE, times)
         if fits:
             out[0, k], out[1, k], out[2, k], out[3, k] = p1, v1, a1, j
             env[0, k], env[1, k] = b_lo, b_hi
@@ -283,6 +287,40 @@ def _minimum(a: float, b: float) -> float:
     return a if (a <= b or a != a) else b
 
 
+@compiled(inline=True)
+def _brake_ends(p: float, v: float, a: float, dec: float, jerk: float) -> tuple[float, ...]:
+    """One brake by the ends of its phases (cumulated), their jerks and (p, v, a) at the phase
+    boundaries, as ``_brake_at`` takes them (15 values)."""
+    t1, t2, t3, j1, j3, _ = _phases(v, a, dec, jerk)
+    p1, v1, a1 = _advance(p, v, a, t1, j1)
+    p2, v2, a2 = _advance(p1, v1, a1, t2, 0.0)
+    p3, _, _ = _advance(p2, v2, a2, t3, j3)
+    e2 = t1 + t2
+    return t1, e2, e2 + t3, j1, j3, p, v, a, p1, v1, a1, p2, v2, a2, p3
+
+
+@compiled(inline=True)
+def _merged_ends(times: np.ndarray, ke1: float, ke2: float, ke3: float, ie1: float,
+                 ie2: float, ie3: float) -> None:
+    """``times`` = 0 and the six phase ends of a pair's brakes, sorted."""
+    times[0] = 0.0
+    times[1], times[2], times[3] = ke1, ke2, ke3
+    times[4], times[5], times[6] = ie1, ie2, ie3
+    sort_in_place(times)
+
+
+@compiled(inline=True)
+def _gap_roots(da: float, dv: float, dj: float) -> tuple[float, float]:
+    """Where the derivative dv + da s + dj s²/2 of a pair's gap vanishes (nan: no root)."""
+    square = da * da - 2.0 * dj * dv
+    if square < 0.0:  # numpy.maximum(square, 0.0): nan stays nan
+        square = 0.0
+    disc = math.sqrt(square)
+    if dj != 0.0:
+        return (-da - disc) / dj, (-da + disc) / dj
+    return -dv / da, math.nan
+
+
 @compiled
 def _min_brake_gap(pk: float, vk: float, ak: float, dk: float, jk: float, pi: float,
                    vi: float, ai: float, di: float, ji: float, times: np.ndarray) -> float:
@@ -290,48 +328,73 @@ def _min_brake_gap(pk: float, vk: float, ak: float, dk: float, jk: float, pi: fl
 
     Between the merged phase boundaries of the two brakes the difference is one cubic; its
     minimum lies at an end or where its derivative (a quadratic) vanishes."""
-    t1, t2, t3, kj1, kj3, _ = _phases(vk, ak, dk, jk)
-    kp1, kv1, ka1 = _advance(pk, vk, ak, t1, kj1)
-    kp2, kv2, ka2 = _advance(kp1, kv1, ka1, t2, 0.0)
-    kp3, _, _ = _advance(kp2, kv2, ka2, t3, kj3)
-    ke1, ke2 = t1, t1 + t2
-    ke3 = ke2 + t3
-    s1, s2, s3, ij1, ij3, _ = _phases(vi, ai, di, ji)
-    ip1, iv1, ia1 = _advance(pi, vi, ai, s1, ij1)
-    ip2, iv2, ia2 = _advance(ip1, iv1, ia1, s2, 0.0)
-    ip3, _, _ = _advance(ip2, iv2, ia2, s3, ij3)
-    ie1, ie2 = s1, s1 + s2
-    ie3 = ie2 + s3
-    times[0] = 0.0
-    times[1], times[2], times[3] = ke1, ke2, ke3
-    times[4], times[5], times[6] = ie1, ie2, ie3
-    sort_in_place(times)
+    ke1, ke2, ke3, kj1, kj3, kp0, kv0, ka0, kp1, kv1, ka1, kp2, kv2, ka2, kp3 = _brake_ends(
+        pk, vk, ak, dk, jk)
+    ie1, ie2, ie3, ij1, ij3, ip0, iv0, ia0, ip1, iv1, ia1, ip2, iv2, ia2, ip3 = _brake_ends(
+        pi, vi, ai, di, ji)
+    _merged_ends(times, ke1, ke2, ke3, ie1, ie2, ie3)
     best = math.inf
     for c in range(7):
         t0 = times[c]
-        xk, uk, bk, gk = _brake_at(t0, ke1, ke2, ke3, kj1, kj3, pk, vk, ak, kp1, kv1, ka1, kp2,
-                                   kv2, ka2, kp3)
-        xi, ui, bi, gi = _brake_at(t0, ie1, ie2, ie3, ij1, ij3, pi, vi, ai, ip1, iv1, ia1, ip2,
-                                   iv2, ia2, ip3)
+        xk, uk, bk, gk = _brake_at(t0, ke1, ke2, ke3, kj1, kj3, kp0, kv0, ka0, kp1, kv1, ka1,
+                                   kp2, kv2, ka2, kp3)
+        xi, ui, bi, gi = _brake_at(t0, ie1, ie2, ie3, ij1, ij3, ip0, iv0, ia0, ip1, iv1, ia1,
+                                   ip2, iv2, ia2, ip3)
         best = _minimum(best, xk - xi)
         if c == 6:
             break
         length = times[c + 1] - t0
         # derivative of the difference on [t0, t1]: dv + da s + dj s²/2
         dv, da, dj = uk - ui, bk - bi, gk - gi
-        square = da * da - 2.0 * dj * dv
-        if square < 0.0:  # numpy.maximum(square, 0.0): nan stays nan
-            square = 0.0
-        disc = math.sqrt(square)
-        if dj != 0.0:
-            r1, r2 = (-da - disc) / dj, (-da + disc) / dj
-        else:
-            r1, r2 = -dv / da, math.nan
+        r1, r2 = _gap_roots(da, dv, dj)
         if math.isfinite(r1) and r1 > 0.0 and r1 < length:
             best = _minimum(best, (xk - xi) + r1 * (dv + r1 * (0.5 * da + r1 * dj / 6.0)))
         if math.isfinite(r2) and r2 > 0.0 and r2 < length:
             best = _minimum(best, (xk - xi) + r2 * (dv + r2 * (0.5 * da + r2 * dj / 6.0)))
     return best
+
+
+@compiled
+def brake_gap_holds(pk: float, vk: float, ak: float, dk: float, jk: float, pi: float,
+                    vi: float, ai: float, di: float, ji: float, need: float,
+                    times: np.ndarray) -> bool:
+    """``_min_brake_gap(...) >= need``, the FAST pair check, for less: it looks first where
+    both brakes end (where a follower that cannot keep the gap nearly always fails), stops at
+    the first value below ``need``, and skips the roots of a piece whose cubic a bound keeps
+    ``BOUND_MARGIN`` above ``need``. The same answer for every pair (tests/rail/
+    test_brake_gap.py)."""
+    ke1, ke2, ke3, kj1, kj3, kp0, kv0, ka0, kp1, kv1, ka1, kp2, kv2, ka2, kp3 = _brake_ends(
+        pk, vk, ak, dk, jk)
+    ie1, ie2, ie3, ij1, ij3, ip0, iv0, ia0, ip1, iv1, ia1, ip2, iv2, ia2, ip3 = _brake_ends(
+        pi, vi, ai, di, ji)
+    if not kp3 - ip3 >= need:  # where both rest: the last value the loop would see
+        return False
+    _merged_ends(times, ke1, ke2, ke3, ie1, ie2, ie3)
+    for c in range(7):
+        t0 = times[c]
+        xk, uk, bk, gk = _brake_at(t0, ke1, ke2, ke3, kj1, kj3, kp0, kv0, ka0, kp1, kv1, ka1,
+                                   kp2, kv2, ka2, kp3)
+        xi, ui, bi, gi = _brake_at(t0, ie1, ie2, ie3, ij1, ij3, ip0, iv0, ia0, ip1, iv1, ia1,
+                                   ip2, iv2, ia2, ip3)
+        d0 = xk - xi
+        if not d0 >= need:  # nan as well: the minimum would be nan
+            return False
+        if c == 6:
+            break
+        length = times[c + 1] - t0
+        dv, da, dj = uk - ui, bk - bi, gk - gi
+        low = d0 + length * (min(dv, 0.0) + length * (0.5 * min(da, 0.0)
+                                                      + length * min(dj, 0.0) / 6.0))
+        if low >= need + BOUND_MARGIN:  # no value of this piece can be below need
+            continue
+        r1, r2 = _gap_roots(da, dv, dj)
+        if math.isfinite(r1) and r1 > 0.0 and r1 < length and not (
+                d0 + r1 * (dv + r1 * (0.5 * da + r1 * dj / 6.0)) >= need):
+            return False
+        if math.isfinite(r2) and r2 > 0.0 and r2 < length and not (
+                d0 + r2 * (dv + r2 * (0.5 * da + r2 * dj / 6.0)) >= need):
+            return False
+    return True
 
 
 @compiled
@@ -369,9 +432,8 @@ def pair_safety(check: np.ndarray, succ: np.ndarray, pred: np.ndarray, offset: n
         else:
             standard = hi[s] + gap[m] <= lo[k] + offset[m] + TOLERANCE
         if not standard and fast[m]:
-            closest = _min_brake_gap(p[k] + offset[m], v[k], a[k], dec[k], jerk[k], p[s], v[s],
-                                     a[s], dec[s], jerk[s], times)
-            standard = closest >= gap[m] - TOLERANCE
+            standard = brake_gap_holds(p[k] + offset[m], v[k], a[k], dec[k], jerk[k], p[s],
+                                       v[s], a[s], dec[s], jerk[s], gap[m] - TOLERANCE, times)
         ok[m] = standard
     return ok
 

@@ -2,6 +2,7 @@
 (ruckig names its precisions by quantity in the same way). Units: mm and s."""
 
 TOLERANCE = 1e-9  #: [mm] float slack of the gap and pair checks
+BOUND_MARGIN = 1e-6  #: [mm] a lower bound this far above a threshold settles the check
 LIMIT_SLACK = 1 + 1e-12  #: relative float slack of the brake envelope's limit checks
 PHASE_END_TOLERANCE = 1e-15  #: [s] a brake phase this close to its end has ended
 RELATIVE_TOLERANCE = 1e-9  #: relative slack of the gear sync's velocity and signal checks
