@@ -44,7 +44,11 @@ def test_goals_judge_the_efficiency_and_the_same_table() -> None:
         return {"efficiency_per_worker": efficiency}
 
     goals = goals_sweep({"workers": 2, "pool": row(0.6),
-                         "ray": {**row(0.2), "same_table": True}})
+                         "ray": {**row(0.9), "next": row(0.2), "same_table": True}})
     assert goals["pool"]["passed"] is True and goals["ray"]["passed"] is False
+    assert goals["ray"]["value"] == 0.2  # judged on the next sweep, the first one shown
+    goals = goals_sweep({"workers": 2, "pool": row(0.6),
+                         "ray": {**row(0.1), "next": row(0.3), "same_table": True}})
+    assert goals["ray"]["passed"] is True
     assert goals["same_table"]["passed"] is True
     assert goals_sweep({"workers": 2, "pool": row(0.4), "ray": None})["pool"]["passed"] is False

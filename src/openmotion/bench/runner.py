@@ -473,10 +473,10 @@ def goals_sweep(results: dict[str, Any]) -> dict[str, Any]:
                            "serial)", pool, pool >= SWEEP_POOL_GOAL_EFFICIENCY)}
     ray = results["ray"]
     if ray is not None:
-        efficiency = ray["efficiency_per_worker"]
-        goals["ray"] = _goal(f"Ray, {workers} CPUs: efficiency per worker >= "
-                             f"{SWEEP_RAY_GOAL_EFFICIENCY:g}", efficiency,
-                             efficiency >= SWEEP_RAY_GOAL_EFFICIENCY)
+        efficiency = ray["next"]["efficiency_per_worker"]
+        goals["ray"] = _goal(f"Ray, {workers} CPUs, the next sweep on a standing cluster: "
+                             f"efficiency per worker >= {SWEEP_RAY_GOAL_EFFICIENCY:g}",
+                             efficiency, efficiency >= SWEEP_RAY_GOAL_EFFICIENCY)
         goals["same_table"] = _goal("Ray's table equals the pool's (timing columns aside)",
                                     ray["same_table"], ray["same_table"])
     return goals
@@ -896,6 +896,11 @@ def _render_sweep(results: dict[str, Any]) -> list[str]:
              results[name]["efficiency_per_worker"],
              results[name].get("cpu_s_per_point", math.nan) * 1000]
             for name in ("serial", "pool", "ray") if results[name] is not None]
+    if results["ray"] is not None and "next" in results["ray"]:
+        ray = results["ray"]["next"]
+        rows.append(["ray, next sweep", ray["wall_s"], ray["points_per_s"],
+                     ray["s_per_point"] * 1000, ray["overhead_s_per_point"] * 1000,
+                     ray["efficiency_per_worker"], math.nan])
     lines = [f"{results['points']} short points; pool and Ray with {results['workers']} "
              "workers; overhead = worker ms per point beyond the serial ms; load average "
              f"{_fmt(results['load_average'], 2)} at the start",
@@ -903,7 +908,8 @@ def _render_sweep(results: dict[str, Any]) -> list[str]:
                       "efficiency/worker", "cpu ms/point"], rows)]
     if results["ray"] is not None:
         lines.append(f"Ray cluster start (not in its wall time): {_fmt(results['ray']['start_s'])}"
-                     " s")
+                     " s; ray: the first sweep, whose workers start and load openmotion; ray, "
+                     "next sweep: the same points again on the same cluster")
     return lines
 
 
