@@ -15,7 +15,8 @@ puts the block into its
 conditions and name checks. Parts and coordinate systems (the environment's ``parts``, the
 ``activate_part_position`` entry) are in planar_parts.py, the external setpoint entries in
 planar_setpoints.py, tracks in planar_tracks.py, the track commands of movers in
-planar_riding.py and the gear-ins on tracks in planar_gearing.py.
+planar_riding.py, the gear-ins on tracks in planar_gearing.py and the router with its
+``route`` entry in planar_routing.py.
 """
 
 from __future__ import annotations
@@ -378,6 +379,9 @@ class PlanarSpec(_Model):
     """Stations on the tracks (scenario/stations.py); routes send movers round them."""
     routes: list[PlanarRouteSpec] = []
     """The stations movers visit, in order, by MoveOnTrack (scenario/stations.py)."""
+    router: RouterSpec | None = None
+    """The options of the router that ``route`` entries use (planar_routing.py); default:
+    its defaults on the only planar group."""
 
     #: the run hands each planar command an MC_PlanarFeedback, which the object updates
     blocks = ("MC_PlanarFeedback.update", "MC_PlanarFeedbackBase.update")
@@ -391,7 +395,8 @@ class PlanarSpec(_Model):
                     *self._part_problems(), *order_problems(self.tracks),
                     *planar_station_problems(self.stations, self.routes,
                                              [mover.name for mover in self.movers],
-                                             [track.name for track in self.tracks])]
+                                             [track.name for track in self.tracks]),
+                    *router_problems(self)]
         if not problems:
             problems = PlanarMachine(Runtime(), self).set_up()
         _raise(self, problems)
@@ -737,6 +742,7 @@ from openmotion.scenario.planar_gearing import (  # noqa: E402
 from openmotion.scenario.planar_objects import OBJECT_ENTRIES  # noqa: E402
 from openmotion.scenario.planar_parts import PART_ENTRIES  # noqa: E402
 from openmotion.scenario.planar_riding import JoinTrack, LeaveTrack, MoveOnTrack  # noqa: E402
+from openmotion.scenario.planar_routing import Route, RouterSpec, router_problems  # noqa: E402
 from openmotion.scenario.planar_setpoints import (  # noqa: E402
     StartExternalSetpointGeneration,
     StopExternalSetpointGeneration,
@@ -747,7 +753,7 @@ PLANAR_ENTRIES: tuple[type, ...] = (
     MoverReset, SetPosition, AddToGroup, RemoveFromGroup, StartExternalSetpointGeneration,
     StopExternalSetpointGeneration, PlanarGroupEnable, PlanarGroupDisable, PlanarGroupReset,
     *PART_ENTRIES, JoinTrack, LeaveTrack, MoveOnTrack, GearInPosOnTrack,
-    GearInPosOnTrackWithMasterMover, AdoptTrackOrientation, *OBJECT_ENTRIES)
+    GearInPosOnTrackWithMasterMover, AdoptTrackOrientation, *OBJECT_ENTRIES, Route)
 #: the planar entries by their ``command`` (schema.TIMELINE_COMMANDS holds them all)
 PLANAR_COMMANDS: dict[str, type] = {
     get_args(model.model_fields["command"].annotation)[0]: model for model in PLANAR_ENTRIES}

@@ -1197,6 +1197,13 @@ class Scenario(_Model):
             raise ValidationError.from_exception_data(type(self).__name__, [InitErrorDetails(
                 type=PydanticCustomError("value_error", "give at least one axis (or planar "
                                                         "movers)"), loc=("axes",), input=None)])
+        from openmotion.scenario.planar_routing import route_problems
+
+        problems = route_problems(self.planar, self.timeline)
+        if problems:
+            raise ValidationError.from_exception_data(type(self).__name__, [InitErrorDetails(
+                type=PydanticCustomError("value_error", message), loc=loc, input=None)
+                for loc, message in problems])
         return self
 
     @property
