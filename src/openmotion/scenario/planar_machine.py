@@ -268,6 +268,9 @@ class PlanarMachine:
         except ConfigError as exc:  # refused before planning (checked by the file's schema)
             row.end(CommandStatus.ERROR, self.rt.now, ErrorId.PLANAR_INVALID_INPUT, str(exc))
             return row
+        plans = RoutePlans.of(self.rt)
+        assert plans is not None
+        plans.note()  # the plan as of the call, at its time
         by_name = {mover.name: handle for mover, handle in handles.items()}
         self._route_handles[row] = by_name
         self._routes.append((row, by_name))

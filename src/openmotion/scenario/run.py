@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.axis.probe import InputRef, abort_probe, arm_probe
 from openmotion.core.errors import ConfigError, ErrorId
+from openmotion.planar.routing.plans import RoutePlans
 from openmotion.rail.stations import StationLine, StationRow
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.coordinated_machine import AxesGroupRow, AxesGroups, axes_group_table
@@ -27,7 +28,6 @@ from openmotion.scenario.cyclic import BlockEntry
 from openmotion.scenario.groups import CaGroups, GroupRow, MoverRow
 from openmotion.scenario.load import load_scenario
 from openmotion.scenario.planar import PLANAR_ENTRIES
-from openmotion.planar.routing.plans import RoutePlans
 from openmotion.scenario.planar_machine import PlanarMachine, PlanarMoverRow, planar_table
 from openmotion.scenario.planar_routing import Route, RouterSpec
 from openmotion.scenario.planar_tracks import PlanarTrackRow, riders_table, track_table

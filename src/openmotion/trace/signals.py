@@ -47,7 +47,8 @@ if TYPE_CHECKING:
 __all__ = ["AXIS_SIGNALS", "DEFAULT_AXIS_SIGNALS", "DEFAULT_GROUP_SIGNALS", "GROUP_SIGNALS",
            "MOVER_SIGNALS", "PLANAR_MOVER_SIGNALS", "AxesGroupSignals", "AxisSignals",
            "ModelSignals", "PlanarEnvironmentSignals", "PlanarGroupSignals",
-           "PlanarMoverSignals", "RoutePlansSource", "SignalSource", "compact_index", "default_signals", "describe",
+           "PlanarMoverSignals", "RoutePlansSource", "SignalSource", "compact_index",
+           "default_signals", "describe",
            "read_group_signal", "read_planar_signal", "read_signal", "register_source",
            "source_of", "split_signal"]
 

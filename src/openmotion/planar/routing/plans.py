@@ -57,12 +57,15 @@ class RoutePlans:
         """Note the ways ``router`` plans from now on (its current ones at once)."""
         if router not in self.routers:
             self.routers.append(router)
-            self._note(self.runtime.now)
+            self.note()
 
     def __call__(self, runtime: CyclicRuntime) -> None:
-        self._note(runtime.now)
+        self.note()
 
-    def _note(self, now: float) -> None:
+    def note(self) -> None:
+        """Note the ways that changed since the last look, at the runtime's time now (called
+        after every cycle; a caller of ``route`` may call it at once)."""
+        now = self.runtime.now
         for k, router in enumerate(self.routers):
             for mover, route in router.routes.items():
                 points = _points(route)
