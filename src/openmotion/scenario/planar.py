@@ -742,7 +742,7 @@ from openmotion.scenario.planar_gearing import (  # noqa: E402
 from openmotion.scenario.planar_objects import OBJECT_ENTRIES  # noqa: E402
 from openmotion.scenario.planar_parts import PART_ENTRIES  # noqa: E402
 from openmotion.scenario.planar_riding import JoinTrack, LeaveTrack, MoveOnTrack  # noqa: E402
-from openmotion.scenario.planar_routing import Route, RouterSpec, router_problems  # noqa: E402
+from openmotion.scenario.planar_routing import RouterSpec, router_problems  # noqa: E402
 from openmotion.scenario.planar_setpoints import (  # noqa: E402
     StartExternalSetpointGeneration,
     StopExternalSetpointGeneration,
@@ -753,7 +753,7 @@ PLANAR_ENTRIES: tuple[type, ...] = (
     MoverReset, SetPosition, AddToGroup, RemoveFromGroup, StartExternalSetpointGeneration,
     StopExternalSetpointGeneration, PlanarGroupEnable, PlanarGroupDisable, PlanarGroupReset,
     *PART_ENTRIES, JoinTrack, LeaveTrack, MoveOnTrack, GearInPosOnTrack,
-    GearInPosOnTrackWithMasterMover, AdoptTrackOrientation, *OBJECT_ENTRIES, Route)
+    GearInPosOnTrackWithMasterMover, AdoptTrackOrientation, *OBJECT_ENTRIES)
 #: the planar entries by their ``command`` (schema.TIMELINE_COMMANDS holds them all)
 PLANAR_COMMANDS: dict[str, type] = {
     get_args(model.model_fields["command"].annotation)[0]: model for model in PLANAR_ENTRIES}

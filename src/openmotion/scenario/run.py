@@ -414,8 +414,8 @@ class ScenarioRun:
         if isinstance(entry, CA_ENTRIES):
             self._issued(index, entry, self.ca.issue(entry, self.by_id))
             return
-        if isinstance(entry, PLANAR_ENTRIES):
-            self._issued(index, entry, self.planar.issue(entry))
+        if isinstance(entry, (*PLANAR_ENTRIES, Route)):
+            self._issued(index, entry, self.planar.issue(entry))  # type: ignore[arg-type]
             return
         axis = self.rt.axes.get(entry.axis)  # none for get_version
         arguments = entry.arguments()
