@@ -64,6 +64,7 @@ from openmotion.scenario.planar_parts import (
     layout_problems,
     oid_text,
 )
+from openmotion.scenario.planar_routing import RouterSpec, router_problems
 from openmotion.scenario.planar_tracks import TrackName, TrackSpec, order_problems
 from openmotion.scenario.schema import (
     _NAMES,
@@ -742,7 +743,6 @@ from openmotion.scenario.planar_gearing import (  # noqa: E402
 from openmotion.scenario.planar_objects import OBJECT_ENTRIES  # noqa: E402
 from openmotion.scenario.planar_parts import PART_ENTRIES  # noqa: E402
 from openmotion.scenario.planar_riding import JoinTrack, LeaveTrack, MoveOnTrack  # noqa: E402
-from openmotion.scenario.planar_routing import RouterSpec, router_problems  # noqa: E402
 from openmotion.scenario.planar_setpoints import (  # noqa: E402
     StartExternalSetpointGeneration,
     StopExternalSetpointGeneration,

@@ -26,7 +26,6 @@ from openmotion.axis.commands import Command, CommandStatus
 from openmotion.core.errors import ErrorId
 from openmotion.core.special_values import MC_DEFAULT
 from openmotion.planar import DynamicConstraint_PathXY
-from openmotion.scenario.planar import _check_planar_group, _check_planar_mover
 from openmotion.scenario.schema import Identifier, InputValue, Number, Seconds, _Model
 from openmotion.scenario.transport import _Timed
 
@@ -37,6 +36,19 @@ if TYPE_CHECKING:
     from openmotion.scenario.planar import PlanarSpec
 
 Loc = tuple[str | int, ...]
+
+
+def _check_group(name: str) -> str:
+    """A planar group of the file (planar.py imports this module: its checks come late)."""
+    from openmotion.scenario.planar import _check_planar_group
+
+    return _check_planar_group(name)
+
+
+def _check_mover(name: str) -> str:
+    from openmotion.scenario.planar import _check_planar_mover
+
+    return _check_planar_mover(name)
 Point = tuple[Number, Number]
 PositiveNumber = Annotated[Number, Field(gt=0.0)]
 
@@ -93,7 +105,7 @@ def _unique_names(obstacles: list[ObstacleSpec]) -> list[ObstacleSpec]:
 class RouterSpec(_Model):
     """The scenario's router (planar/routing): its group and options, given once."""
 
-    group: Annotated[StrictStr, AfterValidator(_check_planar_group)] | None = None
+    group: Annotated[StrictStr, AfterValidator(_check_group)] | None = None
     """The planar group whose movers it routes; default: the only planar group."""
     pitch: PositiveNumber | None = None
     """Side of a routing cell [mm], at least the largest mover's side (240: one cell per
@@ -172,8 +184,11 @@ class RouteTarget(_Model):
 
 
 def _some_targets(targets: dict[str, RouteTarget]) -> dict[str, RouteTarget]:
+    """At least one target, each of a planar mover of the file."""
     if not targets:
         raise ValueError("name at least one mover and its target")
+    for name in targets:
+        _check_mover(name)
     return targets
 
 
@@ -184,8 +199,7 @@ class Route(_Timed):
 
     method = "route"
     command: Literal["route"]
-    targets: Annotated[dict[Annotated[StrictStr, AfterValidator(_check_planar_mover)],
-                            RouteTarget], AfterValidator(_some_targets)]
+    targets: Annotated[dict[StrictStr, RouteTarget], AfterValidator(_some_targets)]
     """Mover name -> {x, y, c}: where it goes."""
     time_budget: Seconds | None = None
     """Wall time [s] to improve the first plan; default: planar.router's."""
