@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -213,3 +214,29 @@ def test_the_cli_runs_routes_and_refuses_bad_ones_with_exit_code_2(tmp_path: Pat
         assert "timeline[0].time_budget: must be greater than or equal to 0" in refused.stderr
         assert refused.stdout == ""
     assert runner.invoke(app, ["check", str(good)]).exit_code == 0  # usable next
+
+
+def test_the_pages_scenario_runs_as_it_says() -> None:
+    """docs/planar-routing.md "From a scenario file": its block runs, and the rows it shows
+    are the run's."""
+    page = (Path(__file__).resolve().parents[2] / "docs" / "planar-routing.md").read_text()
+    block = re.findall(r"## From a scenario file\n\n```yaml\n(.*?)```", page, re.S)[0]
+    result = run("name: doc\n" + block)
+    assert result.passed
+    shown = re.findall(r"^  (swap|post) .*$", page, re.M)
+    assert shown == ["swap", "post"]
+    for row in result.commands:
+        line = next(line for line in result.summary().splitlines()
+                    if line.startswith(f"  {row.id} "))
+        assert line in page.splitlines()
+
+
+def test_the_scenario_pages_routing_block_runs() -> None:
+    """docs/scenarios.md#routing: every option as written loads, and the swap arrives."""
+    page = (Path(__file__).resolve().parents[2] / "docs" / "scenarios.md").read_text()
+    block = re.findall(r"### Routing\n\n```yaml\n(.*?)```", page, re.S)[0]
+    result = run("name: doc\n" + block)
+    assert [row.result for row in result.commands] == ["DONE"]
+    movers = {m.mover: m for m in result.planar_movers}
+    assert (movers["a"].x, movers["b"].x, movers["b"].c) == (1080.0, 120.0, 90.0)
+    assert [o["name"] for o in result.trace.layout["planar"]["obstacles"]] == ["press", "chute"]

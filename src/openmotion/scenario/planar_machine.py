@@ -22,6 +22,10 @@ the program phase of every cycle (run.py calls it before the entries fire), its 
 generation and the mover's errors. A move_on_track row whose mover stands queued on its
 track is ``waiting``: it stays BUSY but does not keep an open-ended run going.
 
+With ``planar.router`` or a ``route`` entry the run adds the router after the setup
+(``add_router``); a route entry's row follows the RouteCommands of its movers (``route``,
+planar_routing.py) and the runtime's ``RoutePlans`` notes the ways planned.
+
 Entries name their tracks, axes, movers and trails; ``_resolve`` passes the objects (a trail is
 an MC_PlanarTrackTrail built for the call). A gear-in gets its specialised feedback, which
 ``in_sync`` reads for ``<id>.in_sync``; the row's detail says when it was first in sync.
