@@ -202,7 +202,8 @@ def test_the_cli_runs_routes_and_refuses_bad_ones_with_exit_code_2(tmp_path: Pat
     runner = CliRunner()
     good = tmp_path / "good.yaml"
     good.write_text(SWAP)
-    done = runner.invoke(app, ["run", str(good), "--json"])
+    done = runner.invoke(app, ["run", str(good), "--json", "--trace",
+                               str(tmp_path / "routes.npz")])
     assert done.exit_code == 0, done.output
     assert '"result": "ERROR"' in done.stdout and "(blocker: post)" in done.stdout
     bad = tmp_path / "bad.yaml"
@@ -223,12 +224,11 @@ def test_the_pages_scenario_runs_as_it_says() -> None:
     block = re.findall(r"## From a scenario file\n\n```yaml\n(.*?)```", page, re.S)[0]
     result = run("name: doc\n" + block)
     assert result.passed
-    shown = re.findall(r"^  (swap|post) .*$", page, re.M)
-    assert shown == ["swap", "post"]
-    for row in result.commands:
-        line = next(line for line in result.summary().splitlines()
-                    if line.startswith(f"  {row.id} "))
-        assert line in page.splitlines()
+    rows = [f"{row.id}: {row.result}" + (f" {row.error}: {row.message}" if row.error else "")
+            for row in result.commands]
+    assert rows == ["swap: DONE", "post: ERROR PLANAR_COLLISION: a: its target (600, 360) is "
+                                  "occupied by post (blocker: post)"]
+    assert "\n".join(rows) in page
 
 
 def test_the_scenario_pages_routing_block_runs() -> None:

@@ -75,9 +75,12 @@ class RoutePlans:
 
     def current(self) -> list[dict[str, Any]]:
         """The planned way of every mover still on it ({"mover", "points"}): a mover that
-        stands on its way's last point has arrived and is left out."""
+        stands on its way's last point has arrived and is left out, and so is every mover
+        of a router whose routes have all ended."""
         found = []
         for router in self.routers:
+            if not router.busy:  # every route ended: nothing is on its way
+                continue
             position = {mover.name: mover.position for mover in router.system.movers}
             for mover, route in router.routes.items():
                 where = position.get(mover)
