@@ -240,3 +240,34 @@ def test_the_scenario_pages_routing_block_runs() -> None:
     movers = {m.mover: m for m in result.planar_movers}
     assert (movers["a"].x, movers["b"].x, movers["b"].c) == (1080.0, 120.0, 90.0)
     assert [o["name"] for o in result.trace.layout["planar"]["obstacles"]] == ["press", "chute"]
+
+
+def test_a_route_row_joins_its_movers_outcomes() -> None:
+    """Busy while one route runs; Error over Aborted over Done; each failure named once."""
+    from openmotion.axis.commands import Command, CommandStatus
+    from openmotion.core.errors import ErrorId
+    from openmotion.scenario.planar_routing import follow_route
+
+    class Handle(Command):
+        def __init__(self, name: str) -> None:
+            super().__init__("Route", 0.0)
+            self.mover = type("M", (), {"name": name})()
+            self.blocker = None
+
+    a, b, c = Handle("a"), Handle("b"), Handle("c")
+    row = Command("route", 0.0)
+    follow_route(row, {"a": a, "b": b, "c": c}, 0.0)
+    assert row.status is CommandStatus.BUFFERED
+    a.start()
+    b.end(CommandStatus.ABORTED, 0.1)
+    c.end(CommandStatus.ERROR, 0.1, ErrorId.PLANAR_COLLISION, "c: no route found")
+    c.blocker = "other movers"
+    follow_route(row, {"a": a, "b": b, "c": c}, 0.1)
+    assert row.active  # a still travels
+    a.end(CommandStatus.DONE, 0.5)
+    follow_route(row, {"a": a, "b": b, "c": c}, 0.5)
+    assert (row.status, row.error_id, row.ended_at) == (CommandStatus.ERROR,
+                                                       ErrorId.PLANAR_COLLISION, 0.5)
+    assert row.message == "c: no route found (blocker: other movers); b: aborted"
+    follow_route(row, {"a": a, "b": b, "c": c}, 0.6)  # an ended row stays as it ended
+    assert row.ended_at == 0.5

@@ -245,6 +245,9 @@ def follow_route(row: Command, handles: dict[str, RouteCommand], now: float) -> 
 
 
 def outcome_text(handle: RouteCommand) -> str:
-    """A failed route as a row shows it: its message, and its blocker when it has one."""
+    """A failed route as a row shows it: its message, and its blocker when it has one; an
+    abort without a message (a new target) says so."""
+    if handle.aborted and not handle.message:
+        return f"{handle.mover.name}: aborted"
     blocker = f" (blocker: {handle.blocker})" if handle.error and handle.blocker else ""
     return f"{handle.message}{blocker}"
