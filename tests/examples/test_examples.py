@@ -23,7 +23,8 @@ def test_the_shipped_examples_are_there() -> None:
             "touch_probe", "jog_and_feed", "ca_starter_kit", "ca_standard_vs_fast",
             "ca_gear_in_pos", "ca_tracks", "planar_two_movers", "planar_choreography",
             "planar_parts", "gantry_contour", "scara_pick_place", "conveyor_pick",
-            "planar_track_join", "planar_track_network", "planar_track_station"} <= names
+            "planar_track_join", "planar_track_network", "planar_track_station",
+            "planar_routing"} <= names
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda path: path.stem)

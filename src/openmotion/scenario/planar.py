@@ -15,7 +15,8 @@ puts the block into its
 conditions and name checks. Parts and coordinate systems (the environment's ``parts``, the
 ``activate_part_position`` entry) are in planar_parts.py, the external setpoint entries in
 planar_setpoints.py, tracks in planar_tracks.py, the track commands of movers in
-planar_riding.py and the gear-ins on tracks in planar_gearing.py.
+planar_riding.py, the gear-ins on tracks in planar_gearing.py and the router with its
+``route`` entry in planar_routing.py.
 """
 
 from __future__ import annotations
@@ -63,6 +64,7 @@ from openmotion.scenario.planar_parts import (
     layout_problems,
     oid_text,
 )
+from openmotion.scenario.planar_routing import RouterSpec, router_problems
 from openmotion.scenario.planar_tracks import TrackName, TrackSpec, order_problems
 from openmotion.scenario.schema import (
     _NAMES,
@@ -378,6 +380,9 @@ class PlanarSpec(_Model):
     """Stations on the tracks (scenario/stations.py); routes send movers round them."""
     routes: list[PlanarRouteSpec] = []
     """The stations movers visit, in order, by MoveOnTrack (scenario/stations.py)."""
+    router: RouterSpec | None = None
+    """The options of the router that ``route`` entries use (planar_routing.py); default:
+    its defaults on the only planar group."""
 
     #: the run hands each planar command an MC_PlanarFeedback, which the object updates
     blocks = ("MC_PlanarFeedback.update", "MC_PlanarFeedbackBase.update")
@@ -391,7 +396,8 @@ class PlanarSpec(_Model):
                     *self._part_problems(), *order_problems(self.tracks),
                     *planar_station_problems(self.stations, self.routes,
                                              [mover.name for mover in self.movers],
-                                             [track.name for track in self.tracks])]
+                                             [track.name for track in self.tracks]),
+                    *router_problems(self)]
         if not problems:
             problems = PlanarMachine(Runtime(), self).set_up()
         _raise(self, problems)

@@ -22,6 +22,10 @@ the program phase of every cycle (run.py calls it before the entries fire), its 
 generation and the mover's errors. A move_on_track row whose mover stands queued on its
 track is ``waiting``: it stays BUSY but does not keep an open-ended run going.
 
+With ``planar.router`` or a ``route`` entry the run adds the router after the setup
+(``add_router``); a route entry's row follows the RouteCommands of its movers (``route``,
+planar_routing.py) and the runtime's ``RoutePlans`` notes the ways planned.
+
 Entries name their tracks, axes, movers and trails; ``_resolve`` passes the objects (a trail is
 an MC_PlanarTrackTrail built for the call). A gear-in gets its specialised feedback, which
 ``in_sync`` reads for ``<id>.in_sync``; the row's detail says when it was first in sync.
@@ -36,7 +40,7 @@ from typing import TYPE_CHECKING, Any
 
 from openmotion.axis.axis import Axis
 from openmotion.axis.commands import Command, CommandStatus
-from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.planar import (
     CommandPhase,
     MC_PlanarEnvironment,
@@ -53,6 +57,8 @@ from openmotion.planar import (
 )
 from openmotion.planar.feedback import MC_PlanarFeedbackInSync
 from openmotion.planar.kind import PLANAR_MOVER
+from openmotion.planar.routing import RouteCommand, Router
+from openmotion.planar.routing.plans import RoutePlans
 from openmotion.planar.track import MC_PlanarTrack
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.planar import (
@@ -66,6 +72,7 @@ from openmotion.scenario.planar_gearing import AxisRef, MoverRef, TrailRef, _Gea
 from openmotion.scenario.planar_objects import EnvironmentEntry, GroupRef, TrackEntry
 from openmotion.scenario.planar_parts import PartEntry, oid_text
 from openmotion.scenario.planar_riding import MoveOnTrack
+from openmotion.scenario.planar_routing import Route, RouterSpec, follow_route, router_group
 from openmotion.scenario.planar_setpoints import COORDINATES, StartExternalSetpointGeneration
 from openmotion.scenario.planar_tracks import PlanarTrackRow, TrackRef, build_order
 from openmotion.scenario.programs import _motion_cycle, cycle_of
@@ -114,6 +121,10 @@ class PlanarMachine:
         self._sync: dict[Command, MC_PlanarFeedbackInSync] = {}  #: gear-in rows: their feedback
         self._masters: dict[Command, Axis | MC_PlanarMover] = {}  #: gear-in rows: their master
         self._feeds: list[SetpointFeed] = []  #: external setpoints being fed
+        self.router: Router | None = None  #: made by ``add_router`` (planar_routing.py)
+        #: route rows with their movers' handles, not yet ended
+        self._routes: list[tuple[Command, dict[str, RouteCommand]]] = []
+        self._route_handles: dict[Command, dict[str, RouteCommand]] = {}
         if spec is None:
             return
         if spec.environment is not None:
@@ -230,10 +241,56 @@ class PlanarMachine:
                 return
             self.rt.step()
 
+    def add_router(self, spec: RouterSpec) -> Router:
+        """The router of ``route`` entries, on its group, after the setup (its program runs
+        before the timeline's); its plans go to the runtime's ``RoutePlans``."""
+        assert self.spec is not None and self.environment is not None  # route_problems
+        group = router_group(self.spec)
+        assert group is not None
+        self.router = Router(
+            self.groups[group], self.environment,
+            obstacles=[obstacle.geometry() for obstacle in spec.obstacles],
+            obstacle_names=[obstacle.name for obstacle in spec.obstacles],
+            constraint=spec.constraint(), time_budget=spec.time_budget, pitch=spec.pitch,
+            seed=spec.seed)
+        plans = RoutePlans.of(self.rt)
+        assert plans is not None
+        plans.watch(self.router)
+        return self.router
+
+    def route(self, entry: Route) -> Command:
+        """One Router.route call for the entry's movers; the row follows their handles."""
+        row = Command(entry.command, self.rt.now)
+        assert self.router is not None  # the run made it for a file with route entries
+        targets = {}
+        for name, target in entry.targets.items():
+            mover = self.movers[name]
+            targets[mover] = (target.x, target.y, mover.pose.c if target.c is None
+                              else target.c)
+        try:
+            handles = self.router.route(targets, entry.time_budget)
+        except ConfigError as exc:  # refused before planning (checked by the file's schema)
+            row.end(CommandStatus.ERROR, self.rt.now, ErrorId.PLANAR_INVALID_INPUT, str(exc))
+            return row
+        plans = RoutePlans.of(self.rt)
+        assert plans is not None
+        plans.note()  # the plan as of the call, at its time
+        by_name = {mover.name: handle for mover, handle in handles.items()}
+        self._route_handles[row] = by_name
+        self._routes.append((row, by_name))
+        follow_route(row, by_name, self.rt.now)
+        return row
+
+    def route_handles(self, row: Command) -> dict[str, RouteCommand]:
+        """The handles of a route row, by mover name (empty for any other row)."""
+        return self._route_handles.get(row, {})
+
     # -- the timeline ------------------------------------------------------------------------
 
     def issue(self, entry: PlanarEntry | PlanarGroupEntry | PartEntry) -> Command:
         """Call the entry's method now; the row follows its PlanarCommand (``watch``)."""
+        if isinstance(entry, Route):
+            return self.route(entry)
         if isinstance(entry, StartExternalSetpointGeneration):
             feed = SetpointFeed(self, entry)
             self._feeds.append(feed)
@@ -307,6 +364,9 @@ class PlanarMachine:
         """Let every row follow the command its method returned (observer phase): both are
         kernel ``Command``s, so the row takes its status (``follow``)."""
         self._feeds = [feed for feed in self._feeds if feed.watch()]
+        for row, handles in self._routes:
+            follow_route(row, handles, self.rt.now)
+        self._routes = [(row, handles) for row, handles in self._routes if not row.finished]
         still = []
         for planar, command in self._open:
             command.warnings = list(planar.warnings)
@@ -333,7 +393,7 @@ class PlanarMachine:
     def busy(self) -> bool:
         """A mover moves (or brakes), a feed runs or a transition runs: the run goes on. A
         mover that stands in a queue on a track does not count (``waiting``)."""
-        return bool(self._feeds) or any(
+        return bool(self._feeds) or self.router is not None and self.router.busy or any(
             mover.mc_to_plc.std.busy.busy_mover and not _queued(mover)
             or mover.state in _TRANSITIONAL for mover in self.movers.values()) or any(
             group.state in _TRANSITIONAL for group in self.groups.values())

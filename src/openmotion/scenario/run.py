@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.axis.probe import InputRef, abort_probe, arm_probe
 from openmotion.core.errors import ConfigError, ErrorId
+from openmotion.planar.routing.plans import RoutePlans
 from openmotion.rail.stations import StationLine, StationRow
 from openmotion.runtime.runtime import Runtime
 from openmotion.scenario.coordinated_machine import AxesGroupRow, AxesGroups, axes_group_table
@@ -28,6 +29,7 @@ from openmotion.scenario.groups import CaGroups, GroupRow, MoverRow
 from openmotion.scenario.load import load_scenario
 from openmotion.scenario.planar import PLANAR_ENTRIES
 from openmotion.scenario.planar_machine import PlanarMachine, PlanarMoverRow, planar_table
+from openmotion.scenario.planar_routing import Route, RouterSpec
 from openmotion.scenario.planar_tracks import PlanarTrackRow, riders_table, track_table
 from openmotion.scenario.programs import BlockPrograms, cycle_of
 from openmotion.scenario.queries import outputs_text, pick
@@ -256,6 +258,15 @@ def run_scenario(source: str | Path | Scenario, progress: Progress | None = None
     return ScenarioRun(scenario, figure, _trace_mode(scenario, keep, stream, chunk)).run(progress)
 
 
+def _router_spec(scenario: Scenario) -> RouterSpec | None:
+    """planar.router, or its defaults when only the timeline has ``route`` entries."""
+    planar = scenario.planar
+    if planar is not None and planar.router is not None:
+        return planar.router
+    return RouterSpec() if any(isinstance(entry, Route) for entry in scenario.timeline) \
+        else None
+
+
 def _trace_mode(scenario: Scenario, keep: int | None, stream: str | Path | None,
                 chunk: int | None) -> dict[str, Any]:
     """The recorder's keep, stream and chunk: the scenario's, or the caller's."""
@@ -333,6 +344,9 @@ class ScenarioRun:
         if problems:  # the scenario's validation did the same on a scratch runtime
             raise ConfigError("planar: " + "; ".join(
                 f"{'.'.join(map(str, loc))}: {message}" for loc, message in problems))
+        router = _router_spec(scenario)
+        if router is not None:  # after the setup: its program runs before the timeline's
+            self.planar.add_router(router)
         for spec in scenario.axes:
             axis = rt.add_axis(spec.name, parameters=spec.parameters.build(),
                                drive=spec.drive.build(), position=spec.position)
@@ -360,7 +374,8 @@ class ScenarioRun:
         self.blocks = BlockPrograms(rt, self.holds)
         planar = self.planar
         objects = [*filter(None, [planar.environment]), *planar.movers.values(),
-                   *planar.groups.values(), *self.coordinated.groups.values()]
+                   *planar.groups.values(), *self.coordinated.groups.values(),
+                   *filter(None, [RoutePlans.of(rt, create=False)])]
         signals = list(scenario.signals)
         if figure:
             needed = figure_signals(describe([*rt.axes.values(), *objects]))
@@ -399,8 +414,8 @@ class ScenarioRun:
         if isinstance(entry, CA_ENTRIES):
             self._issued(index, entry, self.ca.issue(entry, self.by_id))
             return
-        if isinstance(entry, PLANAR_ENTRIES):
-            self._issued(index, entry, self.planar.issue(entry))
+        if isinstance(entry, (*PLANAR_ENTRIES, Route)):
+            self._issued(index, entry, self.planar.issue(entry))  # type: ignore[arg-type]
             return
         axis = self.rt.axes.get(entry.axis)  # none for get_version
         arguments = entry.arguments()
@@ -449,6 +464,8 @@ class ScenarioRun:
         target = entry.axis if not isinstance(entry, SetGap) else next(
             (other.axis for _, other in self.entries if other.id == entry.move), "")
         self.recorder.follow(command, target, self.entries[index][0])
+        for mover, handle in self.planar.route_handles(command).items():  # each mover's end
+            self.recorder.follow(handle, mover, self.entries[index][0])
 
     def holds(self, condition: Condition | None) -> bool:
         if condition is None:

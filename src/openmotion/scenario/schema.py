@@ -993,8 +993,13 @@ COMMANDS: dict[str, type[Entry]] = {
                   GroupReset, *CALL_ENTRIES, *GROUP_CALL_ENTRIES)  # type: ignore[misc]
 }
 #: every timeline entry's model by its ``command``: COMMANDS (on axes, CA movers and groups),
-#: the planar ones (on planar movers and groups) and the axes-group ones
-TIMELINE_COMMANDS: dict[str, type] = {**COMMANDS, **PLANAR_COMMANDS, **COORDINATED_COMMANDS}
+#: the planar ones (on planar movers and groups), the axes-group ones and the router's
+from openmotion.scenario.planar_routing import Route  # noqa: E402 - needs the planar names
+
+#: the router's entry (planar_routing.py): it calls no TF5430 method, so it is no planar entry
+ROUTING_COMMANDS: dict[str, type] = {"route": Route}
+TIMELINE_COMMANDS: dict[str, type] = {**COMMANDS, **PLANAR_COMMANDS, **COORDINATED_COMMANDS,
+                                      **ROUTING_COMMANDS}
 TimelineEntry = Annotated[
     Union[tuple(Annotated[model, Tag(name)]  # noqa: UP007 - a union built from the dict
                 for name, model in TIMELINE_COMMANDS.items())],
@@ -1197,6 +1202,13 @@ class Scenario(_Model):
             raise ValidationError.from_exception_data(type(self).__name__, [InitErrorDetails(
                 type=PydanticCustomError("value_error", "give at least one axis (or planar "
                                                         "movers)"), loc=("axes",), input=None)])
+        from openmotion.scenario.planar_routing import route_problems
+
+        problems = route_problems(self.planar, self.timeline)
+        if problems:
+            raise ValidationError.from_exception_data(type(self).__name__, [InitErrorDetails(
+                type=PydanticCustomError("value_error", message), loc=loc, input=None)
+                for loc, message in problems])
         return self
 
     @property

@@ -7,7 +7,9 @@ they were in (its ``coordinate_system`` signal). Each mover's path is a line in 
 its footprint (turned by c when c was recorded) drawn dashed where the trace starts and
 filled where it ends, and its name just above where it ended, drawn over everything. A
 command the planar group refused (or that failed) is a red cross at the mover's position when
-it ended, labelled with its id below right of it.
+it ended, labelled with its id below right of it. A router's obstacles are hatched grey
+areas, and every way it planned (``planned_routes``, planar/routing/plans.py) is a thin
+dashed line in the mover's colour, under its path.
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ if TYPE_CHECKING:
 MOVER_SIZE = 155.0  #: footprint side [mm] when the layout does not give it (the default)
 MARGIN = 40.0  #: around the field and the paths [mm]
 NAME_OFFSET = 7.0  #: [points] from where a mover ended up to its name: clear of a cross there
+ROUTE_ALPHA = 0.7  #: opacity of a planned way: the path drawn over it stays readable
 
 
 def planar_figure(trace: Trace, title: str | None = None) -> Figure:
@@ -48,6 +51,8 @@ def planar_figure(trace: Trace, title: str | None = None) -> Figure:
     colors = distinct_colors(len(movers))
     for panel, system in zip(panels, systems, strict=True):
         _draw_field(panel, planar, system)
+        if system == systems[0]:  # a router plans in the group's frame: the first system
+            _draw_routes(panel, planar, dict(zip(movers, colors, strict=True)))
         for mover, color in zip(movers, colors, strict=True):
             _draw_mover(panel, trace, mover, sizes.get(mover, {}), color,
                         _in_system(trace, mover, system))
@@ -90,6 +95,25 @@ def _draw_field(panel: Axes, planar: dict[str, Any], system: int | None) -> None
         low = outline.min(axis=0)
         panel.annotate(part["name"], (low[0], low[1]), xytext=(3, 3),
                        textcoords="offset points", fontsize=7, color="tab:purple", zorder=1)
+
+
+def _draw_routes(panel: Axes, planar: dict[str, Any], colors: dict[str, str]) -> None:
+    """The routers' obstacles (hatched) and every planned way (thin, dashed)."""
+    from matplotlib.patches import Polygon
+
+    for obstacle in planar.get("obstacles", []):
+        for ring in obstacle["rings"]:
+            panel.add_patch(Polygon(np.array(ring), closed=True, facecolor="0.8",
+                                    edgecolor="0.35", hatch="///", linewidth=0.8, zorder=1,
+                                    gid=f"obstacle:{obstacle['name']}"))
+        low = np.array(obstacle["rings"][0]).min(axis=0)
+        panel.annotate(obstacle["name"], (low[0], low[1]), xytext=(3, 3),
+                       textcoords="offset points", fontsize=7, color="0.25", zorder=1)
+    for k, route in enumerate(planar.get("planned_routes", [])):
+        points = np.array(route["points"], dtype=float).reshape(-1, 2)
+        panel.plot(points[:, 0], points[:, 1], "--", color=colors.get(route["mover"], "0.5"),
+                   linewidth=0.9, alpha=ROUTE_ALPHA, zorder=2,
+                   gid=f"route:{route['mover']}:{k}")
 
 
 def _draw_mover(panel: Axes, trace: Trace, mover: str, size: dict[str, float], color: str,
@@ -157,6 +181,13 @@ def _legend(figure: Figure, panels: Any) -> None:
     handles = [Patch(facecolor="none", edgecolor="0.3", linestyle="--", label="start"),
                Patch(facecolor="0.6", edgecolor="0.3", label="end"),
                Line2D([], [], color="0.3", label="path")]
+    lines = [str(line.get_gid()) for panel in panels for line in panel.get_lines()]
+    if any(gid.startswith("route:") for gid in lines):
+        handles.append(Line2D([], [], color="0.3", linestyle="--", linewidth=0.9,
+                              label="planned route"))
+    if any(str(patch.get_gid()).startswith("obstacle:") for panel in panels
+           for patch in panel.patches):
+        handles.append(Patch(facecolor="0.8", edgecolor="0.35", hatch="///", label="obstacle"))
     if any(str(line.get_gid()).startswith("refused:")
            for panel in panels for line in panel.get_lines()):
         handles.append(Line2D([], [], color=RESULT_COLORS["ERROR"], marker="X", linestyle="",

@@ -14,6 +14,8 @@ type (``source_of``) for a reader. The built-in sources read the model:
 - ``PlanarEnvironmentSignals`` for ``MC_PlanarEnvironment`` (no signals: it only describes
   the stators and parts a planar figure draws);
 - ``AxesGroupSignals`` for a Part 4 ``AxesGroup`` (``GROUP_SIGNALS``);
+- ``RoutePlansSource`` for a runtime's ``RoutePlans`` (no signals: the ways its routers
+  planned and their obstacles, which the planar figure draws);
 - ``ModelSignals`` of its kind for any other object of the model (a CA group, a planar track
   or part).
 
@@ -35,6 +37,7 @@ from openmotion.axis.axis import Axis
 from openmotion.coordinated.group import AxesGroup
 from openmotion.kernel.model import Kind, SignalSpec, compact_index, kind_of
 from openmotion.planar import MC_PlanarEnvironment, MC_PlanarGroup, MC_PlanarMover
+from openmotion.planar.routing.plans import RoutePlans
 from openmotion.planar.stators import STATOR_SIZE
 from openmotion.transport.movers import Mover
 
@@ -44,7 +47,8 @@ if TYPE_CHECKING:
 __all__ = ["AXIS_SIGNALS", "DEFAULT_AXIS_SIGNALS", "DEFAULT_GROUP_SIGNALS", "GROUP_SIGNALS",
            "MOVER_SIGNALS", "PLANAR_MOVER_SIGNALS", "AxesGroupSignals", "AxisSignals",
            "ModelSignals", "PlanarEnvironmentSignals", "PlanarGroupSignals",
-           "PlanarMoverSignals", "SignalSource", "compact_index", "default_signals", "describe",
+           "PlanarMoverSignals", "RoutePlansSource", "SignalSource", "compact_index",
+           "default_signals", "describe",
            "read_group_signal", "read_planar_signal", "read_signal", "register_source",
            "source_of", "split_signal"]
 
@@ -222,6 +226,16 @@ class AxesGroupSignals(ModelSignals):
             "coordinates": list(obj.kinematics.coordinates)}}}
 
 
+class RoutePlansSource(SignalSource):
+    """No signals: every way the runtime's routers planned, with its time, and their
+    obstacles (planar/routing/plans.py), for the planar figure."""
+
+    kind = "route_plans"
+
+    def describe(self, obj: RoutePlans) -> dict[str, Any]:
+        return obj.layout()
+
+
 _SOURCES: dict[type, SignalSource] = {}
 
 
@@ -274,3 +288,4 @@ register_source(MC_PlanarMover, PlanarMoverSignals())
 register_source(MC_PlanarGroup, PlanarGroupSignals())
 register_source(MC_PlanarEnvironment, PlanarEnvironmentSignals())
 register_source(AxesGroup, AxesGroupSignals())
+register_source(RoutePlans, RoutePlansSource())

@@ -1,5 +1,6 @@
 """The planar field: stators, parts, tracks with their switches and collision ranges, movers
-with their footprints and the reserved areas.
+with their footprints and the reserved areas; with a router, its obstacles and the planned
+way of every mover still on it (``RoutePlans``).
 
 Everything is drawn in one plane. Parts in other coordinate systems than the first are drawn
 where their active positions put them in their own system (the manual's systems are unrelated
@@ -17,6 +18,7 @@ from openmotion.planar.enums import PlanarObjectType
 from openmotion.planar.group import MC_PlanarGroup
 from openmotion.planar.mover import MC_PlanarMover
 from openmotion.planar.parts import STATOR_SIZE
+from openmotion.planar.routing.plans import RoutePlans
 from openmotion.planar.system import PlanarSystem
 from openmotion.viewer.layers import Layer, Row, error_text, number
 
@@ -48,11 +50,14 @@ class PlanarLayer(Layer):
                  for environment in system.environments if environment.layout is not None
                  for part in environment.layout.parts.values()]
         tracks = self._tracks()
+        plans = RoutePlans.of(system.runtime, create=False)
         return {"stator_size": STATOR_SIZE, "stators": stators, "parts": parts,
                 "tracks": [_track(track) for track in tracks],
                 "switches": _switches(tracks),
                 "movers": [_mover(mover) for mover in system.movers],
-                "reserved": self._reserved()}
+                "reserved": self._reserved(),
+                "obstacles": [] if plans is None else plans.obstacles(),
+                "routes": [] if plans is None else plans.current()}
 
     def _tracks(self) -> list[Any]:
         network = self._system.network

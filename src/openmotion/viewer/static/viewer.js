@@ -525,6 +525,26 @@ function drawPlanar(ctx, panel, width, height) {
     ctx.fillStyle = "#d06a1a";
     ctx.fill();
   }
+  for (const obstacle of panel.obstacles || []) { // a router's static obstacles
+    tracePolygon(ctx, obstacle.rings, X, Y);
+    ctx.fillStyle = "#c4c9d1";
+    ctx.fill("evenodd");
+    ctx.strokeStyle = "#6b7480";
+    ctx.lineWidth = 1;
+    ctx.stroke();
+    label(ctx, obstacle.name, X(obstacle.rings[0][0][0]) + 3, Y(obstacle.rings[0][0][1]) - 7,
+      "#3d4450", "left", "10px");
+  }
+  for (const route of panel.routes || []) { // planned ways of movers still on them
+    polyline(route.points);
+    ctx.strokeStyle = colourOf(route.mover);
+    ctx.globalAlpha = 0.8;
+    ctx.setLineDash([6, 4]);
+    ctx.lineWidth = 2;
+    ctx.stroke();
+    ctx.setLineDash([]);
+    ctx.globalAlpha = 1;
+  }
   for (const area of panel.reserved) {
     const colour = colourOf(area.mover);
     tracePolygon(ctx, area.rings, X, Y);
