@@ -145,8 +145,7 @@ class AxisKernel:
 
     def ended(self, now: float) -> np.ndarray:
         """Rows whose job profile reaches its end state at or before ``now`` (events)."""
-        n = self.size
-        return np.flatnonzero(self.has_job[:n] & (self.segments.end[:n] <= now))
+        return _ended_rows(self.has_job, self.segments.end, self.size, now)
 
     def evaluate(self, now: float, again: bool = False) -> None:
         """Sample every setpoint at ``now``; ``again``: the same instant after a fault
@@ -253,6 +252,8 @@ class AxisKernel:
 
     def state(self, row: int) -> KinematicState:
         """The setpoint state at the last sample: where any new plan starts."""
+        if not (self._externals or self._overlays or self.couplings.slaves.size):
+            return self.segments.state(row, self.sample_time)  # a free axis' own profile
         coupled = bool(self.couplings.slaves.size) and row in self.couplings
         if coupled or self.external[row]:  # follows a master or a feed
             return KinematicState(float(self.set_p[row]), float(self.set_v[row]),
@@ -331,6 +332,22 @@ def _earliest_end(has_job: np.ndarray, end: np.ndarray, superimposed: np.ndarray
         if superimposed[row] and overlay_end[row] < earliest:
             earliest = overlay_end[row]
     return earliest
+
+
+@compiled
+def _ended_rows(has_job: np.ndarray, end: np.ndarray, n: int, now: float) -> np.ndarray:
+    """``AxisKernel.ended`` in one pass: the rows with a job whose ``end`` <= ``now``."""
+    count = 0
+    for row in range(n):
+        if has_job[row] and end[row] <= now:
+            count += 1
+    rows = np.empty(count, dtype=np.int64)
+    count = 0
+    for row in range(n):
+        if has_job[row] and end[row] <= now:
+            rows[count] = row
+            count += 1
+    return rows
 
 
 @compiled
