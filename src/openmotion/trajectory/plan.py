@@ -48,6 +48,8 @@ class Limits:
     jerk: float  #: [mm/s³]
 
     def scaled_velocity(self, factor: float) -> Limits:
+        if factor == 1.0:  # x * 1.0 is x: no new object for the common case
+            return self
         return Limits(self.velocity * factor, self.acceleration, self.deceleration, self.jerk)
 
 
@@ -279,22 +281,41 @@ def _overshoot_edge(bottom: float, top: float, first: int, target: float,
 def _load_turn(start: KinematicState, target: float, target_velocity: float,
                limits: Limits, first: int) -> None:
     """The start, the target and the mapped limits of both pieces into the search inputs."""
+    _load_braking(start, limits, first)
+    up, down = limits.acceleration, limits.deceleration
+    _onward.max_velocity = [limits.velocity]
+    _onward.max_jerk = [limits.jerk]
+    _onward.target_position = [target]
+    _onward.target_velocity = [target_velocity]
+    if first > 0:  # braking a +x motion, then speeding up towards -x
+        _onward.max_acceleration, _onward.min_acceleration = [down], [-up]
+    else:
+        _onward.max_acceleration, _onward.min_acceleration = [up], [-down]
+
+
+_braking_given: tuple[KinematicState, Limits, int] | None = None  #: what ``_braking`` holds
+
+
+def _load_braking(start: KinematicState, limits: Limits, first: int) -> None:
+    """The start and the mapped limits of the first piece into its input, unless the same
+    objects are loaded already (the turn's profile brakes from the state and with the limits
+    its search used; each setter converts a list). Identity, not equality: -0.0 == 0.0, and
+    the held objects cannot be freed and their ids reused."""
+    global _braking_given
+    held = _braking_given
+    if held is not None and held[0] is start and held[1] is limits and held[2] == first:
+        return
     up, down = limits.acceleration, limits.deceleration
     _braking.current_position = [start.position]
     _braking.current_velocity = [start.velocity]
     _braking.current_acceleration = [start.acceleration]
     _braking.max_velocity = [limits.velocity]
     _braking.max_jerk = [limits.jerk]
-    _onward.max_velocity = [limits.velocity]
-    _onward.max_jerk = [limits.jerk]
-    _onward.target_position = [target]
-    _onward.target_velocity = [target_velocity]
-    if first > 0:  # braking a +x motion, then speeding up towards -x
+    if first > 0:  # braking a +x motion
         _braking.max_acceleration, _braking.min_acceleration = [up], [-down]
-        _onward.max_acceleration, _onward.min_acceleration = [down], [-up]
     else:
         _braking.max_acceleration, _braking.min_acceleration = [down], [-up]
-        _onward.max_acceleration, _onward.min_acceleration = [up], [-down]
+    _braking_given = (start, limits, first)
 
 
 def _turn_duration(c: float, first: int, target: float, scale: float) -> float:
@@ -432,7 +453,7 @@ def _braked_to_crossing(start: KinematicState, c: float, heading: int,
     """Brake a motion towards ``heading`` to zero velocity with the acceleration at
     -heading·``c`` (ruckig's velocity interface, the deceleration bounding the braking);
     None where ruckig fails or the velocity passes zero before."""
-    _load_turn(start, 0.0, 0.0, limits, heading)
+    _load_braking(start, limits, heading)
     _braking.target_acceleration = [-heading * c]
     try:
         if _turn.calculate(_braking, _turn_trajectory) not in (Result.Working,
