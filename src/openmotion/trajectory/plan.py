@@ -357,7 +357,7 @@ def _turn_profile(c: float, first: int, start: KinematicState, target: float,
     except CommandRejected:
         return None
     lo, hi = onward.velocity_extrema()
-    if _reverses(onward, -first) or max(-lo, hi) > limits.velocity * (1.0 + VELOCITY_TOLERANCE):
+    if _reversed(lo, hi, -first) or max(-lo, hi) > limits.velocity * (1.0 + VELOCITY_TOLERANCE):
         return None
     return Profile.concatenate(braking, onward)
 
@@ -717,13 +717,20 @@ def _segments(profile) -> Profile:  # noqa: ANN001 - ruckig.Profile has no publi
 
 def _with_exact_end(profile: Profile, position: float, velocity: float) -> Profile:
     """Pin the open segment to the commanded end state, so targets are reached exactly."""
-    profile.p[-1] = position
-    profile.v[-1] = velocity
+    data = profile.data
+    data[1, -1] = position
+    data[2, -1] = velocity
     return profile
 
 
 def _reverses(profile: Profile, sign: int) -> bool:
     lo, hi = profile.velocity_extrema()
+    return _reversed(lo, hi, sign)
+
+
+def _reversed(lo: float, hi: float, sign: int) -> bool:
+    """Velocity extrema ``lo``, ``hi`` of a motion towards ``sign`` pass zero (beyond float
+    residue)."""
     tolerance = 1e-9 * max(abs(lo), abs(hi), 1.0)
     return hi > tolerance if sign < 0 else lo < -tolerance
 
