@@ -807,6 +807,10 @@ class Axis:
         self.queue.install(profile)
 
     def _direction_sign(self, direction: Direction) -> int:
+        if direction is Direction.POSITIVE:  # the common cases first
+            return 1
+        if direction is Direction.NEGATIVE:
+            return -1
         try:
             direction = convert_enum(Direction, direction)
         except ValueError:
@@ -964,6 +968,8 @@ def _parameter_spec(number: int):  # noqa: ANN202 - ParameterSpec
 
 
 def _buffer_mode(mode: BufferMode) -> BufferMode:
+    if type(mode) is BufferMode:
+        return mode
     try:
         return BufferMode(mode)
     except ValueError:

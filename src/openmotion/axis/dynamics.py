@@ -62,6 +62,12 @@ def resolve_limits(
     deceleration: float | SpecialValue,
     jerk: float | SpecialValue,
 ) -> Limits:
+    p = parameters
+    if type(velocity) is float and type(acceleration) is float \
+            and type(deceleration) is float and type(jerk) is float \
+            and 0.0 < velocity <= p.max_velocity and 0.0 < acceleration <= p.max_acceleration \
+            and 0.0 < deceleration <= p.max_deceleration and 0.0 < jerk <= p.max_jerk:
+        return Limits(velocity, acceleration, deceleration, jerk)  # what ``resolve`` gives
     return Limits(
         resolve("velocity", velocity, parameters, warnings),
         resolve("acceleration", acceleration, parameters, warnings),
@@ -72,6 +78,8 @@ def resolve_limits(
 
 def require_position(name: str, value: float | SpecialValue) -> float:
     """A position input: any finite number; MC_INVALID and other sentinels are rejected."""
+    if type(value) is float and math.isfinite(value):  # the common case
+        return value
     if isinstance(value, SpecialValue | bool) or not isinstance(value, int | float):
         raise CommandRejected(ErrorId.INVALID_POSITION, f"{name}: must be set, got {value!r}")
     if not math.isfinite(value):

@@ -8,9 +8,12 @@ event (a profile that ended, a following-error alarm).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from functools import partial
+from typing import Any
 
 import numpy as np
+from numba import typeof
 
 from openmotion.axis.gearing import Couplings
 from openmotion.axis.tolerances import LAG_FILTER_TOLERANCE, LIMIT_TOLERANCE
@@ -44,12 +47,12 @@ class AxisKernel:
         self.couplings = Couplings()
         #: time, rows and (p, v, a) of the geared slaves' previous sample
         self.previous = (0.0, _EMPTY, np.zeros((0, 3)))
-        self._grow(capacity)
-        self._bind()
         #: the earliest end of a job profile or superimposed motion (``next_event``), and the
         #: install counts of the two tables it was computed at (-1: compute it again)
         self._next_event = -math.inf
         self._seen_jobs = self._seen_overlays = -1
+        self._grow(capacity)
+        self._bind()
 
     def _grow(self, capacity: int) -> None:
         def grown(old: np.ndarray, dtype: type) -> np.ndarray:
@@ -76,8 +79,17 @@ class AxisKernel:
         """``sample(now, follow)``: the setpoints at ``now`` (and with ``follow``, ideal drives
         following them) in one compiled call bound to the arrays as they are now; taken again
         when a row comes. A cycle of one axis costs a few µs, and looking the arrays up was a
-        good part of it."""
-        self.sample = partial(_sample, *self.segments.bound(), self.fields)
+        good part of it. The events' passes (``next_event``, ``ended``) are bound alike, and
+        each to its compiled entry point for these argument types, without the dispatcher's
+        look at every argument's type in every call (the arrays keep their types and
+        layouts; a new row binds again)."""
+        table = (*self.segments.bound(), self.fields)
+        self.sample = partial(_entry(_sample, *table, 0.0, False), *table)
+        jobs = (self.has_job, self.segments.end, self.superimposed, self.overlay.end, self.size)
+        self._earliest_end = partial(_entry(_earliest_end, *jobs), *jobs)
+        self._ended = (self.has_job, self.segments.end, self.size,
+                       np.empty(max(self._capacity, 1), dtype=np.int64))
+        self._ended_rows = _entry(_ended_rows, *self._ended[:3], 0.0, self._ended[3])
 
     def add(self, position: float, alpha: float, dead_cycles: int) -> int:
         if self.size == self._capacity:
@@ -111,8 +123,7 @@ class AxisKernel:
         segments, overlay = self.segments, self.overlay
         if segments.installs != self._seen_jobs or overlay.installs != self._seen_overlays:
             self._seen_jobs, self._seen_overlays = segments.installs, overlay.installs
-            self._next_event = _earliest_end(self.has_job, segments.end, self.superimposed,
-                                             overlay.end, self.size)
+            self._next_event = self._earliest_end()
         return self._next_event
 
     def forget_events(self) -> None:
@@ -145,8 +156,8 @@ class AxisKernel:
 
     def ended(self, now: float) -> np.ndarray:
         """Rows whose job profile reaches its end state at or before ``now`` (events)."""
-        n = self.size
-        return np.flatnonzero(self.has_job[:n] & (self.segments.end[:n] <= now))
+        has_job, end, n, rows = self._ended
+        return rows[: self._ended_rows(has_job, end, n, now, rows)]
 
     def evaluate(self, now: float, again: bool = False) -> None:
         """Sample every setpoint at ``now``; ``again``: the same instant after a fault
@@ -253,6 +264,8 @@ class AxisKernel:
 
     def state(self, row: int) -> KinematicState:
         """The setpoint state at the last sample: where any new plan starts."""
+        if not (self._externals or self._overlays or self.couplings.slaves.size):
+            return self.segments.state(row, self.sample_time)  # a free axis' own profile
         coupled = bool(self.couplings.slaves.size) and row in self.couplings
         if coupled or self.external[row]:  # follows a master or a feed
             return KinematicState(float(self.set_p[row]), float(self.set_v[row]),
@@ -331,6 +344,27 @@ def _earliest_end(has_job: np.ndarray, end: np.ndarray, superimposed: np.ndarray
         if superimposed[row] and overlay_end[row] < earliest:
             earliest = overlay_end[row]
     return earliest
+
+
+def _entry(dispatcher: Any, *example: Any) -> Callable[..., Any]:
+    """The compiled entry point of ``dispatcher`` for the types of ``example`` (compiled or
+    loaded from the cache now): called with arguments of exactly these types, it skips the
+    dispatcher's resolution of every argument's type, a good part of a call's cost when
+    the work is a few rows."""
+    return dispatcher.compile(tuple(typeof(value) for value in example))
+
+
+@compiled
+def _ended_rows(has_job: np.ndarray, end: np.ndarray, n: int, now: float,
+                rows: np.ndarray) -> int:
+    """``AxisKernel.ended`` in one pass: the rows with a job whose ``end`` <= ``now`` into
+    the first elements of ``rows``; returns how many."""
+    count = 0
+    for row in range(n):
+        if has_job[row] and end[row] <= now:
+            rows[count] = row
+            count += 1
+    return count
 
 
 @compiled

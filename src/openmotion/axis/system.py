@@ -199,8 +199,9 @@ class AxisSystem:
         for _, _, watcher in self._watchers:  # the looks the stretch made no step for
             watcher.skip(cycles)  # type: ignore[attr-defined]
         if times is None:
-            kernel.evaluate(now)
-            kernel.simulate_drives()
+            if not kernel.evaluate_and_follow(now):  # ideal drives: in the same pass
+                kernel.evaluate(now)
+                kernel.simulate_drives()
             return None
         p, v, a, j = (np.empty((times.shape[0], n)) for _ in range(4))
         if kernel.has_overlays:  # added row by row: the cycle's own evaluation, each time

@@ -118,7 +118,8 @@ class CyclicRuntime:
     def run(self, seconds: float) -> None:
         """Run for ``seconds`` of virtual time (rounded to whole cycles; 0 runs none), quiet
         stretches in bulk. NaN, infinite or negative: ``ConfigError``."""
-        seconds = non_negative_number(seconds, "run: seconds")
+        if not (type(seconds) is float and 0.0 <= seconds < math.inf):  # the common case
+            seconds = non_negative_number(seconds, "run: seconds")
         target = self.cycle + round(seconds / self.cycle_time)
         while self.cycle < target:
             quiet = self._quiet_cycles(target - self.cycle)

@@ -21,7 +21,6 @@ from dataclasses import dataclass
 import numpy as np
 from ruckig import ControlInterface, InputParameter, Result, Ruckig, RuckigError, Trajectory
 
-from openmotion.core.compiled import compiled
 from openmotion.core.errors import CommandRejected, ErrorId
 from openmotion.trajectory.double_s import rest_to_rest
 from openmotion.trajectory.segments import KinematicState, Profile
@@ -49,6 +48,8 @@ class Limits:
     jerk: float  #: [mm/s³]
 
     def scaled_velocity(self, factor: float) -> Limits:
+        if factor == 1.0:  # x * 1.0 is x: no new object for the common case
+            return self
         return Limits(self.velocity * factor, self.acceleration, self.deceleration, self.jerk)
 
 
@@ -280,22 +281,41 @@ def _overshoot_edge(bottom: float, top: float, first: int, target: float,
 def _load_turn(start: KinematicState, target: float, target_velocity: float,
                limits: Limits, first: int) -> None:
     """The start, the target and the mapped limits of both pieces into the search inputs."""
+    _load_braking(start, limits, first)
+    up, down = limits.acceleration, limits.deceleration
+    _onward.max_velocity = [limits.velocity]
+    _onward.max_jerk = [limits.jerk]
+    _onward.target_position = [target]
+    _onward.target_velocity = [target_velocity]
+    if first > 0:  # braking a +x motion, then speeding up towards -x
+        _onward.max_acceleration, _onward.min_acceleration = [down], [-up]
+    else:
+        _onward.max_acceleration, _onward.min_acceleration = [up], [-down]
+
+
+_braking_given: tuple[KinematicState, Limits, int] | None = None  #: what ``_braking`` holds
+
+
+def _load_braking(start: KinematicState, limits: Limits, first: int) -> None:
+    """The start and the mapped limits of the first piece into its input, unless the same
+    objects are loaded already (the turn's profile brakes from the state and with the limits
+    its search used; each setter converts a list). Identity, not equality: -0.0 == 0.0, and
+    the held objects cannot be freed and their ids reused."""
+    global _braking_given
+    held = _braking_given
+    if held is not None and held[0] is start and held[1] is limits and held[2] == first:
+        return
     up, down = limits.acceleration, limits.deceleration
     _braking.current_position = [start.position]
     _braking.current_velocity = [start.velocity]
     _braking.current_acceleration = [start.acceleration]
     _braking.max_velocity = [limits.velocity]
     _braking.max_jerk = [limits.jerk]
-    _onward.max_velocity = [limits.velocity]
-    _onward.max_jerk = [limits.jerk]
-    _onward.target_position = [target]
-    _onward.target_velocity = [target_velocity]
-    if first > 0:  # braking a +x motion, then speeding up towards -x
+    if first > 0:  # braking a +x motion
         _braking.max_acceleration, _braking.min_acceleration = [up], [-down]
-        _onward.max_acceleration, _onward.min_acceleration = [down], [-up]
     else:
         _braking.max_acceleration, _braking.min_acceleration = [down], [-up]
-        _onward.max_acceleration, _onward.min_acceleration = [up], [-down]
+    _braking_given = (start, limits, first)
 
 
 def _turn_duration(c: float, first: int, target: float, scale: float) -> float:
@@ -337,7 +357,7 @@ def _turn_profile(c: float, first: int, start: KinematicState, target: float,
     except CommandRejected:
         return None
     lo, hi = onward.velocity_extrema()
-    if _reverses(onward, -first) or max(-lo, hi) > limits.velocity * (1.0 + VELOCITY_TOLERANCE):
+    if _reversed(lo, hi, -first) or max(-lo, hi) > limits.velocity * (1.0 + VELOCITY_TOLERANCE):
         return None
     return Profile.concatenate(braking, onward)
 
@@ -400,18 +420,32 @@ def _turn_velocity(start: KinematicState, velocity: float, limits: Limits,
               math.sqrt(2.0 * jerk * min(abs(velocity), limits.velocity))) \
         * (1.0 - _CROSSING_MARGIN)
     bottom = math.sqrt(max(push * push - 2.0 * jerk * speed, 0.0)) if push < 0.0 else 0.0
-    candidates = [_velocity_profile(start, velocity, Limits(limits.velocity, low, low, jerk))]
-    brake = plan_velocity(start, 0.0, limits)
-    candidates.append(Profile.concatenate(
-        brake, _velocity_profile(KinematicState(brake.end.position), velocity, limits)))
+    # durations first (a velocity change lasts the same from any position), in the order the
+    # fastest is chosen in, ties to the first; only the fastest is built
+    lowered = Limits(limits.velocity, low, low, jerk)
+    lowered_phases = _velocity_phases(start, velocity, lowered)
+    brake_phases = _velocity_phases(start, 0.0, limits)  # plan_velocity's, to rest
+    rest_phases = _velocity_phases(_REST, velocity, limits)
+    candidates: list[tuple[float, int]] = [
+        (_phases_duration(lowered_phases), 1),
+        (_phases_duration(rest_phases) + _phases_duration(brake_phases), 2)]
+    turn = onward = None
     if bottom <= top:
         turn = _braked_to_crossing(start, top, heading, limits)
         if turn is not None:
             crossing = KinematicState(float(turn.p[-1]), 0.0, -heading * top)
             onward = _velocity_profile(crossing, velocity, limits)
             if not _reverses(onward, -heading):
-                candidates.insert(0, Profile.concatenate(turn, onward))
-    return min(candidates, key=lambda c: c.duration)
+                candidates.insert(0, (onward.duration + turn.duration, 0))
+    kind = min(candidates, key=lambda c: c[0])[1]
+    if kind == 0:
+        assert turn is not None and onward is not None
+        return Profile.concatenate(turn, onward)
+    if kind == 1:
+        return _integrate(start, lowered_phases, velocity)
+    brake = _integrate(start, brake_phases, 0.0)
+    return Profile.concatenate(
+        brake, _velocity_profile(KinematicState(brake.end.position), velocity, limits))
 
 
 def _braked_to_crossing(start: KinematicState, c: float, heading: int,
@@ -419,7 +453,7 @@ def _braked_to_crossing(start: KinematicState, c: float, heading: int,
     """Brake a motion towards ``heading`` to zero velocity with the acceleration at
     -heading·``c`` (ruckig's velocity interface, the deceleration bounding the braking);
     None where ruckig fails or the velocity passes zero before."""
-    _load_turn(start, 0.0, 0.0, limits, heading)
+    _load_braking(start, limits, heading)
     _braking.target_acceleration = [-heading * c]
     try:
         if _turn.calculate(_braking, _turn_trajectory) not in (Result.Working,
@@ -517,6 +551,16 @@ def _velocity_profile(start: KinematicState, velocity: float, limits: Limits) ->
     acceleration, hold it, jerk back to zero. Solving it directly is exact and far cheaper
     than a ruckig call; tests/properties compares it with ruckig.
     """
+    return _integrate(start, _velocity_phases(start, velocity, limits), velocity)
+
+
+_REST = KinematicState(0.0)
+
+
+def _velocity_phases(start: KinematicState, velocity: float,
+                     limits: Limits) -> list[tuple[float, float]]:
+    """The (jerk, duration) phases of ``_velocity_profile``: they depend on the start's
+    velocity and acceleration only, not on its position."""
     sign = _sign(velocity) or _sign(start.velocity) or _sign(start.acceleration)
     if sign >= 0:
         up, down = limits.acceleration, limits.deceleration  # bounds of +a and of -a
@@ -541,7 +585,16 @@ def _velocity_profile(start: KinematicState, velocity: float, limits: Limits) ->
             hold = (velocity - v0 - gained - peak * abs(peak) / (2.0 * jerk)) / peak
         phases = [(math.copysign(jerk, peak - a0), abs(peak - a0) / jerk), (0.0, hold),
                   (-d * jerk, abs(peak) / jerk)]
-    return _integrate(start, phases, velocity)
+    return phases
+
+
+def _phases_duration(phases: list[tuple[float, float]]) -> float:
+    """[s] of the profile ``_integrate`` makes of ``phases``: its sum, in its order."""
+    total = 0.0
+    for _, duration in phases:
+        if duration > _MIN_SEGMENT:
+            total = total + duration
+    return total
 
 
 def _integrate(start: KinematicState, phases: list[tuple[float, float]],
@@ -559,7 +612,7 @@ def _integrate(start: KinematicState, phases: list[tuple[float, float]],
         a.append(a0 + duration * jerk)
     v[-1], a[-1] = velocity, 0.0
     j.append(0.0)
-    return Profile(t, p, v, a, j)
+    return Profile.from_data(np.array(t + p + v + a + j).reshape(5, len(t)))
 
 
 def _load_state(start: KinematicState, limits: Limits, sign: int) -> None:
@@ -620,61 +673,64 @@ def _calculate() -> Profile:
 
 
 def _segments(profile) -> Profile:  # noqa: ANN001 - ruckig.Profile has no public type
-    """Flatten ruckig's brake and main phases into non-empty segments.
+    """Flatten ruckig's brake and main phases into non-empty segments (those lasting longer
+    than ``_MIN_SEGMENT``), and the end state after them.
 
     Ruckig's post-phase (``accel``) only serves target states beyond the limits, which we
-    never command, so it is not read. One array and one compiled pass: this runs on every
-    plan.
+    never command, so it is not read. Plain floats and one array built at the end: this runs
+    on every plan, and for a handful of phases numpy and compiled calls cost more than the
+    arithmetic (the same operations in the same order as before, so the same bits).
     """
     brake = profile.brake
     durations, jerks, ps, vs, accs = profile.t, profile.j, profile.p, profile.v, profile.a
     if brake.duration > 0.0:
-        durations = brake.t + durations
-        jerks, ps, vs, accs = brake.j + jerks, brake.p + ps[:7], brake.v + vs[:7], \
-            brake.a + accs[:7]
-        return Profile.from_data(_flatten(np.array((durations, jerks, ps, vs, accs))))
-    return Profile.from_data(_flatten(np.array((durations, jerks, ps[:7], vs[:7], accs[:7]))))
-
-
-@compiled
-def _flatten(raw: np.ndarray) -> np.ndarray:
-    """(t, p, v, a, j) rows of the phases in ``raw`` (rows: durations, jerks, p, v, a at each
-    phase's start) that last longer than ``_MIN_SEGMENT``, and the end state after them."""
-    count = 0
-    for k in range(raw.shape[1]):
-        if raw[0, k] > _MIN_SEGMENT:
-            count += 1
-    out = np.empty((5, count + 1))
-    out[0, 0] = 0.0
-    n = 0
+        durations, jerks = brake.t + durations, brake.j + jerks
+        ps, vs, accs = brake.p + ps, brake.v + vs, brake.a + accs
+    t: list[float] = []
+    p: list[float] = []
+    v: list[float] = []
+    a: list[float] = []
+    j: list[float] = []
     total = 0.0
-    for k in range(raw.shape[1]):
-        if raw[0, k] > _MIN_SEGMENT:
-            out[1, n], out[2, n], out[3, n], out[4, n] = raw[2, k], raw[3, k], raw[4, k], raw[1, k]
-            total += raw[0, k]
-            n += 1
-            out[0, n] = total
+    for k, duration in enumerate(durations):
+        if duration > _MIN_SEGMENT:
+            t.append(total)
+            p.append(ps[k])
+            v.append(vs[k])
+            a.append(accs[k])
+            j.append(jerks[k])
+            total += duration
+    n = len(t)
     if n:
-        dt = out[0, n] - out[0, n - 1]
-        p0, v0, a0, j0 = out[1, n - 1], out[2, n - 1], out[3, n - 1], out[4, n - 1]
-        out[1, n] = p0 + dt * (v0 + dt * (a0 / 2.0 + dt * j0 / 6.0))
-        out[2, n] = v0 + dt * (a0 + dt * j0 / 2.0)
+        dt = total - t[-1]
+        p0, v0, a0, j0 = p[-1], v[-1], a[-1], j[-1]
+        p.append(p0 + dt * (v0 + dt * (a0 / 2.0 + dt * j0 / 6.0)))
+        v.append(v0 + dt * (a0 + dt * j0 / 2.0))
     else:
-        out[1, 0], out[2, 0] = raw[2, 0], raw[3, 0]
-    out[3, n] = 0.0
-    out[4, n] = 0.0
-    return out
+        p.append(ps[0])
+        v.append(vs[0])
+    t.append(total)
+    a.append(0.0)
+    j.append(0.0)
+    return Profile.from_data(np.array(t + p + v + a + j).reshape(5, n + 1))
 
 
 def _with_exact_end(profile: Profile, position: float, velocity: float) -> Profile:
     """Pin the open segment to the commanded end state, so targets are reached exactly."""
-    profile.p[-1] = position
-    profile.v[-1] = velocity
+    data = profile.data
+    data[1, -1] = position
+    data[2, -1] = velocity
     return profile
 
 
 def _reverses(profile: Profile, sign: int) -> bool:
     lo, hi = profile.velocity_extrema()
+    return _reversed(lo, hi, sign)
+
+
+def _reversed(lo: float, hi: float, sign: int) -> bool:
+    """Velocity extrema ``lo``, ``hi`` of a motion towards ``sign`` pass zero (beyond float
+    residue)."""
     tolerance = 1e-9 * max(abs(lo), abs(hi), 1.0)
     return hi > tolerance if sign < 0 else lo < -tolerance
 
