@@ -118,11 +118,19 @@ class Collision(CommandRejected):
     """A command refused by the group: PLANAR_COLLISION with the blocking object (§6.7.2)."""
 
     def __init__(self, blocker: MemberId, what: str) -> None:
-        info = PlanarObjectInfo(PlanarObjectType(blocker.object_type), blocker.id)
+        kind = blocker.object_type
+        if type(kind) is not PlanarObjectType:
+            kind = PlanarObjectType(kind)
         super().__init__(ErrorId.PLANAR_COLLISION,
-                         f"{what} meets the area of {info.object_type.name.lower()} "
-                         f"16#{info.id:08X} (§6.3)")
-        self.object_info = info
+                         f"{what} meets the area of {_KIND_NAMES[kind]} "
+                         f"16#{blocker.id:08X} (§6.3)")
+        self.object_info = PlanarObjectInfo(kind, blocker.id)
+
+
+#: how a rejection names each kind of blocker (read once: a rejection is common at scale)
+_KIND_NAMES = {kind: kind.name.lower() for kind in PlanarObjectType}
+#: MoveToPosition without options (frozen, so one instance serves every command)
+_MOVE_TO_POSITION_DEFAULTS = ST_MoveToPositionOptions()
 
 
 @dataclass
@@ -204,6 +212,9 @@ class MC_PlanarMover(StatefulObject):
         start = self.parameters.initial_position
         rows = system.add_rows([getattr(start, name) for name in COORDINATES])
         self._rows = dict(zip(COORDINATES, rows, strict=True))
+        self._xyc_rows = [self._rows[name] for name in "xyc"]  #: where MoveToPosition starts
+        self._position_limits: tuple[PlanarMoverParameters, PositionLimits, PositionLimits] \
+            | None = None  #: x and y limits of ``parameters`` (``_xy_position_limits``)
         self._row0 = rows[0]  #: the six rows are consecutive: x, y, z, a, b, c
         self._profiles: dict[str, tuple[Profile, float]] = {}  #: last plan per coordinate
         self.states = PlanarStateMachine(transition_done=self._transition_done,
@@ -496,23 +507,22 @@ class MC_PlanarMover(StatefulObject):
 
     def _move_to_position(self, command: PlanarCommand) -> None:
         target, constraint, options = command.args
-        options = options or ST_MoveToPositionOptions()
+        options = options or _MOVE_TO_POSITION_DEFAULTS
         options.check()
         parameters = self.parameters
         limits = command_dynamics(constraint, parameters.default_dynamic_xy,
                                   parameters.maximum_dynamic_xy, command.warnings)
         system, pose = self._resolve(target)
         del system  # one coordinate system per mover until parts move it (§6.6)
-        start = self._start_states("x", "y", "c")
-        low, high = parameters.minimum_position, parameters.maximum_position
-        c = start["c"]
+        start = self.system.table.states(self._xyc_rows, self.system.previous)
+        c = start[2]
         turn = options.use_orientation and not (pose.c == c.position and c.velocity == 0.0
                                                  and c.acceleration == 0.0)
         goal = (pose.x, pose.y, pose.c) if turn else (pose.x, pose.y)
+        x_limits, y_limits = self._xy_position_limits()
         motion = plan_move_to_position(
-            (start["x"], start["y"], start["c"]), goal, limits, parameters.default_dynamic_c,
-            x_limits=PositionLimits(low.x, high.x), y_limits=PositionLimits(low.y, high.y),
-            c_windows=parameters.c_windows if turn else None)
+            start, goal, limits, parameters.default_dynamic_c, x_limits=x_limits,
+            y_limits=y_limits, c_windows=parameters.c_windows if turn else None)
         profiles = {"x": motion.x, "y": motion.y}
         if motion.c is not None:
             profiles["c"] = motion.c
@@ -825,7 +835,8 @@ class MC_PlanarMover(StatefulObject):
             for motion in self._motions:  # the new area replaces theirs
                 if motion.coordinates & _AREA:
                     motion.samples, motion.releases = None, []
-        self._abort(set(profiles))  # the new command takes over its coordinates
+        if self._motions:  # the new command takes over its coordinates (rescheduled below)
+            self._abort(set(profiles))
         for name, profile in profiles.items():
             self._install(name, profile, previous)
         end = previous + max(p.duration for p in profiles.values())
@@ -1079,6 +1090,15 @@ class MC_PlanarMover(StatefulObject):
         states = self.system.table.states([self._rows[name] for name in names],
                                            self.system.previous)
         return dict(zip(names, states, strict=True))
+
+    def _xy_position_limits(self) -> tuple[PositionLimits, PositionLimits]:
+        """The hidden x and y position limits of ``parameters`` (made once per parameters)."""
+        known, p = self._position_limits, self.parameters
+        if known is None or known[0] is not p:
+            low, high = p.minimum_position, p.maximum_position
+            known = self._position_limits = (p, PositionLimits(low.x, high.x),
+                                             PositionLimits(low.y, high.y))
+        return known[1], known[2]
 
     def _set_pose(self) -> Pose:
         x, y, c = (self.system.value(self._rows[k])[0] for k in ("x", "y", "c"))
