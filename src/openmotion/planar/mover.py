@@ -830,15 +830,18 @@ class MC_PlanarMover(StatefulObject):
             else:
                 self._group.registry.settle(self._member, area)
             # a piece is behind the mover once the sample after its last one is reached
-            behind = [k + 1 for k in area.until[:-1].tolist() if k + 1 < samples.size]
-            releases = [previous + t for t in samples[behind].tolist()]
+            times, count = samples.tolist(), samples.size
+            releases = [previous + times[k + 1] for k in area.until[:-1].tolist()
+                        if k + 1 < count]
             for motion in self._motions:  # the new area replaces theirs
                 if motion.coordinates & _AREA:
                     motion.samples, motion.releases = None, []
         if self._motions:  # the new command takes over its coordinates (rescheduled below)
             self._abort(set(profiles))
-        for name, profile in profiles.items():
-            self._install(name, profile, previous)
+        table, rows, plans = self.system.table, self._rows, self._profiles
+        for name, profile in profiles.items():  # ``_install`` each
+            table.install(rows[name], profile, previous)
+            plans[name] = (profile, previous)
         end = previous + max(p.duration for p in profiles.values())
         self._motions.append(_Motion(command, set(profiles), end, previous, samples, c_motion,
                                      releases, on_end))

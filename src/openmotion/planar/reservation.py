@@ -508,6 +508,7 @@ class ReservationRegistry:
         self._ranks = np.empty(0, dtype=np.int64)
         self._until = np.empty(0, dtype=np.int64)
         self._free: list[int] = []
+        self._alone_ranks: dict[int, np.ndarray] = {}  # rank -> [rank] (``_alone``)
         self._grow(max(1, capacity))
 
     @property
@@ -586,9 +587,15 @@ class ReservationRegistry:
         """Admit ``area`` for ``owner``: None and it replaces the owner's reservation, or the
         blocking member and nothing changes (the caller reports ``PLANAR_COLLISION``)."""
         swept = _as_swept(area)
-        block = self.blocker(owner, swept, ignore)
-        if block is None:
-            self.settle(owner, swept)
+        rank = self._mover_rank(owner)
+        if ignore:
+            block = self.blocker(owner, swept, ignore)
+        else:  # ``blocker`` of the owner alone, without building its list
+            slots = self._slots
+            block = self._blocker(swept, self._alone(rank) if owner in slots else _NO_RANKS)
+        if block is None:  # ``settle``
+            self._extra.pop(owner, None)
+            self._slots[owner] = self._store(swept, rank, self._slots.pop(owner, []))
         return block
 
     def release(self, owner: MemberId, sample: int) -> None:
@@ -638,6 +645,14 @@ class ReservationRegistry:
         if slots is None:
             return Polygon()
         return shapely.union_all([self._piece(slot) for slot in slots])
+
+    def _alone(self, rank: int) -> np.ndarray:
+        """The ranks ``blocker`` leaves out for a member alone: its own (one array per
+        member, made once; the compiled check only reads it)."""
+        alone = self._alone_ranks.get(rank)
+        if alone is None:
+            alone = self._alone_ranks[rank] = np.array([rank], dtype=np.int64)
+        return alone
 
     def _mover_rank(self, owner: MemberId) -> int:
         """The rank of a member that may hold an area (any member but the environment)."""
