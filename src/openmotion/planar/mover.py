@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from functools import lru_cache
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
@@ -118,17 +119,19 @@ class Collision(CommandRejected):
     """A command refused by the group: PLANAR_COLLISION with the blocking object (§6.7.2)."""
 
     def __init__(self, blocker: MemberId, what: str) -> None:
-        kind = blocker.object_type
-        if type(kind) is not PlanarObjectType:
-            kind = PlanarObjectType(kind)
-        super().__init__(ErrorId.PLANAR_COLLISION,
-                         f"{what} meets the area of {_KIND_NAMES[kind]} "
-                         f"16#{blocker.id:08X} (§6.3)")
-        self.object_info = PlanarObjectInfo(kind, blocker.id)
+        info, meets = _blocked_by(blocker)
+        super().__init__(ErrorId.PLANAR_COLLISION, what + meets)
+        self.object_info = info
 
 
-#: how a rejection names each kind of blocker (read once: a rejection is common at scale)
-_KIND_NAMES = {kind: kind.name.lower() for kind in PlanarObjectType}
+@lru_cache(maxsize=4096)
+def _blocked_by(blocker: MemberId) -> tuple[PlanarObjectInfo, str]:
+    """The ``object_info`` of a rejection by ``blocker`` and the end of its message, made
+    once per blocker: many commands meet the same neighbours, and formatting the message
+    anew cost a tenth of a rejected command."""
+    info = PlanarObjectInfo(PlanarObjectType(blocker.object_type), blocker.id)
+    return info, (f" meets the area of {info.object_type.name.lower()} "
+                  f"16#{info.id:08X} (§6.3)")
 #: MoveToPosition without options (frozen, so one instance serves every command)
 _MOVE_TO_POSITION_DEFAULTS = ST_MoveToPositionOptions()
 
@@ -497,7 +500,8 @@ class MC_PlanarMover(StatefulObject):
                                    "surface")
             self.states.request(command)
             return
-        kind = MoverCommand(kind)
+        if type(kind) is not MoverCommand:
+            kind = MoverCommand(kind)
         if kind is _C.SET_EXTERNAL_SETPOINT:
             self._feed(command)
             return
@@ -817,18 +821,20 @@ class MC_PlanarMover(StatefulObject):
         on one line from the start (``PlanarMotion.s``). ``check_carried``: refuse a path
         off the stators (D-163); a halt is never refused (D-084)."""
         previous = self.system.previous
-        if check_carried and _XY & profiles.keys():
+        group = self._group
+        if check_carried and _XY & profiles.keys() and (
+                group is None or not group.registry.checks_surface):  # else the group checks
             self._check_carried(profiles, straight, previous, what)
         samples, releases = None, []
-        if _AREA & profiles.keys() and self._group is not None:
+        if group is not None and _AREA & profiles.keys():
             samples, area = self._future_area(profiles, previous, straight)
             if admit:
-                self._group.port.check_enabled(what)
-                blocker = self._group.registry.request(self._member, area)
+                group.port.check_enabled(what)
+                blocker = group.registry.request(self._member, area)
                 if blocker is not None:
                     raise Collision(blocker, what)
             else:
-                self._group.registry.settle(self._member, area)
+                group.registry.settle(self._member, area)
             # a piece is behind the mover once the sample after its last one is reached
             times, count = samples.tolist(), samples.size
             releases = [previous + times[k + 1] for k in area.until[:-1].tolist()
@@ -876,7 +882,10 @@ class MC_PlanarMover(StatefulObject):
         (``swept_area`` of the samples). A straight path (``straight``, the arc length of x
         and y, ``PlanarMotion.s``) is cut into runs by its arc length and only the run ends
         are evaluated: the same pieces, without sampling x, y and c."""
-        plans = self._future_plans(profiles, start)
+        if profiles.keys() >= _AREA:  # ``_future_plans`` of new x, y and c
+            plans = [(profiles["x"], start), (profiles["y"], start), (profiles["c"], start)]
+        else:
+            plans = self._future_plans(profiles, start)
         step = self.system.cycle_time * _SAMPLE_CYCLES
         width, height = self.parameters.mover_width, self.parameters.mover_height
         turning = running(plans[2], start)
