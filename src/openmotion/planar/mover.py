@@ -1113,7 +1113,7 @@ class MC_PlanarMover(StatefulObject):
         return known[1], known[2]
 
     def _set_pose(self) -> Pose:
-        x, y, c = (self.system.value(self._rows[k])[0] for k in ("x", "y", "c"))
+        x, y, _, _, _, c = self.system.values(0, self._row0, 6).tolist()  # rows x ... c
         return Pose(x, y, c)
 
     def _resolve(self, target: PositionXYC) -> tuple[int, Pose]:

@@ -604,9 +604,11 @@ class ReservationRegistry:
         slots = self._slots.get(owner)
         if slots is None or len(slots) < 2 or self._until[slots[0]] >= sample:
             return
-        held = list(zip(slots[:-1], self._until[slots[:-1]].tolist(), strict=True))
-        self._free_slots([slot for slot, last in held if last < sample])
-        self._slots[owner] = [slot for slot, last in held if last >= sample] + slots[-1:]
+        until, freed, kept = self._until, [], []
+        for slot in slots[:-1]:  # a few pieces: item by item beats a gather
+            (freed if until.item(slot) < sample else kept).append(slot)
+        self._free_slots(freed)
+        self._slots[owner] = kept + slots[-1:]
 
     def cover(self, owner: MemberId, area: SweptArea | BaseGeometry) -> MemberId | None:
         """Hold ``area`` for ``owner`` besides its reservation, in place of what its last
