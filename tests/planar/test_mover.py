@@ -22,6 +22,7 @@ from openmotion.planar import (
     PlanarState,
     PositionXYC,
 )
+from openmotion.planar import mover as mover_module
 from openmotion.planar.motion import sample_path
 from openmotion.planar.reservation import swept_area
 
@@ -104,13 +105,16 @@ def test_move_c_out_of_the_windows_locks_x_and_y():
 def test_a_moves_area_is_the_swept_area_of_its_sampled_path():
     """Equivalence: the area a mover asks for is ``swept_area`` of its sampled future path,
     piece for piece, with the same samples, whether it was built from the run ends of a
-    straight move (``PlanarMotion.s``) or from the samples (a move started while moving)."""
+    straight move (``PlanarMotion.s``), by the planner's own compiled pass (a turning move
+    from rest, ``PlanarMotion.swept``) or from the samples (a move started while moving)."""
     rt, _, _, movers = field(6, 6, (120.0, 120.0), (840.0, 360.0), (360.0, 1080.0))
-    original = MC_PlanarMover._future_area
-    seen = {"straight": 0, "other": 0}
+    original, original_begin = MC_PlanarMover._future_area, MC_PlanarMover._begin
+    original_pieces = mover_module.straight_run_pieces
+    seen = {"straight": 0, "other": 0, "planner": 0}
+    begun = {}
 
-    def spy(mover, profiles, start, straight):  # noqa: ANN001, ANN202
-        samples, area = original(mover, profiles, start, straight)
+    def check(samples, area, kind):  # noqa: ANN001, ANN202
+        mover, profiles, start = begun["call"]
         step = mover.system.cycle_time * 10
         expected_samples, path = sample_path(mover._future_plans(profiles, start), start, step)
         expected = swept_area(path)
@@ -119,15 +123,31 @@ def test_a_moves_area_is_the_swept_area_of_its_sampled_path():
         assert np.array_equal(area.bounds, expected.bounds)
         assert all(a.equals_exact(b, 0.0)
                    for a, b in zip(area.pieces, expected.pieces, strict=True))
-        seen["straight" if straight is not None else "other"] += 1
+        seen[kind] += 1
+
+    def begin_spy(mover, command, profiles, what, **options):  # noqa: ANN001, ANN003, ANN202
+        begun["call"] = (mover, profiles, mover.system.previous)
+        return original_begin(mover, command, profiles, what, **options)
+
+    def spy(mover, profiles, start, straight):  # noqa: ANN001, ANN202
+        samples, area = original(mover, profiles, start, straight)
+        check(samples, area, "straight" if straight is not None else "other")
         return samples, area
 
+    def pieces_spy(numbers, hx, hy):  # noqa: ANN001, ANN202
+        found = original_pieces(numbers, hx, hy)
+        if found is not None:
+            check(*found, "planner")
+        return found
+
     rng = np.random.default_rng(4)
-    with mock.patch.object(MC_PlanarMover, "_future_area", spy):
+    with mock.patch.object(MC_PlanarMover, "_future_area", spy), \
+            mock.patch.object(MC_PlanarMover, "_begin", begin_spy), \
+            mock.patch.object(mover_module, "straight_run_pieces", pieces_spy):
         for _ in range(40):
             mover = movers[int(rng.integers(len(movers)))]
             x, y = rng.uniform(100.0, 1340.0, 2)
             c = rng.choice([0.0, rng.uniform(-14.0, 14.0)])
             mover.move_to_position(PositionXYC(float(x), float(y), float(c)))
             rt.run(float(rng.choice([0.001, 0.05, 0.3])))
-    assert seen["straight"] > 10 and seen["other"] > 0
+    assert seen["planner"] > 5 and seen["straight"] + seen["planner"] > 10 and seen["other"] > 0

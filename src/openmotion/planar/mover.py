@@ -82,6 +82,8 @@ from openmotion.planar.reservation import (
     footprint,
     footprint_area,
     straight_run_area,
+    straight_run_pieces,
+    straight_sweep,
     swept_area,
 )
 from openmotion.planar.riding import halt_on_track, move_c_on_track, release_bands
@@ -524,15 +526,20 @@ class MC_PlanarMover(StatefulObject):
                                                  and c.acceleration == 0.0)
         goal = (pose.x, pose.y, pose.c) if turn else (pose.x, pose.y)
         x_limits, y_limits = self._xy_position_limits()
+        sweep = None  # in a group: the area's numbers from the planner's pass, when it can
+        if turn and self._group is not None:
+            sweep = straight_sweep(self.system.previous,
+                                   self.system.cycle_time * _SAMPLE_CYCLES,
+                                   parameters.mover_width, parameters.mover_height)
         motion = plan_move_to_position(
             start, goal, limits, parameters.default_dynamic_c, x_limits=x_limits,
-            y_limits=y_limits, c_windows=parameters.c_windows if turn else None)
+            y_limits=y_limits, c_windows=parameters.c_windows if turn else None, sweep=sweep)
         profiles = {"x": motion.x, "y": motion.y}
         if motion.c is not None:
             profiles["c"] = motion.c
         elif options.use_orientation:  # c is at its target already: the move still holds it
             profiles["c"] = Profile.hold(c)
-        self._begin(command, profiles, "the move", straight=motion.s)
+        self._begin(command, profiles, "the move", straight=motion.s, swept=motion.swept)
 
     def _move_c(self, command: PlanarCommand) -> None:
         target, constraint, options = command.args
@@ -815,11 +822,12 @@ class MC_PlanarMover(StatefulObject):
     def _begin(self, command: PlanarCommand, profiles: dict[str, Profile], what: str, *,
                c_motion: bool = False, admit: bool = True, straight: Profile | None = None,
                on_end: Callable[[bool], None] | None = None,
-               check_carried: bool = True) -> None:
+               check_carried: bool = True, swept: tuple | None = None) -> None:
         """Admit (in a group) and start ``profiles`` for ``command``: the commands on the same
         coordinates are aborted. ``straight``: the arc length of x and y when they run forward
         on one line from the start (``PlanarMotion.s``). ``check_carried``: refuse a path
-        off the stators (D-163); a halt is never refused (D-084)."""
+        off the stators (D-163); a halt is never refused (D-084). ``swept``: the numbers of
+        the swept area of ``profiles`` (x, y and c) from the planner (``PlanarMotion.swept``)."""
         previous = self.system.previous
         group = self._group
         if check_carried and _XY & profiles.keys() and (
@@ -827,7 +835,9 @@ class MC_PlanarMover(StatefulObject):
             self._check_carried(profiles, straight, previous, what)
         samples, releases = None, []
         if group is not None and _AREA & profiles.keys():
-            samples, area = self._future_area(profiles, previous, straight)
+            found = None if swept is None else straight_run_pieces(
+                swept, self.parameters.mover_width / 2, self.parameters.mover_height / 2)
+            samples, area = found or self._future_area(profiles, previous, straight)
             if admit:
                 group.port.check_enabled(what)
                 blocker = group.registry.request(self._member, area)

@@ -331,9 +331,26 @@ def straight_run_area(s: Profile, plans: Sequence[tuple[Profile, float]],
     _check_size(width, height, 0.0)
     (x, tx), (y, ty), (c, tc) = plans
     hx, hy = width / 2, height / 2
-    samples, ends, poses, fits, low, high, bounds, keys, key = kernels.straight_area_numbers(
+    return straight_run_pieces(kernels.straight_area_numbers(
         s.data, x.data, tx, moving[0], y.data, ty, moving[1], c.data, tc, moving[2],
-        c_in_grid, start, step, RELEASE_STEP, _STRAIGHT_SPAN, hx, hy, DISTANCE_NOISE)
+        c_in_grid, start, step, RELEASE_STEP, _STRAIGHT_SPAN, hx, hy, DISTANCE_NOISE), hx, hy)
+
+
+def straight_sweep(start: float, step: float, width: float = MOVER_WIDTH,
+                   height: float = MOVER_HEIGHT) -> tuple[float, ...]:
+    """The arguments of ``straight_run_area``'s kernel after the plans, for a planner that
+    computes the area's numbers in its own compiled pass (``motion.plan_move_to_position``'s
+    ``sweep``); ``straight_run_pieces`` makes the area of them."""
+    _check_size(width, height, 0.0)
+    return (start, step, RELEASE_STEP, _STRAIGHT_SPAN, width / 2, height / 2, DISTANCE_NOISE)
+
+
+def straight_run_pieces(numbers: tuple, hx: float, hy: float
+                        ) -> tuple[np.ndarray, SweptArea] | None:
+    """The sample times and swept area of ``straight_run_area`` from the numbers of its kernel
+    (``area_kernels.straight_area_numbers``) and the footprint's half sizes [mm]; None when a
+    run turns more than ``_STRAIGHT_SPAN``."""
+    samples, ends, poses, fits, low, high, bounds, keys, key = numbers
     if not fits:
         return None
     return samples, SweptArea.from_keys(bounds, keys, key, ends,
