@@ -203,6 +203,20 @@ class SweptArea:
             self.outlines[i] = vertices
         return vertices
 
+    def meets(self, i: int, other: np.ndarray) -> bool | None:
+        """Whether piece ``i`` and the convex outline ``other`` (ccw) share interior points,
+        compiled (``area_kernels.interiors_meet``); None when piece ``i`` is not known convex
+        (shapely compares it). A piece of a straight move whose outline is still to be made
+        gets it in the same compiled call."""
+        outlines = self.outlines
+        if outlines is not None and outlines[i] is None:
+            both = getattr(self.vertices, "meets", None)
+            if both is not None:
+                outlines[i], meets = both(i, other)
+                return meets
+        mine = self.outline(i)
+        return None if mine is None else kernels.interiors_meet(mine, other)
+
     @classmethod
     def from_geometry(cls, geometry: BaseGeometry) -> SweptArea:
         """One piece that progress never releases (a standing footprint, a track's band).
@@ -316,7 +330,7 @@ def straight_swept_area(poses: np.ndarray | list[list[float]], until: np.ndarray
                                                                  DISTANCE_NOISE)
     if not fits:
         return None
-    return SweptArea.from_keys(bounds, keys, key, until, _line_hulls(poses, low, high, hx, hy))
+    return SweptArea.from_keys(bounds, keys, key, until, _LineHulls(poses, low, high, hx, hy))
 
 
 def straight_run_area(s: Profile, plans: Sequence[tuple[Profile, float]],
@@ -354,7 +368,7 @@ def straight_run_pieces(numbers: tuple, hx: float, hy: float
     if not fits:
         return None
     return samples, SweptArea.from_keys(bounds, keys, key, ends,
-                                        _line_hulls(poses, low, high, hx, hy))
+                                        _LineHulls(poses, low, high, hx, hy))
 
 
 def _straight_area(xy: np.ndarray, c: np.ndarray, starts: np.ndarray, ends: np.ndarray,
@@ -396,18 +410,30 @@ def _pieces_on_line(points: np.ndarray, low: np.ndarray, high: np.ndarray,
     """``_line_pieces`` of runs known to turn at most ``_STRAIGHT_SPAN`` (float arrays)."""
     hx, hy = half
     bounds, keys, key = kernels.line_piece_bounds(points, low, high, hx, hy, DISTANCE_NOISE)
-    return SweptArea.from_keys(bounds, keys, key, until, _line_hulls(points, low, high, hx, hy))
+    return SweptArea.from_keys(bounds, keys, key, until, _LineHulls(points, low, high, hx, hy))
 
 
-def _line_hulls(points: np.ndarray, low: np.ndarray, high: np.ndarray, hx: float, hy: float
-                ) -> Callable[[int], np.ndarray]:
-    """The vertices of piece i of ``_line_pieces``: the hull of K at both ends of run i."""
+class _LineHulls:
+    """The vertices of piece i of ``_line_pieces``: the hull of K at both ends of run i
+    (called as ``SweptArea.vertices``); ``meets`` also tests it against a convex outline in
+    the same compiled call."""
 
-    def vertices(i: int) -> np.ndarray:
+    __slots__ = ("high", "hx", "hy", "low", "points")
+
+    def __init__(self, points: np.ndarray, low: np.ndarray, high: np.ndarray, hx: float,
+                 hy: float) -> None:
+        self.points, self.low, self.high, self.hx, self.hy = points, low, high, hx, hy
+
+    def __call__(self, i: int) -> np.ndarray:
+        points, low, high = self.points, self.low, self.high
         return kernels.line_piece_hull(points[i, 0], points[i, 1], points[i + 1, 0],
-                                       points[i + 1, 1], low[i], high[i], hx, hy, DISTANCE_NOISE)
+                                       points[i + 1, 1], low[i], high[i], self.hx, self.hy,
+                                       DISTANCE_NOISE)
 
-    return vertices
+    def meets(self, i: int, other: np.ndarray) -> tuple[np.ndarray, bool]:
+        """Piece i's vertices and whether it meets the convex ``other`` (ccw)."""
+        return kernels.line_piece_meets(self.points, self.low, self.high, i, self.hx, self.hy,
+                                        DISTANCE_NOISE, other)
 
 
 def _check_size(width: float, height: float, margin: float) -> None:
@@ -701,9 +727,10 @@ class ReservationRegistry:
             return None
         for rank, i, j in zip(*pairs.tolist(), strict=True):
             area, index = self._piece_of[j]  # type: ignore[misc]
-            mine, theirs = swept.outline(i), area.outline(index)
-            if mine is not None and theirs is not None:  # two convex outlines: compiled
-                if kernels.interiors_meet(mine, theirs):
+            theirs = area.outline(index)
+            meets = None if theirs is None else swept.meets(i, theirs)
+            if meets is not None:  # two convex outlines: compiled
+                if meets:
                     return rank
                 continue
             mine, theirs = swept.piece(i), area.piece(index)
