@@ -77,6 +77,25 @@ def test_two_movers_to_one_target_the_first_caller_wins():
     assert first.position.y == pytest.approx(600.0, abs=1e-9)
 
 
+def test_each_rejection_by_the_same_blocker_names_it_and_the_mover_goes_on():
+    """A collision's message names the motion and the blocker, the same for every refusal
+    by that blocker (its object info and message tail are made once, D-328); the refused
+    mover's next free move runs."""
+    rt, _, _, (first, second) = field(4, 4, (120.0, 120.0), (600.0, 120.0))
+    refused = []
+    for x in (200.0, 250.0):
+        refused.append(second.move_to_position(PositionXYC(x, 120.0)))
+        rt.step()
+    for command in refused:
+        assert command.error and command.error_id == ErrorId.PLANAR_COLLISION
+        assert command.message == f"the move meets the area of mover 16#{first.oid:08X} (§6.3)"
+        assert command.object_info.object_type is PlanarObjectType.MOVER
+        assert command.object_info.id == first.oid
+    free = second.move_to_position(PositionXYC(600.0, 600.0))
+    rt.run_until(free, timeout=5.0)
+    assert free.done and second.position.y == pytest.approx(600.0, abs=1e-9)
+
+
 def test_a_move_off_the_surface_is_blocked_by_the_environment():
     rt, environment, _, (mover,) = field(2, 2, (120.0, 120.0))
     feedback = MC_PlanarFeedback()

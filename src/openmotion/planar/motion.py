@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -100,7 +100,7 @@ class PlanarMotion:
     s: Profile | None = None
     #: ``area_kernels.straight_area_numbers`` of the motion from its start, when the planner
     #: was given the ``sweep`` and computed them in its own compiled pass (else None)
-    swept: tuple | None = None
+    swept: tuple | None = field(default=None, compare=False)
 
     @property
     def duration(self) -> float:
