@@ -830,8 +830,8 @@ class MC_PlanarMover(StatefulObject):
         the swept area of ``profiles`` (x, y and c) from the planner (``PlanarMotion.swept``)."""
         previous = self.system.previous
         group = self._group
-        if check_carried and _XY & profiles.keys() and (
-                group is None or not group.registry.checks_surface):  # else the group checks
+        if check_carried and (group is None or not group.registry.checks_surface) \
+                and _XY & profiles.keys():  # a group with the surface checks it itself
             self._check_carried(profiles, straight, previous, what)
         samples, releases = None, []
         if group is not None and _AREA & profiles.keys():
@@ -1127,8 +1127,9 @@ class MC_PlanarMover(StatefulObject):
         return Pose(x, y, c)
 
     def _resolve(self, target: PositionXYC) -> tuple[int, Pose]:
-        for name in ("x", "y", "c"):
-            finite(getattr(target, name), name)
+        finite(target.x, "x")
+        finite(target.y, "y")
+        finite(target.c, "c")
         environment = self.system.environment()
         if environment is None:
             if target.reference_id != 0:
