@@ -12,6 +12,7 @@ from openmotion.planar.area_kernels import (
     convex_hull,
     interiors_meet,
     line_piece_hull,
+    line_piece_meets,
     meeting_pairs,
 )
 from openmotion.planar.reservation import footprint, footprint_area
@@ -45,6 +46,21 @@ def test_a_straight_pieces_outline_is_the_shapely_hull_of_its_corner_cloud(x0, y
     polygon = shapely.polygons(outline)
     assert polygon.is_valid and polygon.exterior.is_ccw
     assert polygon.hausdorff_distance(reference) < 1e-9
+
+
+@given(x0=grid, y0=grid, x1=grid, y1=grid, low=angle,
+       span=st.one_of(st.just(0.0), st.floats(0.0, 20.0)), cx=grid, cy=grid, c=angle)
+def test_a_pieces_first_exact_test_is_its_hull_and_interiors_meet(x0, y0, x1, y1, low, span,
+                                                                   cx, cy, c):
+    """Equivalence: ``line_piece_meets`` gives ``line_piece_hull``'s vertices and
+    ``interiors_meet``'s verdict against another footprint, bit for bit (D-328)."""
+    points = np.array([(x0, y0, low), (x1, y1, low + span)])
+    low_high = np.array([low]), np.array([low + span])
+    other = footprint_area(cx, cy, c).outline(0)
+    hull, meets = line_piece_meets(points, *low_high, 0, HALF, HALF, NOISE, other)
+    expected = line_piece_hull(x0, y0, x1, y1, low, low + span, HALF, HALF, NOISE)
+    assert np.array_equal(hull, expected)
+    assert meets == interiors_meet(expected, other)
 
 
 @given(points=st.lists(st.tuples(grid, grid), min_size=3, max_size=12))

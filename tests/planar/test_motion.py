@@ -29,7 +29,15 @@ from openmotion.planar.motion import (
     running,
     sample_times,
 )
-from openmotion.planar.reservation import RELEASE_STEP, travel_runs
+from openmotion.planar.reservation import (
+    MOVER_HEIGHT,
+    MOVER_WIDTH,
+    RELEASE_STEP,
+    straight_run_area,
+    straight_run_pieces,
+    straight_sweep,
+    travel_runs,
+)
 from openmotion.planar.rotation import CWindows
 from openmotion.trajectory.evaluate import SegmentTable
 from openmotion.trajectory.plan import Limits
@@ -432,6 +440,52 @@ def test_a_move_from_rest_in_closed_form_is_ruckigs_move(limits, c_limits, tx, t
     scale = max(1.0, length) if slower == "x" else max(1.0, abs(c_target - c0))
     assert np.allclose(_evaluate(getattr(fast, slower), times)[0],
                        _evaluate(getattr(oracle, slower), times)[0], atol=1e-8 * scale)
+
+
+@given(limits=_equal_limits(), c_limits=_equal_limits(), x0=coordinate, y0=coordinate,
+       tx=coordinate, ty=coordinate, c0=st.floats(-14.0, 14.0), c_target=st.floats(-20.0, 20.0),
+       start_time=st.floats(0.0, 5.0))
+def test_a_turning_move_from_rest_is_planned_and_swept_as_the_general_way(
+        limits, c_limits, x0, y0, tx, ty, c0, c_target, start_time):
+    """Equivalence: a turning MoveToPosition from rest is planned in one compiled pass, with
+    the numbers of its swept area when the planner is given the ``sweep`` (D-327): the same
+    profiles, the same C window verdict and message as the general way, and the samples and
+    pieces of ``straight_run_area`` of those profiles."""
+    start, target = _at_rest(x0, y0, c0), (tx, ty, c_target)
+    sweep = straight_sweep(start_time, 0.01)
+
+    def plan(**options: object) -> PlanarMotion | str:
+        try:
+            return plan_move_to_position(start, target, limits, c_limits,
+                                         c_windows=CWindows(), **options)
+        except CommandRejected as rejected:
+            return f"{rejected.error_id.name}: {rejected.message}"
+
+    fast = plan(sweep=sweep)
+    with mock.patch.object(motion_module, "_turning_rest_move", return_value=None):
+        general = plan()
+    if isinstance(general, str):
+        assert fast == general
+        return
+    for name in ("x", "y", "c", "s"):
+        mine, theirs = getattr(fast, name), getattr(general, name)
+        assert (mine is None) == (theirs is None)
+        assert mine is None or np.array_equal(mine.data, theirs.data)
+    if fast.swept is None:  # not from rest in closed form: planned the general way
+        return
+    plans = [(fast.x, start_time), (fast.y, start_time), (fast.c, start_time)]
+    moving = [running(plan, start_time) for plan in plans]
+    expected = straight_run_area(fast.s, plans, moving, moving[2], start_time, 0.01)
+    found = straight_run_pieces(fast.swept, MOVER_WIDTH / 2, MOVER_HEIGHT / 2)
+    assert (found is None) == (expected is None)
+    if expected is None:
+        return
+    assert np.array_equal(found[0], expected[0])
+    mine, theirs = found[1], expected[1]
+    for name in ("until", "bounds", "keys", "key"):
+        assert np.array_equal(getattr(mine, name), getattr(theirs, name))
+    for i in range(len(theirs.until)):
+        assert np.array_equal(mine.outline(i), theirs.outline(i))
 
 
 def test_a_straight_move_from_rest_carries_its_arc_length():

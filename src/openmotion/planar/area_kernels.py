@@ -262,6 +262,18 @@ def line_piece_hull(x0: float, y0: float, x1: float, y1: float, a: float, b: flo
 
 
 @compiled
+def line_piece_meets(points: NDArray[np.float64], low: NDArray[np.float64],
+                     high: NDArray[np.float64], i: int, hx: float, hy: float, noise: float,
+                     other: NDArray[np.float64]) -> tuple[NDArray[np.float64], bool]:
+    """``line_piece_hull`` of run ``i`` (from ``points[i]`` to ``points[i + 1]``, turning
+    within [``low[i]``, ``high[i]``]) and whether it meets the convex ``other`` (ccw,
+    ``interiors_meet``): the first exact test of a new piece in one call."""
+    hull = line_piece_hull(points[i, 0], points[i, 1], points[i + 1, 0], points[i + 1, 1],
+                           low[i], high[i], hx, hy, noise)
+    return hull, interiors_meet(hull, other)
+
+
+@compiled
 def _cross(ox: float, oy: float, ax: float, ay: float, bx: float, by: float) -> float:
     return (ax - ox) * (by - oy) - (ay - oy) * (bx - ox)
 

@@ -31,13 +31,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from openmotion.core.compiled import compiled
 from openmotion.core.enums import ModuloDirection
 from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.planar.area_kernels import straight_area_numbers
 from openmotion.planar.rotation import CWindows, monotonic, move_c_target
 from openmotion.planar.tolerances import (
     ACROSS_PRECISION,
@@ -97,6 +98,9 @@ class PlanarMotion:
     #: another line first or a motion turns back. The planar group then needs only the ends
     #: of the runs it cuts the path into (mover.py)
     s: Profile | None = None
+    #: ``area_kernels.straight_area_numbers`` of the motion from its start, when the planner
+    #: was given the ``sweep`` and computed them in its own compiled pass (else None)
+    swept: tuple | None = field(default=None, compare=False)
 
     @property
     def duration(self) -> float:
@@ -194,17 +198,31 @@ def plan_move_to_position(
     x_limits: PositionLimits = UNLIMITED,
     y_limits: PositionLimits = UNLIMITED,
     c_windows: CWindows | None = None,
+    sweep: Sequence[float] | None = None,
 ) -> PlanarMotion:
     """MoveToPosition (§7.2.2.8.1) from ``start`` (x, y, c) to ``target`` (x, y) or (x, y, c).
 
     ``limits`` are the tangential XY limits; ``c_limits`` are needed with a C target.
     Rejections: PLANAR_INVALID_INPUT (target not finite), PLANAR_POSITION_LIMIT (x or y limits,
     or a C motion leaving its window when ``c_windows`` is given).
+
+    ``sweep``: the last eight arguments of ``area_kernels.straight_area_numbers`` after the
+    plans (the start [s], on to the noise) for the swept area a planar group will ask for;
+    a turning move from rest then carries those numbers (``PlanarMotion.swept``), computed
+    in the planner's compiled pass (``reservation.straight_sweep`` makes them).
     """
     x, y, c = start
     if len(target) not in (2, 3) or (len(target) == 3 and c_limits is None):
         raise ValueError("target is (x, y) or (x, y, c), and a C target needs c_limits")
     tx, ty = _finite(target[0], "x"), _finite(target[1], "y")
+    if len(target) == 3 and x.velocity == y.velocity == x.acceleration == y.acceleration == 0.0:
+        found = _turning_rest_move(x.position, y.position, tx, ty, limits, c,
+                                   _finite(target[2], "c"), c_limits, c_windows,  # type: ignore[arg-type]
+                                   sweep)
+        if found is not None:
+            x_limits.check(found.x, "x")
+            y_limits.check(found.y, "y")
+            return found
     lead = None if _on_line(x, y, tx, ty, limits) else _xy_brake(x, y, limits)
     lead_time = 0.0 if lead is None else max(lead[0].duration, lead[1].duration)
     line = _Line(x, y, tx, ty) if lead is None else _Line(lead[0].end, lead[1].end, tx, ty)
@@ -231,6 +249,82 @@ def plan_move_to_position(
     y_limits.check(py, "y")
     straight = lead is None and c_monotonic and (rest is not None or monotonic(s))
     return PlanarMotion(px, py, c_profile, c.position, s if straight else None)
+
+
+def _turning_rest_move(x0: float, y0: float, tx: float, ty: float, limits: Limits,
+                       c: KinematicState, c_target: float, c_limits: Limits,
+                       c_windows: CWindows | None, sweep: Sequence[float] | None
+                       ) -> PlanarMotion | None:
+    """``plan_move_to_position`` of a mover at rest in x and y (velocity and acceleration
+    exactly 0) with a C target, when ``_rest_move`` plans it in closed form: the same numbers
+    from one compiled call (``_synchronised_line``, with the swept area's numbers when
+    ``sweep`` is given), with the C window check on the extremes of C. None when
+    ``_rest_move`` would not plan it (then the general way does)."""
+    length = math.hypot(tx - x0, ty - y0)  # as _Line has them
+    if length > 0.0:
+        ux, uy = (tx - x0) / length, (ty - y0) / length
+    else:
+        ux, uy = 1.0, 0.0
+    if not (limits.acceleration == limits.deceleration and length >= PREDICTION_DISTANCE
+            and c.velocity == c.acceleration == 0.0
+            and c_limits.acceleration == c_limits.deceleration
+            and abs(c_target - c.position) >= PREDICTION_DISTANCE):
+        return None
+    numbers = (length, limits.velocity, limits.acceleration, limits.jerk, c.position, c_target,
+               c_limits.velocity, c_limits.acceleration, c_limits.jerk, x0, ux, tx, y0, uy, ty)
+    swept = None
+    if sweep is None:
+        s, rotation, px, py, c_low, c_high = _synchronised_line(*numbers)
+    else:
+        s, rotation, px, py, c_low, c_high, swept = _synchronised_line_area(*numbers, *sweep)
+    if c_windows is not None and not c_windows.contains_interval(c_low, c_high):
+        raise CommandRejected(ErrorId.PLANAR_POSITION_LIMIT,
+                              f"c {c.position:g} -> {rotation[1, -1]:g} leaves its "
+                              f"C window; only MoveC rotates outside the windows (§4.2)")
+    s_profile = Profile.from_data(s)
+    return PlanarMotion(Profile.from_data(px), Profile.from_data(py),
+                        Profile.from_data(rotation), c.position, s_profile, swept)
+
+
+@compiled
+def _synchronised_line(distance: float, velocity: float, acceleration: float, jerk: float,
+                       c0: float, c_target: float, c_velocity: float, c_acceleration: float,
+                       c_jerk: float, x0: float, ux: float, tx: float, y0: float, uy: float,
+                       ty: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                           float, float]:
+    """``synchronised`` path and rotation, the path mapped to x and y (``_along_line``),
+    and the lowest and highest c of the rotation (it never turns back): a turning
+    MoveToPosition from rest in one call."""
+    s, rotation = synchronised(distance, velocity, acceleration, jerk, c0, c_target,
+                               c_velocity, c_acceleration, c_jerk)
+    px, py = _along_line(s, x0, ux, tx, y0, uy, ty)
+    low = high = rotation[1, 0]
+    for k in range(1, rotation.shape[1]):
+        low, high = min(low, rotation[1, k]), max(high, rotation[1, k])
+    return s, rotation, px, py, low, high
+
+
+@compiled
+def _synchronised_line_area(distance: float, velocity: float, acceleration: float,
+                            jerk: float, c0: float, c_target: float, c_velocity: float,
+                            c_acceleration: float, c_jerk: float, x0: float, ux: float,
+                            tx: float, y0: float, uy: float, ty: float, start: float,
+                            step: float, release_step: float, span: float, hx: float,
+                            hy: float, noise: float):  # noqa: ANN201 - the tuple below
+    """``_synchronised_line`` and then ``straight_area_numbers`` of its x, y and rotation
+    started at ``start``, each running as ``running`` tells (the swept area a planar group
+    asks for, ``mover._future_area``), in one call."""
+    s, rotation, px, py, low, high = _synchronised_line(
+        distance, velocity, acceleration, jerk, c0, c_target, c_velocity, c_acceleration,
+        c_jerk, x0, ux, tx, y0, uy, ty)
+    moving_x = start + px[0, px.shape[1] - 1] > start or px[2, px.shape[1] - 1] != 0.0
+    moving_y = start + py[0, py.shape[1] - 1] > start or py[2, py.shape[1] - 1] != 0.0
+    turning = start + rotation[0, rotation.shape[1] - 1] > start \
+        or rotation[2, rotation.shape[1] - 1] != 0.0
+    swept = straight_area_numbers(s, px, start, moving_x, py, start, moving_y, rotation, start,
+                                  turning, turning, start, step, release_step, span, hx, hy,
+                                  noise)
+    return s, rotation, px, py, low, high, swept
 
 
 class _Line:

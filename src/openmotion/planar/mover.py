@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from functools import lru_cache
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
@@ -81,6 +82,8 @@ from openmotion.planar.reservation import (
     footprint,
     footprint_area,
     straight_run_area,
+    straight_run_pieces,
+    straight_sweep,
     swept_area,
 )
 from openmotion.planar.riding import halt_on_track, move_c_on_track, release_bands
@@ -118,11 +121,21 @@ class Collision(CommandRejected):
     """A command refused by the group: PLANAR_COLLISION with the blocking object (§6.7.2)."""
 
     def __init__(self, blocker: MemberId, what: str) -> None:
-        info = PlanarObjectInfo(PlanarObjectType(blocker.object_type), blocker.id)
-        super().__init__(ErrorId.PLANAR_COLLISION,
-                         f"{what} meets the area of {info.object_type.name.lower()} "
-                         f"16#{info.id:08X} (§6.3)")
+        info, meets = _blocked_by(blocker)
+        super().__init__(ErrorId.PLANAR_COLLISION, what + meets)
         self.object_info = info
+
+
+@lru_cache(maxsize=4096)
+def _blocked_by(blocker: MemberId) -> tuple[PlanarObjectInfo, str]:
+    """The ``object_info`` of a rejection by ``blocker`` and the end of its message, made
+    once per blocker: many commands meet the same neighbours, and formatting the message
+    anew cost a tenth of a rejected command."""
+    info = PlanarObjectInfo(PlanarObjectType(blocker.object_type), blocker.id)
+    return info, (f" meets the area of {info.object_type.name.lower()} "
+                  f"16#{info.id:08X} (§6.3)")
+#: MoveToPosition without options (frozen, so one instance serves every command)
+_MOVE_TO_POSITION_DEFAULTS = ST_MoveToPositionOptions()
 
 
 @dataclass
@@ -204,6 +217,9 @@ class MC_PlanarMover(StatefulObject):
         start = self.parameters.initial_position
         rows = system.add_rows([getattr(start, name) for name in COORDINATES])
         self._rows = dict(zip(COORDINATES, rows, strict=True))
+        self._xyc_rows = [self._rows[name] for name in "xyc"]  #: where MoveToPosition starts
+        self._position_limits: tuple[PlanarMoverParameters, PositionLimits, PositionLimits] \
+            | None = None  #: x and y limits of ``parameters`` (``_xy_position_limits``)
         self._row0 = rows[0]  #: the six rows are consecutive: x, y, z, a, b, c
         self._profiles: dict[str, tuple[Profile, float]] = {}  #: last plan per coordinate
         self.states = PlanarStateMachine(transition_done=self._transition_done,
@@ -486,7 +502,8 @@ class MC_PlanarMover(StatefulObject):
                                    "surface")
             self.states.request(command)
             return
-        kind = MoverCommand(kind)
+        if type(kind) is not MoverCommand:
+            kind = MoverCommand(kind)
         if kind is _C.SET_EXTERNAL_SETPOINT:
             self._feed(command)
             return
@@ -496,29 +513,33 @@ class MC_PlanarMover(StatefulObject):
 
     def _move_to_position(self, command: PlanarCommand) -> None:
         target, constraint, options = command.args
-        options = options or ST_MoveToPositionOptions()
+        options = options or _MOVE_TO_POSITION_DEFAULTS
         options.check()
         parameters = self.parameters
         limits = command_dynamics(constraint, parameters.default_dynamic_xy,
                                   parameters.maximum_dynamic_xy, command.warnings)
         system, pose = self._resolve(target)
         del system  # one coordinate system per mover until parts move it (§6.6)
-        start = self._start_states("x", "y", "c")
-        low, high = parameters.minimum_position, parameters.maximum_position
-        c = start["c"]
+        start = self.system.table.states(self._xyc_rows, self.system.previous)
+        c = start[2]
         turn = options.use_orientation and not (pose.c == c.position and c.velocity == 0.0
                                                  and c.acceleration == 0.0)
         goal = (pose.x, pose.y, pose.c) if turn else (pose.x, pose.y)
+        x_limits, y_limits = self._xy_position_limits()
+        sweep = None  # in a group: the area's numbers from the planner's pass, when it can
+        if turn and self._group is not None:
+            sweep = straight_sweep(self.system.previous,
+                                   self.system.cycle_time * _SAMPLE_CYCLES,
+                                   parameters.mover_width, parameters.mover_height)
         motion = plan_move_to_position(
-            (start["x"], start["y"], start["c"]), goal, limits, parameters.default_dynamic_c,
-            x_limits=PositionLimits(low.x, high.x), y_limits=PositionLimits(low.y, high.y),
-            c_windows=parameters.c_windows if turn else None)
+            start, goal, limits, parameters.default_dynamic_c, x_limits=x_limits,
+            y_limits=y_limits, c_windows=parameters.c_windows if turn else None, sweep=sweep)
         profiles = {"x": motion.x, "y": motion.y}
         if motion.c is not None:
             profiles["c"] = motion.c
         elif options.use_orientation:  # c is at its target already: the move still holds it
             profiles["c"] = Profile.hold(c)
-        self._begin(command, profiles, "the move", straight=motion.s)
+        self._begin(command, profiles, "the move", straight=motion.s, swept=motion.swept)
 
     def _move_c(self, command: PlanarCommand) -> None:
         target, constraint, options = command.args
@@ -801,33 +822,42 @@ class MC_PlanarMover(StatefulObject):
     def _begin(self, command: PlanarCommand, profiles: dict[str, Profile], what: str, *,
                c_motion: bool = False, admit: bool = True, straight: Profile | None = None,
                on_end: Callable[[bool], None] | None = None,
-               check_carried: bool = True) -> None:
+               check_carried: bool = True, swept: tuple | None = None) -> None:
         """Admit (in a group) and start ``profiles`` for ``command``: the commands on the same
         coordinates are aborted. ``straight``: the arc length of x and y when they run forward
         on one line from the start (``PlanarMotion.s``). ``check_carried``: refuse a path
-        off the stators (D-163); a halt is never refused (D-084)."""
+        off the stators (D-163); a halt is never refused (D-084). ``swept``: the numbers of
+        the swept area of ``profiles`` (x, y and c) from the planner (``PlanarMotion.swept``)."""
         previous = self.system.previous
-        if check_carried and _XY & profiles.keys():
+        group = self._group
+        if check_carried and (group is None or not group.registry.checks_surface) \
+                and _XY & profiles.keys():  # a group with the surface checks it itself
             self._check_carried(profiles, straight, previous, what)
         samples, releases = None, []
-        if _AREA & profiles.keys() and self._group is not None:
-            samples, area = self._future_area(profiles, previous, straight)
+        if group is not None and _AREA & profiles.keys():
+            found = None if swept is None else straight_run_pieces(
+                swept, self.parameters.mover_width / 2, self.parameters.mover_height / 2)
+            samples, area = found or self._future_area(profiles, previous, straight)
             if admit:
-                self._group.port.check_enabled(what)
-                blocker = self._group.registry.request(self._member, area)
+                group.port.check_enabled(what)
+                blocker = group.registry.request(self._member, area)
                 if blocker is not None:
                     raise Collision(blocker, what)
             else:
-                self._group.registry.settle(self._member, area)
+                group.registry.settle(self._member, area)
             # a piece is behind the mover once the sample after its last one is reached
-            behind = [k + 1 for k in area.until[:-1].tolist() if k + 1 < samples.size]
-            releases = [previous + t for t in samples[behind].tolist()]
+            times, count = samples.tolist(), samples.size
+            releases = [previous + times[k + 1] for k in area.until[:-1].tolist()
+                        if k + 1 < count]
             for motion in self._motions:  # the new area replaces theirs
                 if motion.coordinates & _AREA:
                     motion.samples, motion.releases = None, []
-        self._abort(set(profiles))  # the new command takes over its coordinates
-        for name, profile in profiles.items():
-            self._install(name, profile, previous)
+        if self._motions:  # the new command takes over its coordinates (rescheduled below)
+            self._abort(set(profiles))
+        table, rows, plans = self.system.table, self._rows, self._profiles
+        for name, profile in profiles.items():  # ``_install`` each
+            table.install(rows[name], profile, previous)
+            plans[name] = (profile, previous)
         end = previous + max(p.duration for p in profiles.values())
         self._motions.append(_Motion(command, set(profiles), end, previous, samples, c_motion,
                                      releases, on_end))
@@ -862,7 +892,10 @@ class MC_PlanarMover(StatefulObject):
         (``swept_area`` of the samples). A straight path (``straight``, the arc length of x
         and y, ``PlanarMotion.s``) is cut into runs by its arc length and only the run ends
         are evaluated: the same pieces, without sampling x, y and c."""
-        plans = self._future_plans(profiles, start)
+        if profiles.keys() >= _AREA:  # ``_future_plans`` of new x, y and c
+            plans = [(profiles["x"], start), (profiles["y"], start), (profiles["c"], start)]
+        else:
+            plans = self._future_plans(profiles, start)
         step = self.system.cycle_time * _SAMPLE_CYCLES
         width, height = self.parameters.mover_width, self.parameters.mover_height
         turning = running(plans[2], start)
@@ -1080,13 +1113,23 @@ class MC_PlanarMover(StatefulObject):
                                            self.system.previous)
         return dict(zip(names, states, strict=True))
 
+    def _xy_position_limits(self) -> tuple[PositionLimits, PositionLimits]:
+        """The hidden x and y position limits of ``parameters`` (made once per parameters)."""
+        known, p = self._position_limits, self.parameters
+        if known is None or known[0] is not p:
+            low, high = p.minimum_position, p.maximum_position
+            known = self._position_limits = (p, PositionLimits(low.x, high.x),
+                                             PositionLimits(low.y, high.y))
+        return known[1], known[2]
+
     def _set_pose(self) -> Pose:
-        x, y, c = (self.system.value(self._rows[k])[0] for k in ("x", "y", "c"))
+        x, y, _, _, _, c = self.system.values(0, self._row0, 6).tolist()  # rows x ... c
         return Pose(x, y, c)
 
     def _resolve(self, target: PositionXYC) -> tuple[int, Pose]:
-        for name in ("x", "y", "c"):
-            finite(getattr(target, name), name)
+        finite(target.x, "x")
+        finite(target.y, "y")
+        finite(target.c, "c")
         environment = self.system.environment()
         if environment is None:
             if target.reference_id != 0:

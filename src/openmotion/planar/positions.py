@@ -7,6 +7,7 @@ static coordinate system exists. The setters keep the manual's method names in s
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,6 +46,8 @@ class PositionXYC:
 
 def finite(value: object, name: str) -> float:
     """A command's number input, or PLANAR_INVALID_INPUT (no exception leaves a cycle)."""
+    if type(value) is float and math.isfinite(value):  # the usual input, without the ABC test
+        return value
     if not is_finite(value):
         raise CommandRejected(ErrorId.PLANAR_INVALID_INPUT,
                               f"{name}: must be a finite number, got {value!r}")

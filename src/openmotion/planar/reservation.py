@@ -203,6 +203,20 @@ class SweptArea:
             self.outlines[i] = vertices
         return vertices
 
+    def meets(self, i: int, other: np.ndarray) -> bool | None:
+        """Whether piece ``i`` and the convex outline ``other`` (ccw) share interior points,
+        compiled (``area_kernels.interiors_meet``); None when piece ``i`` is not known convex
+        (shapely compares it). A piece of a straight move whose outline is still to be made
+        gets it in the same compiled call."""
+        outlines = self.outlines
+        if outlines is not None and outlines[i] is None:
+            both = getattr(self.vertices, "meets", None)
+            if both is not None:
+                outlines[i], meets = both(i, other)
+                return meets
+        mine = self.outline(i)
+        return None if mine is None else kernels.interiors_meet(mine, other)
+
     @classmethod
     def from_geometry(cls, geometry: BaseGeometry) -> SweptArea:
         """One piece that progress never releases (a standing footprint, a track's band).
@@ -316,7 +330,7 @@ def straight_swept_area(poses: np.ndarray | list[list[float]], until: np.ndarray
                                                                  DISTANCE_NOISE)
     if not fits:
         return None
-    return SweptArea.from_keys(bounds, keys, key, until, _line_hulls(poses, low, high, hx, hy))
+    return SweptArea.from_keys(bounds, keys, key, until, _LineHulls(poses, low, high, hx, hy))
 
 
 def straight_run_area(s: Profile, plans: Sequence[tuple[Profile, float]],
@@ -331,13 +345,30 @@ def straight_run_area(s: Profile, plans: Sequence[tuple[Profile, float]],
     _check_size(width, height, 0.0)
     (x, tx), (y, ty), (c, tc) = plans
     hx, hy = width / 2, height / 2
-    samples, ends, poses, fits, low, high, bounds, keys, key = kernels.straight_area_numbers(
+    return straight_run_pieces(kernels.straight_area_numbers(
         s.data, x.data, tx, moving[0], y.data, ty, moving[1], c.data, tc, moving[2],
-        c_in_grid, start, step, RELEASE_STEP, _STRAIGHT_SPAN, hx, hy, DISTANCE_NOISE)
+        c_in_grid, start, step, RELEASE_STEP, _STRAIGHT_SPAN, hx, hy, DISTANCE_NOISE), hx, hy)
+
+
+def straight_sweep(start: float, step: float, width: float = MOVER_WIDTH,
+                   height: float = MOVER_HEIGHT) -> tuple[float, ...]:
+    """The arguments of ``straight_run_area``'s kernel after the plans, for a planner that
+    computes the area's numbers in its own compiled pass (``motion.plan_move_to_position``'s
+    ``sweep``); ``straight_run_pieces`` makes the area of them."""
+    _check_size(width, height, 0.0)
+    return (start, step, RELEASE_STEP, _STRAIGHT_SPAN, width / 2, height / 2, DISTANCE_NOISE)
+
+
+def straight_run_pieces(numbers: tuple, hx: float, hy: float
+                        ) -> tuple[np.ndarray, SweptArea] | None:
+    """The sample times and swept area of ``straight_run_area`` from the numbers of its kernel
+    (``area_kernels.straight_area_numbers``) and the footprint's half sizes [mm]; None when a
+    run turns more than ``_STRAIGHT_SPAN``."""
+    samples, ends, poses, fits, low, high, bounds, keys, key = numbers
     if not fits:
         return None
     return samples, SweptArea.from_keys(bounds, keys, key, ends,
-                                        _line_hulls(poses, low, high, hx, hy))
+                                        _LineHulls(poses, low, high, hx, hy))
 
 
 def _straight_area(xy: np.ndarray, c: np.ndarray, starts: np.ndarray, ends: np.ndarray,
@@ -379,18 +410,30 @@ def _pieces_on_line(points: np.ndarray, low: np.ndarray, high: np.ndarray,
     """``_line_pieces`` of runs known to turn at most ``_STRAIGHT_SPAN`` (float arrays)."""
     hx, hy = half
     bounds, keys, key = kernels.line_piece_bounds(points, low, high, hx, hy, DISTANCE_NOISE)
-    return SweptArea.from_keys(bounds, keys, key, until, _line_hulls(points, low, high, hx, hy))
+    return SweptArea.from_keys(bounds, keys, key, until, _LineHulls(points, low, high, hx, hy))
 
 
-def _line_hulls(points: np.ndarray, low: np.ndarray, high: np.ndarray, hx: float, hy: float
-                ) -> Callable[[int], np.ndarray]:
-    """The vertices of piece i of ``_line_pieces``: the hull of K at both ends of run i."""
+class _LineHulls:
+    """The vertices of piece i of ``_line_pieces``: the hull of K at both ends of run i
+    (called as ``SweptArea.vertices``); ``meets`` also tests it against a convex outline in
+    the same compiled call."""
 
-    def vertices(i: int) -> np.ndarray:
+    __slots__ = ("high", "hx", "hy", "low", "points")
+
+    def __init__(self, points: np.ndarray, low: np.ndarray, high: np.ndarray, hx: float,
+                 hy: float) -> None:
+        self.points, self.low, self.high, self.hx, self.hy = points, low, high, hx, hy
+
+    def __call__(self, i: int) -> np.ndarray:
+        points, low, high = self.points, self.low, self.high
         return kernels.line_piece_hull(points[i, 0], points[i, 1], points[i + 1, 0],
-                                       points[i + 1, 1], low[i], high[i], hx, hy, DISTANCE_NOISE)
+                                       points[i + 1, 1], low[i], high[i], self.hx, self.hy,
+                                       DISTANCE_NOISE)
 
-    return vertices
+    def meets(self, i: int, other: np.ndarray) -> tuple[np.ndarray, bool]:
+        """Piece i's vertices and whether it meets the convex ``other`` (ccw)."""
+        return kernels.line_piece_meets(self.points, self.low, self.high, i, self.hx, self.hy,
+                                        DISTANCE_NOISE, other)
 
 
 def _check_size(width: float, height: float, margin: float) -> None:
@@ -508,6 +551,7 @@ class ReservationRegistry:
         self._ranks = np.empty(0, dtype=np.int64)
         self._until = np.empty(0, dtype=np.int64)
         self._free: list[int] = []
+        self._alone_ranks: dict[int, np.ndarray] = {}  # rank -> [rank] (``_alone``)
         self._grow(max(1, capacity))
 
     @property
@@ -586,9 +630,15 @@ class ReservationRegistry:
         """Admit ``area`` for ``owner``: None and it replaces the owner's reservation, or the
         blocking member and nothing changes (the caller reports ``PLANAR_COLLISION``)."""
         swept = _as_swept(area)
-        block = self.blocker(owner, swept, ignore)
-        if block is None:
-            self.settle(owner, swept)
+        rank = self._mover_rank(owner)
+        if ignore:
+            block = self.blocker(owner, swept, ignore)
+        else:  # ``blocker`` of the owner alone, without building its list
+            slots = self._slots
+            block = self._blocker(swept, self._alone(rank) if owner in slots else _NO_RANKS)
+        if block is None:  # ``settle``
+            self._extra.pop(owner, None)
+            self._slots[owner] = self._store(swept, rank, self._slots.pop(owner, []))
         return block
 
     def release(self, owner: MemberId, sample: int) -> None:
@@ -597,9 +647,11 @@ class ReservationRegistry:
         slots = self._slots.get(owner)
         if slots is None or len(slots) < 2 or self._until[slots[0]] >= sample:
             return
-        held = list(zip(slots[:-1], self._until[slots[:-1]].tolist(), strict=True))
-        self._free_slots([slot for slot, last in held if last < sample])
-        self._slots[owner] = [slot for slot, last in held if last >= sample] + slots[-1:]
+        until, freed, kept = self._until, [], []
+        for slot in slots[:-1]:  # a few pieces: item by item beats a gather
+            (freed if until.item(slot) < sample else kept).append(slot)
+        self._free_slots(freed)
+        self._slots[owner] = kept + slots[-1:]
 
     def cover(self, owner: MemberId, area: SweptArea | BaseGeometry) -> MemberId | None:
         """Hold ``area`` for ``owner`` besides its reservation, in place of what its last
@@ -639,6 +691,14 @@ class ReservationRegistry:
             return Polygon()
         return shapely.union_all([self._piece(slot) for slot in slots])
 
+    def _alone(self, rank: int) -> np.ndarray:
+        """The ranks ``blocker`` leaves out for a member alone: its own (one array per
+        member, made once; the compiled check only reads it)."""
+        alone = self._alone_ranks.get(rank)
+        if alone is None:
+            alone = self._alone_ranks[rank] = np.array([rank], dtype=np.int64)
+        return alone
+
     def _mover_rank(self, owner: MemberId) -> int:
         """The rank of a member that may hold an area (any member but the environment)."""
         if owner == self._environment:
@@ -667,9 +727,10 @@ class ReservationRegistry:
             return None
         for rank, i, j in zip(*pairs.tolist(), strict=True):
             area, index = self._piece_of[j]  # type: ignore[misc]
-            mine, theirs = swept.outline(i), area.outline(index)
-            if mine is not None and theirs is not None:  # two convex outlines: compiled
-                if kernels.interiors_meet(mine, theirs):
+            theirs = area.outline(index)
+            meets = None if theirs is None else swept.meets(i, theirs)
+            if meets is not None:  # two convex outlines: compiled
+                if meets:
                     return rank
                 continue
             mine, theirs = swept.piece(i), area.piece(index)
