@@ -1,0 +1,448 @@
+"""A complete first plan for dense fields: LaCAM over PIBT steps on the routing grid.
+
+The configuration of the movers is where each one stands at a step: a grid cell, or (for a
+mover whose start or target pose is no cell centre) a vertex of its own for that pose, whose
+cells are what the mover occupies there (``Agent.start_cells`` / ``Agent.final_cells``).
+
+The conflict model is the planner's half-step table (planner.py): in one step every mover's
+*move set* (the cells its footprint touches while it waits or moves, which contain the cells
+under it before and after) must be disjoint from every other mover's. A mover therefore
+never enters a cell that another mover leaves in the same step (no following, no swap), and a
+diagonal move needs the two cells beside it empty. That is what lets the router execute the
+plan by its order of passage per cell without circular waits (D-302).
+
+- **PIBT step** (priority inheritance, after Okumura et al. 2022, adapted to this model):
+  movers decide in order of priority (steps spent away from the target); each takes the
+  free neighbour closest to its target; when that neighbour holds a mover that has not
+  decided yet, it waits this step and that mover is asked first, with the inherited
+  priority, to step aside (off the wanted cells), so that the way is open next step. Every
+  mover can always wait, so a step never fails.
+- **LaCAM** (Okumura 2023): a depth-first search over configurations whose successors come
+  from PIBT steps under constraints ("mover i goes to v"); when PIBT alone cycles, the
+  constraints enumerate the other successors one by one. The search is complete: it finds a
+  plan whenever one exists on the grid (given the time), and otherwise exhausts the
+  configurations it can reach.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+import time
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from openmotion.planar.routing.grid import RoutingGrid
+
+TIE = 1e-3  #: random part of a priority, breaks ties between movers
+
+
+class SearchExhausted(Exception):
+    """No configuration reachable from the start has every mover on its target; ``closest``
+    is the mover farthest from its target in the configuration nearest to the goal."""
+
+    def __init__(self, closest: int, explored: int) -> None:
+        super().__init__(f"no plan exists ({explored} configurations searched)")
+        self.closest = closest
+        self.explored = explored
+
+
+class SearchTimeout(Exception):
+    """The time limit ended the search; ``closest`` is the mover farthest from its target
+    in the configuration nearest to the goal."""
+
+    def __init__(self, closest: int, explored: int) -> None:
+        super().__init__(f"no plan within the time limit ({explored} configurations)")
+        self.closest = closest
+        self.explored = explored
+
+
+@dataclass
+class _Low:
+    """A low-level constraint: movers ``who`` go to ``where`` in the next step."""
+
+    who: tuple[int, ...]
+    where: tuple[int, ...]
+
+
+class _High:
+    __slots__ = ("config", "parent", "tree", "order", "priorities")
+
+    def __init__(self, config: tuple[int, ...], parent: _High | None,
+                 priorities: list[float]) -> None:
+        self.config = config
+        self.parent = parent
+        self.priorities = priorities
+        self.order = sorted(range(len(config)), key=lambda a: -priorities[a])
+        self.tree: deque[_Low] = deque([_Low((), ())])
+
+
+class Space:
+    """The movers' vertices, their neighbours, the cells they occupy and their distances.
+
+    Vertices ``0 .. grid.size - 1`` are cells; ``grid.size + 2k`` is mover k's start pose and
+    ``grid.size + 2k + 1`` its target pose (used only when they are not cell centres)."""
+
+    def __init__(self, grid: RoutingGrid, agents: Sequence, dist: Sequence[dict[int, int]]
+                 ) -> None:
+        self.grid = grid
+        self.agents = list(agents)
+        self.size = grid.size
+        self.dist = list(dist)
+        self.starts = tuple(self.size + 2 * k if a.start_leg else a.start_cell
+                            for k, a in enumerate(self.agents))
+        self.goals = tuple(self.size + 2 * k + 1 if a.final_leg else a.goal_cell
+                           for k, a in enumerate(self.agents))
+        self._near: dict[int, list[int]] = {}
+        self._moves: dict[tuple[int, int, int], tuple[int, ...]] = {}
+        self._near_goal: dict[tuple[int, int], float] = {}
+
+    def neighbours(self, k: int, v: int) -> list[int]:
+        """Where mover k may be one step after standing on v (v itself first)."""
+        agent = self.agents[k]
+        if v >= self.size:
+            return [v, agent.start_cell] if v == self.starts[k] else [v, agent.goal_cell]
+        near = self._near.get(v)
+        if near is None:
+            near = [v, *(u for u in self.grid.neighbours(v))]
+            self._near[v] = near
+        if agent.final_leg and v == agent.goal_cell:
+            return [*near, self.goals[k]]
+        return near
+
+    def cells(self, k: int, v: int) -> tuple[int, ...]:
+        return self.move(k, v, v)
+
+    def move(self, k: int, u: int, v: int) -> tuple[int, ...]:
+        """The cells mover k touches while it goes from u to v (or waits, u == v)."""
+        key = (k, u, v)
+        out = self._moves.get(key)
+        if out is None:
+            agent = self.agents[k]
+            if u >= self.size or v >= self.size:
+                pose = u if u >= self.size else v
+                cell = v if u >= self.size else u
+                own = self.grid.touched_cells(cell, cell, agent.hx, agent.hy) \
+                    if cell < self.size and u != v else ()
+                extra = agent.start_cells if pose == self.starts[k] else agent.final_cells
+                out = tuple(sorted(set(extra) | set(own)))
+            else:
+                out = self.grid.touched_cells(u, v, agent.hx, agent.hy)
+            self._moves[key] = out
+        return out
+
+    def near(self, k: int, v: int) -> float:
+        """The straight distance from v to mover k's target [mm] (breaks ties of ``h``)."""
+        key = (k, v)
+        out = self._near_goal.get(key)
+        if out is None:
+            agent = self.agents[k]
+            x, y = self._point(k, v)
+            out = math.hypot(agent.target[0] - x, agent.target[1] - y)
+            self._near_goal[key] = out
+        return out
+
+    def _point(self, k: int, v: int) -> tuple[float, float]:
+        if v < self.size:
+            return self.grid.centre(v)
+        agent = self.agents[k]
+        return agent.start[:2] if v == self.starts[k] else agent.target[:2]
+
+    def h(self, k: int, v: int) -> int:
+        """Steps from v to mover k's target (large when cut off)."""
+        agent = self.agents[k]
+        if v >= self.size:
+            if v == self.goals[k]:
+                return 0
+            v = agent.start_cell
+            extra = 1
+        else:
+            extra = 0
+        d = self.dist[k].get(v)
+        if d is None:
+            return 1 << 20
+        return d + extra + (1 if agent.final_leg else 0)
+
+
+class _Step:
+    """One PIBT step from ``config`` (priority inheritance with backtracking): a mover may
+    enter cells another leaves in the same step (a train), never in a cycle (rotation or
+    swap); the cells a diagonal move sweeps beside it must be empty before and after."""
+
+    def __init__(self, space: Space, config: tuple[int, ...], rng: random.Random,
+                 previous: tuple[int, ...] | None) -> None:
+        self.space = space
+        self.config = config
+        self.rng = rng
+        self.previous = previous
+        self.occupant: dict[int, int] = {}
+        for k, v in enumerate(config):
+            for cell in space.cells(k, v):
+                self.occupant[cell] = k
+        self.claimed: dict[int, int] = {}  #: cell -> mover there after the step
+        self.swept: dict[int, int] = {}  #: cell -> mover sweeping it beside a diagonal
+        self.follows: dict[int, tuple[int, ...]] = {}
+        self.next: list[int] = [-1] * len(config)
+        self.journal: list[int] = []
+
+    def _try(self, k: int, v: int, caller: int | None) -> tuple[int, ...] | None:
+        """Assign k -> v when the cells allow it; the movers k now follows, else None."""
+        space = self.space
+        u = self.config[k]
+        nxt = space.cells(k, v)
+        claimed, swept, occupant = self.claimed, self.swept, self.occupant
+        for c in nxt:
+            if c in claimed or c in swept:
+                return None
+        if v != u:
+            here = space.cells(k, u)
+            for c in space.move(k, u, v):
+                if c in nxt or c in here:
+                    continue
+                if c in claimed or c in swept or occupant.get(c, k) != k:
+                    return None
+        others = tuple({occupant[c] for c in nxt if occupant.get(c, k) != k})
+        if caller is not None and caller in others:
+            return None  # a swap with the mover that asked
+        if self._reaches(others, k):
+            return None  # a rotation
+        self.next[k] = v
+        for c in nxt:
+            claimed[c] = k
+        if v != u:
+            here = space.cells(k, u)
+            for c in space.move(k, u, v):
+                if c not in nxt and c not in here:
+                    swept[c] = k
+        self.follows[k] = others
+        self.journal.append(k)
+        return others
+
+    def _reaches(self, start: tuple[int, ...], k: int) -> bool:
+        seen = set()
+        stack = list(start)
+        while stack:
+            a = stack.pop()
+            if a == k:
+                return True
+            if a in seen:
+                continue
+            seen.add(a)
+            stack.extend(self.follows.get(a, ()))
+        return False
+
+    def _rollback(self, mark: int) -> None:
+        space = self.space
+        while len(self.journal) > mark:
+            k = self.journal.pop()
+            v = self.next[k]
+            u = self.config[k]
+            for c in space.move(k, u, v):
+                if self.claimed.get(c) == k:
+                    del self.claimed[c]
+                if self.swept.get(c) == k:
+                    del self.swept[c]
+            self.next[k] = -1
+            del self.follows[k]
+
+    def force(self, k: int, v: int) -> bool:
+        if v not in self.space.neighbours(k, self.config[k]):
+            return False
+        return self._try(k, v, None) is not None
+
+    def decide(self, k: int, caller: int | None = None) -> bool:
+        """Give mover k its next vertex, asking the movers on it to move on first."""
+        space = self.space
+        u = self.config[k]
+        straight = None
+        if self.previous is not None and self.previous[k] != u:
+            straight = (self.previous[k], u)
+        occupant = self.occupant
+        keyed = sorted((space.h(k, v), space.near(k, v),
+                        any(occupant.get(c, k) != k for c in space.cells(k, v)),
+                        self._turns(straight, u, v), self.rng.random(), v)
+                       for v in space.neighbours(k, u))
+        for *_, v in keyed:
+            mark = len(self.journal)
+            others = self._try(k, v, caller)
+            if others is None:
+                continue
+            if all(self.next[o] >= 0 or self.decide(o, k) for o in others):
+                return True
+            self._rollback(mark)
+        return False
+
+    def _turns(self, straight: tuple[int, int] | None, u: int, v: int) -> int:
+        """0 when u -> v goes on in the direction of the last move (fewer stops), else 1."""
+        if straight is None or v == u or u >= self.space.size or v >= self.space.size or \
+                straight[0] >= self.space.size:
+            return 1
+        nx = self.space.grid.nx
+        a, b = straight
+        same = (b % nx - a % nx, b // nx - a // nx) == (v % nx - u % nx, v // nx - u // nx)
+        return 0 if same else 1
+
+
+def pibt_step(space: Space, config: tuple[int, ...], order: Sequence[int],
+              rng: random.Random, previous: tuple[int, ...] | None = None,
+              who: Sequence[int] = (), where: Sequence[int] = ()) -> tuple[int, ...] | None:
+    """The next configuration, or None when the constraints ``who`` -> ``where`` clash or
+    leave a mover no place."""
+    step = _Step(space, config, rng, previous)
+    for k, v in zip(who, where, strict=True):
+        if not step.force(k, v):
+            return None
+    for k in order:
+        if step.next[k] < 0 and not step.decide(k):
+            return None
+    return tuple(step.next)
+
+
+def lacam(space: Space, time_limit: float, seed: int = 0) -> list[tuple[int, ...]]:
+    """Configurations from the starts to the goals (each a step), by LaCAM over PIBT."""
+    rng = random.Random(seed)
+    started = time.perf_counter()
+    n = len(space.agents)
+    start, goal = space.starts, space.goals
+    priorities = [rng.random() * TIE for _ in range(n)]
+    root = _High(start, None, priorities)
+    explored: dict[tuple[int, ...], _High] = {start: root}
+    open_: list[_High] = [root]
+    best, best_h = root, sum(space.h(k, v) for k, v in enumerate(start))
+    count = 0
+    while open_:
+        node = open_[-1]
+        if node.config == goal:
+            return _backtrack(node)
+        count += 1
+        if count % 64 == 0 and time.perf_counter() - started > time_limit:
+            worst = max(range(n), key=lambda k: space.h(k, best.config[k]))
+            raise SearchTimeout(worst, len(explored))
+        if not node.tree:
+            open_.pop()
+            continue
+        low = node.tree.popleft()
+        depth = len(low.who)
+        if depth < n:
+            k = node.order[depth]
+            options = list(space.neighbours(k, node.config[k]))
+            rng.shuffle(options)
+            for v in options:
+                node.tree.append(_Low((*low.who, k), (*low.where, v)))
+        previous = node.parent.config if node.parent is not None else None
+        config = pibt_step(space, node.config, node.order, rng, previous, low.who, low.where)
+        if config is None:
+            continue
+        known = explored.get(config)
+        if known is not None:
+            open_.append(known)  # revisit: its remaining successors are still to try
+            continue
+        child_priorities = [
+            p + 1.0 if config[k] != goal[k] else p - int(p)
+            for k, p in enumerate(node.priorities)]
+        child = _High(config, node, child_priorities)
+        explored[config] = child
+        open_.append(child)
+        h = sum(space.h(k, v) for k, v in enumerate(config))
+        if h < best_h:
+            best, best_h = child, h
+    raise SearchExhausted(max(range(n), key=lambda k: space.h(k, best.config[k])),
+                          len(explored))
+
+
+def _backtrack(node: _High) -> list[tuple[int, ...]]:
+    out = []
+    current: _High | None = node
+    while current is not None:
+        out.append(current.config)
+        current = current.parent
+    out.reverse()
+    return out
+
+
+class ExecutionStuck(Exception):
+    """The conversion to one-step gaps found no mover free to go on (a rotation slipped
+    through): not expected for a plan of ``lacam``."""
+
+
+def with_gaps(space: Space, configs: Sequence[tuple[int, ...]]) -> list[list[int]]:
+    """Per mover its vertex per step, replayed so that no mover enters cells another leaves
+    in the same step: each move waits until every mover that the plan lets through its
+    cells before it has left them (the plan's order of passage per cell, as the router
+    executes it, D-302). Acyclic for a plan without rotations, so every step some mover
+    goes on."""
+    n = len(space.agents)
+    paths: list[list[int]] = []
+    for k in range(n):
+        path = [configs[0][k]]
+        for config in configs[1:]:
+            if config[k] != path[-1]:
+                path.append(config[k])
+        paths.append(path)
+    # the order of passage per cell: (first half-step, agent, move index that enters it)
+    visits: dict[int, list[tuple[int, int, int]]] = {}
+    for k in range(n):
+        index = 0
+        for t, config in enumerate(configs):
+            v = config[k]
+            if t == 0:
+                for c in space.cells(k, v):
+                    visits.setdefault(c, []).append((0, k, 0))
+                continue
+            u = configs[t - 1][k]
+            if u == v:
+                continue
+            index += 1
+            held = space.cells(k, u)
+            for c in space.move(k, u, v):
+                if c not in held:
+                    visits.setdefault(c, []).append((2 * t - 1, k, index))
+    turn: dict[int, list[tuple[int, int]]] = {}
+    for c, cell_visits in visits.items():
+        cell_visits.sort()
+        turn[c] = [(k, index) for _, k, index in cell_visits]
+    position = [0] * n  # index into the path
+    head = dict.fromkeys(turn, 0)  # per cell: whose visit is on
+    timeline = [[p[0]] for p in paths]
+    done = sum(len(p) == 1 for p in paths)
+    while done < n:
+        moving = []
+        for k in range(n):
+            i = position[k]
+            if i + 1 >= len(paths[k]):
+                continue
+            u, v = paths[k][i], paths[k][i + 1]
+            if all(_turn_of(turn, head, c) == (k, i + 1) or _inside(turn, head, c, k, i)
+                   for c in space.move(k, u, v)):
+                moving.append(k)
+        if not moving:
+            raise ExecutionStuck()
+        for k in range(n):
+            i = position[k]
+            if k in moving:
+                u, v = paths[k][i], paths[k][i + 1]
+                kept = space.cells(k, v)
+                for c in space.move(k, u, v):  # cells it leaves: the next visitor's turn
+                    if c not in kept:
+                        head[c] += 1
+                position[k] = i + 1
+                timeline[k].append(v)
+                done += position[k] + 1 == len(paths[k])
+            else:
+                timeline[k].append(paths[k][i])
+    return timeline
+
+
+def _turn_of(turn: dict[int, list[tuple[int, int]]], head: dict[int, int], c: int
+             ) -> tuple[int, int] | None:
+    order = turn.get(c)
+    h = head.get(c, 0)
+    return order[h] if order is not None and h < len(order) else None
+
+
+def _inside(turn: dict[int, list[tuple[int, int]]], head: dict[int, int], c: int, k: int,
+            i: int) -> bool:
+    """Mover k (at path index i) holds cell c already: its visit is the current one."""
+    now = _turn_of(turn, head, c)
+    return now is not None and now[0] == k and now[1] <= i
