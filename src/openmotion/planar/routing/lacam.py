@@ -97,6 +97,8 @@ class Space:
         self._near: dict[int, list[int]] = {}
         self._moves: dict[tuple[int, int, int], tuple[int, ...]] = {}
         self._near_goal: dict[tuple[int, int], float] = {}
+        self._cells: dict[tuple[int, int], tuple[int, ...]] = {}
+        self._ranked: dict[tuple[int, int], list[int]] = {}
 
     def neighbours(self, k: int, v: int) -> list[int]:
         """Where mover k may be one step after standing on v (v itself first)."""
@@ -112,7 +114,21 @@ class Space:
         return near
 
     def cells(self, k: int, v: int) -> tuple[int, ...]:
-        return self.move(k, v, v)
+        key = (k, v)
+        out = self._cells.get(key)
+        if out is None:
+            out = self._cells[key] = self.move(k, v, v)
+        return out
+
+    def ranked(self, k: int, u: int) -> list[int]:
+        """Where mover k may go from u, nearest to its target first (steps, then straight
+        distance): PIBT's order of preference, fixed per vertex."""
+        key = (k, u)
+        out = self._ranked.get(key)
+        if out is None:
+            out = sorted(self.neighbours(k, u), key=lambda v: (self.h(k, v), self.near(k, v)))
+            self._ranked[key] = out
+        return out
 
     def move(self, k: int, u: int, v: int) -> tuple[int, ...]:
         """The cells mover k touches while it goes from u to v (or waits, u == v)."""
@@ -170,12 +186,9 @@ class _Step:
     enter cells another leaves in the same step (a train), never in a cycle (rotation or
     swap); the cells a diagonal move sweeps beside it must be empty before and after."""
 
-    def __init__(self, space: Space, config: tuple[int, ...], rng: random.Random,
-                 previous: tuple[int, ...] | None) -> None:
+    def __init__(self, space: Space, config: tuple[int, ...]) -> None:
         self.space = space
         self.config = config
-        self.rng = rng
-        self.previous = previous
         self.occupant: dict[int, int] = {}
         for k, v in enumerate(config):
             for cell in space.cells(k, v):
@@ -255,15 +268,7 @@ class _Step:
         """Give mover k its next vertex, asking the movers on it to move on first."""
         space = self.space
         u = self.config[k]
-        straight = None
-        if self.previous is not None and self.previous[k] != u:
-            straight = (self.previous[k], u)
-        occupant = self.occupant
-        keyed = sorted((space.h(k, v), space.near(k, v),
-                        any(occupant.get(c, k) != k for c in space.cells(k, v)),
-                        self._turns(straight, u, v), self.rng.random(), v)
-                       for v in space.neighbours(k, u))
-        for *_, v in keyed:
+        for v in space.ranked(k, u):
             mark = len(self.journal)
             others = self._try(k, v, caller)
             if others is None:
@@ -273,23 +278,12 @@ class _Step:
             self._rollback(mark)
         return False
 
-    def _turns(self, straight: tuple[int, int] | None, u: int, v: int) -> int:
-        """0 when u -> v goes on in the direction of the last move (fewer stops), else 1."""
-        if straight is None or v == u or u >= self.space.size or v >= self.space.size or \
-                straight[0] >= self.space.size:
-            return 1
-        nx = self.space.grid.nx
-        a, b = straight
-        same = (b % nx - a % nx, b // nx - a // nx) == (v % nx - u % nx, v // nx - u // nx)
-        return 0 if same else 1
-
 
 def pibt_step(space: Space, config: tuple[int, ...], order: Sequence[int],
-              rng: random.Random, previous: tuple[int, ...] | None = None,
               who: Sequence[int] = (), where: Sequence[int] = ()) -> tuple[int, ...] | None:
     """The next configuration, or None when the constraints ``who`` -> ``where`` clash or
     leave a mover no place."""
-    step = _Step(space, config, rng, previous)
+    step = _Step(space, config)
     for k, v in zip(who, where, strict=True):
         if not step.force(k, v):
             return None
@@ -330,8 +324,7 @@ def lacam(space: Space, time_limit: float, seed: int = 0) -> list[tuple[int, ...
             rng.shuffle(options)
             for v in options:
                 node.tree.append(_Low((*low.who, k), (*low.where, v)))
-        previous = node.parent.config if node.parent is not None else None
-        config = pibt_step(space, node.config, node.order, rng, previous, low.who, low.where)
+        config = pibt_step(space, node.config, node.order, low.who, low.where)
         if config is None:
             continue
         known = explored.get(config)
@@ -446,3 +439,45 @@ def _inside(turn: dict[int, list[tuple[int, int]]], head: dict[int, int], c: int
     """Mover k (at path index i) holds cell c already: its visit is the current one."""
     now = _turn_of(turn, head, c)
     return now is not None and now[0] == k and now[1] <= i
+
+
+def without_detours(space: Space, timeline: list[list[int]]) -> bool:
+    """Cut detours in place: a mover that leaves a vertex and comes back to it waits there
+    instead, when no other mover holds its cells in between. True when something was cut."""
+    horizon = len(timeline[0])
+    held: dict[tuple[int, int], set[int]] = {}  # (cell, half-step) -> movers
+
+    def mark(k: int, path: list[int], first: int, last: int, add: bool) -> None:
+        for t in range(first, last + 1):
+            halves = [(2 * t, space.cells(k, path[t]))]
+            if t + 1 <= last:
+                halves.append((2 * t + 1, space.move(k, path[t], path[t + 1])))
+            for half, cells in halves:
+                for c in cells:
+                    if add:
+                        held.setdefault((c, half), set()).add(k)
+                    else:
+                        held[(c, half)].discard(k)
+
+    for k, path in enumerate(timeline):
+        mark(k, path, 0, horizon - 1, True)
+    cut = False
+    for k, path in enumerate(timeline):
+        last_seen: dict[int, int] = {}
+        for t in range(horizon):
+            v = path[t]
+            first = last_seen.get(v)
+            last_seen[v] = t
+            if first is None or first == t - 1 or all(path[s] == v for s in range(first, t)):
+                continue
+            cells = space.cells(k, v)
+            if not all(held.get((c, half), set()) <= {k}
+                       for c in cells for half in range(2 * first, 2 * t + 1)):
+                continue
+            mark(k, path, first, t, False)
+            for s in range(first + 1, t):
+                path[s] = v
+            mark(k, path, first, t, True)
+            cut = True
+            last_seen = {v: t}
+    return cut

@@ -39,7 +39,8 @@ MAX_EXPANSIONS = 20_000  #: A* gives up on one agent after this many expansions
 HORIZON_SLACK = 40  #: steps an agent may wait beyond its distance and the others' last use
 FOREVER = 1 << 30  #: a half-step after every plan
 FIRST_PLAN_LIMIT = 0.5  #: the first plan's search may take this long at least [s]
-LNS_SIZE = 8  #: agents re-planned together in one improvement round
+LNS_EXPANSIONS = 20_000  #: A* gives up on one agent of an improvement round after this many
+LNS_SIZE = 4  #: agents re-planned together in one improvement round
 
 
 @dataclass
@@ -264,14 +265,14 @@ class Planner:
         for index, route in enumerate(routes):
             if index not in chosen:
                 table.hold(route, index)
-        for index in group:
+        for index in group:  # who is re-planned later holds its start at step 0 only
             for cell in self.agents[index].start_cells:
-                table.standing[cell] = index
+                table.held[(cell, 0)] = index
         rng.shuffle(group)
         new = list(routes)
         try:
             for index in group:
-                route = self._plan_agent(index, table)
+                route = self._plan_agent(index, table, LNS_EXPANSIONS)
                 table.hold(route, index)
                 new[index] = route
         except _OrderFailed:
@@ -308,7 +309,7 @@ class Planner:
             self._neighbours[cell] = out
         return out
 
-    def _plan_agent(self, index: int, table: _Table) -> Route:
+    def _plan_agent(self, index: int, table: _Table, limit: int = MAX_EXPANSIONS) -> Route:
         agent = self.agents[index]
         grid = self.grid
         dist = self.distance(agent)
@@ -333,7 +334,7 @@ class Planner:
         while heap:
             _, _, u, t = heapq.heappop(heap)
             expansions += 1
-            if expansions > MAX_EXPANSIONS:
+            if expansions > limit:
                 break
             if u == agent.goal_cell:
                 after = 2 * t + 1 if agent.final_leg else 2 * t
