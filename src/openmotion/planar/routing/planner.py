@@ -1,19 +1,21 @@
-"""Multi-mover path planning on the routing grid: prioritized space-time A*.
+"""Multi-mover path planning on the routing grid: LaCAM first, then space-time A*.
 
 Every mover is an agent with a start pose and a target pose. Time runs in steps; in a step
 an agent waits or moves to one of the eight neighbouring cells. Half-steps index what an
 agent occupies: ``2t`` the cells under it at step ``t``, ``2t + 1`` the cells its move from
-step ``t`` to ``t + 1`` touches. Agents are planned one after the other (the priority order);
-each finds the earliest arrival (A*, heuristic: its distance on the static grid) that meets
-no cell another agent holds at the same half-step, and no cell an agent parks on for good.
-An agent's start pose and target pose need not be cell centres: it first moves from its pose
+step ``t`` to ``t + 1`` touches; in a valid plan no two agents hold a cell at the same
+half-step, and an agent parks on its target for good (``conflicts`` checks this). An
+agent's start pose and target pose need not be cell centres: it first moves from its pose
 to the centre of its start cell and ends with a move from its goal cell's centre to the
 target (turning there, if the target's c differs), both reserved like moves.
 
-Prioritized planning is fast but incomplete: an order may fail where another succeeds. The
-planner tries the agents that failed first (the standard repair), then random orders while
-the time budget lasts, and keeps the plan with the earliest arrival of the last agent
-(anytime). What it cannot solve it reports with the agent and the blocker it names.
+The first plan comes from LaCAM over PIBT steps (lacam.py, complete, D-339), replayed with
+gaps so that it obeys the half-step rule (D-340). While the time budget lasts it is improved
+(D-341): LaCAM again with other priorities, and groups of agents re-planned one after the
+other with space-time A* (earliest arrival, heuristic: the distance on the static grid)
+around the others' routes, held in the reservation table ``_Table``. The plan whose last
+agent arrives earliest is kept (anytime). What cannot be planned is reported with the agent
+farthest from its target.
 """
 
 from __future__ import annotations
@@ -185,7 +187,14 @@ class Planner:
         bound = self._lower_bound()
         while cost[0] > bound and time.perf_counter() - started < time_budget:
             tried += 1
-            better = self._neighbourhood(routes, rng)
+            if len(routes) > LNS_SIZE and tried % 2 == 0:  # LaCAM again, other tie-breaks
+                try:
+                    better = self._first_routes(time_budget - (time.perf_counter() - started),
+                                                seed + tried)
+                except PlanningFailed:
+                    better = None
+            else:
+                better = self._neighbourhood(routes, rng)
             if better is not None and _cost(better) < cost:
                 routes, cost = better, _cost(better)
         table = _Table()
