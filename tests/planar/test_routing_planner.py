@@ -128,15 +128,14 @@ def test_random_dense_fields_give_conflict_free_complete_plans(n: int, seed: int
     assert [r.cells[-1] for r in plan.routes] == goals
 
 
-def test_a_packed_block_of_movers_is_routed_by_the_group() -> None:
-    grid = build_grid(shapely.box(0.0, 0.0, 4 * STATOR_SIZE, 3 * STATOR_SIZE), SIDE)
-    block = [j * grid.nx + i for j in range(2) for i in range(4)]  # 8 movers side by side
-    starts = [grid.centre(c) for c in block]
-    targets = list(reversed(starts))
+def route_and_run(nx: int, ny: int, starts: list[tuple[float, float]],
+                  targets: list[tuple[float, float, float]]) -> tuple[Router, list, dict]:
+    """Route movers standing at ``starts`` to ``targets`` on an nx x ny stator field; run
+    until the router is idle, counting overlapping footprints."""
     rt = om.Runtime()
     environment = MC_PlanarEnvironment(rt)
-    for i in range(4):
-        for j in range(3):
+    for i in range(nx):
+        for j in range(ny):
             environment.add_stator(STATOR_SIZE * i, STATOR_SIZE * j)
     environment.create_boundary()
     group = MC_PlanarGroup(rt)
@@ -152,7 +151,7 @@ def test_a_packed_block_of_movers_is_routed_by_the_group() -> None:
     rt.step()
     rt.step()
     router = Router(group, time_budget=0.0)
-    handles = router.route({m: (*t, 0.0) for m, t in zip(movers, targets, strict=True)})
+    handles = router.route(dict(zip(movers, targets, strict=True)))
     assert all(h.busy for h in handles.values())
     overlaps = 0
     end = rt.now + 60.0
@@ -162,6 +161,28 @@ def test_a_packed_block_of_movers_is_routed_by_the_group() -> None:
         overlaps += sum(shapely.area(shapely.intersection(prints[a], prints[b])) > 1e-6
                         for a in range(len(prints)) for b in range(a + 1, len(prints)))
     assert not router.busy and overlaps == 0 and router.stats.rejected == 0
+    return router, movers, handles
+
+
+def test_a_packed_block_of_movers_is_routed_by_the_group() -> None:
+    grid = build_grid(shapely.box(0.0, 0.0, 4 * STATOR_SIZE, 3 * STATOR_SIZE), SIDE)
+    block = [j * grid.nx + i for j in range(2) for i in range(4)]  # 8 movers side by side
+    starts = [grid.centre(c) for c in block]
+    targets = [(*p, 0.0) for p in reversed(starts)]
+    _, movers, handles = route_and_run(4, 3, starts, targets)
     assert all(h.done for h in handles.values())
     for mover, target in zip(movers, targets, strict=True):
         assert mover.pose.x == pytest.approx(target[0])
+
+
+def test_poses_between_cell_centres_and_turns_are_planned_as_legs_of_their_own() -> None:
+    # cells of 160 x 180 mm: poses off their centres cover two cells, a turn nine
+    starts = [(85.0, 95.0), (570.0, 100.0), (250.0, 620.0)]
+    targets = [(560.0, 450.0, 90.0), (100.0, 600.0, 0.0), (880.0, 630.0, 0.0)]
+    router, movers, handles = route_and_run(4, 3, starts, targets)
+    assert [h.message for h in handles.values() if not h.done] == []
+    for mover, target in zip(movers, targets, strict=True):
+        assert tuple(mover.pose) == pytest.approx(target, abs=1e-6)
+    plan = router.stats.plans[-1]
+    assert conflicts(plan.routes) == []
+    assert any(-1 in r.cells[1:-1] or r.cells[0] == -1 for r in plan.routes)

@@ -80,10 +80,10 @@ class Route:
 @dataclass
 class Plan:
     routes: list[Route]
-    order: list[int]  #: the priority order that produced it
+    order: list[int]  #: the agents by arrival step
     first_time: float = 0.0  #: wall time to the first plan [s]
     time: float = 0.0  #: wall time spent planning in all [s]
-    tried: int = 0  #: priority orders tried
+    tried: int = 0  #: plans tried: the first and every improvement round
     cost: tuple[int, int] = (0, 0)  #: (last arrival, sum of arrivals) [steps]
     held: dict[tuple[int, int], int] = field(default_factory=dict)  #: (cell, half) -> agent
     parked: dict[int, int] = field(default_factory=dict)  #: cell -> half-step parked from
