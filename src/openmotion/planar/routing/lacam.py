@@ -4,19 +4,20 @@ The configuration of the movers is where each one stands at a step: a grid cell,
 mover whose start or target pose is no cell centre) a vertex of its own for that pose, whose
 cells are what the mover occupies there (``Agent.start_cells`` / ``Agent.final_cells``).
 
-The conflict model is the planner's half-step table (planner.py): in one step every mover's
-*move set* (the cells its footprint touches while it waits or moves, which contain the cells
-under it before and after) must be disjoint from every other mover's. A mover therefore
-never enters a cell that another mover leaves in the same step (no following, no swap), and a
-diagonal move needs the two cells beside it empty. That is what lets the router execute the
-plan by its order of passage per cell without circular waits (D-302).
+What a mover covers is the set of cells its footprint touches, as in the planner's
+half-step table (planner.py). In a step of the search, a mover may enter cells that another
+leaves in the same step only behind a mover that goes into free cells (trains of two, so no
+swaps and no rotations), and a diagonal move needs the cells beside it empty before and
+after. ``with_gaps`` then replays the plan so that no mover enters cells another leaves in
+the same step (the half-step table's rule, D-340): each move waits until the movers the plan
+let through its cells before have left them. A train of two costs one step of delay there;
+longer trains cost more, which is why they are not planned.
 
-- **PIBT step** (priority inheritance, after Okumura et al. 2022, adapted to this model):
+- **PIBT step** (priority inheritance with backtracking, after Okumura et al., AIJ 2022):
   movers decide in order of priority (steps spent away from the target); each takes the
-  free neighbour closest to its target; when that neighbour holds a mover that has not
-  decided yet, it waits this step and that mover is asked first, with the inherited
-  priority, to step aside (off the wanted cells), so that the way is open next step. Every
-  mover can always wait, so a step never fails.
+  neighbour nearest to its target that the cells allow; a mover standing there that has
+  not decided yet is asked first, with the inherited priority, to move on, and when it
+  cannot, the asking mover tries its next choice (waiting is one of them).
 - **LaCAM** (Okumura 2023): a depth-first search over configurations whose successors come
   from PIBT steps under constraints ("mover i goes to v"); when PIBT alone cycles, the
   constraints enumerate the other successors one by one. The search is complete: it finds a
@@ -99,6 +100,7 @@ class Space:
         self._near_goal: dict[tuple[int, int], float] = {}
         self._cells: dict[tuple[int, int], tuple[int, ...]] = {}
         self._ranked: dict[tuple[int, int], list[int]] = {}
+        self._beside: dict[tuple[int, int, int], tuple[int, ...]] = {}
 
     def neighbours(self, k: int, v: int) -> list[int]:
         """Where mover k may be one step after standing on v (v itself first)."""
@@ -118,6 +120,17 @@ class Space:
         out = self._cells.get(key)
         if out is None:
             out = self._cells[key] = self.move(k, v, v)
+        return out
+
+    def beside(self, k: int, u: int, v: int) -> tuple[int, ...]:
+        """The cells mover k's move u -> v sweeps that are under it neither before nor
+        after (those beside a diagonal move)."""
+        key = (k, u, v)
+        out = self._beside.get(key)
+        if out is None:
+            ends = set(self.cells(k, u)) | set(self.cells(k, v))
+            out = tuple(c for c in self.move(k, u, v) if c not in ends)
+            self._beside[key] = out
         return out
 
     def ranked(self, k: int, u: int) -> list[int]:
@@ -183,8 +196,9 @@ class Space:
 
 class _Step:
     """One PIBT step from ``config`` (priority inheritance with backtracking): a mover may
-    enter cells another leaves in the same step (a train), never in a cycle (rotation or
-    swap); the cells a diagonal move sweeps beside it must be empty before and after."""
+    enter cells another leaves in the same step if that one goes into free cells (trains of
+    two, which rules out swaps and rotations); the cells a diagonal move sweeps beside it
+    must be empty before and after."""
 
     def __init__(self, space: Space, config: tuple[int, ...]) -> None:
         self.space = space
@@ -195,11 +209,12 @@ class _Step:
                 self.occupant[cell] = k
         self.claimed: dict[int, int] = {}  #: cell -> mover there after the step
         self.swept: dict[int, int] = {}  #: cell -> mover sweeping it beside a diagonal
-        self.follows: dict[int, tuple[int, ...]] = {}
+        self.follows: dict[int, tuple[int, ...]] = {}  #: mover -> the movers it follows
+        self.followed: dict[int, int] = {}  #: mover -> how many follow it
         self.next: list[int] = [-1] * len(config)
         self.journal: list[int] = []
 
-    def _try(self, k: int, v: int, caller: int | None) -> tuple[int, ...] | None:
+    def _try(self, k: int, v: int) -> tuple[int, ...] | None:
         """Assign k -> v when the cells allow it; the movers k now follows, else None."""
         space = self.space
         u = self.config[k]
@@ -208,42 +223,24 @@ class _Step:
         for c in nxt:
             if c in claimed or c in swept:
                 return None
-        if v != u:
-            here = space.cells(k, u)
-            for c in space.move(k, u, v):
-                if c in nxt or c in here:
-                    continue
-                if c in claimed or c in swept or occupant.get(c, k) != k:
-                    return None
+        beside = space.beside(k, u, v)
+        for c in beside:
+            if c in claimed or c in swept or occupant.get(c, k) != k:
+                return None
         others = tuple({occupant[c] for c in nxt if occupant.get(c, k) != k})
-        if caller is not None and caller in others:
-            return None  # a swap with the mover that asked
-        if self._reaches(others, k):
-            return None  # a rotation
+        if others:  # a train: only behind movers that go into free cells
+            if k in self.followed or any(o in self.follows for o in others):
+                return None
+            for o in others:
+                self.followed[o] = self.followed.get(o, 0) + 1
+            self.follows[k] = others
         self.next[k] = v
         for c in nxt:
             claimed[c] = k
-        if v != u:
-            here = space.cells(k, u)
-            for c in space.move(k, u, v):
-                if c not in nxt and c not in here:
-                    swept[c] = k
-        self.follows[k] = others
+        for c in beside:
+            swept[c] = k
         self.journal.append(k)
         return others
-
-    def _reaches(self, start: tuple[int, ...], k: int) -> bool:
-        seen = set()
-        stack = list(start)
-        while stack:
-            a = stack.pop()
-            if a == k:
-                return True
-            if a in seen:
-                continue
-            seen.add(a)
-            stack.extend(self.follows.get(a, ()))
-        return False
 
     def _rollback(self, mark: int) -> None:
         space = self.space
@@ -251,29 +248,33 @@ class _Step:
             k = self.journal.pop()
             v = self.next[k]
             u = self.config[k]
-            for c in space.move(k, u, v):
-                if self.claimed.get(c) == k:
-                    del self.claimed[c]
-                if self.swept.get(c) == k:
-                    del self.swept[c]
+            for c in space.cells(k, v):
+                del self.claimed[c]
+            for c in space.beside(k, u, v):
+                del self.swept[c]
             self.next[k] = -1
-            del self.follows[k]
+            for o in self.follows.pop(k, ()):
+                left = self.followed[o] - 1
+                if left:
+                    self.followed[o] = left
+                else:
+                    del self.followed[o]
 
     def force(self, k: int, v: int) -> bool:
         if v not in self.space.neighbours(k, self.config[k]):
             return False
-        return self._try(k, v, None) is not None
+        return self._try(k, v) is not None
 
-    def decide(self, k: int, caller: int | None = None) -> bool:
+    def decide(self, k: int) -> bool:
         """Give mover k its next vertex, asking the movers on it to move on first."""
         space = self.space
         u = self.config[k]
         for v in space.ranked(k, u):
             mark = len(self.journal)
-            others = self._try(k, v, caller)
+            others = self._try(k, v)
             if others is None:
                 continue
-            if all(self.next[o] >= 0 or self.decide(o, k) for o in others):
+            if all(self.next[o] >= 0 or self.decide(o) for o in others):
                 return True
             self._rollback(mark)
         return False
