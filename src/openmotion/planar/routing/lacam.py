@@ -95,6 +95,9 @@ class Space:
                             for k, a in enumerate(self.agents))
         self.goals = tuple(self.size + 2 * k + 1 if a.final_leg else a.goal_cell
                            for k, a in enumerate(self.agents))
+        shapes: dict[tuple[float, float], int] = {}
+        #: per mover: a key its grid moves share with the movers of its size (negative)
+        self.shape = [-1 - shapes.setdefault((a.hx, a.hy), len(shapes)) for a in self.agents]
         self._near: dict[int, list[int]] = {}
         self._moves: dict[tuple[int, int, int], tuple[int, ...]] = {}
         self._near_goal: dict[tuple[int, int], float] = {}
@@ -115,8 +118,11 @@ class Space:
             return [*near, self.goals[k]]
         return near
 
+    def _key(self, k: int, u: int, v: int) -> tuple[int, int, int]:
+        return (self.shape[k] if u < self.size and v < self.size else k), u, v
+
     def cells(self, k: int, v: int) -> tuple[int, ...]:
-        key = (k, v)
+        key = (self.shape[k] if v < self.size else k), v
         out = self._cells.get(key)
         if out is None:
             out = self._cells[key] = self.move(k, v, v)
@@ -125,7 +131,7 @@ class Space:
     def beside(self, k: int, u: int, v: int) -> tuple[int, ...]:
         """The cells mover k's move u -> v sweeps that are under it neither before nor
         after (those beside a diagonal move)."""
-        key = (k, u, v)
+        key = self._key(k, u, v)
         out = self._beside.get(key)
         if out is None:
             ends = set(self.cells(k, u)) | set(self.cells(k, v))
@@ -145,7 +151,7 @@ class Space:
 
     def move(self, k: int, u: int, v: int) -> tuple[int, ...]:
         """The cells mover k touches while it goes from u to v (or waits, u == v)."""
-        key = (k, u, v)
+        key = self._key(k, u, v)
         out = self._moves.get(key)
         if out is None:
             agent = self.agents[k]
@@ -440,45 +446,3 @@ def _inside(turn: dict[int, list[tuple[int, int]]], head: dict[int, int], c: int
     """Mover k (at path index i) holds cell c already: its visit is the current one."""
     now = _turn_of(turn, head, c)
     return now is not None and now[0] == k and now[1] <= i
-
-
-def without_detours(space: Space, timeline: list[list[int]]) -> bool:
-    """Cut detours in place: a mover that leaves a vertex and comes back to it waits there
-    instead, when no other mover holds its cells in between. True when something was cut."""
-    horizon = len(timeline[0])
-    held: dict[tuple[int, int], set[int]] = {}  # (cell, half-step) -> movers
-
-    def mark(k: int, path: list[int], first: int, last: int, add: bool) -> None:
-        for t in range(first, last + 1):
-            halves = [(2 * t, space.cells(k, path[t]))]
-            if t + 1 <= last:
-                halves.append((2 * t + 1, space.move(k, path[t], path[t + 1])))
-            for half, cells in halves:
-                for c in cells:
-                    if add:
-                        held.setdefault((c, half), set()).add(k)
-                    else:
-                        held[(c, half)].discard(k)
-
-    for k, path in enumerate(timeline):
-        mark(k, path, 0, horizon - 1, True)
-    cut = False
-    for k, path in enumerate(timeline):
-        last_seen: dict[int, int] = {}
-        for t in range(horizon):
-            v = path[t]
-            first = last_seen.get(v)
-            last_seen[v] = t
-            if first is None or first == t - 1 or all(path[s] == v for s in range(first, t)):
-                continue
-            cells = space.cells(k, v)
-            if not all(held.get((c, half), set()) <= {k}
-                       for c in cells for half in range(2 * first, 2 * t + 1)):
-                continue
-            mark(k, path, first, t, False)
-            for s in range(first + 1, t):
-                path[s] = v
-            mark(k, path, first, t, True)
-            cut = True
-            last_seen = {v: t}
-    return cut
