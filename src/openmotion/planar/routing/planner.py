@@ -82,6 +82,7 @@ class Plan:
     routes: list[Route]
     order: list[int]  #: the agents by arrival step
     first_time: float = 0.0  #: wall time to the first plan [s]
+    first_cpu: float = 0.0  #: the planning thread's CPU time to the first plan [s]
     time: float = 0.0  #: wall time spent planning in all [s]
     tried: int = 0  #: plans tried: the first and every improvement round
     cost: tuple[int, int] = (0, 0)  #: (last arrival, sum of arrivals) [steps]
@@ -179,9 +180,11 @@ class Planner:
         """A first plan (LaCAM, complete), improved while ``time_budget`` [s] lasts by
         re-planning groups of agents with space-time A* around the others (D-339)."""
         started = time.perf_counter()
+        cpu = time.thread_time()
         rng = random.Random(seed)
         routes = self._first_routes(max(time_budget, FIRST_PLAN_LIMIT), seed)
         first_time = time.perf_counter() - started
+        first_cpu = time.thread_time() - cpu
         cost = _cost(routes)
         tried = 1
         bound = self._lower_bound()
@@ -201,7 +204,8 @@ class Planner:
         for index, route in enumerate(routes):
             table.hold(route, index)
         plan = Plan(routes, sorted(range(len(routes)), key=lambda a: routes[a].arrival),
-                    first_time=first_time, cost=cost, held=table.held, parked=table.parked)
+                    first_time=first_time, first_cpu=first_cpu, cost=cost, held=table.held,
+                    parked=table.parked)
         plan.time = time.perf_counter() - started
         plan.tried = tried
         return plan
