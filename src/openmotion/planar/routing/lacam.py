@@ -317,7 +317,7 @@ def lacam(space: Space, time_limit: float, seed: int = 0) -> list[tuple[int, ...
         if node.config == goal:
             return _backtrack(node)
         count += 1
-        if count % 64 == 0 and time.perf_counter() - started > time_limit:
+        if count % 8 == 0 and time.perf_counter() - started > time_limit:
             worst = max(range(n), key=lambda k: space.h(k, best.config[k]))
             raise SearchTimeout(worst, len(explored))
         if not node.tree:
@@ -407,7 +407,7 @@ def with_gaps(space: Space, configs: Sequence[tuple[int, ...]]) -> list[list[int
     timeline = [[p[0]] for p in paths]
     done = sum(len(p) == 1 for p in paths)
     while done < n:
-        moving = []
+        moving = set()
         for k in range(n):
             i = position[k]
             if i + 1 >= len(paths[k]):
@@ -415,7 +415,7 @@ def with_gaps(space: Space, configs: Sequence[tuple[int, ...]]) -> list[list[int
             u, v = paths[k][i], paths[k][i + 1]
             if all(_turn_of(turn, head, c) == (k, i + 1) or _inside(turn, head, c, k, i)
                    for c in space.move(k, u, v)):
-                moving.append(k)
+                moving.add(k)
         if not moving:
             raise ExecutionStuck()
         for k in range(n):
