@@ -119,7 +119,7 @@ def test_no_plan_exists_names_a_mover() -> None:
 @settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.integers(2, 30), st.integers(0, 2**32 - 1))
 def test_random_dense_fields_give_conflict_free_complete_plans(n: int, seed: int) -> None:
-    grid = square_grid(5)  # 7 x 7 cells: up to 30 of 49 taken
+    grid = square_grid(6)  # 9 x 9 cells: up to 30 of 81 taken, as dense as 78 on 10 x 10
     cells = [c for c in range(grid.size) if grid.free[c]]
     rng = random.Random(seed)
     starts, goals = rng.sample(cells, n), rng.sample(cells, n)
