@@ -51,6 +51,7 @@ class RoutingGrid:
     obstacles: tuple[BaseGeometry, ...]
     _touch: dict[tuple[float, float, int, int], tuple[int, ...]] = field(default_factory=dict)
     _diagonal_ok: dict[tuple[int, int], bool] = field(default_factory=dict)
+    _near: dict[int, list[int]] = field(default_factory=dict)
 
     @property
     def pitch(self) -> tuple[float, float]:
@@ -77,7 +78,13 @@ class RoutingGrid:
 
     def neighbours(self, cell: int) -> list[int]:
         """The free cells one move from ``cell`` (a diagonal only when both cells beside it
-        are free and no obstacle meets the move)."""
+        are free and no obstacle meets the move); cached: ``free`` is fixed once built."""
+        near = self._near.get(cell)
+        if near is None:
+            near = self._near[cell] = self._neighbours(cell)
+        return near
+
+    def _neighbours(self, cell: int) -> list[int]:
         i, j = cell % self.nx, cell // self.nx
         out = []
         for di, dj in MOVES:

@@ -1,19 +1,21 @@
-"""Multi-mover path planning on the routing grid: prioritized space-time A*.
+"""Multi-mover path planning on the routing grid: LaCAM first, then space-time A*.
 
 Every mover is an agent with a start pose and a target pose. Time runs in steps; in a step
 an agent waits or moves to one of the eight neighbouring cells. Half-steps index what an
 agent occupies: ``2t`` the cells under it at step ``t``, ``2t + 1`` the cells its move from
-step ``t`` to ``t + 1`` touches. Agents are planned one after the other (the priority order);
-each finds the earliest arrival (A*, heuristic: its distance on the static grid) that meets
-no cell another agent holds at the same half-step, and no cell an agent parks on for good.
-An agent's start pose and target pose need not be cell centres: it first moves from its pose
+step ``t`` to ``t + 1`` touches; in a valid plan no two agents hold a cell at the same
+half-step, and an agent parks on its target for good (``conflicts`` checks this). An
+agent's start pose and target pose need not be cell centres: it first moves from its pose
 to the centre of its start cell and ends with a move from its goal cell's centre to the
 target (turning there, if the target's c differs), both reserved like moves.
 
-Prioritized planning is fast but incomplete: an order may fail where another succeeds. The
-planner tries the agents that failed first (the standard repair), then random orders while
-the time budget lasts, and keeps the plan with the earliest arrival of the last agent
-(anytime). What it cannot solve it reports with the agent and the blocker it names.
+The first plan comes from LaCAM over PIBT steps (lacam.py, complete, D-339), replayed with
+gaps so that it obeys the half-step rule (D-340). While the time budget lasts it is improved
+(D-341): LaCAM again with other priorities, and groups of agents re-planned one after the
+other with space-time A* (earliest arrival, heuristic: the distance on the static grid)
+around the others' routes, held in the reservation table ``_Table``. The plan whose last
+agent arrives earliest is kept (anytime). What cannot be planned is reported with the agent
+farthest from its target.
 """
 
 from __future__ import annotations
@@ -27,11 +29,20 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from openmotion.planar.routing.grid import RoutingGrid
+from openmotion.planar.routing.lacam import (
+    SearchExhausted,
+    SearchTimeout,
+    Space,
+    lacam,
+    with_gaps,
+)
 
 MAX_EXPANSIONS = 20_000  #: A* gives up on one agent after this many expansions
 HORIZON_SLACK = 40  #: steps an agent may wait beyond its distance and the others' last use
 FOREVER = 1 << 30  #: a half-step after every plan
-FIRST_PLAN_LIMIT = 0.5  #: without any plan yet, orders are tried this long at least [s]
+FIRST_PLAN_LIMIT = 0.5  #: the first plan's search may take this long at least [s]
+LNS_EXPANSIONS = 20_000  #: A* gives up on one agent of an improvement round after this many
+LNS_SIZE = 4  #: agents re-planned together in one improvement round
 
 
 @dataclass
@@ -69,10 +80,11 @@ class Route:
 @dataclass
 class Plan:
     routes: list[Route]
-    order: list[int]  #: the priority order that produced it
+    order: list[int]  #: the agents by arrival step
     first_time: float = 0.0  #: wall time to the first plan [s]
+    first_cpu: float = 0.0  #: the planning thread's CPU time to the first plan [s]
     time: float = 0.0  #: wall time spent planning in all [s]
-    tried: int = 0  #: priority orders tried
+    tried: int = 0  #: plans tried: the first and every improvement round
     cost: tuple[int, int] = (0, 0)  #: (last arrival, sum of arrivals) [steps]
     held: dict[tuple[int, int], int] = field(default_factory=dict)  #: (cell, half) -> agent
     parked: dict[int, int] = field(default_factory=dict)  #: cell -> half-step parked from
@@ -165,67 +177,120 @@ class Planner:
         return table
 
     def plan(self, time_budget: float, seed: int = 0) -> Plan:
-        """The first plan found, improved by other orders while ``time_budget`` [s] lasts."""
+        """A first plan (LaCAM, complete), improved while ``time_budget`` [s] lasts by
+        re-planning groups of agents with space-time A* around the others (D-339)."""
         started = time.perf_counter()
+        cpu = time.thread_time()
         rng = random.Random(seed)
-        n = len(self.agents)
-        order = sorted(range(n), key=lambda a: -self.distance(self.agents[a]).get(
-            self.agents[a].start_cell, 0))
-        best: Plan | None = None
-        tried = 0
-        failure: PlanningFailed | None = None
-        seen: set[tuple[int, ...]] = set()
-        standing = True
-        while True:
+        routes = self._first_routes(max(time_budget, FIRST_PLAN_LIMIT), seed)
+        first_time = time.perf_counter() - started
+        first_cpu = time.thread_time() - cpu
+        cost = _cost(routes)
+        tried = 1
+        bound = self._lower_bound()
+        while cost[0] > bound and time.perf_counter() - started < time_budget:
             tried += 1
-            seen.add(tuple(order))
-            try:
-                routes, table = self._plan_order(order, standing)
-            except _OrderFailed as failed:
-                failure = PlanningFailed(self.agents[failed.index], failed.reason)
-                standing = not standing  # the same order once more, the others not standing
-                if standing and best is None:  # repair: who stands on its target first
-                    order = self._repaired(order, failed.index)
-                    if tuple(order) in seen:
-                        rng.shuffle(order)
-                elif standing:
-                    rng.shuffle(order)
+            if len(routes) > LNS_SIZE and tried % 2 == 0:  # LaCAM again, other tie-breaks
+                try:
+                    better = self._first_routes(time_budget - (time.perf_counter() - started),
+                                                seed + tried)
+                except PlanningFailed:
+                    better = None
             else:
-                arrivals = [r.arrival for r in routes]
-                cost = (max(arrivals, default=0), sum(arrivals))
-                if best is None or cost < best.cost:
-                    best = Plan(routes, list(order), cost=cost, held=table.held,
-                                parked=table.parked)
-                    if best.first_time == 0.0:
-                        best.first_time = time.perf_counter() - started
-                order = list(order)
-                rng.shuffle(order)
-            elapsed = time.perf_counter() - started
-            if best is not None and (elapsed >= time_budget or n <= 1):
-                break
-            if best is None and elapsed >= max(time_budget, FIRST_PLAN_LIMIT):
-                break
-            if best is not None and best.cost[0] <= self._lower_bound():
-                break
-        if best is None:
-            assert failure is not None
-            raise failure
-        if best.first_time == 0.0:
-            best.first_time = time.perf_counter() - started
-        best.time = time.perf_counter() - started
-        best.tried = tried
-        return best
+                better = self._neighbourhood(routes, rng)
+            if better is not None and _cost(better) < cost:
+                routes, cost = better, _cost(better)
+        table = _Table()
+        for index, route in enumerate(routes):
+            table.hold(route, index)
+        plan = Plan(routes, sorted(range(len(routes)), key=lambda a: routes[a].arrival),
+                    first_time=first_time, first_cpu=first_cpu, cost=cost, held=table.held,
+                    parked=table.parked)
+        plan.time = time.perf_counter() - started
+        plan.tried = tried
+        return plan
 
-    def _repaired(self, order: list[int], failed: int) -> list[int]:
-        goal = set(self.agents[failed].final_cells) | {self.agents[failed].goal_cell}
-        blockers = [a for a in order if a != failed and goal & set(self.agents[a].start_cells)]
-        place = order.index(failed)
-        late = [a for a in blockers if order.index(a) > place]
-        if late:
-            rest = [a for a in order if a not in late]
-            at = rest.index(failed)
-            return rest[:at] + late + rest[at:]
-        return [failed] + [a for a in order if a != failed]
+    def _first_routes(self, limit: float, seed: int) -> list[Route]:
+        """Routes from LaCAM over PIBT steps (lacam.py); PlanningFailed naming the agent
+        farthest from its target when the search ends without a plan."""
+        for index, agent in enumerate(self.agents):
+            if agent.start_cell not in self.distance(agent):
+                raise PlanningFailed(agent, "no way on the grid from its start to its target")
+            del index
+        space = Space(self.grid, self.agents, [self.distance(a) for a in self.agents])
+        try:
+            configs = lacam(space, limit, seed)
+        except SearchTimeout as failed:
+            raise PlanningFailed(self.agents[failed.closest],
+                                 f"no plan found within {limit:g} s "
+                                 f"({failed.explored} configurations searched)") from None
+        except SearchExhausted as failed:
+            raise PlanningFailed(self.agents[failed.closest],
+                                 f"every way to its target is taken by other movers "
+                                 f"(no plan exists: {failed.explored} configurations "
+                                 f"searched)") from None
+        timeline = with_gaps(space, configs)
+        return [self._route_of(space, k, timeline[k]) for k in range(len(self.agents))]
+
+    def _route_of(self, space: Space, k: int, vertices: list[int]) -> Route:
+        """Agent k's route from its vertex per step, cut after its last arrival."""
+        agent = self.agents[k]
+        goal = space.goals[k]
+        end = len(vertices) - 1
+        while end > 0 and vertices[end - 1] == goal:
+            end -= 1
+        vertices = vertices[:end + 1]
+        points: list[tuple[float, float]] = []
+        cells: list[int] = []
+        occupied: list[tuple[int, ...]] = []
+        for t, v in enumerate(vertices):
+            if t:
+                occupied.append(space.move(k, vertices[t - 1], v))
+            if v < space.size:
+                points.append(self.grid.centre(v))
+                cells.append(v)
+            else:
+                points.append(agent.start[:2] if v == space.starts[k] else agent.target[:2])
+                cells.append(-1)
+            occupied.append(space.cells(k, v))
+        occupied[-1] = tuple(sorted(set(occupied[-1]) | set(agent.final_cells)))
+        return Route(agent, points, occupied, cells)
+
+    def _neighbourhood(self, routes: list[Route], rng: random.Random) -> list[Route] | None:
+        """Re-plan the latest agent and up to LNS_SIZE - 1 agents whose routes meet its
+        cells, one by one in a random order, around the others' routes (large neighbourhood
+        search); None when an agent finds no slot."""
+        n = len(routes)
+        latest = max(r.arrival for r in routes)
+        critical = rng.choice([a for a in range(n) if routes[a].arrival == latest])
+        if n <= LNS_SIZE:
+            group = list(range(n))
+        else:
+            mine = {c for cells in routes[critical].occupied for c in cells}
+            near = [a for a in range(n) if a != critical and
+                    any(c in mine for cells in routes[a].occupied for c in cells)]
+            rng.shuffle(near)
+            others = [a for a in range(n) if a != critical and a not in near]
+            rng.shuffle(others)
+            group = [critical, *(near + others)[:LNS_SIZE - 1]]
+        chosen = set(group)
+        table = _Table()
+        for index, route in enumerate(routes):
+            if index not in chosen:
+                table.hold(route, index)
+        for index in group:  # who is re-planned later holds its start at step 0 only
+            for cell in self.agents[index].start_cells:
+                table.held[(cell, 0)] = index
+        rng.shuffle(group)
+        new = list(routes)
+        try:
+            for index in group:
+                route = self._plan_agent(index, table, LNS_EXPANSIONS)
+                table.hold(route, index)
+                new[index] = route
+        except _OrderFailed:
+            return None
+        return new
 
     def _lower_bound(self) -> int:
         return max((self.distance(a).get(a.start_cell, 0) + a.start_leg + a.final_leg
@@ -257,7 +322,7 @@ class Planner:
             self._neighbours[cell] = out
         return out
 
-    def _plan_agent(self, index: int, table: _Table) -> Route:
+    def _plan_agent(self, index: int, table: _Table, limit: int = MAX_EXPANSIONS) -> Route:
         agent = self.agents[index]
         grid = self.grid
         dist = self.distance(agent)
@@ -282,7 +347,7 @@ class Planner:
         while heap:
             _, _, u, t = heapq.heappop(heap)
             expansions += 1
-            if expansions > MAX_EXPANSIONS:
+            if expansions > limit:
                 break
             if u == agent.goal_cell:
                 after = 2 * t + 1 if agent.final_leg else 2 * t
@@ -338,6 +403,32 @@ class Planner:
         else:
             occupied[-1] = tuple(sorted(set(occupied[-1]) | set(agent.final_cells)))
         return Route(agent, points, occupied, route_cells)
+
+
+def _cost(routes: list[Route]) -> tuple[int, int]:
+    arrivals = [r.arrival for r in routes]
+    return max(arrivals, default=0), sum(arrivals)
+
+
+def conflicts(routes: list[Route]) -> list[tuple[int, int, int, int]]:
+    """(cell, half-step, agent, agent) where two routes hold a cell at once, or one holds a
+    cell another has parked on: empty for a valid plan (the half-step table's rule)."""
+    held: dict[tuple[int, int], int] = {}
+    out = []
+    for a, route in enumerate(routes):
+        for half, cells in enumerate(route.occupied):
+            for cell in cells:
+                other = held.setdefault((cell, half), a)
+                if other != a:
+                    out.append((cell, half, other, a))
+    horizon = max((len(r.occupied) for r in routes), default=0)
+    for a, route in enumerate(routes):
+        for half in range(len(route.occupied), horizon):
+            for cell in route.occupied[-1]:
+                other = held.get((cell, half))
+                if other is not None and other != a:
+                    out.append((cell, half, a, other))
+    return out
 
 
 class _OrderFailed(Exception):
