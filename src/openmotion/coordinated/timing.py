@@ -44,6 +44,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from openmotion.coordinated.dense_timing import check, junction_speeds
+from openmotion.coordinated.dense_timing import profile as dense_profile
 from openmotion.coordinated.timing_kernels import (
     leg,
     look_ahead,
@@ -62,6 +64,7 @@ from openmotion.trajectory.plan import Limits, plan_position, plan_stop, plan_ve
 from openmotion.trajectory.segments import KinematicState, Profile
 
 _MAX_EVENTS = 1_000_000  #: legs one sample may run through before we call it a bug
+_TAIL_TRIES = 256  #: junctions before the end a dense profile tries to brake from
 
 
 @dataclass(frozen=True, slots=True)
@@ -123,7 +126,8 @@ class _Leg:
     At ``end`` the state is ``final`` (s, v, a) exactly; the next leg starts there.
     """
 
-    __slots__ = ("t0", "data", "t", "p", "v", "a", "j", "end", "final", "zone", "k", "regular")
+    __slots__ = ("t0", "data", "t", "p", "v", "a", "j", "end", "final", "zone", "k", "regular",
+                 "profile")
 
     def __init__(self, t0: float, data: np.ndarray, end: float,
                  final: tuple[float, float, float], zone: int) -> None:
@@ -131,6 +135,7 @@ class _Leg:
         self.t, self.p, self.v, self.a, self.j = data.tolist()
         self.k = 0
         self.regular = False  #: keeps the caps of the factors set now (not a fallback brake)
+        self.profile = False  #: a dense path's whole profile (dense_timing.py), not a zone's
 
     @classmethod
     def hold(cls, t0: float, s: float, zone: int) -> _Leg:
@@ -197,20 +202,31 @@ class TimeLaw:
         self._span = 0.0
         self._work = [0, 0, 0, 0]
         self._last_work = Work()
+        #: the segments of a dense path's profile, built when its pieces were appended to a
+        #: law at rest (D-335); installed by the first plan, dropped by anything else
+        self._profile: np.ndarray | None = None
         self.history: list[tuple[float, float, Profile]] | None = [] if record else None
 
     # -- the path ------------------------------------------------------------------------------
 
-    def append(self, pieces: Sequence[Piece]) -> None:
-        """More path at the end; the motion re-plans from the last sample to run on into it."""
+    def append(self, pieces: Sequence[Piece], dense: bool = False) -> None:
+        """More path at the end; the motion re-plans from the last sample to run on into it.
+
+        ``dense``: the pieces are a dense path (coordinated/dense.py). Appended to a law that
+        has not started, at rest and without an override, the motion runs them by one profile
+        that changes the acceleration on the lines (dense_timing.py, D-335) where that
+        profile keeps every cap; else, and after any stop, override or append, by zones."""
         if not pieces:
             return
+        fresh = dense and self._leg is None and self._pieces.n == 0 and self._state == \
+            (0.0, 0.0, 0.0, 0.0) and self._factors == (1.0, 1.0, 1.0) and self._stop is None
         if self._stop is not None and not self._stop.keep and self._mode != _REST:
             raise RuntimeError("the path cannot grow while a stop brakes (Part 4 §5.13)")
         block = np.array([(p.length, p.velocity, p.acceleration, p.deceleration, p.jerk,
                            p.exit_velocity, p.space) for p in pieces], dtype=float).T
         _check(block)
         self._extend(block)
+        self._profile = self._dense_profile() if fresh else None
         if self._mode == _REST and self._stop is not None and not self._stop.keep:
             self._mode, self._stop = _RUN, None  # a finished MC_GroupStop: the next motion
         self._window = None
@@ -359,11 +375,67 @@ class TimeLaw:
         zone = min(int(np.searchsorted(self._zones.row(_ZEND), s, side="right")),
                    self._zones.n - 1)
         if not changed_path:
+            if self._profile is not None and self._factors == (1.0, 1.0, 1.0) \
+                    and state == (0.0, 0.0, 0.0) and self._mode == _RUN:
+                self._install(self._profile_leg(time))
+                return
             self._install(self._zone_leg(time, state, zone))
             return
         new, _ = self._replanned(time, state, zone)
         if new is not self._leg:
             self._install(new)
+
+    def _dense_profile(self) -> np.ndarray | None:
+        """The segments of the dense profile over all pieces from rest to rest, or None where
+        it cannot keep every cap (module dense_timing): up to a junction near the end, then
+        ruckig's brake to the end within the smallest caps of the pieces left."""
+        pieces = self._pieces
+        lengths, vel, acc, dec, jerk = (pieces.row(r) for r in (_LEN, _V, _A, _D, _J))
+        targets = junction_speeds(lengths, vel, acc, dec, pieces.row(_EXIT),
+                                  pieces.row(_SPACE))
+        if not targets[1:-1].size or targets[1:-1].min() <= 0.0:
+            return None
+        data, states, reached = dense_profile(lengths, vel, acc, dec, jerk, targets)
+        ends = pieces.row(_END)
+        for m in range(reached, max(reached - _TAIL_TRIES, 0), -1):
+            time, v, a = states[:, m]
+            s = float(ends[m - 1])
+            limits = Limits(float(vel[m:].min()), float(acc[m:].min()), float(dec[m:].min()),
+                            float(jerk[m:].min()))
+            if v > limits.velocity or not -limits.deceleration <= a <= limits.acceleration:
+                continue
+            try:
+                tail = plan_position(KinematicState(s, v, a), self._length, limits)
+            except CommandRejected:
+                continue
+            if not _keeps(tail, (s, v, a), limits):
+                continue
+            head = data[:, :int(np.searchsorted(data[0], time, side="left"))]
+            rest = tail.data.copy()
+            rest[0] += time
+            rest[1, -1] = self._length
+            if check(np.hstack((head, rest[:, :1])), ends, vel, acc, dec, jerk) < 0:
+                return np.hstack((head, rest))
+        return None
+
+    def _profile_leg(self, time: float) -> _Leg:
+        data, self._profile = self._profile, None
+        self._work[2] += 1
+        new = _Leg(time, data, float(data[0, -1]), (self._length, 0.0, 0.0), 0)
+        new.profile = new.regular = True
+        return new
+
+    def _leave_profile(self, now: float) -> None:
+        """Replace a dense profile under way by the zone law's leg from the state now: stops,
+        overrides and appends work on zone legs."""
+        self._profile = None
+        if self._leg is None or not self._leg.profile or self._mode not in (_RUN, _PENDING):
+            return
+        s = self._state[0]
+        zone = min(int(np.searchsorted(self._zones.row(_ZEND), s, side="right")),
+                   self._zones.n - 1)
+        self._window = None
+        self._install(self._zone_leg(now, self._state[:3], zone))
 
     def _replanned(self, time: float, state: tuple[float, float, float], zone: int
                    ) -> tuple[_Leg, bool]:
@@ -379,7 +451,7 @@ class TimeLaw:
         if self._lands(new, zone):
             return new, True
         old = self._leg
-        if self._mode == _RUN and old is not None and old.zone == zone \
+        if self._mode == _RUN and old is not None and not old.profile and old.zone == zone \
                 and old.t0 + old.end > time and old.final[0] == self._zones.data[_ZEND, zone] \
                 and self._lands(old, zone):
             return old, True
@@ -539,6 +611,7 @@ class TimeLaw:
 
     def _begin_stop(self, now: float, request: _StopRequest) -> None:
         now = self._move_to(now)
+        self._leave_profile(now)
         old = self._stop
         if old is not None:  # a stop that drops the path is not undone by a later interrupt
             request = _StopRequest(request.deceleration, request.jerk, request.keep and old.keep,
@@ -748,6 +821,7 @@ class TimeLaw:
         if factors == self._factors:
             return
         now = self._move_to(now)
+        self._leave_profile(now)
         old = self._factors
         self._planned_rates = (max(self._planned_rates[0], old[1]),
                                max(self._planned_rates[1], old[2]))
