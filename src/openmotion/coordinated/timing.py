@@ -205,6 +205,8 @@ class TimeLaw:
         #: the segments of a dense path's profile, built when its pieces were appended to a
         #: law at rest (D-335); installed by the first plan, dropped by anything else
         self._profile: np.ndarray | None = None
+        #: override factors set while a profile ran: applied once its pause came to rest
+        self._deferred: tuple[float, float, float] | None = None
         self.history: list[tuple[float, float, Profile]] | None = [] if record else None
 
     # -- the path ------------------------------------------------------------------------------
@@ -304,6 +306,9 @@ class TimeLaw:
         if self._mode == _PENDING and not self._try_brake(now, self._state[:3]) \
                 and self.standing:
             self._finish_stop(now, self._state[0], self._leg.zone)
+        if self._deferred is not None and self._mode == _REST:
+            factors, self._deferred = self._deferred, None
+            self.set_factors(now, *factors)
         self._last_work = Work(*self._work)
         return self._state
 
@@ -374,6 +379,8 @@ class TimeLaw:
             return
         zone = min(int(np.searchsorted(self._zones.row(_ZEND), s, side="right")),
                    self._zones.n - 1)
+        if changed_path and self._on_profile():
+            return  # the profile ends at rest where the path ended; the new pieces follow
         if not changed_path:
             if self._profile is not None and self._factors == (1.0, 1.0, 1.0) \
                     and state == (0.0, 0.0, 0.0) and self._mode == _RUN:
@@ -421,21 +428,10 @@ class TimeLaw:
     def _profile_leg(self, time: float) -> _Leg:
         data, self._profile = self._profile, None
         self._work[2] += 1
-        new = _Leg(time, data, float(data[0, -1]), (self._length, 0.0, 0.0), 0)
+        new = _Leg(time, data, float(data[0, -1]), (self._length, 0.0, 0.0),
+                   self._zones.n - 1)
         new.profile = new.regular = True
         return new
-
-    def _leave_profile(self, now: float) -> None:
-        """Replace a dense profile under way by the zone law's leg from the state now: stops,
-        overrides and appends work on zone legs."""
-        self._profile = None
-        if self._leg is None or not self._leg.profile or self._mode not in (_RUN, _PENDING):
-            return
-        s = self._state[0]
-        zone = min(int(np.searchsorted(self._zones.row(_ZEND), s, side="right")),
-                   self._zones.n - 1)
-        self._window = None
-        self._install(self._zone_leg(now, self._state[:3], zone))
 
     def _replanned(self, time: float, state: tuple[float, float, float], zone: int
                    ) -> tuple[_Leg, bool]:
@@ -611,7 +607,7 @@ class TimeLaw:
 
     def _begin_stop(self, now: float, request: _StopRequest) -> None:
         now = self._move_to(now)
-        self._leave_profile(now)
+        self._profile = None
         old = self._stop
         if old is not None:  # a stop that drops the path is not undone by a later interrupt
             request = _StopRequest(request.deceleration, request.jerk, request.keep and old.keep,
@@ -635,7 +631,11 @@ class TimeLaw:
         """Continue after ``stop(keep=True)`` (MC_GroupContinue), from where the motion is;
         under a velocity override of 0 it continues once the override rises."""
         stop = self._stop
-        if stop is None or not stop.keep:
+        if stop is None or not stop.keep or self._deferred is not None:
+            return
+        if self._on_profile():  # the stop has not braked yet: the profile simply runs on
+            now = self._move_to(now)
+            self._stop, self._mode = None, _RUN
             return
         if self._factors[0] > 0.0:
             self._restart(now)
@@ -772,12 +772,18 @@ class TimeLaw:
         self._length = float(rest) if rest > start or not k else float(start)
         self._window = None
 
+    def _on_profile(self) -> bool:
+        """A dense profile is under way (not yet ended, the stop's brake not yet taken)."""
+        leg_ = self._leg
+        return leg_ is not None and leg_.profile and self._mode in (_RUN, _PENDING) \
+            and self._time < leg_.t0 + leg_.end
+
     def trim_last(self, length: float, exit_velocity: float) -> bool:
         """Shorten the last piece to ``length`` and give it ``exit_velocity``: a blend
         contour replaces its end (Part 4 §7.3.3). False, and nothing changes, when the
         motion could no longer stop before the new end (then the corner stays a stop)."""
         pieces = self._pieces
-        if not pieces.n or self._mode != _RUN or not length > 0.0:
+        if not pieces.n or self._mode != _RUN or not length > 0.0 or self._on_profile():
             return False
         last = pieces.n - 1
         start = pieces.data[_END, last] - pieces.data[_LEN, last]
@@ -821,7 +827,15 @@ class TimeLaw:
         if factors == self._factors:
             return
         now = self._move_to(now)
-        self._leave_profile(now)
+        self._profile = None
+        if self._on_profile() and velocity > 0.0:
+            # the zone legs cannot take over a profile under way: it brakes to rest with the
+            # factors it was planned with (a pause), then runs on under the new ones (D-335)
+            if self._deferred is None:
+                self._begin_stop(now, _StopRequest(math.inf, math.inf, True, by_override=True))
+            self._deferred = factors
+            return
+        self._deferred = None
         old = self._factors
         self._planned_rates = (max(self._planned_rates[0], old[1]),
                                max(self._planned_rates[1], old[2]))
