@@ -38,6 +38,8 @@ the axes, so the highest steady speed an element allows is min(v/T, sqrt(a/K), c
 (0.91) where its rate does. The rate binds on short contours: a dense path of chords rounded
 by tiny blends runs at the contours' V throughout, so their V sets its speed, while the
 path's own A, D and J only shape its few speed changes (decisions D-134, `bench path`).
+A dense path's contours (``many_limits``) may give the rate up to 0.97 of the jerk: its
+profile changes the acceleration on the lines between them (D-335, D-336).
 
 Straight elements (K = R = 0 on every axis: a gantry's lines, MoveDirect's lines in ACS) are
 exact: each axis keeps the sign of its velocity, so speeding the path up speeds every axis up,

@@ -25,6 +25,14 @@ fast pieces between slower ones join them (the bump rule), and the contours' vel
 which their curvature rate sets (limits.py), are all that slows it (D-134; `bench path` sets
 the mean speed against the fastest profile under the caps and under the axes' own limits).
 
+Dense profile (D-335). Zones return to a = 0 at every junction and run at their smallest cap.
+A dense path (``append(..., dense=True)`` on a law that has not started) runs instead by one
+profile from rest to rest that ramps the acceleration at the start of each piece with the
+piece's jerk cap and holds it to the piece's end (dense_timing.py), checked segment by
+segment against the caps before it runs. While it runs, a stop follows it until the stop's
+brake fits, an override change brakes it to rest under the old factors and runs on by zones
+(``set_factors``), and appended pieces follow its end, where it rests.
+
 Stops (§5.13-§5.16). ``stop`` brakes with the requested deceleration and jerk, lowered to the
 smallest caps of the pieces within the braking distance. Where that brake would pass a junction
 faster than its caps allow (a corner the plan slows for, the path's end), the motion follows
@@ -217,7 +225,7 @@ class TimeLaw:
         ``dense``: the pieces are a dense path (coordinated/dense.py). Appended to a law that
         has not started, at rest and without an override, the motion runs them by one profile
         that changes the acceleration on the lines (dense_timing.py, D-335) where that
-        profile keeps every cap; else, and after any stop, override or append, by zones."""
+        profile keeps every cap; else by zones."""
         if not pieces:
             return
         fresh = dense and self._leg is None and self._pieces.n == 0 and self._state == \
