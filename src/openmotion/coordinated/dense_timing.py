@@ -15,11 +15,13 @@ with and the line before it sets it): on piece k, from (w, a) at its start,
 
 a1 is the highest acceleration whose end speed stays within the junction speeds W of a
 backward and a forward pass (constant acceleration per piece, ``SHARE`` of each piece's
-deceleration and acceleration caps, so the acceleration has room to follow), looking one
-piece ahead: a1 is held over the next piece too, which the next piece's jerk cap may not
-change. Every segment is then checked against its piece's caps, the same checks the zone
-legs keep (``check``); a profile that fails them is not used, and the zone law runs
-instead. The last pieces before the end are a ruckig brake (timing.py) from the state the
+deceleration and acceleration caps and the next piece's, so the acceleration has room to
+follow), looking one piece ahead (a1 is held over the next piece too, which the next
+piece's jerk cap may not change), and from whose end state the hardest brake the pieces'
+caps allow keeps W up to rest (``_safe``): the ramps that lag behind a falling W are
+started early enough. Every segment is then checked against its piece's caps, the same
+checks the zone legs keep (``check``); a profile that fails them is not used, and the zone
+law runs instead. The last pieces before the end are a ruckig brake (timing.py) from the state the
 profile has at a junction.
 """
 
@@ -37,7 +39,6 @@ _BISECTIONS = 30  #: steps of the searches on the held acceleration
 _HORIZON = 400  #: pieces a brake that proves a state safe may look ahead
 _CONTINUITY = 1e-9  #: relative: one segment's end meets the next one's start this well
 _TIME_ROUNDING = 8.0 * np.finfo(np.float64).eps  #: relative round-off of a segment's time
-_FAILED = -1  #: the profile could not be built: the zone law runs instead
 
 
 @compiled
@@ -102,7 +103,7 @@ def _excess(k: int, w: float, a: float, a1: float, lengths: np.ndarray, vel: np.
 
 @compiled
 def _safe(j: int, w: float, a: float, lengths: np.ndarray, vel: np.ndarray, dec: np.ndarray,
-          jerk: np.ndarray, targets: np.ndarray, brake: float) -> bool:
+          jerk: np.ndarray, targets: np.ndarray) -> bool:
     """Whether the motion at junction ``j`` with speed ``w`` and acceleration ``a`` can still
     keep the junction speeds ahead: braking as hard as the pieces' jerk and deceleration
     caps let it (the acceleration ramped down on each piece as far as the piece allows,
@@ -132,8 +133,8 @@ def _safe(j: int, w: float, a: float, lengths: np.ndarray, vel: np.ndarray, dec:
 
 @compiled
 def _choose(k: int, w: float, a: float, lengths: np.ndarray, vel: np.ndarray,
-            acc: np.ndarray, dec: np.ndarray, jerk: np.ndarray, targets: np.ndarray,
-            brake: float) -> tuple[bool, float]:
+            acc: np.ndarray, dec: np.ndarray, jerk: np.ndarray, targets: np.ndarray
+            ) -> tuple[bool, float]:
     """The acceleration to hold on piece k: the highest that fits and overshoots nothing,
     else the lowest that fits (the check decides)."""
     n = lengths.shape[0]
@@ -176,15 +177,15 @@ def _choose(k: int, w: float, a: float, lengths: np.ndarray, vel: np.ndarray,
         if low > 0.0:
             return True, down
         best = _root(k, w, a, down, low, up, high, lengths, vel, jerk, targets)
-    if _safe_after(k, w, a, best, lengths, vel, dec, jerk, targets, brake) \
-            or not _safe_after(k, w, a, down, lengths, vel, dec, jerk, targets, brake):
+    if _safe_after(k, w, a, best, lengths, vel, dec, jerk, targets) \
+            or not _safe_after(k, w, a, down, lengths, vel, dec, jerk, targets):
         return True, best
     good, bad = down, best
     for _ in range(_BISECTIONS):
         middle = 0.5 * (good + bad)
         if middle <= good or middle >= bad:
             break
-        if _safe_after(k, w, a, middle, lengths, vel, dec, jerk, targets, brake):
+        if _safe_after(k, w, a, middle, lengths, vel, dec, jerk, targets):
             good = middle
         else:
             bad = middle
@@ -254,10 +255,10 @@ def _root(k: int, w: float, a: float, lo: float, f_lo: float, hi: float, f_hi: f
 
 @compiled
 def _safe_after(k: int, w: float, a: float, a1: float, lengths: np.ndarray, vel: np.ndarray,
-                dec: np.ndarray, jerk: np.ndarray, targets: np.ndarray, brake: float) -> bool:
+                dec: np.ndarray, jerk: np.ndarray, targets: np.ndarray) -> bool:
     """``_safe`` at the end of piece k run with ``a1``."""
     ok, _, _, _, w_end, _ = _run(w, a, a1, lengths[k], jerk[k])
-    return ok and _safe(k + 1, w_end, a1, lengths, vel, dec, jerk, targets, brake)
+    return ok and _safe(k + 1, w_end, a1, lengths, vel, dec, jerk, targets)
 
 
 @compiled
@@ -310,11 +311,10 @@ def profile(lengths: np.ndarray, vel: np.ndarray, acc: np.ndarray, dec: np.ndarr
     states = np.zeros((3, n + 1))
     t = s = w = a = 0.0
     m = 0
-    brake = dec.max()
     for k in range(n):
         if k + 1 == n or targets[k + 1] <= 0.0:
             return data[:, :m].copy(), states, k
-        ok, a1 = _choose(k, w, a, lengths, vel, acc, dec, jerk, targets, brake)
+        ok, a1 = _choose(k, w, a, lengths, vel, acc, dec, jerk, targets)
         if not ok:
             return data[:, :m].copy(), states, k
         ok, tau, d1, v1, w_end, t2 = _run(w, a, a1, lengths[k], jerk[k])
