@@ -89,13 +89,14 @@ def _setpoints(rt: om.Runtime, group: AxesGroup) -> tuple[np.ndarray, np.ndarray
 
 @pytest.mark.parametrize("curve, n", [(rose, 400), (ellipse, 300)], ids=["rose", "ellipse"])
 def test_a_dense_path_runs_near_the_speed_its_axes_allow(curve, n):
-    """The mean path speed reaches 75 % of the steady bound (what the geometry allows the
-    axes) and 85 % of the bound under the time law's own caps, every axis within its limits,
-    the end exact. Measured: rose 0.82 and 0.90, ellipse 0.87 and 0.95. Before the
-    curvature rate got three quarters of the jerk and zones 0.95 (decisions D-134) they ran
-    at 0.57 and 0.55 of the steady bound: their caps alone left 0.65 of it."""
+    """The mean path speed reaches 84 % of the steady bound (what the geometry allows the
+    axes) and 88 % of the bound under the time law's own caps, every axis within its limits,
+    the end exact. Measured: rose 0.864 and 0.896, ellipse 0.940 and 0.959 (by one profile
+    with the shares that plan fastest, D-335, D-336); by zones they ran at 0.82 and 0.87 of
+    the steady bound, and before the curvature rate got three quarters of the jerk (D-134)
+    at 0.57 and 0.55."""
     result = run_dense(curve(n))
     assert result["done"] and result["end"] <= 1e-9
     assert result["worst"] <= 1.0 + REL
-    assert result["mean"] >= 0.85 * result["caps"]
-    assert result["mean"] >= 0.75 * result["steady"]
+    assert result["mean"] >= 0.88 * result["caps"]
+    assert result["mean"] >= 0.84 * result["steady"]

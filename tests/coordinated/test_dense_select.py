@@ -15,11 +15,13 @@ import openmotion as om
 from openmotion.bench.path import gantry
 from openmotion.coordinated import dense, paths
 from openmotion.coordinated.blocks import MC_PathSelect
+from openmotion.coordinated.dense import DENSE_MIN, derivative_bounds
+from openmotion.coordinated.dense_timing import planned_time
 from openmotion.coordinated.group import AxesGroup
 from openmotion.coordinated.inputs import TransitionMode
-from openmotion.coordinated.limits import cartesian_limits, many_limits
-from openmotion.coordinated.limits_bridge import axis_limits
-from openmotion.core.errors import CommandRejected, ErrorId
+from openmotion.coordinated.limits import DENSE_SHARES, cartesian_limits, many_limits
+from openmotion.coordinated.limits_bridge import axis_limits, caps_for_many, dense_path
+from openmotion.core.errors import CommandRejected, ConfigError, ErrorId
 from openmotion.geometry.blend import Contour
 from openmotion.trajectory.plan import Limits
 
@@ -138,6 +140,63 @@ def test_bulk_caps_of_contours_are_the_caps_element_by_element() -> None:
     one = np.array([[c.velocity, c.acceleration, c.deceleration, c.jerk] for c in one])
     np.testing.assert_allclose(caps, one, rtol=1e-12)
     assert math.isfinite(caps.min()) and caps.min() > 0.0
+
+
+def test_dense_shares_keep_the_proof_and_bad_ones_are_refused() -> None:
+    """Any shares that leave the path some jerk give caps within the budget (D-336): the
+    curvature-rate and turning terms at V and M stay within their shares; shares that leave
+    none are a ConfigError, and the call works again with good ones."""
+    points = wave(40)
+    group = group_at(points[0])
+    data = paths.select_path(group, [{"line": p.tolist()} for p in points[1:]],
+                             mode=TransitionMode.TM_MAX_CORNER_DEVIATION, parameter=0.05)
+    bounds = derivative_bounds([e for e in data.elements if type(e) is Contour])
+    limits, commanded = axis_limits(group), Limits(250.0, 5000.0, 5000.0, 1e6)
+    jerk = 1e6  # the axes' max_jerk (bench.path.gantry)
+    for rate, turning in DENSE_SHARES:
+        caps = many_limits(bounds, group.spaces.kinematics, limits, commanded,
+                           rate_share=rate, turning_share=turning)
+        v, m = caps[:, 0], np.maximum(caps[:, 1], caps[:, 2])
+        r, k = bounds[:, 2, :2].max(axis=1), bounds[:, 1, :2].max(axis=1)
+        assert np.all(r * v**3 <= rate * jerk * (1 + ROUND_OFF))
+        assert np.all(3.0 * k * v * m <= turning * jerk * (1 + ROUND_OFF))
+        assert caps[:, 3].min() > 0.0
+    with pytest.raises(ConfigError, match="leave the path a part of the jerk"):
+        many_limits(bounds, group.spaces.kinematics, limits, commanded, rate_share=0.9,
+                    turning_share=0.1)
+    assert many_limits(bounds, group.spaces.kinematics, limits, commanded).shape == \
+        (len(bounds), 4)
+
+
+def test_a_dense_path_takes_the_shares_that_plan_fastest() -> None:
+    """MC_MovePath's caps of a dense path's contours are those of the shares whose profile
+    plans the shortest time (D-336); a path of 15 contours keeps D-134's shares."""
+    points = wave(40)
+    group = group_at(points[0])
+    data = paths.select_path(group, [{"line": p.tolist()} for p in points[1:]],
+                             mode=TransitionMode.TM_MAX_CORNER_DEVIATION, parameter=0.05)
+    dynamics = (250.0, 5000.0, 5000.0, 1e6)
+    caps = np.array(caps_for_many(group, data.elements, "MCS", dynamics))
+    lengths = np.array([e.length for e in data.elements])
+    contours = [i for i, e in enumerate(data.elements) if type(e) is Contour]
+    bounds = derivative_bounds([data.elements[i] for i in contours])
+    times = []
+    for rate, turning in DENSE_SHARES:
+        trial = caps.copy()
+        trial[contours] = many_limits(bounds, group.spaces.kinematics, axis_limits(group),
+                                      Limits(*dynamics), rate_share=rate,
+                                      turning_share=turning)
+        times.append(planned_time(lengths, trial[:, 0], trial[:, 1], trial[:, 2]))
+        if np.array_equal(trial, caps):
+            chosen = times[-1]
+    assert chosen == min(times)
+    few = data.elements[:2 * (DENSE_MIN - 1)]
+    assert not dense_path(group, few, "MCS")
+    plain = np.array(caps_for_many(group, few, "MCS", dynamics))
+    one = cartesian_limits(few[1], group.spaces.kinematics, axis_limits(group),
+                           Limits(*dynamics))
+    np.testing.assert_array_equal(plain[1], [one.velocity, one.acceleration, one.deceleration,
+                                             one.jerk])
 
 
 def test_plain_lines_read_in_one_go_are_the_lines_read_one_by_one() -> None:

@@ -387,12 +387,12 @@ def test_stops_interrupts_and_overrides_keep_the_rules_long(path, events):
     run_events(path, events)
 
 
-def run_events(path: list[Piece], events: list[tuple]) -> None:
+def run_events(path: list[Piece], events: list[tuple], dense: bool = False) -> None:
     """Run ``path`` with the ``events`` at their cycles, then to its end, and check the
     rules. Override changes may keep the previous caps while the motion brakes into the new
     ones, so rule 2 is checked against the largest factors used so far."""
     law = TimeLaw(0.0, record=True)
-    law.append(path)
+    law.append(path, dense=dense)
     cycle = _cycle_for(path)
     largest = [1.0, 1.0, 1.0]
     history = [(0.0, (1.0, 1.0, 1.0))]
@@ -614,6 +614,122 @@ def test_dense_circle_runs_as_one_zone_near_the_cap():
             break
     assert law.length / (i * CYCLE) > 0.95 * 70.0
     assert work.zones <= 2 and work.legs <= 2 and work.ruckig == 0
+
+
+# -- a dense path's profile (dense_timing.py, D-335) -------------------------------------------
+
+
+def dense_path(pairs: int = 400) -> list[Piece]:
+    """Lines of 0.05 mm between contours of 0.1 mm, as MC_PathSelect makes them: the lines
+    with the axes' whole rates, the contours with speed caps that change along the path
+    (a slow stretch down to a tenth of the rest) and little jerk."""
+    path = []
+    for k in range(pairs):
+        phase = 2.0 * math.pi * k / pairs
+        cap = 80.0 * (1.0 + 0.4 * math.cos(3.0 * phase)) * (1.0 - 0.85 * math.exp(
+            -((phase - 4.0) / 0.15) ** 2))
+        path.append(line(0.05, velocity=250.0, acceleration=5000.0, deceleration=5000.0,
+                         jerk=1e6, exit_velocity=math.inf))
+        path.append(line(0.1, velocity=cap, acceleration=2000.0, deceleration=2000.0,
+                         jerk=1e4, exit_velocity=math.inf))
+    path[-1] = line(0.1, velocity=path[-1].velocity, acceleration=2000.0, deceleration=2000.0,
+                    jerk=1e4)
+    return path
+
+
+def test_a_dense_profile_keeps_the_rules_and_beats_the_zones():
+    """The profile holds the acceleration on each piece and changes it on the lines: every
+    cap kept on every segment, the end exact, and faster than the zones (which run each
+    stretch at its smallest cap and return to a = 0 between stretches)."""
+    path = dense_path()
+    dense = TimeLaw(0.0, record=True)
+    dense.append(path, dense=True)
+    dense_time, _ = run_to_end(dense)
+    assert_rules(dense, path)
+    zones = TimeLaw(0.0)
+    zones.append(path)
+    zone_time, _ = run_to_end(zones)
+    assert dense_time < 0.9 * zone_time
+    assert len(dense.history) <= 2  # the profile, then the rest at the end
+
+
+def test_a_dense_profile_that_breaks_a_cap_is_not_used(monkeypatch):
+    """Each profile is checked against its pieces' caps before it runs; one that fails runs
+    by zones instead, exactly as a path appended without ``dense``."""
+    path = dense_path(100)
+    monkeypatch.setattr("openmotion.coordinated.timing.check", lambda *args: 0)
+    refused = TimeLaw(0.0)
+    refused.append(path, dense=True)
+    zones = TimeLaw(0.0)
+    zones.append(path)
+    assert run_to_end(refused) == run_to_end(zones)
+
+
+def test_a_dense_profile_needs_a_law_at_rest_without_override():
+    """Appended to a law that moves, that has run, or under an override, dense pieces run by
+    zones, exactly as without ``dense``."""
+    path = dense_path(100)
+    for setup in (lambda law: law.set_factors(0.0, 0.5), lambda law: law.append(path[:10]),
+                  lambda law: law.sample(0.0)):
+        dense, plain = TimeLaw(0.0), TimeLaw(0.0)
+        for law, flag in ((dense, True), (plain, False)):
+            setup(law)
+            law.append(path[10:], dense=flag)
+        assert run_to_end(dense) == run_to_end(plain)
+    moving, plain = TimeLaw(0.0, start_velocity=10.0), TimeLaw(0.0, start_velocity=10.0)
+    moving.append(path, dense=True)
+    plain.append(path)
+    assert run_to_end(moving) == run_to_end(plain)
+
+
+def test_events_during_a_dense_profile():
+    """A stop follows the profile until its brake keeps every cap; an override change pauses
+    the profile and runs on by zones under the new factors; pieces appended while it runs
+    follow its end, where it rests (D-335). Every cap kept throughout."""
+    path = dense_path()
+    stopped = TimeLaw(0.0, record=True)
+    stopped.append(path, dense=True)
+    for i in range(1, 300):
+        stopped.sample(i * CYCLE)
+    stopped.stop(300 * CYCLE, 5000.0, 1e6, keep=False)
+    run_to_end(stopped, start=300)
+    assert_rules(stopped, path[:len(path)])
+    assert stopped.length < sum(p.length for p in path)  # the path ends where it rested
+    overridden = TimeLaw(0.0, record=True)
+    overridden.append(path, dense=True)
+    for i in range(1, 300):
+        overridden.sample(i * CYCLE)
+    overridden.set_factors(300 * CYCLE, 0.5)
+    top = max(overridden.sample(i * CYCLE)[1] for i in range(300, 3000))
+    assert_rules(overridden, path, lambda t: (1.0, 1.0, 1.0))
+    run_to_end(overridden, start=3000)
+    assert top <= 80.0 * 1.4  # never above the caps it had (the largest contour cap)
+    grown = TimeLaw(0.0, record=True)
+    grown.append(path[:-2], dense=True)
+    for i in range(1, 300):
+        grown.sample(i * CYCLE)
+    grown.append(path[-2:])
+    run_to_end(grown, start=300)
+    assert_rules(grown, path)
+
+
+@st.composite
+def dense_pieces(draw: st.DrawFn) -> list[Piece]:
+    """16-60 alternating lines and contours with random caps, all junctions open."""
+    result = []
+    for k in range(draw(st.integers(16, 60))):
+        fast = k % 2 == 0
+        velocity = draw(st.floats(100.0, 300.0) if fast else st.floats(1.0, 120.0))
+        rates = draw(st.floats(500.0, 5000.0))
+        result.append(Piece(draw(st.floats(0.005, 0.3)), velocity, rates, rates * draw(
+            st.floats(0.3, 3.0)), draw(st.floats(1e5, 1e6) if fast else st.floats(1e3, 1e5)),
+            math.inf))
+    return result
+
+
+@given(path=dense_pieces(), events=EVENTS)
+def test_dense_profiles_with_stops_interrupts_and_overrides_keep_the_rules(path, events):
+    run_events(path, events, dense=True)
 
 
 # -- refusals ---------------------------------------------------------------------------------

@@ -38,6 +38,8 @@ the axes, so the highest steady speed an element allows is min(v/T, sqrt(a/K), c
 (0.91) where its rate does. The rate binds on short contours: a dense path of chords rounded
 by tiny blends runs at the contours' V throughout, so their V sets its speed, while the
 path's own A, D and J only shape its few speed changes (decisions D-134, `bench path`).
+A dense path's contours (``many_limits``) may give the rate up to 0.97 of the jerk: its
+profile changes the acceleration on the lines between them (D-335, D-336).
 
 Straight elements (K = R = 0 on every axis: a gantry's lines, MoveDirect's lines in ACS) are
 exact: each axis keeps the sign of its velocity, so speeding the path up speeds every axis up,
@@ -92,6 +94,10 @@ _SINGULAR_CONDITION = 1e8  #: a Jacobian worse than this on the path: the axes c
 CENTRIPETAL_SHARE = 0.5  #: of an axis' acceleration, the most K·V² takes on a curve
 CURVATURE_RATE_SHARE = 0.75  #: of an axis' jerk, the most R·V³ takes
 TURNING_SHARE = 0.125  #: of an axis' jerk, the most 3·K·V·M takes; the path keeps the rest
+#: the (curvature rate, turning) shares a dense path's contours may take (``many_limits``):
+#: its profile changes the acceleration on the lines between them and needs little path
+#: jerk on them, so the path keeps a hundredth; the one that plans fastest is taken (D-336)
+DENSE_SHARES = ((0.97, 0.02), (0.94, 0.05), (0.89, 0.10), (0.79, 0.20))
 
 
 class DirectLine:
@@ -197,10 +203,17 @@ def line_limits(directions: ArrayLike, gantry: CartesianGantry, axis_limits: Seq
 
 
 def many_limits(bounds: ArrayLike, gantry: CartesianGantry, axis_limits: Sequence[Limits],
-                commanded: Limits) -> Array:
+                commanded: Limits, *, rate_share: float = CURVATURE_RATE_SHARE,
+                turning_share: float = TURNING_SHARE) -> Array:
     """``cartesian_limits`` of many elements at once from their derivative bounds (n, 3, 3):
     (n, 4) of velocity, acceleration, deceleration and jerk, equal to it element by element
-    to round-off (the dense contours of MC_PathSelect, coordinated/dense.py)."""
+    to round-off with the default shares. A dense path's contours (coordinated/dense.py)
+    take one of ``DENSE_SHARES`` (D-336): the proof of the module text holds for any shares
+    that leave the path a part of the jerk."""
+    if not (rate_share > 0.0 and turning_share > 0.0 and rate_share + turning_share < 1.0):
+        raise ConfigError("many_limits: the curvature-rate and turning shares must be > 0 and "
+                          f"leave the path a part of the jerk, got {rate_share} and "
+                          f"{turning_share}")
     b = np.asarray(bounds, dtype=float)
     for i, name in enumerate(PATH_COORDINATES):
         if name not in gantry.coordinates and np.any(b[:, 0, i] > UNDRIVEN):
@@ -216,10 +229,10 @@ def many_limits(bounds: ArrayLike, gantry: CartesianGantry, axis_limits: Sequenc
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         velocity = _capped_many(c_vel, np.maximum.reduce([
             np.max(t / v, axis=1), np.sqrt(np.max(k / (CENTRIPETAL_SHARE * a), axis=1)),
-            np.cbrt(np.max(r / (CURVATURE_RATE_SHARE * jerk), axis=1))]))
+            np.cbrt(np.max(r / (rate_share * jerk), axis=1))]))
         square = velocity[:, None] ** 2
         rate = np.maximum(np.max(t / (a - k * square), axis=1),
-                          np.max(3.0 * k * velocity[:, None] / (TURNING_SHARE * jerk), axis=1))
+                          np.max(3.0 * k * velocity[:, None] / (turning_share * jerk), axis=1))
         acceleration, deceleration = _capped_many(c_acc, rate), _capped_many(c_dec, rate)
         rest = jerk - r * velocity[:, None] ** 3 \
             - 3.0 * k * velocity[:, None] * np.maximum(acceleration, deceleration)[:, None]

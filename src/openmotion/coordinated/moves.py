@@ -25,7 +25,7 @@ import numpy as np
 from openmotion.axis.commands import Command, CommandStatus
 from openmotion.coordinated.evaluate import evaluate
 from openmotion.coordinated.inputs import CoordSystem, TransitionMode
-from openmotion.coordinated.limits_bridge import caps_for, caps_for_many
+from openmotion.coordinated.limits_bridge import caps_for, caps_for_many, dense_path
 from openmotion.coordinated.states import ExecutionMode
 from openmotion.coordinated.timing import Piece, TimeLaw
 from openmotion.coordinated.tolerances import JOIN_SLACK, MIN_CORNER_DISTANCE, TAKE_OVER_TOLERANCE
@@ -622,7 +622,7 @@ class PathMotion:
             request.first = self._next_piece
         self._next_piece += len(geometry)
         request.last = self._next_piece - 1
-        self.law.append(pieces)
+        self.law.append(pieces, dense=dense_path(self.group, geometry, request.space))
 
     def _piece(self, element: Any, space: str, request: PathCommand, exit_cap: float,
                speed_cap: float | None = None, other: PathCommand | None = None) -> Piece:

@@ -25,6 +25,14 @@ fast pieces between slower ones join them (the bump rule), and the contours' vel
 which their curvature rate sets (limits.py), are all that slows it (D-134; `bench path` sets
 the mean speed against the fastest profile under the caps and under the axes' own limits).
 
+Dense profile (D-335). Zones return to a = 0 at every junction and run at their smallest cap.
+A dense path (``append(..., dense=True)`` on a law that has not started) runs instead by one
+profile from rest to rest that ramps the acceleration at the start of each piece with the
+piece's jerk cap and holds it to the piece's end (dense_timing.py), checked segment by
+segment against the caps before it runs. While it runs, a stop follows it until the stop's
+brake fits, an override change brakes it to rest under the old factors and runs on by zones
+(``set_factors``), and appended pieces follow its end, where it rests.
+
 Stops (§5.13-§5.16). ``stop`` brakes with the requested deceleration and jerk, lowered to the
 smallest caps of the pieces within the braking distance. Where that brake would pass a junction
 faster than its caps allow (a corner the plan slows for, the path's end), the motion follows
@@ -44,6 +52,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from openmotion.coordinated.dense_timing import check, junction_speeds
+from openmotion.coordinated.dense_timing import profile as dense_profile
 from openmotion.coordinated.timing_kernels import (
     leg,
     look_ahead,
@@ -62,6 +72,7 @@ from openmotion.trajectory.plan import Limits, plan_position, plan_stop, plan_ve
 from openmotion.trajectory.segments import KinematicState, Profile
 
 _MAX_EVENTS = 1_000_000  #: legs one sample may run through before we call it a bug
+_TAIL_TRIES = 256  #: junctions before the end a dense profile tries to brake from
 
 
 @dataclass(frozen=True, slots=True)
@@ -123,7 +134,8 @@ class _Leg:
     At ``end`` the state is ``final`` (s, v, a) exactly; the next leg starts there.
     """
 
-    __slots__ = ("t0", "data", "t", "p", "v", "a", "j", "end", "final", "zone", "k", "regular")
+    __slots__ = ("t0", "data", "t", "p", "v", "a", "j", "end", "final", "zone", "k", "regular",
+                 "profile")
 
     def __init__(self, t0: float, data: np.ndarray, end: float,
                  final: tuple[float, float, float], zone: int) -> None:
@@ -131,6 +143,7 @@ class _Leg:
         self.t, self.p, self.v, self.a, self.j = data.tolist()
         self.k = 0
         self.regular = False  #: keeps the caps of the factors set now (not a fallback brake)
+        self.profile = False  #: a dense path's whole profile (dense_timing.py), not a zone's
 
     @classmethod
     def hold(cls, t0: float, s: float, zone: int) -> _Leg:
@@ -197,20 +210,33 @@ class TimeLaw:
         self._span = 0.0
         self._work = [0, 0, 0, 0]
         self._last_work = Work()
+        #: the segments of a dense path's profile, built when its pieces were appended to a
+        #: law at rest (D-335); installed by the first plan, dropped by anything else
+        self._profile: np.ndarray | None = None
+        #: override factors set while a profile ran: applied once its pause came to rest
+        self._deferred: tuple[float, float, float] | None = None
         self.history: list[tuple[float, float, Profile]] | None = [] if record else None
 
     # -- the path ------------------------------------------------------------------------------
 
-    def append(self, pieces: Sequence[Piece]) -> None:
-        """More path at the end; the motion re-plans from the last sample to run on into it."""
+    def append(self, pieces: Sequence[Piece], dense: bool = False) -> None:
+        """More path at the end; the motion re-plans from the last sample to run on into it.
+
+        ``dense``: the pieces are a dense path (coordinated/dense.py). Appended to a law that
+        has not started, at rest and without an override, the motion runs them by one profile
+        that changes the acceleration on the lines (dense_timing.py, D-335) where that
+        profile keeps every cap; else by zones."""
         if not pieces:
             return
+        fresh = dense and self._leg is None and self._pieces.n == 0 and self._state == \
+            (0.0, 0.0, 0.0, 0.0) and self._factors == (1.0, 1.0, 1.0) and self._stop is None
         if self._stop is not None and not self._stop.keep and self._mode != _REST:
             raise RuntimeError("the path cannot grow while a stop brakes (Part 4 §5.13)")
         block = np.array([(p.length, p.velocity, p.acceleration, p.deceleration, p.jerk,
                            p.exit_velocity, p.space) for p in pieces], dtype=float).T
         _check(block)
         self._extend(block)
+        self._profile = self._dense_profile() if fresh else None
         if self._mode == _REST and self._stop is not None and not self._stop.keep:
             self._mode, self._stop = _RUN, None  # a finished MC_GroupStop: the next motion
         self._window = None
@@ -288,6 +314,9 @@ class TimeLaw:
         if self._mode == _PENDING and not self._try_brake(now, self._state[:3]) \
                 and self.standing:
             self._finish_stop(now, self._state[0], self._leg.zone)
+        if self._deferred is not None and self._mode == _REST:
+            factors, self._deferred = self._deferred, None
+            self.set_factors(now, *factors)
         self._last_work = Work(*self._work)
         return self._state
 
@@ -358,12 +387,59 @@ class TimeLaw:
             return
         zone = min(int(np.searchsorted(self._zones.row(_ZEND), s, side="right")),
                    self._zones.n - 1)
+        if changed_path and self._on_profile():
+            return  # the profile ends at rest where the path ended; the new pieces follow
         if not changed_path:
+            if self._profile is not None and self._factors == (1.0, 1.0, 1.0) \
+                    and state == (0.0, 0.0, 0.0) and self._mode == _RUN:
+                self._install(self._profile_leg(time))
+                return
             self._install(self._zone_leg(time, state, zone))
             return
         new, _ = self._replanned(time, state, zone)
         if new is not self._leg:
             self._install(new)
+
+    def _dense_profile(self) -> np.ndarray | None:
+        """The segments of the dense profile over all pieces from rest to rest, or None where
+        it cannot keep every cap (module dense_timing): up to a junction near the end, then
+        ruckig's brake to the end within the smallest caps of the pieces left."""
+        pieces = self._pieces
+        lengths, vel, acc, dec, jerk = (pieces.row(r) for r in (_LEN, _V, _A, _D, _J))
+        targets = junction_speeds(lengths, vel, acc, dec, pieces.row(_EXIT),
+                                  pieces.row(_SPACE))
+        if not targets[1:-1].size or targets[1:-1].min() <= 0.0:
+            return None
+        data, states, reached = dense_profile(lengths, vel, acc, dec, jerk, targets)
+        ends = pieces.row(_END)
+        for m in range(reached, max(reached - _TAIL_TRIES, 0), -1):
+            time, v, a = states[:, m]
+            s = float(ends[m - 1])
+            limits = Limits(float(vel[m:].min()), float(acc[m:].min()), float(dec[m:].min()),
+                            float(jerk[m:].min()))
+            if v > limits.velocity or not -limits.deceleration <= a <= limits.acceleration:
+                continue
+            try:
+                tail = plan_position(KinematicState(s, v, a), self._length, limits)
+            except CommandRejected:
+                continue
+            if not _keeps(tail, (s, v, a), limits):
+                continue
+            head = data[:, :int(np.searchsorted(data[0], time, side="left"))]
+            rest = tail.data.copy()
+            rest[0] += time
+            rest[1, -1] = self._length
+            if check(np.hstack((head, rest[:, :1])), ends, vel, acc, dec, jerk) < 0:
+                return np.hstack((head, rest))
+        return None
+
+    def _profile_leg(self, time: float) -> _Leg:
+        data, self._profile = self._profile, None
+        self._work[2] += 1
+        new = _Leg(time, data, float(data[0, -1]), (self._length, 0.0, 0.0),
+                   self._zones.n - 1)
+        new.profile = new.regular = True
+        return new
 
     def _replanned(self, time: float, state: tuple[float, float, float], zone: int
                    ) -> tuple[_Leg, bool]:
@@ -379,7 +455,7 @@ class TimeLaw:
         if self._lands(new, zone):
             return new, True
         old = self._leg
-        if self._mode == _RUN and old is not None and old.zone == zone \
+        if self._mode == _RUN and old is not None and not old.profile and old.zone == zone \
                 and old.t0 + old.end > time and old.final[0] == self._zones.data[_ZEND, zone] \
                 and self._lands(old, zone):
             return old, True
@@ -539,6 +615,7 @@ class TimeLaw:
 
     def _begin_stop(self, now: float, request: _StopRequest) -> None:
         now = self._move_to(now)
+        self._profile = None
         old = self._stop
         if old is not None:  # a stop that drops the path is not undone by a later interrupt
             request = _StopRequest(request.deceleration, request.jerk, request.keep and old.keep,
@@ -562,7 +639,11 @@ class TimeLaw:
         """Continue after ``stop(keep=True)`` (MC_GroupContinue), from where the motion is;
         under a velocity override of 0 it continues once the override rises."""
         stop = self._stop
-        if stop is None or not stop.keep:
+        if stop is None or not stop.keep or self._deferred is not None:
+            return
+        if self._on_profile():  # the stop has not braked yet: the profile simply runs on
+            now = self._move_to(now)
+            self._stop, self._mode = None, _RUN
             return
         if self._factors[0] > 0.0:
             self._restart(now)
@@ -699,12 +780,18 @@ class TimeLaw:
         self._length = float(rest) if rest > start or not k else float(start)
         self._window = None
 
+    def _on_profile(self) -> bool:
+        """A dense profile is under way (not yet ended, the stop's brake not yet taken)."""
+        leg_ = self._leg
+        return leg_ is not None and leg_.profile and self._mode in (_RUN, _PENDING) \
+            and self._time < leg_.t0 + leg_.end
+
     def trim_last(self, length: float, exit_velocity: float) -> bool:
         """Shorten the last piece to ``length`` and give it ``exit_velocity``: a blend
         contour replaces its end (Part 4 §7.3.3). False, and nothing changes, when the
         motion could no longer stop before the new end (then the corner stays a stop)."""
         pieces = self._pieces
-        if not pieces.n or self._mode != _RUN or not length > 0.0:
+        if not pieces.n or self._mode != _RUN or not length > 0.0 or self._on_profile():
             return False
         last = pieces.n - 1
         start = pieces.data[_END, last] - pieces.data[_LEN, last]
@@ -748,6 +835,15 @@ class TimeLaw:
         if factors == self._factors:
             return
         now = self._move_to(now)
+        self._profile = None
+        if self._on_profile() and velocity > 0.0:
+            # the zone legs cannot take over a profile under way: it brakes to rest with the
+            # factors it was planned with (a pause), then runs on under the new ones (D-335)
+            if self._deferred is None:
+                self._begin_stop(now, _StopRequest(math.inf, math.inf, True, by_override=True))
+            self._deferred = factors
+            return
+        self._deferred = None
         old = self._factors
         self._planned_rates = (max(self._planned_rates[0], old[1]),
                                max(self._planned_rates[1], old[2]))
