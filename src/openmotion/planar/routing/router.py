@@ -92,6 +92,7 @@ class _Leg:
     start: tuple[float, float]
     end: tuple[float, float]
     shortcut: bool = False  #: off the plan's cells order: its points count when it ends
+    previous: _Leg | None = None  #: the leg in motion it carries on (kept if it is refused)
 
 
 @dataclass
@@ -119,6 +120,7 @@ class RouterStats:
     legs: int = 0  #: commands sent
     rejected: int = 0  #: commands the group refused (the router retries them)
     held_back: int = 0  #: legs kept for a cycle because the group would refuse them
+    extended: int = 0  #: legs sent in motion to carry on along the same line
     plans: list[Plan] = field(default_factory=list)
 
 
@@ -154,6 +156,8 @@ class Router:
         self._drives: list[_Drive] = []
         self._visits: dict[int, list[tuple[int, int, int]]] = {}
         self._plan_tables: tuple[dict[tuple[int, int], int], dict[int, int]] = ({}, {})
+        #: the prepared stator surface and the obstacles of the last plan (for shortcuts)
+        self._static: tuple[BaseGeometry | None, list[BaseGeometry]] = (None, [])
         self._replan_when_standing: tuple[dict[MC_PlanarMover, RouteCommand], float] | None = None
         self.system.runtime.add_program(self._cycle)
 
@@ -260,6 +264,7 @@ class Router:
         self.grid = grid
         grown = shapely.buffer(surface, 1e-6, join_style="mitre")
         shapely.prepare(grown)
+        self._static = (grown, list(self.obstacles))
         agents: list[Agent] = []
         targets: list[tuple[MC_PlanarMover, BaseGeometry]] = []
         for mover, handle in routed.items():
@@ -382,10 +387,15 @@ class Router:
                 self._plan(*pending)
             return
         sent: list[BaseGeometry] = []
-        reached = [d.reached for d in self._drives]
+        # a mover in motion counts the points its leg ends on: those waiting for it may
+        # send as soon as the group admits their leg, i.e. once it actually cleared the area
+        reached = [d.leg.last if d.leg is not None and d.leg.last >= 0 else d.reached
+                   for d in self._drives]
         for drive in self._drives:
             if drive.handle.busy and drive.leg is None:
                 self._next_leg(drive, reached, sent)
+            elif drive.handle.busy:
+                self._extend(drive, reached, sent)
 
     def _follow(self, drive: _Drive, now: float) -> None:
         leg = drive.leg
@@ -408,8 +418,10 @@ class Router:
             else:
                 drive.reached = leg.last
         elif command.error:  # type: ignore[attr-defined]
-            drive.leg = None
+            drive.leg = leg.previous  # a refused extension leaves the leg in motion going
             self.stats.rejected += 1
+            if drive.leg is not None:
+                return
         elif command.aborted:  # type: ignore[attr-defined]
             drive.leg = None
             handle.end(CommandStatus.ABORTED, now, ErrorId.NO_ERROR,
@@ -442,22 +454,11 @@ class Router:
     def _ready(self, drive: _Drive, step: int, reached: list[int]) -> bool:
         return all(reached[a] >= need for a, need in drive.deps[step])
 
-    def _next_leg(self, drive: _Drive, reached: list[int], sent: list[BaseGeometry]) -> None:
+    def _straight_end(self, drive: _Drive, k: int, reached: list[int]) -> int:
+        """The last route point of the straight run from point ``k`` whose steps the plan's
+        order lets start now (waits inside the run are skipped once they are released)."""
         points = drive.route.points
-        k = drive.reached
         last = len(points) - 1
-        while k < last and points[k + 1] == points[k] and self._ready(drive, k, reached):
-            k += 1  # a wait of the plan: the movers it waited for have passed
-        drive.reached = k
-        mover = drive.mover
-        if k == last:
-            if self._needs_turn(drive) and not drive.turned:
-                self._send_turn(drive, sent)
-            elif self._arrived(drive):
-                drive.handle.end(CommandStatus.DONE, self.system.now)
-            return
-        if not self._ready(drive, k, reached):
-            return
         direction = _unit(points[k], points[k + 1])
         end = k + 1
         while end < last and self._ready(drive, end, reached):
@@ -473,35 +474,78 @@ class Router:
             if _unit(points[end], points[end + 1]) != direction:
                 break
             end += 1
+        return end
+
+    def _next_leg(self, drive: _Drive, reached: list[int], sent: list[BaseGeometry]) -> None:
+        points = drive.route.points
+        k = drive.reached
+        last = len(points) - 1
+        while k < last and points[k + 1] == points[k] and self._ready(drive, k, reached):
+            k += 1  # a wait of the plan: the movers it waited for have passed
+        drive.reached = k
+        if k == last:
+            if self._needs_turn(drive) and not drive.turned:
+                self._send_turn(drive, sent)
+            elif self._arrived(drive):
+                drive.handle.end(CommandStatus.DONE, self.system.now)
+            return
+        if not self._ready(drive, k, reached):
+            return
+        end = self._straight_end(drive, k, reached)
         shortcut = self._shortcut(drive, k, end, reached)
+        for last_point in (shortcut, end):
+            if last_point is not None and self._send(drive, k, last_point,
+                                                     last_point is shortcut, sent):
+                return
+        self.stats.held_back += 1  # the group would refuse even the plan's own leg: wait
+        drive.waits += 1
+
+    def _extend(self, drive: _Drive, reached: list[int], sent: list[BaseGeometry]) -> None:
+        """A leg in motion along the plan's cells goes on along the same line when the steps
+        after its end are released now: the longer MoveToPosition starts from the mover's
+        motion on that line, so it does not stop at the old end (§7.2.2.8.1)."""
+        leg = drive.leg
+        if leg is None or leg.last < 0 or leg.shortcut or leg.last >= len(drive.route.points) - 1:
+            return
+        if not self._ready(drive, leg.last, reached):
+            return
+        end = self._straight_end(drive, leg.first, reached)
+        if end > leg.last and self._send(drive, leg.first, end, False, sent):
+            self.stats.extended += 1
+
+    def _send(self, drive: _Drive, k: int, last_point: int, off_plan: bool,
+              sent: list[BaseGeometry]) -> bool:
+        """Send a MoveToPosition from where the mover is to route point ``last_point`` when
+        the group would admit its swept area now (and no leg sent this cycle meets it)."""
+        mover = drive.mover
         x, y, c = mover.pose
         p = mover.parameters
-        for last_point in (shortcut, end):
-            if last_point is None:
-                continue
-            off_plan = last_point is shortcut
-            target = points[last_point]
-            area = shapely.convex_hull(shapely.union(
-                footprint(x, y, c, p.mover_width, p.mover_height),
-                footprint(*target, c, p.mover_width, p.mover_height)))
-            if self.group.registry.blocker(mover.member, area) is None and \
-                    not any(meets(area, other) for other in sent):
-                break
-        else:  # the group would refuse even the plan's own leg: wait for it to clear
-            self.stats.held_back += 1
-            drive.waits += 1
-            return
+        target = drive.route.points[last_point]
+        area = shapely.convex_hull(shapely.union(
+            footprint(x, y, c, p.mover_width, p.mover_height),
+            footprint(*target, c, p.mover_width, p.mover_height)))
+        if self.group.registry.blocker(mover.member, area) is not None or \
+                any(meets(area, other) for other in sent):
+            return False
         sent.append(area)
         command = mover.move_to_position(PositionXYC(target[0], target[1], c), self.constraint,
                                          _TRANSLATE)
         self.stats.legs += 1
-        drive.leg = _Leg(command, k, last_point, (x, y), target, off_plan)
+        start = (x, y) if drive.leg is None else drive.leg.start
+        if drive.leg is not None:
+            drive.leg.previous = None
+        drive.leg = _Leg(command, k, last_point, start, target, off_plan, drive.leg)
+        return True
 
     def _shortcut(self, drive: _Drive, k: int, straight_end: int, reached: list[int]
                   ) -> int | None:
         """The farthest route point beyond ``straight_end`` that a straight leg from point
-        ``k`` may reach (any angle): every cell it touches is held by no other mover in the
-        plan from step k to that point, and whoever held it before has passed."""
+        ``k`` may reach (any angle). The leg's swept area stays on the surface and off the
+        obstacles; where it ends the mover stands early, so the cells under it there are
+        held by no other mover in the plan from step k to that point and whoever held them
+        before has passed. The cells it only sweeps need no more than the group's own check
+        at sending: another mover coming there later waits for the leg to pass, and a
+        mover in motion never waits for anyone (docs/planar-routing.md)."""
         points = drive.route.points
         last = len(points) - 1
         if self.grid is None or straight_end >= last:
@@ -509,15 +553,30 @@ class Router:
         held, parked = self._plan_tables
         agent = drive.route.agent
         me = drive.index
+        start = points[k]
         for end in range(last, straight_end, -1):
             if points[end] == points[end - 1] and end < last:
                 continue
             if not all(self._ready(drive, s, reached) for s in range(k, end)):
                 continue
-            cells = self.grid.touched(points[k], points[end], agent.hx, agent.hy)
-            if self._clear(cells, 2 * k, 2 * end, me, held, parked, reached):
+            stand = self.grid.touched(points[end], points[end], agent.hx, agent.hy)
+            if self._clear(stand, 2 * k, 2 * end, me, held, parked, reached) and \
+                    self._on_surface(drive, start, points[end]):
                 return end
         return None
+
+    def _on_surface(self, drive: _Drive, a: tuple[float, float], b: tuple[float, float]
+                    ) -> bool:
+        """Whether the footprint's sweep from a to b stays on the surface and meets none of
+        the router's static obstacles (movers it does not route are the group's business)."""
+        surface, obstacles = self._static
+        if surface is None:
+            return False
+        p = drive.mover.parameters
+        c = drive.route.agent.start[2]
+        area = shapely.convex_hull(shapely.union(footprint(*a, c, p.mover_width, p.mover_height),
+                                                 footprint(*b, c, p.mover_width, p.mover_height)))
+        return bool(surface.covers(area)) and not any(meets(area, o) for o in obstacles)
 
     def _clear(self, cells: tuple[int, ...], first: int, last: int, me: int,
                held: dict[tuple[int, int], int], parked: dict[int, int],
