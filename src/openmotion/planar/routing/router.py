@@ -43,7 +43,15 @@ from openmotion.planar.routing.grid import (
     half_extents,
     meets,
 )
-from openmotion.planar.routing.planner import Agent, Plan, Planner, PlanningFailed, Route
+from openmotion.planar.routing.planner import (
+    Agent,
+    Plan,
+    Planner,
+    PlanningFailed,
+    Route,
+    _Table,
+    plan_around,
+)
 
 if TYPE_CHECKING:
     from openmotion.planar.environment import MC_PlanarEnvironment
@@ -121,6 +129,7 @@ class RouterStats:
     rejected: int = 0  #: commands the group refused (the router retries them)
     held_back: int = 0  #: legs kept for a cycle because the group would refuse them
     extended: int = 0  #: legs sent in motion to carry on along the same line
+    replans: int = 0  #: movers' routes re-planned around the others' (D-344)
     plans: list[Plan] = field(default_factory=list)
 
 
@@ -159,6 +168,11 @@ class Router:
         #: the prepared stator surface and the obstacles of the last plan (for shortcuts)
         self._static: tuple[BaseGeometry | None, list[BaseGeometry]] = (None, [])
         self._replan_when_standing: tuple[dict[MC_PlanarMover, RouteCommand], float] | None = None
+        #: movers to re-plan around the routes the others keep, once they stand (D-344)
+        self._pending: dict[MC_PlanarMover, RouteCommand] = {}
+        self._stopped: list[_Drive] = []  #: stopped drives to stand for good where they stop
+        self._surface: BaseGeometry | None = None  #: the stator surface the plan was made on
+        self._budget = time_budget  #: planning time of the re-plans waiting [s]
         self.system.runtime.add_program(self._cycle)
 
     # -- planning ---------------------------------------------------------------------------
@@ -175,27 +189,55 @@ class Router:
     def route(self, targets: Mapping[MC_PlanarMover, PositionXYC | Sequence[float]],
               time_budget: float | None = None) -> dict[MC_PlanarMover, RouteCommand]:
         """Plan routes of ``targets``' movers to their poses (x, y, c) and start them in the
-        next cycle. A mover already routed gets its new target: the movers it routes are
-        re-planned together (D-303)."""
+        next cycle. While other routes run, only these movers (and those whose remaining
+        routes meet where they stand or go) are re-planned around the routes the others
+        keep, once they stand; the others go on (D-344)."""
         now = self.system.now
         budget = self.time_budget if time_budget is None else time_budget
         wanted: dict[MC_PlanarMover, PositionXYC] = {}
         for mover, target in targets.items():
             wanted[mover] = target if isinstance(target, PositionXYC) else PositionXYC(
                 *[float(v) for v in target])
-        for drive in self._drives:  # re-plan the ones still on their way as well
-            if drive.handle.busy and drive.mover not in wanted:
-                wanted[drive.mover] = drive.handle.target
-        handles = {m: RouteCommand(m, t, now) for m, t in wanted.items()}
-        for drive in self._drives:
-            if drive.handle.busy:
-                new = handles[drive.mover]
-                if drive.handle.target is new.target:  # the same route goes on
-                    handles[drive.mover] = drive.handle
-                else:
-                    drive.handle.end(CommandStatus.ABORTED, now)
-        self._plan(handles, budget)
-        return {m: handles[m] for m in targets}
+            _finite(wanted[mover])  # a bad target is a Python error before anything changes
+        running = {d.mover: d for d in self._drives if d.handle.busy}
+        handles: dict[MC_PlanarMover, RouteCommand] = {}
+        for mover, target in wanted.items():
+            drive = running.get(mover)
+            if drive is not None and drive.handle.target is target:  # the same route goes on
+                handles[mover] = drive.handle
+                continue
+            old = self._pending.pop(mover, None)
+            for replaced in (old, drive and drive.handle):
+                if replaced is not None and replaced.busy:
+                    replaced.end(CommandStatus.ABORTED, now, ErrorId.NO_ERROR,
+                                 f"{mover.name}: a new route replaced it")
+            handles[mover] = RouteCommand(mover, target, now)
+        if not running and not self._pending and self._replan_when_standing is None:
+            self._plan(handles, budget)
+            return handles
+        for mover, handle in handles.items():
+            drive = running.get(mover)
+            if drive is not None and drive.handle is handle:
+                continue
+            problem = _not_routable(mover, self.group, moving=drive is not None)
+            if problem:
+                handle.end(CommandStatus.ERROR, now, ErrorId.PLANAR_WRONG_STATE,
+                           f"{mover.name}: {problem}")
+                if drive is not None:  # it stays where it stops: the others go around it
+                    drive.leg = None
+                    self._stop(drive)
+                continue
+            if drive is not None:  # it ends the leg it is on and is re-planned standing
+                drive.handle = handle
+            self._pending[mover] = handle
+        self._budget = budget
+        if self._replan_when_standing is not None:  # a full plan waits: join it
+            waiting, _ = self._replan_when_standing
+            waiting.update(self._pending)
+            self._pending = {}
+        else:
+            self._replan_around()
+        return handles
 
     def _plan(self, handles: dict[MC_PlanarMover, RouteCommand], budget: float) -> None:
         """Plan ``handles``' movers once every one of them stands (a moving one first ends
@@ -236,6 +278,7 @@ class Router:
                 continue
             break
         self._drives = []
+        self._pending, self._stopped = {}, []
         if plan is None:
             return
         self.stats.plans.append(plan)
@@ -248,8 +291,10 @@ class Router:
             handle.start()
             self._drives.append(_Drive(handle, route, deps[k], k))
 
-    def _plan_once(self, routed: dict[MC_PlanarMover, RouteCommand], budget: float
-                   ) -> tuple[Plan, list[Agent]]:
+    def _field(self, routed: Mapping[MC_PlanarMover, RouteCommand]
+               ) -> tuple[RoutingGrid, BaseGeometry, list[BaseGeometry], list[str], float]:
+        """The grid for ``routed`` movers (the group's other movers and the obstacles kept
+        out), the grown stator surface, the obstacles with their labels, the cells' side."""
         group_movers = [m for m in self.system.movers if m.group is self.group]
         side = max(max(m.parameters.mover_width, m.parameters.mover_height)
                    for m in (*routed, *group_movers))
@@ -261,9 +306,16 @@ class Router:
                 geometries.append(m.footprint())
         surface = self.environment.surface
         grid = build_grid(surface, side, geometries, self.pitch)
-        self.grid = grid
         grown = shapely.buffer(surface, 1e-6, join_style="mitre")
         shapely.prepare(grown)
+        return grid, grown, geometries, labels, side
+
+    def _plan_once(self, routed: dict[MC_PlanarMover, RouteCommand], budget: float
+                   ) -> tuple[Plan, list[Agent]]:
+        grid, grown, geometries, labels, side = self._field(routed)
+        surface = self.environment.surface
+        self.grid = grid
+        self._surface = surface
         self._static = (grown, list(self.obstacles))
         agents: list[Agent] = []
         targets: list[tuple[MC_PlanarMover, BaseGeometry]] = []
@@ -375,7 +427,8 @@ class Router:
     # -- execution --------------------------------------------------------------------------
 
     def _cycle(self) -> None:
-        """The router's program: follow the legs sent, send the next ones (phase 1)."""
+        """The router's program: follow the legs sent, re-plan what a new target, a stopped
+        mover or a moved part affects, send the next legs (phase 1)."""
         if not self._drives:
             return
         now = self.system.now
@@ -386,16 +439,219 @@ class Router:
             if all(d.leg is None for d in self._drives):
                 self._plan(*pending)
             return
+        self._watch_surface()
+        if self._stopped:
+            self._settle_stopped()
+        if self._pending:
+            self._replan_around()
+            if self._replan_when_standing is not None:
+                return
         sent: list[BaseGeometry] = []
         # a mover in motion counts the points its leg ends on: those waiting for it may
         # send as soon as the group admits their leg, i.e. once it actually cleared the area
         reached = [d.leg.last if d.leg is not None and d.leg.last >= 0 else d.reached
                    for d in self._drives]
         for drive in self._drives:
-            if drive.handle.busy and drive.leg is None:
+            if not drive.handle.busy or drive.mover in self._pending:
+                continue
+            if drive.leg is None:
                 self._next_leg(drive, reached, sent)
-            elif drive.handle.busy:
+            else:
                 self._extend(drive, reached, sent)
+
+    # -- re-routing -------------------------------------------------------------------------
+
+    def _progress(self, drive: _Drive) -> int:
+        """The first step of the drive's route still ahead of it."""
+        return drive.leg.first if drive.leg is not None and drive.leg.last >= 0 else \
+            drive.reached
+
+    def _remaining(self, drive: _Drive) -> set[int]:
+        """The cells the drive's route still occupies."""
+        occupied = drive.route.occupied
+        return {cell for cells in occupied[2 * self._progress(drive):] for cell in cells}
+
+    def _standing_route(self, drive: _Drive) -> Route:
+        """The route of a mover that stands where it is for good (stopped, or arrived)."""
+        assert self.grid is not None
+        mover = drive.mover
+        x, y, c = mover.pose
+        hx, hy = half_extents(mover.parameters.mover_width, mover.parameters.mover_height, c)
+        return Route(drive.route.agent, [(x, y)], [self.grid.touched((x, y), (x, y), hx, hy)],
+                     [-1])
+
+    def _rebuild(self) -> None:
+        """The plan's order of passage per cell again, from every drive's route (the movers
+        that no longer drive stand where they are for good)."""
+        for drive in self._drives:
+            if not drive.handle.busy and drive not in self._stopped and \
+                    not drive.mover.in_motion and len(drive.route.points) > 1:
+                drive.route = self._standing_route(drive)
+                drive.reached = 0
+        routes = [d.route for d in self._drives]
+        deps, self._visits = _dependencies(routes)
+        table = _Table()
+        for index, drive in enumerate(self._drives):
+            drive.index = index
+            drive.deps = deps[index]
+            table.hold(drive.route, index)
+        self._plan_tables = (table.held, table.parked)
+
+    def _settle_stopped(self) -> None:
+        """A stopped mover stands where it stopped for good: the routes that still meet the
+        cells under it are re-planned around it (D-345)."""
+        settled = [d for d in self._stopped if not d.mover.in_motion]
+        if not settled or self.grid is None:
+            return
+        for drive in settled:
+            self._stopped.remove(drive)
+            self._pending.pop(drive.mover, None)
+            drive.leg = None
+            drive.route = self._standing_route(drive)
+            drive.reached = 0
+            cells = set(drive.route.occupied[0])
+            for other in self._drives:
+                if other.handle.busy and other.mover not in self._pending and \
+                        cells & self._remaining(other):
+                    self._pending[other.mover] = other.handle
+        self._rebuild()
+
+    def _watch_surface(self) -> None:
+        """A part moved (the surface changed): movers it carried and routes over stators that
+        left are re-planned on the surface as it is now (D-346)."""
+        surface = self.environment.surface
+        if surface is self._surface or surface is None or self.grid is None:
+            return
+        self._surface = surface
+        grown = shapely.buffer(surface, 1e-6, join_style="mitre")
+        shapely.prepare(grown)
+        self._static = (grown, list(self.obstacles))
+        old = self.grid
+        side = max(max(d.mover.parameters.mover_width, d.mover.parameters.mover_height)
+                   for d in self._drives)
+        grid = build_grid(surface, side, self.obstacles, self.pitch)
+        if (grid.bounds, grid.nx, grid.ny) != (old.bounds, old.nx, old.ny):  # all again
+            handles = {d.mover: d.handle for d in self._drives if d.handle.busy}
+            handles.update(self._pending)
+            self._pending = {}
+            if handles:
+                self._replan_when_standing = (handles, self._budget)
+            return
+        gone = {cell for cell in range(grid.size) if old.free[cell] and not grid.free[cell]}
+        for drive in self._drives:
+            if not drive.handle.busy or drive.mover in self._pending:
+                continue
+            x, y, _ = drive.mover.pose
+            here = drive.route.points[min(self._progress(drive), len(drive.route.points) - 1)]
+            carried = drive.leg is None and math.hypot(x - here[0], y - here[1]) > AT_POSE
+            if carried or gone & self._remaining(drive):
+                self._pending[drive.mover] = drive.handle
+        self._rebuild()
+
+    def _replan_around(self) -> None:
+        """Plan the pending movers, once they stand, around the routes the others keep
+        (``plan_around``); a kept route that meets where a pending mover stands or ends joins
+        them. Without a plan, every mover on its way is planned again together (D-303)."""
+        pending = self._pending
+        for mover in [m for m, h in pending.items() if not h.busy]:
+            del pending[mover]
+        while pending:
+            if any(m.in_motion for m in pending):
+                return
+            kept = [d for d in self._drives if d.handle.busy and d.mover not in pending]
+            planned = self._around(kept)
+            if planned is None:  # joined by kept movers, or failed: next cycle
+                return
+            if planned:
+                break
+        else:
+            return
+        self._pending = {}
+        self._rebuild()
+
+    def _around(self, kept: list[_Drive]) -> bool | None:
+        """One attempt of ``_replan_around``: True when planned, False when kept movers
+        joined the pending ones (try again), None to wait or after the fall-back."""
+        pending = self._pending
+        now = self.system.now
+        routed = {**pending, **{d.mover: d.handle for d in kept}}
+        try:
+            grid, grown, geometries, labels, side = self._field(routed)
+        except ConfigError:
+            grid = None
+        if grid is None or self.grid is None or \
+                (grid.bounds, grid.nx, grid.ny) != (self.grid.bounds, self.grid.nx, self.grid.ny):
+            self._fall_back()
+            return None
+        prints = [(d.mover, footprint(*d.route.agent.target, d.mover.parameters.mover_width,
+                                      d.mover.parameters.mover_height)) for d in kept]
+        agents: dict[MC_PlanarMover, Agent] = {}
+        planner = None
+        for mover, handle in list(pending.items()):
+            try:
+                agent = self._agent(mover, handle.target, grid, grown, geometries, labels, prints)
+                planner = Planner(grid, [agent])
+                if agent.start_cell not in planner.distance(agent):
+                    blocker = self._cut_off(agent, self.environment.surface, side, labels,
+                                            geometries)
+                    raise _Blocked(mover, blocker, f"its target cannot be reached: {blocker} "
+                                                   f"cuts it off")
+            except _Blocked as blocked:
+                del pending[mover]
+                handle.blocker = blocked.blocker
+                handle.end(CommandStatus.ERROR, now, ErrorId.PLANAR_COLLISION,
+                           f"{mover.name}: {blocked.reason}")
+                drive = next((d for d in self._drives if d.mover is mover), None)
+                if drive is not None:  # it stays where it is: the others go around it
+                    self._stop(drive)
+                continue
+            agents[mover] = agent
+            prints.append((mover, footprint(*agent.target, mover.parameters.mover_width,
+                                            mover.parameters.mover_height)))
+        if not agents:
+            return True
+        mine: set[int] = set()
+        for agent in agents.values():
+            mine |= set(agent.start_cells) | set(agent.final_cells) | set(
+                grid.touched_cells(agent.goal_cell, agent.goal_cell, agent.hx, agent.hy))
+        joined = [d for d in kept if mine & self._remaining(d)]
+        if joined:
+            for drive in joined:
+                pending[drive.mover] = drive.handle
+            return False
+        progress = [self._progress(d) for d in kept]
+        start = max(progress, default=0)
+        planner = Planner(grid, list(agents.values()))
+        started = time.perf_counter()
+        try:
+            routes = plan_around(planner, [d.route for d in kept], progress, start)
+        except PlanningFailed:
+            self._fall_back()
+            return None
+        self.grid = grid
+        self.stats.replans += 1
+        self.stats.plans.append(Plan(routes, list(range(len(routes))),
+                                     first_time=time.perf_counter() - started,
+                                     time=time.perf_counter() - started, tried=1))
+        drives = {d.mover: d for d in self._drives}
+        for mover, route in zip(agents, routes, strict=True):
+            handle = pending[mover]
+            handle.route = list(route.points[start:])
+            handle.start()
+            drive = drives.get(mover)
+            if drive is None:
+                self._drives.append(_Drive(handle, route, [], len(self._drives)))
+                continue
+            drive.handle, drive.route, drive.reached = handle, route, 0
+            drive.leg, drive.turned, drive.waits = None, False, 0
+        return True
+
+    def _fall_back(self) -> None:
+        """Every mover still on its way is planned again together once all stand (D-303)."""
+        handles = {d.mover: d.handle for d in self._drives if d.handle.busy}
+        handles.update(self._pending)
+        self._pending = {}
+        self._replan_when_standing = (handles, self._budget)
 
     def _follow(self, drive: _Drive, now: float) -> None:
         leg = drive.leg
@@ -407,6 +663,7 @@ class Router:
             drive.leg = None
             handle.end(CommandStatus.ABORTED, now, ErrorId.NO_ERROR,
                        f"{mover.name} is {mover.state.name} or left the group")
+            self._stop(drive)
             return
         if leg is None:
             return
@@ -426,6 +683,7 @@ class Router:
             drive.leg = None
             handle.end(CommandStatus.ABORTED, now, ErrorId.NO_ERROR,
                        f"{mover.name}: its leg was aborted by another command")
+            self._stop(drive)
             return
         elif leg.last >= 0 and not leg.shortcut:  # passed points count as it moves
             x, y, _ = mover.pose
@@ -440,8 +698,15 @@ class Router:
                                                       points[k + 1][1] - sy) <= travelled:
                     k += 1
                 drive.reached = k
-        if drive.leg is None and self._arrived(drive):
+        if drive.leg is None and mover not in self._pending and self._arrived(drive):
             handle.end(CommandStatus.DONE, now)
+
+    def _stop(self, drive: _Drive) -> None:
+        """The mover left the route (halted, stopped, disabled, in error, taken by another
+        command): once it stands, the routes it is in the way of are re-planned."""
+        self._pending.pop(drive.mover, None)
+        if drive not in self._stopped:
+            self._stopped.append(drive)
 
     def _arrived(self, drive: _Drive) -> bool:
         if drive.reached < len(drive.route.points) - 1:
@@ -528,8 +793,9 @@ class Router:
                 any(meets(area, other) for other in sent):
             return False
         sent.append(area)
-        command = mover.move_to_position(PositionXYC(target[0], target[1], c), self.constraint,
-                                         _TRANSLATE)
+        command = mover.move_to_position(PositionXYC(target[0], target[1], c,
+                                                     mover.coordinate_system),
+                                         self.constraint, _TRANSLATE)
         self.stats.legs += 1
         start = (x, y) if drive.leg is None else drive.leg.start
         if drive.leg is not None:
@@ -666,12 +932,14 @@ def _check_pairs(agents: list[Agent], movers: list[MC_PlanarMover]) -> None:
             goals[cell] = k
 
 
-def _not_routable(mover: MC_PlanarMover, group: MC_PlanarGroup) -> str | None:
+def _not_routable(mover: MC_PlanarMover, group: MC_PlanarGroup, moving: bool = False
+                  ) -> str | None:
+    """Why ``mover`` cannot be routed (``moving``: it may be on a leg of the router)."""
     if mover.group is not group:
         return "is not in the router's group"
     if mover.state is not PlanarState.ENABLED:
         return f"is {mover.state.name}, not Enabled"
-    if mover.in_motion:
+    if mover.in_motion and not moving:
         return "is moving: a route starts from standstill"
     return None
 
