@@ -490,10 +490,14 @@ class Router:
                 drive.reached = 0
         routes = [d.route for d in self._drives]
         deps, self._visits = _dependencies(routes)
+        standing = {k for k, d in enumerate(self._drives) if not d.handle.busy}
         table = _Table()
         for index, drive in enumerate(self._drives):
             drive.index = index
-            drive.deps = deps[index]
+            # nobody waits for a mover that no longer drives: the grid and the group keep
+            # the others off it (its cells are counted generously here)
+            drive.deps = [[(a, need) for a, need in step if a not in standing]
+                          for step in deps[index]]
             table.hold(drive.route, index)
         self._plan_tables = (table.held, table.parked)
 
