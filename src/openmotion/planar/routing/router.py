@@ -44,12 +44,12 @@ from openmotion.planar.routing.grid import (
     meets,
 )
 from openmotion.planar.routing.planner import (
+    FOREVER,
     Agent,
     Plan,
     Planner,
     PlanningFailed,
     Route,
-    _Table,
     plan_around,
 )
 
@@ -164,7 +164,6 @@ class Router:
         self.grid: RoutingGrid | None = None
         self._drives: list[_Drive] = []
         self._visits: dict[int, list[tuple[int, int, int]]] = {}
-        self._plan_tables: tuple[dict[tuple[int, int], int], dict[int, int]] = ({}, {})
         #: the prepared stator surface and the obstacles of the last plan (for shortcuts)
         self._static: tuple[BaseGeometry | None, list[BaseGeometry]] = (None, [])
         self._replan_when_standing: tuple[dict[MC_PlanarMover, RouteCommand], float] | None = None
@@ -284,7 +283,6 @@ class Router:
         self.stats.plans.append(plan)
         movers = list(routed)
         deps, self._visits = _dependencies(plan.routes)
-        self._plan_tables = (plan.held, plan.parked)
         for k, route in enumerate(plan.routes):
             handle = routed[movers[k]]
             handle.route = list(route.points)
@@ -491,15 +489,12 @@ class Router:
         routes = [d.route for d in self._drives]
         deps, self._visits = _dependencies(routes)
         standing = {k for k, d in enumerate(self._drives) if not d.handle.busy}
-        table = _Table()
         for index, drive in enumerate(self._drives):
             drive.index = index
             # nobody waits for a mover that no longer drives: the grid and the group keep
             # the others off it (its cells are counted generously here)
             drive.deps = [[(a, need) for a, need in step if a not in standing]
                           for step in deps[index]]
-            table.hold(drive.route, index)
-        self._plan_tables = (table.held, table.parked)
 
     def _settle_stopped(self) -> None:
         """A stopped mover stands where it stopped for good: the routes that still meet the
@@ -820,7 +815,6 @@ class Router:
         last = len(points) - 1
         if self.grid is None or straight_end >= last:
             return None
-        held, parked = self._plan_tables
         agent = drive.route.agent
         me = drive.index
         start = points[k]
@@ -830,7 +824,7 @@ class Router:
             if not all(self._ready(drive, s, reached) for s in range(k, end)):
                 continue
             stand = self.grid.touched(points[end], points[end], agent.hx, agent.hy)
-            if self._clear(stand, 2 * k, 2 * end, me, held, parked, reached) and \
+            if self._clear(stand, 2 * k, 2 * end, me, reached) and \
                     self._on_surface(drive, start, points[end]):
                 return end
         return None
@@ -849,17 +843,16 @@ class Router:
         return bool(surface.covers(area)) and not any(meets(area, o) for o in obstacles)
 
     def _clear(self, cells: tuple[int, ...], first: int, last: int, me: int,
-               held: dict[tuple[int, int], int], parked: dict[int, int],
                reached: list[int]) -> bool:
+        """Whether the mover may stand on ``cells`` from half-step ``first`` of its plan
+        until ``last``: every other mover the plan lets through them until then has passed
+        (or is on the leg that passes them: the group holds the leg back until it has), and
+        none parks on them."""
         for cell in cells:
-            if parked.get(cell, 1 << 30) <= last and held.get((cell, last)) != me:
-                return False
-            for half in range(first, last + 2):
-                owner = held.get((cell, half))
-                if owner is not None and owner != me:
-                    return False
-            for _, end, agent in self._visits.get(cell, ()):  # who was there passed
-                if agent != me and end < first and reached[agent] < end // 2 + 1:
+            for start, end, agent in self._visits.get(cell, ()):
+                if agent == me or start > last + 1:
+                    continue
+                if end >= FOREVER or reached[agent] < end // 2 + 1:
                     return False
         return True
 
