@@ -249,3 +249,26 @@ def test_a_mover_outside_the_group_is_refused_mid_route() -> None:
     assert "not in the router's group" in refused.message
     watch.until_idle()
     assert all(handles[m].done for m in movers)
+
+
+# --- execution: fewer stops -------------------------------------------------------------------
+
+@pytest.mark.parametrize(("c", "legs"), [(10.0, 1), (-12.0, 1), (90.0, 2)])
+def test_a_small_final_turn_is_made_on_the_way(c: float, legs: int) -> None:
+    """A turn inside the C window (±15° by default, §4.2) goes with the last move; a quarter
+    turn needs a MoveC at standstill after it."""
+    rt, environment, group, movers = field(4, 3, [centre(0, 0)])
+    router = Router(group)
+    handle = router.route({movers[0]: (*centre(3, 1), c)})[movers[0]]
+    Watch(rt, router, environment, movers).until_idle()
+    assert handle.done and movers[0].pose == pytest.approx((*centre(3, 1), c))
+    assert router.stats.legs == legs
+
+
+def test_a_staircase_of_cells_is_one_straight_leg_when_nothing_is_in_the_way() -> None:
+    rt, environment, group, movers = field(5, 3, [centre(0, 0)])
+    router = Router(group, pitch=STATORS)
+    handle = router.route({movers[0]: (*centre(4, 2), 0.0)})[movers[0]]
+    assert len(router.routes["m0"]) > 2  # the plan has a corner
+    Watch(rt, router, environment, movers).until_idle()
+    assert handle.done and router.stats.legs == 1

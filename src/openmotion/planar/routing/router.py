@@ -66,6 +66,7 @@ TURN_TOLERANCE = 1e-6  #: a target c this close to the mover's c needs no turn [
 TURN_MARGIN = 2.0  #: a turning footprint is kept inside its disc grown by this [mm]
 CANDIDATE_RINGS = 2  #: start and goal cells are looked for this many cells around a pose
 _TRANSLATE = ST_MoveToPositionOptions(use_orientation=False)
+_TURN = ST_MoveToPositionOptions(use_orientation=True)
 
 
 class RouteCommand(Command):
@@ -780,27 +781,49 @@ class Router:
     def _send(self, drive: _Drive, k: int, last_point: int, off_plan: bool,
               sent: list[BaseGeometry]) -> bool:
         """Send a MoveToPosition from where the mover is to route point ``last_point`` when
-        the group would admit its swept area now (and no leg sent this cycle meets it)."""
+        the group would admit its swept area now (and no leg sent this cycle meets it). The
+        last leg turns to the target's c on the way when the turn stays in one C window
+        (§4.2): no MoveC at standstill after it."""
         mover = drive.mover
         x, y, c = mover.pose
         p = mover.parameters
         target = drive.route.points[last_point]
-        area = shapely.convex_hull(shapely.union(
-            footprint(x, y, c, p.mover_width, p.mover_height),
-            footprint(*target, c, p.mover_width, p.mover_height)))
+        turn = self._turn_on_the_way(drive, last_point, c)
+        if turn is not None:
+            area = shapely.buffer(shapely.linestrings([(x, y), target]) if (x, y) != target
+                                  else shapely.points(x, y),
+                                  math.hypot(p.mover_width, p.mover_height) / 2.0 + TURN_MARGIN)
+            if not self._static[0] or not self._static[0].covers(area) or \
+                    any(meets(area, o) for o in self.obstacles):
+                turn = None
+        if turn is None:
+            area = shapely.convex_hull(shapely.union(
+                footprint(x, y, c, p.mover_width, p.mover_height),
+                footprint(*target, c, p.mover_width, p.mover_height)))
         if self.group.registry.blocker(mover.member, area) is not None or \
                 any(meets(area, other) for other in sent):
             return False
         sent.append(area)
-        command = mover.move_to_position(PositionXYC(target[0], target[1], c,
-                                                     mover.coordinate_system),
-                                         self.constraint, _TRANSLATE)
+        command = mover.move_to_position(
+            PositionXYC(target[0], target[1], c if turn is None else turn,
+                        mover.coordinate_system), self.constraint,
+            _TRANSLATE if turn is None else _TURN)
         self.stats.legs += 1
         start = (x, y) if drive.leg is None else drive.leg.start
         if drive.leg is not None:
             drive.leg.previous = None
         drive.leg = _Leg(command, k, last_point, start, target, off_plan, drive.leg)
         return True
+
+    def _turn_on_the_way(self, drive: _Drive, last_point: int, c: float) -> float | None:
+        """The target's c when the leg to ``last_point`` ends the route and may turn there on
+        the way (the turn stays inside one C window, §4.2), else None."""
+        if last_point != len(drive.route.points) - 1 or not self._needs_turn(drive):
+            return None
+        end = c + _angle(drive.route.agent.target[2] - c)
+        if not drive.mover.parameters.c_windows.contains_interval(min(c, end), max(c, end)):
+            return None
+        return end
 
     def _shortcut(self, drive: _Drive, k: int, straight_end: int, reached: list[int]
                   ) -> int | None:
