@@ -128,6 +128,19 @@ def test_a_new_target_mid_route_leaves_the_other_movers_untouched() -> None:
     assert router.stats.replans == 1
 
 
+def test_a_standing_mover_routed_while_others_run_is_planned_around_them() -> None:
+    rt, environment, group, movers = field(6, 4, [centre(0, 1), centre(5, 3), centre(3, 2)])
+    router = Router(group, pitch=STATORS, time_budget=0.0)
+    handles = router.route({movers[0]: (*centre(5, 1), 0.0), movers[1]: (*centre(1, 3), 0.0)})
+    watch = Watch(rt, router, environment, movers)
+    watch.run(0.1)
+    late = router.route({movers[2]: (*centre(0, 0), 0.0)})[movers[2]]
+    assert late.busy and handles[movers[0]].busy and handles[movers[1]].busy
+    watch.until_idle()
+    assert late.done and movers[2].pose[:2] == pytest.approx(centre(0, 0))
+    assert all(handles[m].done for m in movers[:2]) and router.stats.replans >= 1
+
+
 def test_a_new_target_on_a_kept_route_re_plans_that_mover_too() -> None:
     rt, environment, group, movers = field(6, 4, [centre(0, 1), centre(0, 3)])
     router = Router(group, pitch=STATORS, constraint=SLOW, time_budget=0.0)
