@@ -3,8 +3,12 @@ re-plan only the movers concerned; the others go on as planned (docs/planar-rout
 
 from __future__ import annotations
 
+import random
+
 import pytest
 import shapely
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import openmotion as om
 from openmotion.core.errors import ConfigError, ErrorId
@@ -23,6 +27,7 @@ from openmotion.planar import (
     Pose,
 )
 from openmotion.planar.routing import RouteCommand, Router
+from openmotion.planar.routing.grid import build_grid
 from openmotion.planar.stators import STATOR_SIZE
 
 OVERLAP = 1e-6  #: [mm²] footprints may share rounding only
@@ -262,6 +267,39 @@ def test_a_mover_outside_the_group_is_refused_mid_route() -> None:
     assert "not in the router's group" in refused.message
     watch.until_idle()
     assert all(handles[m].done for m in movers)
+
+
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(2, 8), st.integers(3, 5), st.sampled_from(["target", "halt", "disable"]),
+       st.floats(0.02, 0.5), st.integers(0, 2**32 - 1))
+def test_re_routing_never_jams_overlaps_or_gets_refused(n: int, side: int, event: str,
+                                                        when: float, seed: int) -> None:
+    """Random fields and targets on every other cell of the default grid; after ``when``
+    seconds one mover gets a new target, is halted or disabled. Every route ends, no
+    footprints overlap, the group refuses nothing; errors only name what blocks."""
+    rng = random.Random(seed)
+    grid = build_grid(shapely.box(0, 0, (side + 1) * STATORS, side * STATORS), 155.0)
+    cells = [grid.centre(c) for c in range(grid.size)
+             if (c % grid.nx) % 2 == 0 and (c // grid.nx) % 2 == 0]
+    n = min(n, len(cells) - 1)
+    starts, targets = rng.sample(cells, n), rng.sample(cells, n)
+    rt, environment, group, movers = field(side + 1, side, starts)
+    router = Router(group, time_budget=0.0)
+    handles = list(router.route({m: (*t, 0.0) for m, t in zip(movers, targets,
+                                                               strict=True)}).values())
+    watch = Watch(rt, router, environment, movers)
+    watch.run(when)
+    chosen = rng.choice(movers)
+    if event == "target":
+        free = [c for c in cells if c not in targets]
+        handles.append(router.route({chosen: (*rng.choice(free), 0.0)})[chosen])
+    else:
+        getattr(chosen, event)()
+    watch.until_idle(60.0)
+    assert not any(h.busy for h in handles)
+    for handle in handles:
+        if handle.error:
+            assert handle.error_id is ErrorId.PLANAR_COLLISION and handle.blocker
 
 
 # --- execution: fewer stops -------------------------------------------------------------------
