@@ -6,12 +6,18 @@ once (planner.py) and returns one ``RouteCommand`` per mover with PLCopen-style 
 every mover whose next leg may start a MoveToPosition (MoveC for a final turn):
 
 - the plan's order is kept: a leg starts only when the movers that the plan lets through
-  its cells before it have passed them (an action dependency graph of the plan), so the
-  movers cannot wait on each other in a circle, whatever their real speeds;
-- consecutive moves in one direction become one leg, planned time-optimally by the mover;
+  its cells before it have passed them or are on the leg that passes them (an action
+  dependency graph of the plan), so the movers cannot wait on each other in a circle,
+  whatever their real speeds;
+- consecutive moves in one direction become one leg, planned time-optimally by the mover,
+  lengthened in motion when the steps after it are released; any-angle legs skip the
+  grid's staircases where the plan leaves room;
 - before sending, the router asks the group whether it would admit the leg's swept area
   now (``ReservationRegistry.blocker``) and waits a cycle if not: the group's own check
   still decides every command, so safety never rests on the plan.
+
+A new target mid-route, a mover that stops driving and a part that moves re-plan only the
+movers concerned around the routes the others keep (``plan_around``, D-344 to D-346).
 
 Movers not routed, static obstacles given to the router, the stator surface (parts where
 they stand) are kept out of the plan; an unreachable or occupied target ends the mover's
