@@ -533,8 +533,9 @@ class Router:
         shapely.prepare(grown)
         self._static = (grown, list(self.obstacles))
         old = self.grid
-        side = max(max(d.mover.parameters.mover_width, d.mover.parameters.mover_height)
-                   for d in self._drives)
+        movers = {d.mover for d in self._drives} | {m for m in self.system.movers
+                                                     if m.group is self.group}
+        side = max(max(m.parameters.mover_width, m.parameters.mover_height) for m in movers)
         grid = build_grid(surface, side, self.obstacles, self.pitch)
         if (grid.bounds, grid.nx, grid.ny) != (old.bounds, old.nx, old.ny):  # all again
             handles = {d.mover: d.handle for d in self._drives if d.handle.busy}
