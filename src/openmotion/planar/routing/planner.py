@@ -393,7 +393,7 @@ def plan_around(planner: Planner, kept: Sequence[Route], since: Sequence[int], s
         routes: list[Route] = []
         try:
             for index in order:
-                routes.append(planner._plan_agent(index, table))
+                routes.append(planner._plan_agent(index, table))  # noqa: SLF001 - this module's A*
                 table.hold(routes[-1], index)
         except _OrderFailed as failed:
             failure = PlanningFailed(planner.agents[failed.index], failed.reason)
