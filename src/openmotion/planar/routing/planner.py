@@ -462,3 +462,56 @@ def _direction(a: tuple[float, float], b: tuple[float, float]) -> tuple[float, f
     dx, dy = b[0] - a[0], b[1] - a[1]
     length = math.hypot(dx, dy)
     return round(dx / length, 6), round(dy / length, 6)
+
+
+def plan_around(planner: Planner, kept: Sequence[Route], since: Sequence[int], start: int
+                ) -> list[Route]:
+    """Routes of ``planner``'s agents around the routes other movers go on driving (the
+    router's re-routing): ``kept[k]`` still holds what it occupies from step ``since[k]`` on,
+    and its last cells for good. The agents start at step ``start`` of the kept routes and
+    stand on their starts until then: the routes returned begin with those waits, so that
+    their steps count as the kept routes' do. Orders tried: the longest way first, then each
+    agent first; PlanningFailed names an agent when no order finds a slot for all."""
+    n = len(planner.agents)
+    longest = sorted(range(n), key=lambda a: -planner.distance(planner.agents[a]).get(
+        planner.agents[a].start_cell, 0))
+    failure: PlanningFailed | None = None
+    for order in [longest] + [[a] + [b for b in longest if b != a] for a in longest[1:]]:
+        table = _kept_table(kept, since, 2 * start)
+        for index, agent in enumerate(planner.agents):
+            for cell in agent.start_cells:
+                table.standing[cell] = index
+        routes: list[Route] = []
+        try:
+            for index in order:
+                routes.append(planner._plan_agent(index, table))  # noqa: SLF001 - this module's A*
+                table.hold(routes[-1], index)
+        except _OrderFailed as failed:
+            failure = PlanningFailed(planner.agents[failed.index], failed.reason)
+            continue
+        by_agent = dict(zip(order, routes, strict=True))
+        return [_delayed(by_agent[index], start) for index in range(n)]
+    assert failure is not None
+    raise failure
+
+
+def _kept_table(kept: Sequence[Route], since: Sequence[int], base: int) -> _Table:
+    """What the kept routes hold from half-step ``base`` on, counted from there; their
+    owners are negative numbers, never an agent's."""
+    table = _Table()
+    for k, (route, first) in enumerate(zip(kept, since, strict=True)):
+        end = len(route.occupied) - 1
+        for half in range(max(2 * first, base), end + 1):
+            for cell in route.occupied[half]:
+                table.held[(cell, half - base)] = -1 - k
+                table.last[cell] = max(table.last.get(cell, -1), half - base)
+        for cell in route.occupied[-1]:
+            table.parked[cell] = min(table.parked.get(cell, FOREVER), max(0, end - base))
+    return table
+
+
+def _delayed(route: Route, steps: int) -> Route:
+    """``route`` standing on its start for ``steps`` steps first."""
+    return Route(route.agent, [route.points[0]] * steps + route.points,
+                 [route.occupied[0]] * (2 * steps) + route.occupied,
+                 [route.cells[0]] * steps + route.cells)

@@ -6,12 +6,18 @@ once (planner.py) and returns one ``RouteCommand`` per mover with PLCopen-style 
 every mover whose next leg may start a MoveToPosition (MoveC for a final turn):
 
 - the plan's order is kept: a leg starts only when the movers that the plan lets through
-  its cells before it have passed them (an action dependency graph of the plan), so the
-  movers cannot wait on each other in a circle, whatever their real speeds;
-- consecutive moves in one direction become one leg, planned time-optimally by the mover;
+  its cells before it have passed them or are on the leg that passes them (an action
+  dependency graph of the plan), so the movers cannot wait on each other in a circle,
+  whatever their real speeds;
+- consecutive moves in one direction become one leg, planned time-optimally by the mover,
+  lengthened in motion when the steps after it are released; any-angle legs skip the
+  grid's staircases where the plan leaves room;
 - before sending, the router asks the group whether it would admit the leg's swept area
   now (``ReservationRegistry.blocker``) and waits a cycle if not: the group's own check
   still decides every command, so safety never rests on the plan.
+
+A new target mid-route, a mover that stops driving and a part that moves re-plan only the
+movers concerned around the routes the others keep (``plan_around``, D-344 to D-346).
 
 Movers not routed, static obstacles given to the router, the stator surface (parts where
 they stand) are kept out of the plan; an unreachable or occupied target ends the mover's
@@ -43,7 +49,15 @@ from openmotion.planar.routing.grid import (
     half_extents,
     meets,
 )
-from openmotion.planar.routing.planner import Agent, Plan, Planner, PlanningFailed, Route
+from openmotion.planar.routing.planner import (
+    FOREVER,
+    Agent,
+    Plan,
+    Planner,
+    PlanningFailed,
+    Route,
+    plan_around,
+)
 
 if TYPE_CHECKING:
     from openmotion.planar.environment import MC_PlanarEnvironment
@@ -58,6 +72,7 @@ TURN_TOLERANCE = 1e-6  #: a target c this close to the mover's c needs no turn [
 TURN_MARGIN = 2.0  #: a turning footprint is kept inside its disc grown by this [mm]
 CANDIDATE_RINGS = 2  #: start and goal cells are looked for this many cells around a pose
 _TRANSLATE = ST_MoveToPositionOptions(use_orientation=False)
+_TURN = ST_MoveToPositionOptions(use_orientation=True)
 
 
 class RouteCommand(Command):
@@ -92,6 +107,7 @@ class _Leg:
     start: tuple[float, float]
     end: tuple[float, float]
     shortcut: bool = False  #: off the plan's cells order: its points count when it ends
+    previous: _Leg | None = None  #: the leg in motion it carries on (kept if it is refused)
 
 
 @dataclass
@@ -119,6 +135,8 @@ class RouterStats:
     legs: int = 0  #: commands sent
     rejected: int = 0  #: commands the group refused (the router retries them)
     held_back: int = 0  #: legs kept for a cycle because the group would refuse them
+    extended: int = 0  #: legs sent in motion to carry on along the same line
+    replans: int = 0  #: movers' routes re-planned around the others' (D-344)
     plans: list[Plan] = field(default_factory=list)
 
 
@@ -153,8 +171,14 @@ class Router:
         self.grid: RoutingGrid | None = None
         self._drives: list[_Drive] = []
         self._visits: dict[int, list[tuple[int, int, int]]] = {}
-        self._plan_tables: tuple[dict[tuple[int, int], int], dict[int, int]] = ({}, {})
+        #: the prepared stator surface and the obstacles of the last plan (for shortcuts)
+        self._static: tuple[BaseGeometry | None, list[BaseGeometry]] = (None, [])
         self._replan_when_standing: tuple[dict[MC_PlanarMover, RouteCommand], float] | None = None
+        #: movers to re-plan around the routes the others keep, once they stand (D-344)
+        self._pending: dict[MC_PlanarMover, RouteCommand] = {}
+        self._stopped: list[_Drive] = []  #: stopped drives to stand for good where they stop
+        self._surface: BaseGeometry | None = None  #: the stator surface the plan was made on
+        self._budget = time_budget  #: planning time of the re-plans waiting [s]
         self.system.runtime.add_program(self._cycle)
 
     # -- planning ---------------------------------------------------------------------------
@@ -171,27 +195,55 @@ class Router:
     def route(self, targets: Mapping[MC_PlanarMover, PositionXYC | Sequence[float]],
               time_budget: float | None = None) -> dict[MC_PlanarMover, RouteCommand]:
         """Plan routes of ``targets``' movers to their poses (x, y, c) and start them in the
-        next cycle. A mover already routed gets its new target: the movers it routes are
-        re-planned together (D-303)."""
+        next cycle. While other routes run, only these movers (and those whose remaining
+        routes meet where they stand or go) are re-planned around the routes the others
+        keep, once they stand; the others go on (D-344)."""
         now = self.system.now
         budget = self.time_budget if time_budget is None else time_budget
         wanted: dict[MC_PlanarMover, PositionXYC] = {}
         for mover, target in targets.items():
             wanted[mover] = target if isinstance(target, PositionXYC) else PositionXYC(
                 *[float(v) for v in target])
-        for drive in self._drives:  # re-plan the ones still on their way as well
-            if drive.handle.busy and drive.mover not in wanted:
-                wanted[drive.mover] = drive.handle.target
-        handles = {m: RouteCommand(m, t, now) for m, t in wanted.items()}
-        for drive in self._drives:
-            if drive.handle.busy:
-                new = handles[drive.mover]
-                if drive.handle.target is new.target:  # the same route goes on
-                    handles[drive.mover] = drive.handle
-                else:
-                    drive.handle.end(CommandStatus.ABORTED, now)
-        self._plan(handles, budget)
-        return {m: handles[m] for m in targets}
+            _finite(wanted[mover])  # a bad target is a Python error before anything changes
+        running = {d.mover: d for d in self._drives if d.handle.busy}
+        handles: dict[MC_PlanarMover, RouteCommand] = {}
+        for mover, target in wanted.items():
+            drive = running.get(mover)
+            if drive is not None and drive.handle.target is target:  # the same route goes on
+                handles[mover] = drive.handle
+                continue
+            old = self._pending.pop(mover, None)
+            for replaced in (old, drive and drive.handle):
+                if replaced is not None and replaced.busy:
+                    replaced.end(CommandStatus.ABORTED, now, ErrorId.NO_ERROR,
+                                 f"{mover.name}: a new route replaced it")
+            handles[mover] = RouteCommand(mover, target, now)
+        if not running and not self._pending and self._replan_when_standing is None:
+            self._plan(handles, budget)
+            return handles
+        for mover, handle in handles.items():
+            drive = running.get(mover)
+            if drive is not None and drive.handle is handle:
+                continue
+            problem = _not_routable(mover, self.group, moving=drive is not None)
+            if problem:
+                handle.end(CommandStatus.ERROR, now, ErrorId.PLANAR_WRONG_STATE,
+                           f"{mover.name}: {problem}")
+                if drive is not None:  # it stays where it stops: the others go around it
+                    drive.leg = None
+                    self._stop(drive)
+                continue
+            if drive is not None:  # it ends the leg it is on and is re-planned standing
+                drive.handle = handle
+            self._pending[mover] = handle
+        self._budget = budget
+        if self._replan_when_standing is not None:  # a full plan waits: join it
+            waiting, _ = self._replan_when_standing
+            waiting.update(self._pending)
+            self._pending = {}
+        else:
+            self._replan_around()
+        return handles
 
     def _plan(self, handles: dict[MC_PlanarMover, RouteCommand], budget: float) -> None:
         """Plan ``handles``' movers once every one of them stands (a moving one first ends
@@ -232,20 +284,22 @@ class Router:
                 continue
             break
         self._drives = []
+        self._pending, self._stopped = {}, []
         if plan is None:
             return
         self.stats.plans.append(plan)
         movers = list(routed)
         deps, self._visits = _dependencies(plan.routes)
-        self._plan_tables = (plan.held, plan.parked)
         for k, route in enumerate(plan.routes):
             handle = routed[movers[k]]
             handle.route = list(route.points)
             handle.start()
             self._drives.append(_Drive(handle, route, deps[k], k))
 
-    def _plan_once(self, routed: dict[MC_PlanarMover, RouteCommand], budget: float
-                   ) -> tuple[Plan, list[Agent]]:
+    def _field(self, routed: Mapping[MC_PlanarMover, RouteCommand]
+               ) -> tuple[RoutingGrid, BaseGeometry, list[BaseGeometry], list[str], float]:
+        """The grid for ``routed`` movers (the group's other movers and the obstacles kept
+        out), the grown stator surface, the obstacles with their labels, the cells' side."""
         group_movers = [m for m in self.system.movers if m.group is self.group]
         side = max(max(m.parameters.mover_width, m.parameters.mover_height)
                    for m in (*routed, *group_movers))
@@ -257,9 +311,17 @@ class Router:
                 geometries.append(m.footprint())
         surface = self.environment.surface
         grid = build_grid(surface, side, geometries, self.pitch)
-        self.grid = grid
         grown = shapely.buffer(surface, 1e-6, join_style="mitre")
         shapely.prepare(grown)
+        return grid, grown, geometries, labels, side
+
+    def _plan_once(self, routed: dict[MC_PlanarMover, RouteCommand], budget: float
+                   ) -> tuple[Plan, list[Agent]]:
+        grid, grown, geometries, labels, side = self._field(routed)
+        surface = self.environment.surface
+        self.grid = grid
+        self._surface = surface
+        self._static = (grown, list(self.obstacles))
         agents: list[Agent] = []
         targets: list[tuple[MC_PlanarMover, BaseGeometry]] = []
         for mover, handle in routed.items():
@@ -370,7 +432,8 @@ class Router:
     # -- execution --------------------------------------------------------------------------
 
     def _cycle(self) -> None:
-        """The router's program: follow the legs sent, send the next ones (phase 1)."""
+        """The router's program: follow the legs sent, re-plan what a new target, a stopped
+        mover or a moved part affects, send the next legs (phase 1)."""
         if not self._drives:
             return
         now = self.system.now
@@ -381,11 +444,221 @@ class Router:
             if all(d.leg is None for d in self._drives):
                 self._plan(*pending)
             return
+        self._watch_surface()
+        if self._stopped:
+            self._settle_stopped()
+        if self._pending:
+            self._replan_around()
+            if self._replan_when_standing is not None:
+                return
         sent: list[BaseGeometry] = []
-        reached = [d.reached for d in self._drives]
+        # a mover in motion counts the points its leg ends on: those waiting for it may
+        # send as soon as the group admits their leg, i.e. once it actually cleared the area
+        reached = [d.leg.last if d.leg is not None and d.leg.last >= 0 else d.reached
+                   for d in self._drives]
         for drive in self._drives:
-            if drive.handle.busy and drive.leg is None:
+            if not drive.handle.busy or drive.mover in self._pending:
+                continue
+            if drive.leg is None:
                 self._next_leg(drive, reached, sent)
+            else:
+                self._extend(drive, reached, sent)
+
+    # -- re-routing -------------------------------------------------------------------------
+
+    def _progress(self, drive: _Drive) -> int:
+        """The first step of the drive's route still ahead of it."""
+        return drive.leg.first if drive.leg is not None and drive.leg.last >= 0 else \
+            drive.reached
+
+    def _remaining(self, drive: _Drive) -> set[int]:
+        """The cells the drive's route still occupies."""
+        occupied = drive.route.occupied
+        return {cell for cells in occupied[2 * self._progress(drive):] for cell in cells}
+
+    def _standing_route(self, drive: _Drive) -> Route:
+        """The route of a mover that stands where it is for good (stopped, or arrived)."""
+        assert self.grid is not None
+        mover = drive.mover
+        x, y, c = mover.pose
+        hx, hy = half_extents(mover.parameters.mover_width, mover.parameters.mover_height, c)
+        return Route(drive.route.agent, [(x, y)], [self.grid.touched((x, y), (x, y), hx, hy)],
+                     [-1])
+
+    def _rebuild(self) -> None:
+        """The plan's order of passage per cell again, from every drive's route (the movers
+        that no longer drive stand where they are for good)."""
+        for drive in self._drives:
+            if not drive.handle.busy and drive not in self._stopped and \
+                    not drive.mover.in_motion and len(drive.route.points) > 1:
+                drive.route = self._standing_route(drive)
+                drive.reached = 0
+        routes = [d.route for d in self._drives]
+        deps, self._visits = _dependencies(routes)
+        standing = {k for k, d in enumerate(self._drives) if not d.handle.busy}
+        for index, drive in enumerate(self._drives):
+            drive.index = index
+            # nobody waits for a mover that no longer drives: the grid and the group keep
+            # the others off it (its cells are counted generously here)
+            drive.deps = [[(a, need) for a, need in step if a not in standing]
+                          for step in deps[index]]
+
+    def _settle_stopped(self) -> None:
+        """A stopped mover stands where it stopped for good: the routes that still meet the
+        cells under it are re-planned around it (D-345)."""
+        settled = [d for d in self._stopped if not d.mover.in_motion]
+        if not settled or self.grid is None:
+            return
+        for drive in settled:
+            self._stopped.remove(drive)
+            self._pending.pop(drive.mover, None)
+            drive.leg = None
+            drive.route = self._standing_route(drive)
+            drive.reached = 0
+            cells = set(drive.route.occupied[0])
+            for other in self._drives:
+                if other.handle.busy and other.mover not in self._pending and \
+                        cells & self._remaining(other):
+                    self._pending[other.mover] = other.handle
+        self._rebuild()
+
+    def _watch_surface(self) -> None:
+        """A part moved (the surface changed): movers it carried and routes over stators that
+        left are re-planned on the surface as it is now (D-346)."""
+        surface = self.environment.surface
+        if surface is self._surface or surface is None or self.grid is None:
+            return
+        self._surface = surface
+        grown = shapely.buffer(surface, 1e-6, join_style="mitre")
+        shapely.prepare(grown)
+        self._static = (grown, list(self.obstacles))
+        old = self.grid
+        movers = {d.mover for d in self._drives} | {m for m in self.system.movers
+                                                     if m.group is self.group}
+        side = max(max(m.parameters.mover_width, m.parameters.mover_height) for m in movers)
+        grid = build_grid(surface, side, self.obstacles, self.pitch)
+        if (grid.bounds, grid.nx, grid.ny) != (old.bounds, old.nx, old.ny):  # all again
+            handles = {d.mover: d.handle for d in self._drives if d.handle.busy}
+            handles.update(self._pending)
+            self._pending = {}
+            if handles:
+                self._replan_when_standing = (handles, self._budget)
+            return
+        gone = {cell for cell in range(grid.size) if old.free[cell] and not grid.free[cell]}
+        for drive in self._drives:
+            if not drive.handle.busy or drive.mover in self._pending:
+                continue
+            x, y, _ = drive.mover.pose
+            here = drive.route.points[min(self._progress(drive), len(drive.route.points) - 1)]
+            carried = drive.leg is None and math.hypot(x - here[0], y - here[1]) > AT_POSE
+            if carried or gone & self._remaining(drive):
+                self._pending[drive.mover] = drive.handle
+        self._rebuild()
+
+    def _replan_around(self) -> None:
+        """Plan the pending movers, once they stand, around the routes the others keep
+        (``plan_around``); a kept route that meets where a pending mover stands or ends joins
+        them. Without a plan, every mover on its way is planned again together (D-303)."""
+        pending = self._pending
+        for mover in [m for m, h in pending.items() if not h.busy]:
+            del pending[mover]
+        while pending:
+            if any(m.in_motion for m in pending):
+                return
+            kept = [d for d in self._drives if d.handle.busy and d.mover not in pending]
+            planned = self._around(kept)
+            if planned is None:  # joined by kept movers, or failed: next cycle
+                return
+            if planned:
+                break
+        else:
+            return
+        self._pending = {}
+        self._rebuild()
+
+    def _around(self, kept: list[_Drive]) -> bool | None:
+        """One attempt of ``_replan_around``: True when planned, False when kept movers
+        joined the pending ones (try again), None to wait or after the fall-back."""
+        pending = self._pending
+        now = self.system.now
+        routed = {**pending, **{d.mover: d.handle for d in kept}}
+        try:
+            grid, grown, geometries, labels, side = self._field(routed)
+        except ConfigError:
+            grid = None
+        if grid is None or self.grid is None or \
+                (grid.bounds, grid.nx, grid.ny) != (self.grid.bounds, self.grid.nx, self.grid.ny):
+            self._fall_back()
+            return None
+        prints = [(d.mover, footprint(*d.route.agent.target, d.mover.parameters.mover_width,
+                                      d.mover.parameters.mover_height)) for d in kept]
+        agents: dict[MC_PlanarMover, Agent] = {}
+        planner = None
+        for mover, handle in list(pending.items()):
+            try:
+                agent = self._agent(mover, handle.target, grid, grown, geometries, labels, prints)
+                planner = Planner(grid, [agent])
+                if agent.start_cell not in planner.distance(agent):
+                    blocker = self._cut_off(agent, self.environment.surface, side, labels,
+                                            geometries)
+                    raise _Blocked(mover, blocker, f"its target cannot be reached: {blocker} "
+                                                   f"cuts it off")
+            except _Blocked as blocked:
+                del pending[mover]
+                handle.blocker = blocked.blocker
+                handle.end(CommandStatus.ERROR, now, ErrorId.PLANAR_COLLISION,
+                           f"{mover.name}: {blocked.reason}")
+                drive = next((d for d in self._drives if d.mover is mover), None)
+                if drive is not None:  # it stays where it is: the others go around it
+                    self._stop(drive)
+                continue
+            agents[mover] = agent
+            prints.append((mover, footprint(*agent.target, mover.parameters.mover_width,
+                                            mover.parameters.mover_height)))
+        if not agents:
+            return True
+        mine: set[int] = set()
+        for agent in agents.values():
+            mine |= set(agent.start_cells) | set(agent.final_cells) | set(
+                grid.touched_cells(agent.goal_cell, agent.goal_cell, agent.hx, agent.hy))
+        joined = [d for d in kept if mine & self._remaining(d)]
+        if joined:
+            for drive in joined:
+                pending[drive.mover] = drive.handle
+            return False
+        progress = [self._progress(d) for d in kept]
+        start = max(progress, default=0)
+        planner = Planner(grid, list(agents.values()))
+        started = time.perf_counter()
+        try:
+            routes = plan_around(planner, [d.route for d in kept], progress, start)
+        except PlanningFailed:
+            self._fall_back()
+            return None
+        self.grid = grid
+        self.stats.replans += 1
+        self.stats.plans.append(Plan(routes, list(range(len(routes))),
+                                     first_time=time.perf_counter() - started,
+                                     time=time.perf_counter() - started, tried=1))
+        drives = {d.mover: d for d in self._drives}
+        for mover, route in zip(agents, routes, strict=True):
+            handle = pending[mover]
+            handle.route = list(route.points[start:])
+            handle.start()
+            drive = drives.get(mover)
+            if drive is None:
+                self._drives.append(_Drive(handle, route, [], len(self._drives)))
+                continue
+            drive.handle, drive.route, drive.reached = handle, route, 0
+            drive.leg, drive.turned, drive.waits = None, False, 0
+        return True
+
+    def _fall_back(self) -> None:
+        """Every mover still on its way is planned again together once all stand (D-303)."""
+        handles = {d.mover: d.handle for d in self._drives if d.handle.busy}
+        handles.update(self._pending)
+        self._pending = {}
+        self._replan_when_standing = (handles, self._budget)
 
     def _follow(self, drive: _Drive, now: float) -> None:
         leg = drive.leg
@@ -397,6 +670,7 @@ class Router:
             drive.leg = None
             handle.end(CommandStatus.ABORTED, now, ErrorId.NO_ERROR,
                        f"{mover.name} is {mover.state.name} or left the group")
+            self._stop(drive)
             return
         if leg is None:
             return
@@ -408,12 +682,15 @@ class Router:
             else:
                 drive.reached = leg.last
         elif command.error:  # type: ignore[attr-defined]
-            drive.leg = None
+            drive.leg = leg.previous  # a refused extension leaves the leg in motion going
             self.stats.rejected += 1
+            if drive.leg is not None:
+                return
         elif command.aborted:  # type: ignore[attr-defined]
             drive.leg = None
             handle.end(CommandStatus.ABORTED, now, ErrorId.NO_ERROR,
                        f"{mover.name}: its leg was aborted by another command")
+            self._stop(drive)
             return
         elif leg.last >= 0 and not leg.shortcut:  # passed points count as it moves
             x, y, _ = mover.pose
@@ -428,8 +705,15 @@ class Router:
                                                       points[k + 1][1] - sy) <= travelled:
                     k += 1
                 drive.reached = k
-        if drive.leg is None and self._arrived(drive):
+        if drive.leg is None and mover not in self._pending and self._arrived(drive):
             handle.end(CommandStatus.DONE, now)
+
+    def _stop(self, drive: _Drive) -> None:
+        """The mover left the route (halted, stopped, disabled, in error, taken by another
+        command): once it stands, the routes it is in the way of are re-planned."""
+        self._pending.pop(drive.mover, None)
+        if drive not in self._stopped:
+            self._stopped.append(drive)
 
     def _arrived(self, drive: _Drive) -> bool:
         if drive.reached < len(drive.route.points) - 1:
@@ -442,22 +726,11 @@ class Router:
     def _ready(self, drive: _Drive, step: int, reached: list[int]) -> bool:
         return all(reached[a] >= need for a, need in drive.deps[step])
 
-    def _next_leg(self, drive: _Drive, reached: list[int], sent: list[BaseGeometry]) -> None:
+    def _straight_end(self, drive: _Drive, k: int, reached: list[int]) -> int:
+        """The last route point of the straight run from point ``k`` whose steps the plan's
+        order lets start now (waits inside the run are skipped once they are released)."""
         points = drive.route.points
-        k = drive.reached
         last = len(points) - 1
-        while k < last and points[k + 1] == points[k] and self._ready(drive, k, reached):
-            k += 1  # a wait of the plan: the movers it waited for have passed
-        drive.reached = k
-        mover = drive.mover
-        if k == last:
-            if self._needs_turn(drive) and not drive.turned:
-                self._send_turn(drive, sent)
-            elif self._arrived(drive):
-                drive.handle.end(CommandStatus.DONE, self.system.now)
-            return
-        if not self._ready(drive, k, reached):
-            return
         direction = _unit(points[k], points[k + 1])
         end = k + 1
         while end < last and self._ready(drive, end, reached):
@@ -473,64 +746,143 @@ class Router:
             if _unit(points[end], points[end + 1]) != direction:
                 break
             end += 1
+        return end
+
+    def _next_leg(self, drive: _Drive, reached: list[int], sent: list[BaseGeometry]) -> None:
+        points = drive.route.points
+        k = drive.reached
+        last = len(points) - 1
+        while k < last and points[k + 1] == points[k] and self._ready(drive, k, reached):
+            k += 1  # a wait of the plan: the movers it waited for have passed
+        drive.reached = k
+        if k == last:
+            if self._needs_turn(drive) and not drive.turned:
+                self._send_turn(drive, sent)
+            elif self._arrived(drive):
+                drive.handle.end(CommandStatus.DONE, self.system.now)
+            return
+        if not self._ready(drive, k, reached):
+            return
+        end = self._straight_end(drive, k, reached)
         shortcut = self._shortcut(drive, k, end, reached)
+        for last_point in (shortcut, end):
+            if last_point is not None and self._send(drive, k, last_point,
+                                                     last_point is shortcut, sent):
+                return
+        self.stats.held_back += 1  # the group would refuse even the plan's own leg: wait
+        drive.waits += 1
+
+    def _extend(self, drive: _Drive, reached: list[int], sent: list[BaseGeometry]) -> None:
+        """A leg in motion along the plan's cells goes on along the same line when the steps
+        after its end are released now: the longer MoveToPosition starts from the mover's
+        motion on that line, so it does not stop at the old end (§7.2.2.8.1)."""
+        leg = drive.leg
+        if leg is None or leg.last < 0 or leg.shortcut or leg.last >= len(drive.route.points) - 1:
+            return
+        if not self._ready(drive, leg.last, reached):
+            return
+        end = self._straight_end(drive, leg.first, reached)
+        if end > leg.last and self._send(drive, leg.first, end, False, sent):
+            self.stats.extended += 1
+
+    def _send(self, drive: _Drive, k: int, last_point: int, off_plan: bool,
+              sent: list[BaseGeometry]) -> bool:
+        """Send a MoveToPosition from where the mover is to route point ``last_point`` when
+        the group would admit its swept area now (and no leg sent this cycle meets it). The
+        last leg turns to the target's c on the way when the turn stays in one C window
+        (§4.2): no MoveC at standstill after it."""
+        mover = drive.mover
         x, y, c = mover.pose
         p = mover.parameters
-        for last_point in (shortcut, end):
-            if last_point is None:
-                continue
-            off_plan = last_point is shortcut
-            target = points[last_point]
+        target = drive.route.points[last_point]
+        turn = self._turn_on_the_way(drive, last_point, c)
+        if turn is not None:
+            area = shapely.buffer(shapely.linestrings([(x, y), target]) if (x, y) != target
+                                  else shapely.points(x, y),
+                                  math.hypot(p.mover_width, p.mover_height) / 2.0 + TURN_MARGIN)
+            if not self._static[0] or not self._static[0].covers(area) or \
+                    any(meets(area, o) for o in self.obstacles):
+                turn = None
+        if turn is None:
             area = shapely.convex_hull(shapely.union(
                 footprint(x, y, c, p.mover_width, p.mover_height),
                 footprint(*target, c, p.mover_width, p.mover_height)))
-            if self.group.registry.blocker(mover.member, area) is None and \
-                    not any(meets(area, other) for other in sent):
-                break
-        else:  # the group would refuse even the plan's own leg: wait for it to clear
-            self.stats.held_back += 1
-            drive.waits += 1
-            return
+        if self.group.registry.blocker(mover.member, area) is not None or \
+                any(meets(area, other) for other in sent):
+            return False
         sent.append(area)
-        command = mover.move_to_position(PositionXYC(target[0], target[1], c), self.constraint,
-                                         _TRANSLATE)
+        command = mover.move_to_position(
+            PositionXYC(target[0], target[1], c if turn is None else turn,
+                        mover.coordinate_system), self.constraint,
+            _TRANSLATE if turn is None else _TURN)
         self.stats.legs += 1
-        drive.leg = _Leg(command, k, last_point, (x, y), target, off_plan)
+        start = (x, y) if drive.leg is None else drive.leg.start
+        if drive.leg is not None:
+            drive.leg.previous = None
+        drive.leg = _Leg(command, k, last_point, start, target, off_plan, drive.leg)
+        return True
+
+    def _turn_on_the_way(self, drive: _Drive, last_point: int, c: float) -> float | None:
+        """The target's c when the leg to ``last_point`` ends the route and may turn there on
+        the way (the turn stays inside one C window, §4.2), else None."""
+        if last_point != len(drive.route.points) - 1 or not self._needs_turn(drive):
+            return None
+        end = c + _angle(drive.route.agent.target[2] - c)
+        if not drive.mover.parameters.c_windows.contains_interval(min(c, end), max(c, end)):
+            return None
+        return end
 
     def _shortcut(self, drive: _Drive, k: int, straight_end: int, reached: list[int]
                   ) -> int | None:
         """The farthest route point beyond ``straight_end`` that a straight leg from point
-        ``k`` may reach (any angle): every cell it touches is held by no other mover in the
-        plan from step k to that point, and whoever held it before has passed."""
+        ``k`` may reach (any angle). The leg's swept area stays on the surface and off the
+        obstacles; where it ends the mover stands early, so the cells under it there are
+        held by no other mover in the plan from step k to that point and whoever held them
+        before has passed. The cells it only sweeps need no more than the group's own check
+        at sending: another mover coming there later waits for the leg to pass, and a
+        mover in motion never waits for anyone (docs/planar-routing.md)."""
         points = drive.route.points
         last = len(points) - 1
         if self.grid is None or straight_end >= last:
             return None
-        held, parked = self._plan_tables
         agent = drive.route.agent
         me = drive.index
+        start = points[k]
         for end in range(last, straight_end, -1):
             if points[end] == points[end - 1] and end < last:
                 continue
             if not all(self._ready(drive, s, reached) for s in range(k, end)):
                 continue
-            cells = self.grid.touched(points[k], points[end], agent.hx, agent.hy)
-            if self._clear(cells, 2 * k, 2 * end, me, held, parked, reached):
+            stand = self.grid.touched(points[end], points[end], agent.hx, agent.hy)
+            if self._clear(stand, 2 * k, 2 * end, me, reached) and \
+                    self._on_surface(drive, start, points[end]):
                 return end
         return None
 
+    def _on_surface(self, drive: _Drive, a: tuple[float, float], b: tuple[float, float]
+                    ) -> bool:
+        """Whether the footprint's sweep from a to b stays on the surface and meets none of
+        the router's static obstacles (movers it does not route are the group's business)."""
+        surface, obstacles = self._static
+        if surface is None:
+            return False
+        p = drive.mover.parameters
+        c = drive.route.agent.start[2]
+        area = shapely.convex_hull(shapely.union(footprint(*a, c, p.mover_width, p.mover_height),
+                                                 footprint(*b, c, p.mover_width, p.mover_height)))
+        return bool(surface.covers(area)) and not any(meets(area, o) for o in obstacles)
+
     def _clear(self, cells: tuple[int, ...], first: int, last: int, me: int,
-               held: dict[tuple[int, int], int], parked: dict[int, int],
                reached: list[int]) -> bool:
+        """Whether the mover may stand on ``cells`` from half-step ``first`` of its plan
+        until ``last``: every other mover the plan lets through them until then has passed
+        (or is on the leg that passes them: the group holds the leg back until it has), and
+        none parks on them."""
         for cell in cells:
-            if parked.get(cell, 1 << 30) <= last and held.get((cell, last)) != me:
-                return False
-            for half in range(first, last + 2):
-                owner = held.get((cell, half))
-                if owner is not None and owner != me:
-                    return False
-            for _, end, agent in self._visits.get(cell, ()):  # who was there passed
-                if agent != me and end < first and reached[agent] < end // 2 + 1:
+            for start, end, agent in self._visits.get(cell, ()):
+                if agent == me or start > last + 1:
+                    continue
+                if end >= FOREVER or reached[agent] < end // 2 + 1:
                     return False
         return True
 
@@ -607,12 +959,14 @@ def _check_pairs(agents: list[Agent], movers: list[MC_PlanarMover]) -> None:
             goals[cell] = k
 
 
-def _not_routable(mover: MC_PlanarMover, group: MC_PlanarGroup) -> str | None:
+def _not_routable(mover: MC_PlanarMover, group: MC_PlanarGroup, moving: bool = False
+                  ) -> str | None:
+    """Why ``mover`` cannot be routed (``moving``: it may be on a leg of the router)."""
     if mover.group is not group:
         return "is not in the router's group"
     if mover.state is not PlanarState.ENABLED:
         return f"is {mover.state.name}, not Enabled"
-    if mover.in_motion:
+    if mover.in_motion and not moving:
         return "is moving: a route starts from standstill"
     return None
 
