@@ -12,13 +12,16 @@ Instances:
 Per instance: whether every mover arrived, the planner's time to its first plan (wall and
 the planning thread's CPU time) and in all (its budget ``TIME_BUDGET``), the makespan (the
 route call to the last arrival, in runtime time) against the lower bound (the slowest
-mover's own time-optimal straight move with its default dynamics), the commands the group
+mover's own time-optimal move with its default dynamics, alone on the field: one profile over
+the shortest way round the field's holes, D-355; the straight line's is reported beside it),
+the commands the group
 refused and, checked after every cycle on the set positions, overlapping footprints and
 footprints off the stator surface.
 """
 
 from __future__ import annotations
 
+import heapq
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -26,6 +29,7 @@ from typing import Any
 
 import numpy as np
 import shapely
+from shapely.geometry.base import BaseGeometry
 
 import openmotion as om
 from openmotion.planar import (
@@ -50,17 +54,64 @@ TIME_BUDGET = 0.05  #: the router's planning budget per instance [s]
 BIG_TIME_BUDGET = 0.5  #: the planning budget at Planar Motor's scale (D-341) [s]
 TIMEOUT = 60.0  #: runtime seconds an instance may take before it counts as failed
 OVERLAP_TOLERANCE = 1e-6  #: [mm]
+WAY_SLACK = 1e-6  #: [mm] the free space grows by this: a centre on its edge is inside
 
 Progress = Callable[[str], None] | None
 
 
-def lower_bound(mover: MC_PlanarMover, target: tuple[float, float]) -> float:
-    """[s] of the mover's own time-optimal straight move to ``target`` (default dynamics)."""
+def lower_bound(mover: MC_PlanarMover, target: tuple[float, float],
+                free: BaseGeometry | None = None) -> float:
+    """[s] of the mover's own time-optimal move to ``target`` with its default dynamics,
+    alone on the field: one rest-to-rest profile over the shortest way its centre can take
+    (``free``: where its centre may be, see ``free_space``; None: the straight line)."""
     x, y, _ = mover.pose
-    d = math.hypot(target[0] - x, target[1] - y)
+    d = math.hypot(target[0] - x, target[1] - y) if free is None else shortest_way(
+        free, (x, y), target)
     limits = mover.parameters.default_dynamic_xy
     profile = rest_to_rest(0.0, d, limits.velocity, limits.acceleration, limits.jerk, 0.0)
     return float(profile[0, -1])
+
+
+def free_space(surface: BaseGeometry, mover: MC_PlanarMover) -> BaseGeometry:
+    """Where the centre of ``mover`` (turned as it stands, c = 0 here) keeps its footprint on
+    ``surface``: the surface shrunk by half the footprint, with square corners."""
+    half = 0.5 * max(mover.parameters.mover_width, mover.parameters.mover_height)
+    free = shapely.buffer(surface, -half + WAY_SLACK, join_style="mitre")
+    shapely.prepare(free)
+    return free
+
+
+def shortest_way(free: BaseGeometry, start: tuple[float, float],
+                 goal: tuple[float, float]) -> float:
+    """[mm] of the shortest way from ``start`` to ``goal`` inside ``free`` (a polygon or
+    several): Dijkstra over the visibility graph of the two points and the corners of
+    ``free``, where shortest ways in a polygon bend. The straight line where it lies inside;
+    inf where no way joins them."""
+    direct = math.dist(start, goal)
+    if free.covers(shapely.LineString([start, goal])):
+        return direct
+    points = [tuple(start), tuple(goal)]
+    for polygon in getattr(free, "geoms", [free]):
+        for ring in (polygon.exterior, *polygon.interiors):
+            points += [tuple(c) for c in list(ring.coords)[:-1]]
+    best = {0: 0.0}
+    heap, done = [(0.0, 0)], set()
+    while heap:
+        length, u = heapq.heappop(heap)
+        if u in done:
+            continue
+        if u == 1:
+            return length
+        done.add(u)
+        for v in range(len(points)):
+            if v in done:
+                continue
+            further = length + math.dist(points[u], points[v])
+            if further < best.get(v, math.inf) and free.covers(
+                    shapely.LineString([points[u], points[v]])):
+                best[v] = further
+                heapq.heappush(heap, (further, v))
+    return math.inf
 
 
 def _field(layout: Layout) -> tuple[om.Runtime, MC_PlanarEnvironment, MC_PlanarGroup]:
@@ -91,7 +142,9 @@ def run_instance(layout: Layout, starts: Sequence[tuple[float, float]],
     rt.step()
     if any(m.state is not PlanarState.ENABLED or m.group is not group for m in movers):
         raise RuntimeError(f"{layout.name}: benchmark set-up failed")
-    bound = max(lower_bound(m, t) for m, t in zip(movers, targets, strict=True))
+    free = free_space(environment.surface, movers[0])
+    bound = max(lower_bound(m, t, free) for m, t in zip(movers, targets, strict=True))
+    straight = max(lower_bound(m, t) for m, t in zip(movers, targets, strict=True))
     router = Router(group, environment, time_budget=time_budget, pitch=pitch)
     rejected_before = 0
     started = time.perf_counter()
@@ -117,7 +170,7 @@ def run_instance(layout: Layout, starts: Sequence[tuple[float, float]],
         "plan_ms": None if plan is None else 1e3 * plan.time,
         "route_call_ms": 1e3 * call_s,
         "orders_tried": None if plan is None else plan.tried,
-        "makespan_s": makespan, "lower_bound_s": bound,
+        "makespan_s": makespan, "lower_bound_s": bound, "straight_bound_s": straight,
         "ratio": (makespan / bound if bound > 0 else 1.0) if arrived == len(movers) else None,
         "legs": router.stats.legs, "held_back": router.stats.held_back,
         "rejected": rejected, **safety,

@@ -971,10 +971,14 @@ def _render_routing(results: dict[str, Any]) -> list[str]:
     rows = [[r["layout"], r["movers"], f"{r['arrived']}/{r['movers']}",
              _fmt(r["first_plan_ms"]),
              _fmt(r["plan_ms"]), _fmt(r["makespan_s"]), _fmt(r["lower_bound_s"]),
-             _fmt(r["ratio"]), r["rejected"], r["overlaps"] + r["off_surface"]]
+             _fmt(r.get("straight_bound_s")), _fmt(r["ratio"]), r["rejected"],
+             r["overlaps"] + r["off_surface"]]
             for r in results["magbotsim"] + results["big"]]
-    return _table(["layout", "movers", "arrived", "first plan [ms]", "plan [ms]",
-                   "makespan [s]", "bound [s]", "ratio", "rejected", "overlaps"], rows)
+    return ["bound: the slowest mover's own time-optimal move over the shortest way round the "
+            "field's holes (D-355); straight: over the straight line, which may cross them",
+            *_table(["layout", "movers", "arrived", "first plan [ms]", "plan [ms]",
+                     "makespan [s]", "bound [s]", "straight [s]", "ratio", "rejected",
+                     "overlaps"], rows)]
 
 
 _RENDER = {"axes": _render_axes, "otg": _render_otg, "fbcall": _render_fbcall,
