@@ -634,6 +634,32 @@ def in_order(s: Floats, grouped: Ints, tails: Ints) -> Ints:
 
 
 @compiled
+def riders_ahead(ends: Ints, tracks: Ints, bases: Floats, at: Ints, first: Ints,
+                 base: Floats) -> tuple[Ints, Ints, Floats]:
+    """``RiderPairs.pair_list``'s pairs across tracks: for each front rider of a track
+    (``ends``), the first rider on the tracks it looks along (``tracks[at[i]:at[i + 1]]``,
+    each based at ``bases`` on its odometer) other than itself, from ``first`` (the first and
+    second rider of each track index, -1: none), and the shift of that rider's odometer into
+    the front rider's. Returns the front riders that have one, their leaders and shifts."""
+    fronts = np.empty(ends.size, dtype=np.int64)
+    leaders = np.empty(ends.size, dtype=np.int64)
+    shifts = np.empty(ends.size)
+    count = 0
+    for i in range(ends.size):
+        m = ends[i]
+        for j in range(at[i], at[i + 1]):
+            index = tracks[j]
+            k = first[0, index]
+            if k == m:
+                k = first[1, index]
+            if k >= 0:
+                fronts[count], leaders[count], shifts[count] = m, k, bases[j] - base[k]
+                count += 1
+                break
+    return fronts[:count], leaders[:count], shifts[:count]
+
+
+@compiled
 def zone_stops(n: int, k: Ints, low: Floats, high: Floats, wanting: Bools, blocked: Bools
                ) -> tuple[Ints, Floats, Floats, Ints]:
     """Of ``zone_entries``' riders ``k``: those ``blocked`` (a conflicting rider holds the
@@ -774,14 +800,65 @@ def zone_lines(start_switch: Ints, end_switch: Ints, in_end: Bools, in_start: Bo
                                                       in_start, end_line, start_line, lo, hi,
                                                       lookahead)
     blocked = np.zeros(k.size, dtype=np.bool_)
+    by_switch, at = _by_switch(holder_switches)
     for i in range(k.size):
-        for j in range(holders.size):
-            if switch[i] == holder_switches[j] and _conflict(k[i], end[i], holders[j],
-                                                             holder_ends[j], track_of,
-                                                             next_of, seam, back):
+        s = switch[i]
+        if s < 0 or s >= at.size - 1:
+            continue
+        for m in range(at[s], at[s + 1]):
+            j = by_switch[m]
+            if _conflict(k[i], end[i], holders[j], holder_ends[j], track_of, next_of, seam,
+                         back):
                 blocked[i] = True
                 break
     return zone_stops(start_switch.size, k, low, high, wanting, blocked)
+
+
+@compiled
+def _by_switch(switch: Ints) -> tuple[Ints, Ints]:
+    """The positions of ``switch`` (ids >= 0) grouped by id, ascending within an id, and
+    where each id's begin (id s: ``at[s]`` to ``at[s + 1]``): a counting sort, so that a
+    question about one switch visits only its holders (there are dozens of switches at
+    1000 riders)."""
+    top = -1
+    for i in range(switch.size):
+        if switch[i] > top:
+            top = switch[i]
+    at = np.zeros(top + 2, dtype=np.int64)
+    for i in range(switch.size):
+        at[switch[i] + 1] += 1
+    for s in range(top + 1):
+        at[s + 1] += at[s]
+    fill = at[:-1].copy()
+    out = np.empty(switch.size, dtype=np.int64)
+    for i in range(switch.size):
+        out[fill[switch[i]]] = i
+        fill[switch[i]] += 1
+    return out, at
+
+
+@compiled
+def contested_pairs(holders: Ints, at_end: Bools, switch: Ints, track_of: Ints,
+                    next_of: Ints, seam: Bools, back: Bools) -> tuple[Ints, Ints]:
+    """``SwitchZones.holding``'s clash of the holders with each other: the pairs (i, j) of
+    positions in ``holders`` that hold one switch and conflict there (``_conflict``), in
+    the order of numpy.nonzero of their matrix (by i, then j)."""
+    by_switch, at = _by_switch(switch)
+    first, second = np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64)
+    count = 0
+    for i in range(holders.size):
+        s = switch[i]
+        for m in range(at[s], at[s + 1]):
+            j = by_switch[m]
+            if _conflict(holders[i], at_end[i], holders[j], at_end[j], track_of, next_of,
+                         seam, back):
+                if count == first.size:
+                    first = np.concatenate((first, np.empty(max(8, count), dtype=np.int64)))
+                    second = np.concatenate((second, np.empty(max(8, count),
+                                                              dtype=np.int64)))
+                first[count], second[count] = i, j
+                count += 1
+    return first[:count], second[:count]
 
 
 def warm() -> None:
@@ -826,8 +903,10 @@ def warm() -> None:
     resting(i, 2, f, f)
     ended(i, 1, f, i, 0.0)
     conflicts(i, b, i, b, i, i, b, b)
+    contested_pairs(i, b, i, i, i, b, b)
     zone_lines(i, i, b, b, f, f, f, f, 1.0, i, b, i, i, i, b, b)
     in_order(f, grouped, tails)
+    riders_ahead(i, i, f, np.zeros(2, dtype=np.int64), np.zeros((2, 1), dtype=np.int64), f)
     proposals(i, 1, 0, i, f, f, f, f + 1.0, f, f, f, f, f, f)
     envelopes(f, f, f, f + 1.0, f + 1.0)
     states(f, f, f, f + 1.0, f + 1.0, 0.001)
