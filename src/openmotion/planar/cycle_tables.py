@@ -13,6 +13,7 @@ Three lifetimes:
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -102,9 +103,10 @@ class CycleTables:
         #: the pair list the neighbours came from, the rider ahead of and behind each
         self.neighbours: tuple[Pairs, np.ndarray, np.ndarray] | None = None
         self.pairs: Pairs | None = None  #: each rider with the one ahead on its path
-        #: per rider, where it looks for the rider ahead (``RiderPairs._look``), kept until
-        #: its route changes (``Traffic.routed``) or the network's version ...
-        self.looks: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        #: per rider, where it looks for the rider ahead (``RiderPairs._look``): tracks and
+        #: bases, one row each, and how many (-1: to be asked), kept until its route changes
+        #: (``forget_look``) or the network's version ...
+        self.looks: tuple[np.ndarray, np.ndarray, np.ndarray] = _no_looks(0)
         self.looks_version = -1  #: ... this
         self.merges: dict[tuple, list[list[int]]] = {}  #: riders holding one merge together
         self.merged: tuple[tuple, Pairs] | None = None  #: and the pair list with them
@@ -121,7 +123,7 @@ class CycleTables:
         self.geometry = None
         self.table_rows = None
         self.track_infos, self.track_infos_version = {}, -1
-        self.looks = {}
+        self.looks = _no_looks(0)
 
     def forget(self) -> None:
         """A rider starts, stops or leaves a profile: envelopes, pairs and geometry go."""
@@ -133,6 +135,12 @@ class CycleTables:
         """A rider's track or route changed: its pairs and its geometry go."""
         self.pairs = None
         self.geometry = None
+
+    def forget_look(self, k: int) -> None:
+        """Rider ``k``'s route changed: where it looks for the rider ahead goes."""
+        count = self.looks[2]
+        if k < count.size:
+            count[k] = -1
 
     def forget_motion(self) -> None:
         """A rider's odometer has a new origin: envelopes and pair offsets go."""
@@ -188,6 +196,27 @@ class CycleTables:
                                      start_switch, end_switch, arrays.start_range[track_of],
                                      arrays.end_range[track_of])
         return self.geometry
+
+    def looks_for(self, riders: np.ndarray, look: Callable[[int], tuple[list[int], list[float]]]
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The rows of ``looks`` with those of ``riders`` filled in (``look``: a rider's
+        tracks and bases, asked for those not known), kept until a rider's route changes
+        (``forget_look``) or the network's version does."""
+        n = self.traffic.p.size
+        version = self.traffic.network.version
+        if self.looks[2].size != n or self.looks_version != version:
+            self.looks, self.looks_version = _no_looks(n), version
+        tracks, bases, count = self.looks
+        for k in riders[count[riders] < 0].tolist():
+            ids, at = look(k)
+            if len(ids) > tracks.shape[1]:  # a longer route than any before: wider rows
+                wider = max(len(ids), 2 * tracks.shape[1])
+                tracks = np.pad(tracks, ((0, 0), (0, wider - tracks.shape[1])))
+                bases = np.pad(bases, ((0, 0), (0, wider - bases.shape[1])))
+                self.looks = (tracks, bases, count)
+            tracks[k, :len(ids)], bases[k, :len(ids)] = ids, at
+            count[k] = len(ids)
+        return self.looks
 
     def track_arrays(self, on: np.ndarray) -> TrackArrays:
         """``track_info``, length and collision ranges of the tracks ``on`` (indices) and of
@@ -268,3 +297,9 @@ def _switch_ids(start_switch: np.ndarray, end_switch: np.ndarray, on: np.ndarray
     renumber[keys[np.argsort(first, kind="stable")]] = np.arange(keys.size)
     ids = renumber[seq]
     return ids[0::2][mine], ids[1::2][mine]
+
+
+def _no_looks(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``CycleTables.looks`` of ``n`` riders, none known yet."""
+    return (np.zeros((n, 16), dtype=np.int64), np.zeros((n, 16)),
+            np.full(n, -1, dtype=np.int64))

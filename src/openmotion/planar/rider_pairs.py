@@ -18,11 +18,11 @@ import numpy as np
 from openmotion.planar.riders import IDLE, Rider, ahead_legs
 from openmotion.planar.traffic_kernels import (
     gap_filter,
-    in_order,
     neighbours,
     pair_gaps,
     riders_ahead,
     rooms,
+    track_pairs,
 )
 from openmotion.rail.gap_control import TOLERANCE, Pairs
 
@@ -48,29 +48,13 @@ class RiderPairs:
         if tables.pairs is None:
             t = self.traffic
             tables.geometry_now()
-            mine = tables.place  # riders by track (in place order), then arc length
-            ranked = in_order(t.p - t.base, *tables.grouped)
-            same = mine[ranked[:-1]] == mine[ranked[1:]]
-            succ, pred = ranked[:-1][same], ranked[1:][same]
-            offset = t.base[succ] - t.base[pred]
-            heads = np.flatnonzero(np.concatenate(([ranked.size > 0], ~same)))
-            tails = np.append(heads[1:], ranked.size) if heads.size else heads
-            # per track index, its first two riders (-1: none)
-            first = np.full((2, len(t.network.tracks)), -1, dtype=np.int64)
-            on = t.track_index[ranked[heads]]
-            first[0, on] = ranked[heads]
-            two = heads + 1 < tails
-            first[1, on[two]] = ranked[heads[two] + 1]
-            ends = ranked[tails - 1]  # the front rider of each track
-            looks = [self._look(m) for m in ends.tolist()]
-            at = np.zeros(len(looks) + 1, dtype=np.int64)
-            np.cumsum([look[0].size for look in looks], out=at[1:])
-            look_tracks = np.concatenate([look[0] for look in looks]) if looks \
-                else np.empty(0, dtype=np.int64)
-            look_bases = np.concatenate([look[1] for look in looks]) if looks else np.empty(0)
-            fronts, leaders, shifts = (x.tolist() for x in riders_ahead(
-                ends, look_tracks, look_bases, at, first, t.base))
+            ranked, succ, pred, offset, heads, tails = track_pairs(
+                t.p - t.base, *tables.grouped, tables.place, t.base)
+            looks = tables.looks_for(ranked[tails - 1], self._look)
+            fronts, leaders, shifts = riders_ahead(ranked, heads, tails, t.track_index,
+                                                   len(t.network.tracks), t.base, *looks)
             if t.back.any():
+                fronts, leaders, shifts = fronts.tolist(), leaders.tolist(), shifts.tolist()
                 self._pairs_back(ranked.tolist(), heads.tolist(), tails.tolist(), fronts,
                                  leaders, shifts)
             sa = np.concatenate((succ, np.array(fronts, dtype=np.int64)))
@@ -89,29 +73,22 @@ class RiderPairs:
         t = self.traffic
         pairs.gap = pair_gaps(pairs.succ, pairs.pred, t.mode, IDLE, t.target, t.p, going, t.gap)
 
-    def _look(self, k: int) -> tuple[np.ndarray, np.ndarray]:
+    def _look(self, k: int) -> tuple[list[int], list[float]]:
         """Where rider ``k`` looks for the rider ahead when it is the front rider of its
         track: the tracks after its own along its route, then along the one way on (if the
         network leaves one; ``_HORIZON_TRACKS`` at most), each with its base on ``k``'s
         odometer. A route back has no legs ahead. Kept until its route changes
-        (``CycleTables.looks``)."""
-        tables, network = self.tables, self.traffic.network
-        if tables.looks_version != network.version:  # the ways on may have changed
-            tables.looks, tables.looks_version = {}, network.version
-        found = tables.looks.get(k)
-        if found is None:
-            legs = ahead_legs(self.traffic.riders[k].route)
-            tracks = [leg.track.index for leg in legs[1:]]
-            bases = [leg.base for leg in legs[1:]]
-            last = legs[-1].track
-            base = legs[-1].base + last.length
-            for track in network.way_on(last, _HORIZON_TRACKS):
-                tracks.append(track.index)
-                bases.append(base)
-                base += track.length
-            found = tables.looks[k] = (np.array(tracks, dtype=np.int64),
-                                       np.array(bases, dtype=float))
-        return found
+        (``CycleTables.looks_for``)."""
+        legs = ahead_legs(self.traffic.riders[k].route)
+        tracks = [leg.track.index for leg in legs[1:]]
+        bases = [leg.base for leg in legs[1:]]
+        last = legs[-1].track
+        base = legs[-1].base + last.length
+        for track in self.traffic.network.way_on(last, _HORIZON_TRACKS):
+            tracks.append(track.index)
+            bases.append(base)
+            base += track.length
+        return tracks, bases
 
     def _pairs_back(self, order: list[int], heads: list[int], tails: list[int],
                     fronts: list[int], leaders: list[int], shifts: list[float]) -> None:

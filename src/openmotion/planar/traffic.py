@@ -180,7 +180,7 @@ class Traffic:
         goes on to from the end of its own; none on a route back) and ``back``."""
         back = backwards(r.route)
         k = r.slot
-        self.cycle_tables.looks.pop(k, None)
+        self.cycle_tables.forget_look(k)
         self.track_index[k] = r.track.index
         used = self._uses.get(k)
         if used is not None:

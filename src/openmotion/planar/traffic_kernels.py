@@ -634,26 +634,64 @@ def in_order(s: Floats, grouped: Ints, tails: Ints) -> Ints:
 
 
 @compiled
-def riders_ahead(ends: Ints, tracks: Ints, bases: Floats, at: Ints, first: Ints,
-                 base: Floats) -> tuple[Ints, Ints, Floats]:
-    """``RiderPairs.pair_list``'s pairs across tracks: for each front rider of a track
-    (``ends``), the first rider on the tracks it looks along (``tracks[at[i]:at[i + 1]]``,
-    each based at ``bases`` on its odometer) other than itself, from ``first`` (the first and
-    second rider of each track index, -1: none), and the shift of that rider's odometer into
-    the front rider's. Returns the front riders that have one, their leaders and shifts."""
-    fronts = np.empty(ends.size, dtype=np.int64)
-    leaders = np.empty(ends.size, dtype=np.int64)
-    shifts = np.empty(ends.size)
+def track_pairs(s: Floats, grouped: Ints, tails: Ints, place: Ints, base: Floats
+                ) -> tuple[Ints, Ints, Ints, Floats, Ints, Ints]:
+    """``RiderPairs.pair_list`` on each track: the riders by track and arc length ``s``
+    (``in_order``), each with the next one on its track (succ behind, pred ahead, and the
+    odometer offset base[succ] - base[pred]), and where each track's riders begin and end
+    in that order (heads, tails)."""
+    ranked = in_order(s, grouped, tails)
+    n = ranked.size
+    succ, pred = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
+    offset = np.empty(n)
+    heads, ends = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
+    count, groups = 0, 0
+    for i in range(n):
+        if i == 0 or place[ranked[i - 1]] != place[ranked[i]]:
+            if groups:
+                ends[groups - 1] = i
+            heads[groups] = i
+            groups += 1
+        else:
+            succ[count], pred[count] = ranked[i - 1], ranked[i]
+            offset[count] = base[ranked[i - 1]] - base[ranked[i]]
+            count += 1
+    if groups:
+        ends[groups - 1] = n
+    return ranked, succ[:count], pred[:count], offset[:count], heads[:groups], ends[:groups]
+
+
+@compiled
+def riders_ahead(ranked: Ints, heads: Ints, ends: Ints, track_of: Ints, track_count: int,
+                 base: Floats, look_tracks: Ints, look_bases: Floats, look_count: Ints
+                 ) -> tuple[Ints, Ints, Floats]:
+    """``RiderPairs.pair_list``'s pairs across tracks: for each track's front rider (the
+    last of ``ranked[heads[g]:ends[g]]``), the first rider other than itself on the tracks
+    it looks along (``look_tracks[m, :look_count[m]]``, each based at ``look_bases`` on its
+    odometer; of each track its first rider, else its second), and the shift of that
+    rider's odometer into the front rider's. Returns the front riders that have one, their
+    leaders and shifts."""
+    first = np.full((2, track_count), -1, dtype=np.int64)
+    for g in range(heads.size):
+        h = heads[g]
+        index = track_of[ranked[h]]
+        first[0, index] = ranked[h]
+        if h + 1 < ends[g]:
+            first[1, index] = ranked[h + 1]
+    fronts = np.empty(heads.size, dtype=np.int64)
+    leaders = np.empty(heads.size, dtype=np.int64)
+    shifts = np.empty(heads.size)
     count = 0
-    for i in range(ends.size):
-        m = ends[i]
-        for j in range(at[i], at[i + 1]):
-            index = tracks[j]
+    for g in range(heads.size):
+        m = ranked[ends[g] - 1]
+        for j in range(look_count[m]):
+            index = look_tracks[m, j]
             k = first[0, index]
             if k == m:
                 k = first[1, index]
             if k >= 0:
-                fronts[count], leaders[count], shifts[count] = m, k, bases[j] - base[k]
+                fronts[count], leaders[count] = m, k
+                shifts[count] = look_bases[m, j] - base[k]
                 count += 1
                 break
     return fronts[:count], leaders[:count], shifts[:count]
@@ -906,7 +944,8 @@ def warm() -> None:
     contested_pairs(i, b, i, i, i, b, b)
     zone_lines(i, i, b, b, f, f, f, f, 1.0, i, b, i, i, i, b, b)
     in_order(f, grouped, tails)
-    riders_ahead(i, i, f, np.zeros(2, dtype=np.int64), np.zeros((2, 1), dtype=np.int64), f)
+    track_pairs(f, grouped, tails, place, f)
+    riders_ahead(i, i, i + 1, i, 1, f, np.zeros((1, 1), dtype=np.int64), np.zeros((1, 1)), i)
     proposals(i, 1, 0, i, f, f, f, f + 1.0, f, f, f, f, f, f)
     envelopes(f, f, f, f + 1.0, f + 1.0)
     states(f, f, f, f + 1.0, f + 1.0, 0.001)
