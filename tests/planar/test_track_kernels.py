@@ -12,15 +12,25 @@ from hypothesis import strategies as st
 
 import openmotion as om
 from openmotion.planar import PlanarState, Pose, PositionXYC
+from openmotion.planar.cycle_tables import _switch_ids
 from openmotion.planar.track import MC_PlanarTrack
 from openmotion.planar.track_atlas import Atlas
 from openmotion.planar.traffic_kernels import (
+    conflicts,
+    contested_pairs,
     gap_filter,
+    group_by_track,
+    in_order,
     neighbours,
     pair_gaps,
+    riders_ahead,
     rooms,
     stretch_samples,
     touching,
+    track_pairs,
+    zone_entries,
+    zone_lines,
+    zone_stops,
 )
 from openmotion.rail.braking import brake_envelope
 from openmotion.rail.gap_control import Pairs, filter_steps
@@ -205,6 +215,131 @@ def test_rooms_neighbours_and_pair_gaps_are_the_numpy_ones(seed: int, n: int):
     back = (mode[k] != 0) & ((target[k] < position[k]) | going[k])
     want = np.where(back, np.maximum(gap[s], gap[k]), gap[s])
     assert np.array_equal(pair_gaps(s, k, mode, 0, target, position, going, gap), want)
+
+
+def _riders_on_tracks(rng: np.random.Generator, n: int, tracks: int) -> tuple:
+    """``n`` riders on ``tracks`` tracks: track index, arc length (some equal) and base."""
+    track_of = rng.integers(0, tracks, n)
+    s = np.round(rng.uniform(0.0, 3000.0, n), 0 if rng.random() < 0.5 else 3)
+    base = np.round(rng.uniform(-5e3, 5e3, n), 2)
+    return track_of, s, base
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(0, 60), tracks=st.integers(1, 12))
+def test_pairs_on_tracks_are_the_numpy_ones(seed: int, n: int, tracks: int):
+    """``track_pairs``: the pair list's riders on one track as numpy's masks made them."""
+    rng = np.random.default_rng(seed)
+    track_of, s, base = _riders_on_tracks(rng, n, tracks)
+    place, grouped, tails = group_by_track(track_of)
+    ranked = in_order(s, grouped, tails)
+    same = place[ranked[:-1]] == place[ranked[1:]]
+    heads = np.flatnonzero(np.concatenate(([ranked.size > 0], ~same)))
+    want = (ranked, ranked[:-1][same], ranked[1:][same],
+            base[ranked[:-1][same]] - base[ranked[1:][same]], heads,
+            np.append(heads[1:], ranked.size) if heads.size else heads)
+    got = track_pairs(s, grouped, tails, place, base)
+    for x, y in zip(got, want, strict=True):
+        assert np.array_equal(x, y)
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(0, 60), tracks=st.integers(1, 12))
+def test_the_rider_ahead_of_a_front_rider_is_the_dict_searchs(seed: int, n: int, tracks: int):
+    """``riders_ahead``: the first of a track's first two riders other than the front rider
+    itself, on the tracks it looks along, as the search over a dict of them found it."""
+    rng = np.random.default_rng(seed)
+    track_of, s, base = _riders_on_tracks(rng, n, tracks)
+    place, grouped, tails = group_by_track(track_of)
+    ranked, _, _, _, heads, ends = track_pairs(s, grouped, tails, place, base)
+    width = 6
+    count = rng.integers(0, width + 1, n)
+    look_tracks = rng.integers(0, tracks, (n, width))
+    look_bases = rng.uniform(-1e4, 1e4, (n, width))
+    order = ranked.tolist()
+    first = {int(track_of[order[h]]): order[h:min(h + 2, e)]
+             for h, e in zip(heads.tolist(), ends.tolist(), strict=True)}
+    want = []
+    for e in ends.tolist():
+        m = order[e - 1]
+        for j in range(count[m]):
+            found = [k for k in first.get(int(look_tracks[m, j]), ()) if k != m]
+            if found:
+                want.append((m, found[0], float(look_bases[m, j]) - float(base[found[0]])))
+                break
+    fronts, leaders, shifts = riders_ahead(ranked, heads, ends, track_of, tracks, base,
+                                           look_tracks, look_bases, count)
+    assert list(zip(fronts.tolist(), leaders.tolist(), shifts.tolist(), strict=True)) == want
+
+
+def _holders(rng: np.random.Generator, n: int, switches: int) -> tuple:
+    """Random route arrays of ``n`` riders and holders among them at ``switches`` switches."""
+    track_of = rng.integers(0, 6, n)
+    next_of = np.where(rng.random(n) < 0.6, rng.integers(0, 6, n), -1)
+    seam, back = rng.random(n) < 0.2, rng.random(n) < 0.1
+    count = int(rng.integers(0, 2 * n + 1))
+    holders = rng.integers(0, n, count)
+    return (holders, rng.random(count) < 0.5, rng.integers(0, switches, count),
+            (track_of, next_of, seam, back))
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 30), switches=st.integers(1, 8))
+def test_contested_holders_are_the_conflict_matrixs(seed: int, n: int, switches: int):
+    """``contested_pairs``: the holders that conflict at one switch, in the order of numpy's
+    nonzero of the conflict matrix masked by equal switches."""
+    rng = np.random.default_rng(seed)
+    holders, at_end, switch, route = _holders(rng, n, switches)
+    clash = conflicts(holders, at_end, holders, at_end, *route) & \
+        (switch[:, None] == switch[None, :])
+    first, second = contested_pairs(holders, at_end, switch, *route)
+    want_first, want_second = np.nonzero(clash)
+    assert np.array_equal(first, want_first) and np.array_equal(second, want_second)
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 30), switches=st.integers(1, 8))
+def test_zone_lines_block_as_every_holder_asked(seed: int, n: int, switches: int):
+    """``zone_lines`` asks only the holders of an entry's switch: the stop lines are those of
+    asking every holder."""
+    rng = np.random.default_rng(seed)
+    holders, holder_ends, holder_switches, route = _holders(rng, n, switches)
+    start_switch = np.where(rng.random(n) < 0.7, rng.integers(0, switches, n), -1)
+    end_switch = np.where(rng.random(n) < 0.7, rng.integers(0, switches, n), -1)
+    in_end, in_start = rng.random(n) < 0.3, rng.random(n) < 0.3
+    end_line, start_line = rng.uniform(0.0, 1e3, n), rng.uniform(0.0, 1e3, n)
+    lo = rng.uniform(0.0, 1e3, n)
+    hi = lo + rng.uniform(0.0, 500.0, n)
+    entries = (start_switch, end_switch, in_end, in_start, end_line, start_line, lo, hi, 400.0)
+    k, end, switch, low, high, wanting = zone_entries(*entries)
+    clash = conflicts(k, end, holders, holder_ends, *route) & \
+        (switch[:, None] == holder_switches[None, :])
+    want = zone_stops(n, k, low, high, wanting, clash.any(axis=1))
+    got = zone_lines(*entries, holders, holder_ends, holder_switches, *route)
+    for x, y in zip(got, want, strict=True):
+        assert np.array_equal(x, y)
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(0, 40), tracks=st.integers(1, 10))
+def test_switch_ids_are_numbered_in_the_order_met(seed: int, n: int, tracks: int):
+    """The riders' switch ids: the network's switches numbered as met along the tracks with
+    riders (each one's start before its end), as a dict numbered them track by track."""
+    rng = np.random.default_rng(seed)
+    track_of = rng.integers(0, tracks, n)
+    start = np.where(rng.random(tracks) < 0.6, rng.integers(0, 7, tracks), -1)
+    end = np.where(rng.random(tracks) < 0.6, rng.integers(0, 7, tracks), -1)
+    place, ranked, tails = group_by_track(track_of)
+    on = track_of[ranked[tails - 1]]
+    ids: dict[int, int] = {}
+    by_place = np.full((2, on.size), -1)
+    for i, track in enumerate(on.tolist()):
+        for side, switch in enumerate((start[track], end[track])):
+            if switch >= 0:
+                by_place[side, i] = ids.setdefault(int(switch), len(ids))
+    got_start, got_end = _switch_ids(start, end, on, place)
+    assert np.array_equal(got_start, by_place[0][place])
+    assert np.array_equal(got_end, by_place[1][place])
 
 
 def _clear_stretch_reference(traffic, k: int, low: float, high: float,

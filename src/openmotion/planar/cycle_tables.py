@@ -13,6 +13,7 @@ Three lifetimes:
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -41,7 +42,6 @@ class Geometry:
     end_switch: np.ndarray  #: ... and at its end
     start_range: np.ndarray  #: the collision range at its track's start [mm]
     end_range: np.ndarray  #: ... and at its end
-    by_track: list[tuple[Any, np.ndarray]]  #: each track with riders and its riders
 
 
 @dataclass
@@ -54,6 +54,24 @@ class TrackInfo:
     way_on: int  #: the index of the one track after it (-1: none or several)
 
 
+@dataclass
+class TrackArrays:
+    """``TrackInfo``, length and collision ranges of the network's tracks by track index,
+    filled in as riders come onto them and kept until the network's version changes: a
+    geometry gathers its riders' from them in numpy (at 1000 riders a Python loop over
+    their tracks was a third of a rebuild)."""
+
+    length: np.ndarray  #: [mm]
+    start_range: np.ndarray  #: the collision range at its start [mm]
+    end_range: np.ndarray  #: ... and at its end
+    start_switch: np.ndarray  #: the switch at its start, numbered in the network (-1: none)
+    end_switch: np.ndarray  #: ... and at its end
+    closed: np.ndarray  #: it ends where it starts
+    way_on: np.ndarray  #: the index of the one track after it (-1: none or several)
+    known: np.ndarray  #: the entries filled in (the tracks asked for)
+    switch_ids: dict[Any, int]  #: the network's switches (vertices) by the numbers given
+
+
 class CycleTables:
     """What the traffic's cycle keeps between cycles, and when it forgets it."""
 
@@ -64,8 +82,10 @@ class CycleTables:
         self.table_rows: tuple[np.ndarray, ...] | None = None
         self.track_infos: dict[int, TrackInfo] = {}  #: ``track_info`` of the version ...
         self.track_infos_version = -1  #: ... this
+        self.tracks: TrackArrays | None = None  #: ``track_arrays`` of the version ...
+        self.tracks_version = -1  #: ... this
         self.network_version = -1  #: the network's version the geometry was built for
-        #: per rider, its track's place in ``Geometry.by_track``
+        #: per rider, its track's place (the tracks with riders in the order first met)
         self.place = np.empty(0, dtype=np.int64)
         #: the riders grouped by ``place`` and where each group ends
         self.grouped = (np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64))
@@ -83,9 +103,14 @@ class CycleTables:
         #: the pair list the neighbours came from, the rider ahead of and behind each
         self.neighbours: tuple[Pairs, np.ndarray, np.ndarray] | None = None
         self.pairs: Pairs | None = None  #: each rider with the one ahead on its path
+        #: per rider, where it looks for the rider ahead (``RiderPairs._look``): tracks and
+        #: bases, one row each, and how many (-1: to be asked), kept until its route changes
+        #: (``forget_look``) or the network's version ...
+        self.looks: tuple[np.ndarray, np.ndarray, np.ndarray] = _no_looks(0)
+        self.looks_version = -1  #: ... this
         self.merges: dict[tuple, list[list[int]]] = {}  #: riders holding one merge together
         self.merged: tuple[tuple, Pairs] | None = None  #: and the pair list with them
-        #: ``SwitchZones.clash``'s answers and what derives from them
+        #: the contested holders of ``SwitchZones.holding``, by the holders
         self.clashes: dict[tuple, Any] = {}
         #: per rider holding a switch with others: the question asked and
         #: ``SwitchZones.clear_stretch``'s answer
@@ -98,6 +123,7 @@ class CycleTables:
         self.geometry = None
         self.table_rows = None
         self.track_infos, self.track_infos_version = {}, -1
+        self.looks = _no_looks(0)
 
     def forget(self) -> None:
         """A rider starts, stops or leaves a profile: envelopes, pairs and geometry go."""
@@ -109,6 +135,12 @@ class CycleTables:
         """A rider's track or route changed: its pairs and its geometry go."""
         self.pairs = None
         self.geometry = None
+
+    def forget_look(self, k: int) -> None:
+        """Rider ``k``'s route changed: where it looks for the rider ahead goes."""
+        count = self.looks[2]
+        if k < count.size:
+            count[k] = -1
 
     def forget_motion(self) -> None:
         """A rider's odometer has a new origin: envelopes and pair offsets go."""
@@ -133,37 +165,19 @@ class CycleTables:
         """The riders' :class:`Geometry` (built again after ``forget_routes``)."""
         if self.geometry is None:
             t = self.traffic
-            riders, network = t.riders, t.network
+            riders = t.riders
             if self.table_rows is None:  # fixed from the coupling on (``Traffic._rebuild``)
                 xyc = np.array([r.rows for r in riders], dtype=np.int64).reshape(-1, 3)
                 self.table_rows = (np.array([r.row for r in riders], dtype=np.int64),
                                    *(np.ascontiguousarray(x) for x in xyc.T))
             rows, x_rows, y_rows, c_rows = self.table_rows
-            # what belongs to a track, once per track (riders' tracks in the order first met)
+            # what belongs to a track, from the network's per-track arrays (``track_arrays``)
             track_of = t.track_index.copy()
             mine, ranked, ends = group_by_track(track_of)  # mine: each rider's track's place
-            tails = ends.tolist()
-            heads = [0, *tails[:-1]] if tails else []
-            on = [riders[k].track for k in ranked[heads].tolist()]
-            count = len(on)
-            t_length, t_start_range, t_end_range = (np.empty(count), np.empty(count),
-                                                    np.empty(count))
-            t_start_switch = np.full(count, -1, dtype=np.int64)
-            t_end_switch = np.full(count, -1, dtype=np.int64)
-            t_closed = np.zeros(count, dtype=bool)
-            t_next = np.full(count, -1, dtype=np.int64)  #: the one way on (-1: none or many)
-            ids: dict[Any, int] = {}
-            for i, track in enumerate(on):
-                t_length[i] = track.length
-                info = self.track_info(track)
-                t_closed[i], t_next[i] = info.closed, info.way_on
-                if info.start_switch is not None:
-                    t_start_switch[i] = ids.setdefault(info.start_switch, len(ids))
-                if info.end_switch is not None:
-                    t_end_switch[i] = ids.setdefault(info.end_switch, len(ids))
-                t_start_range[i], t_end_range[i] = network.collision_ranges(track)
-            by_track = [(track, ranked[head:tail]) for track, head, tail
-                        in zip(on, heads, tails, strict=True)]
+            on = track_of[ranked[ends - 1]]  # the tracks with riders, in place order
+            arrays = self.track_arrays(on)
+            start_switch, end_switch = _switch_ids(arrays.start_switch, arrays.end_switch,
+                                                   on, mine)
             self.place, self.grouped = mine, (ranked, ends)
             # the next track of each rider's route (-1: none): a rider that passes a switch
             # onto another rider's track keeps its gap to it as a pair (a route that comes
@@ -171,17 +185,67 @@ class CycleTables:
             # rider's track is closed, so its riders meet at its switch when one leaves it;
             # back: its route goes back over that seam (it leaves at its start, D-147)
             next_of = t.next_index.copy()
-            seam = t_closed[mine]
+            seam = arrays.closed[track_of]
             back = t.back.copy()
-            path_next = np.where(next_of >= 0, next_of, t_next[mine])  #: or the one way on
+            path_next = np.where(next_of >= 0, next_of, arrays.way_on[track_of])  #: or on
             path_next[back] = -1  # it goes back: no way on from the end of its track
             self.route_arrays = (track_of, next_of, seam, back)
             self.path_next = path_next
             self.stretches, self.clashes, self.merges, self.merged = {}, {}, {}, None
-            self.geometry = Geometry(rows, x_rows, y_rows, c_rows, t_length[mine],
-                                     t_start_switch[mine], t_end_switch[mine],
-                                     t_start_range[mine], t_end_range[mine], by_track)
+            self.geometry = Geometry(rows, x_rows, y_rows, c_rows, arrays.length[track_of],
+                                     start_switch, end_switch, arrays.start_range[track_of],
+                                     arrays.end_range[track_of])
         return self.geometry
+
+    def looks_for(self, riders: np.ndarray, look: Callable[[int], tuple[list[int], list[float]]]
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The rows of ``looks`` with those of ``riders`` filled in (``look``: a rider's
+        tracks and bases, asked for those not known), kept until a rider's route changes
+        (``forget_look``) or the network's version does."""
+        n = self.traffic.p.size
+        version = self.traffic.network.version
+        if self.looks[2].size != n or self.looks_version != version:
+            self.looks, self.looks_version = _no_looks(n), version
+        tracks, bases, count = self.looks
+        for k in riders[count[riders] < 0].tolist():
+            ids, at = look(k)
+            if len(ids) > tracks.shape[1]:  # a longer route than any before: wider rows
+                wider = max(len(ids), 2 * tracks.shape[1])
+                tracks = np.pad(tracks, ((0, 0), (0, wider - tracks.shape[1])))
+                bases = np.pad(bases, ((0, 0), (0, wider - bases.shape[1])))
+                self.looks = (tracks, bases, count)
+            tracks[k, :len(ids)], bases[k, :len(ids)] = ids, at
+            count[k] = len(ids)
+        return self.looks
+
+    def track_arrays(self, on: np.ndarray) -> TrackArrays:
+        """``track_info``, length and collision ranges of the tracks ``on`` (indices) and of
+        those asked before, by track index (the switches numbered in the order met), kept
+        until the network's version changes."""
+        network = self.traffic.network
+        count = len(network.tracks)
+        arrays = self.tracks
+        if arrays is None or self.tracks_version != network.version \
+                or arrays.length.size != count:
+            arrays = self.tracks = TrackArrays(
+                np.empty(count), np.empty(count), np.empty(count),
+                np.full(count, -1, dtype=np.int64), np.full(count, -1, dtype=np.int64),
+                np.zeros(count, dtype=bool), np.full(count, -1, dtype=np.int64),
+                np.zeros(count, dtype=bool), {})
+            self.tracks_version = network.version
+        ids = arrays.switch_ids
+        for i in on[~arrays.known[on]].tolist():
+            track = network.tracks[i]
+            arrays.length[i] = track.length
+            info = self.track_info(track)
+            arrays.closed[i], arrays.way_on[i] = info.closed, info.way_on
+            if info.start_switch is not None:
+                arrays.start_switch[i] = ids.setdefault(info.start_switch, len(ids))
+            if info.end_switch is not None:
+                arrays.end_switch[i] = ids.setdefault(info.end_switch, len(ids))
+            arrays.start_range[i], arrays.end_range[i] = network.collision_ranges(track)
+            arrays.known[i] = True
+        return arrays
 
     def track_info(self, track: Rail) -> TrackInfo:
         """The switches at the start and at the end of ``track``, whether it is closed, and
@@ -216,3 +280,26 @@ class CycleTables:
         if self.atlas_tables is None:
             self.atlas_tables = self.atlas_now().tables(self.traffic.network.placed())
         return self.atlas_tables
+
+
+def _switch_ids(start_switch: np.ndarray, end_switch: np.ndarray, on: np.ndarray,
+                mine: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The switch ids at the start and at the end of each rider's track: the network's
+    switch numbers (``TrackArrays``) renumbered in the order met along ``on`` (the tracks
+    with riders, in place order; each one's start before its end), as the riders' tables
+    number them; ``mine``: each rider's place."""
+    seq = np.empty(2 * on.size, dtype=np.int64)
+    seq[0::2], seq[1::2] = start_switch[on], end_switch[on]
+    present = seq >= 0
+    keys, first = np.unique(seq[present], return_index=True)
+    top = max(int(start_switch.max(initial=-1)), int(end_switch.max(initial=-1)))
+    renumber = np.full(top + 2, -1, dtype=np.int64)  # the last stays -1: for seq's -1
+    renumber[keys[np.argsort(first, kind="stable")]] = np.arange(keys.size)
+    ids = renumber[seq]
+    return ids[0::2][mine], ids[1::2][mine]
+
+
+def _no_looks(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``CycleTables.looks`` of ``n`` riders, none known yet."""
+    return (np.zeros((n, 16), dtype=np.int64), np.zeros((n, 16)),
+            np.full(n, -1, dtype=np.int64))

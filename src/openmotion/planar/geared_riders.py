@@ -57,7 +57,8 @@ class GearedRiders:
         t.rebase(k, shift)
         rider.route, rider.gap, rider.limits = route, gap, coupling.sync.limits
         t.routed(rider)
-        rider.command, rider.halting, rider.gear = command, False, coupling
+        rider.command, rider.gear = command, coupling
+        t.set_halting(rider, False)
         rider.target = math.nan
         t.load(rider)
         t.mode[k] = GEAR
@@ -78,7 +79,8 @@ class GearedRiders:
                            "and the mover stopped (§6.2.9)")
         assert rider.limits is not None
         profile = t.routes.stop_profile(rider, rider.limits)
-        rider.halting, rider.target = True, profile.end.position
+        t.set_halting(rider, True)
+        rider.target = profile.end.position
         t.target[rider.slot] = rider.target
         t.follow(rider, profile, rider.target, now)
         if rider.command is not None:
@@ -319,7 +321,8 @@ class GearedRiders:
         """A geared rider follows ``profile`` (from the last cycle) to rest, halting; its
         command ends with ``gear.failed`` once it stands."""
         rider.gear.stopping = True
-        rider.halting, rider.target = True, profile.end.position
+        self.traffic.set_halting(rider, True)
+        rider.target = profile.end.position
         self.traffic.target[rider.slot] = rider.target
         self.traffic.follow_from_last_cycle(rider, profile, rider.target, proposal)
         if rider.command is not None and rider.command.in_sync:

@@ -18,10 +18,11 @@ import numpy as np
 from openmotion.planar.riders import IDLE, Rider, ahead_legs
 from openmotion.planar.traffic_kernels import (
     gap_filter,
-    in_order,
     neighbours,
     pair_gaps,
+    riders_ahead,
     rooms,
+    track_pairs,
 )
 from openmotion.rail.gap_control import TOLERANCE, Pairs
 
@@ -47,27 +48,15 @@ class RiderPairs:
         if tables.pairs is None:
             t = self.traffic
             tables.geometry_now()
-            mine = tables.place  # riders by track (in ``by_track`` order), then arc length
-            ranked = in_order(t.p - t.base, *tables.grouped)
-            same = mine[ranked[:-1]] == mine[ranked[1:]]
-            succ, pred = ranked[:-1][same], ranked[1:][same]
-            offset = t.base[succ] - t.base[pred]
-            order = ranked.tolist()
-            heads = np.flatnonzero(np.concatenate(([ranked.size > 0], ~same))).tolist()
-            tails = [*heads[1:], len(order)] if heads else []
-            first: dict[int, list[int]] = {}  #: per track, its first two riders
-            for head, tail in zip(heads, tails, strict=True):
-                first[t.riders[order[head]].track.index] = order[head:min(head + 2, tail)]
-            fronts, leaders, shifts = [], [], []
-            for tail in tails:
-                m = order[tail - 1]
-                ahead = self._ahead(t.riders[m], first)
-                if ahead is not None:
-                    fronts.append(m)
-                    leaders.append(ahead[0])
-                    shifts.append(ahead[1])
+            ranked, succ, pred, offset, heads, tails = track_pairs(
+                t.p - t.base, *tables.grouped, tables.place, t.base)
+            looks = tables.looks_for(ranked[tails - 1], self._look)
+            fronts, leaders, shifts = riders_ahead(ranked, heads, tails, t.track_index,
+                                                   len(t.network.tracks), t.base, *looks)
             if t.back.any():
-                self._pairs_back(order, heads, tails, fronts, leaders, shifts)
+                fronts, leaders, shifts = fronts.tolist(), leaders.tolist(), shifts.tolist()
+                self._pairs_back(ranked.tolist(), heads.tolist(), tails.tolist(), fronts,
+                                 leaders, shifts)
             sa = np.concatenate((succ, np.array(fronts, dtype=np.int64)))
             pa = np.concatenate((pred, np.array(leaders, dtype=np.int64)))
             tables.pairs = Pairs(sa, pa, np.concatenate((offset, np.array(shifts, dtype=float))),
@@ -84,24 +73,22 @@ class RiderPairs:
         t = self.traffic
         pairs.gap = pair_gaps(pairs.succ, pairs.pred, t.mode, IDLE, t.target, t.p, going, t.gap)
 
-    def _ahead(self, m: Rider, first: dict[int, list[int]]) -> tuple[int, float] | None:
-        """The first rider on the tracks after ``m``'s along its route (then the one way on,
-        if the network leaves one), and the shift of its odometer into ``m``'s. ``first``:
-        the first two riders of each track with riders. A route back has no legs ahead."""
-        base_of = self.traffic.base
-        legs = ahead_legs(m.route)
-        for leg in legs[1:]:
-            for k in first.get(leg.track.index, ()):
-                if k != m.slot:
-                    return k, leg.base - float(base_of[k])
+    def _look(self, k: int) -> tuple[list[int], list[float]]:
+        """Where rider ``k`` looks for the rider ahead when it is the front rider of its
+        track: the tracks after its own along its route, then along the one way on (if the
+        network leaves one; ``_HORIZON_TRACKS`` at most), each with its base on ``k``'s
+        odometer. A route back has no legs ahead. Kept until its route changes
+        (``CycleTables.looks_for``)."""
+        legs = ahead_legs(self.traffic.riders[k].route)
+        tracks = [leg.track.index for leg in legs[1:]]
+        bases = [leg.base for leg in legs[1:]]
         last = legs[-1].track
         base = legs[-1].base + last.length
         for track in self.traffic.network.way_on(last, _HORIZON_TRACKS):
-            for k in first.get(track.index, ()):
-                if k != m.slot:
-                    return k, base - float(base_of[k])
+            tracks.append(track.index)
+            bases.append(base)
             base += track.length
-        return None
+        return tracks, bases
 
     def _pairs_back(self, order: list[int], heads: list[int], tails: list[int],
                     fronts: list[int], leaders: list[int], shifts: list[float]) -> None:

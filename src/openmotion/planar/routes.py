@@ -57,7 +57,8 @@ class Routes:
         t.rebase(k, shift)
         rider.route, rider.limits, rider.gap, rider.target = route, limits, gap, target
         t.routed(rider)
-        rider.command, rider.halting = command, False
+        rider.command = command
+        t.set_halting(rider, False)
         t.load(rider)
         if profile is None:
             t.mode[k] = HELD
@@ -98,7 +99,8 @@ class Routes:
         t = self.traffic
         profile = self.stop_profile(rider, limits)
         t.abort(rider)
-        rider.limits, rider.command, rider.halting = limits, command, True
+        rider.limits, rider.command = limits, command
+        t.set_halting(rider, True)
         rider.target = profile.end.position
         t.load(rider)
         t.follow(rider, profile, rider.target, now)

@@ -27,6 +27,7 @@ import numpy as np
 from openmotion.planar.riders import IDLE, ascending
 from openmotion.planar.traffic_kernels import (
     conflicts,
+    contested_pairs,
     out_of_bounds,
     stretch_hits,
     stretch_samples,
@@ -44,7 +45,7 @@ if TYPE_CHECKING:
 _ZONE_LOOKAHEAD = 1000.0
 _CLEAR_STEP = 2.0  #: [mm] footprints of riders holding one switch together are sampled so
 _CLEAR_SAMPLES = 32  #: ... this many steps on each side of an envelope (the horizon)
-_CLASH_MEMORY = 64  #: answers of ``SwitchZones.clash`` kept at most
+_CLASH_MEMORY = 64  #: sets of contested holders (``SwitchZones.holding``) kept at most
 
 #: Stop lines: the riders kept out of a switch zone and the odometer bounds of each (riders,
 #: lows, highs), as the rooms kernel takes them
@@ -115,11 +116,13 @@ class SwitchZones:
         contested: dict[int, set[int]] = {}
         if holders.size > 1:  # placed there, or a new route turned a pair into a conflict
             key = ("contested", holders.tobytes(), at_end.tobytes())
-            found = tables.clashes.get(key)  # read only: kept while the holders stay
+            found = tables.clashes.get(key)  # kept while the holders stay
             if found is None:
-                clash = self.clash(holders, at_end, switch, holders, at_end, switch)
-                for i, j in zip(*np.nonzero(clash), strict=True):
+                first, second = contested_pairs(holders, at_end, switch, *tables.route_arrays)
+                for i, j in zip(first.tolist(), second.tolist(), strict=True):
                     contested.setdefault(int(holders[i]), set()).add(int(holders[j]))
+                if len(tables.clashes) > _CLASH_MEMORY:
+                    tables.clashes.clear()
                 tables.clashes[key] = found = contested
             contested = found
         self.held = Holding(end_line, start_line, in_end, in_start, holders, at_end, switch,
@@ -284,22 +287,6 @@ class SwitchZones:
         if t.oriented[k]:
             return 0.0
         return float(t.values[0][self.tables.geometry_now().c_rows[k]])
-
-    def clash(self, riders: np.ndarray, at_end: np.ndarray, switch: np.ndarray,
-              holders: np.ndarray, holder_ends: np.ndarray, holder_switches: np.ndarray
-              ) -> np.ndarray:
-        """``conflicts`` of ``riders`` with ``holders`` at the same switch, remembered while
-        the routes stay (the same riders hold and wait at a switch for many cycles); the
-        same dictionary keeps what ``holding`` derives from it."""
-        clashes = self.tables.clashes
-        key = (riders.tobytes(), at_end.tobytes(), holders.tobytes(), holder_ends.tobytes())
-        found = clashes.get(key)
-        if found is None:
-            if len(clashes) > _CLASH_MEMORY:
-                clashes.clear()
-            found = clashes[key] = self.conflicts(riders, at_end, holders, holder_ends) & \
-                (switch[:, None] == holder_switches[None, :])
-        return found
 
     def conflicts(self, riders: np.ndarray, at_end: np.ndarray, holders: np.ndarray,
                   holder_ends: np.ndarray) -> np.ndarray:

@@ -111,6 +111,7 @@ class Traffic:
         self.oriented = np.zeros(n, dtype=bool)  #: c follows the track's heading
         self.c = np.zeros(n)  #: c [deg] of the oriented riders, unwrapped
         self.rested = np.zeros(n, dtype=bool)  #: at rest, its x, y, c rows held in the table
+        self.halting = np.zeros(n, dtype=bool)  #: ``Rider.halting`` (``set_halting``)
         self.cycle_tables.renew()
         #: per rider, the index of its track and of the next track of its route (-1: none),
         #: kept as they change (``routed``); the geometry takes a copy
@@ -179,6 +180,7 @@ class Traffic:
         goes on to from the end of its own; none on a route back) and ``back``."""
         back = backwards(r.route)
         k = r.slot
+        self.cycle_tables.forget_look(k)
         self.track_index[k] = r.track.index
         used = self._uses.get(k)
         if used is not None:
@@ -229,6 +231,14 @@ class Traffic:
         self.zones.widening |= r.zone_gap < r.gap
         self.target[k] = r.target
         self.oriented[k], self.c[k] = r.oriented, r.c
+        self.halting[k] = r.halting
+
+    def set_halting(self, rider: Rider, halting: bool) -> None:
+        """``rider`` stops to rest and its command ends there (a Halt, a geared rider
+        stopping), or not; the array lets the cycle find the halting riders at rest without
+        visiting every held one."""
+        rider.halting = halting
+        self.halting[rider.slot] = halting
 
     def orient(self, rider: Rider, oriented: bool, c: float | None = None) -> None:
         """C follows the track (``oriented``) or its own commands; ``c`` [deg] where it is."""
@@ -450,7 +460,7 @@ class Traffic:
                 self.mode[k] = IDLE
                 self.v[k] = self.a[k] = 0.0
                 command, rider.command = rider.command, None
-                rider.halting = False
+                self.set_halting(rider, False)
                 if rider.gear is not None and rider.gear.failed is not None and command:
                     command.reject(*rider.gear.failed)
                 rider.gear = None
@@ -462,12 +472,13 @@ class Traffic:
                 rider.owner.port.track_finished(command)
             else:
                 self.mode[k] = HELD  # queued behind a rider: wait for room
-        for k in resting(self.mode, HELD, self.v, self.a).tolist():
+        resting_now = resting(self.mode, HELD, self.v, self.a)
+        for k in resting_now[self.halting[resting_now]].tolist():
             rider = self.riders[k]
             if rider.halting:
                 self.mode[k] = IDLE
                 command, rider.command = rider.command, None
-                rider.halting = False
+                self.set_halting(rider, False)
                 if rider.gear is not None and rider.gear.failed is not None and command:
                     command.reject(*rider.gear.failed)  # held by the gap filter meanwhile
                 rider.gear = None

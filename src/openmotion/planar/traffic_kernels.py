@@ -634,6 +634,70 @@ def in_order(s: Floats, grouped: Ints, tails: Ints) -> Ints:
 
 
 @compiled
+def track_pairs(s: Floats, grouped: Ints, tails: Ints, place: Ints, base: Floats
+                ) -> tuple[Ints, Ints, Ints, Floats, Ints, Ints]:
+    """``RiderPairs.pair_list`` on each track: the riders by track and arc length ``s``
+    (``in_order``), each with the next one on its track (succ behind, pred ahead, and the
+    odometer offset base[succ] - base[pred]), and where each track's riders begin and end
+    in that order (heads, tails)."""
+    ranked = in_order(s, grouped, tails)
+    n = ranked.size
+    succ, pred = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
+    offset = np.empty(n)
+    heads, ends = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
+    count, groups = 0, 0
+    for i in range(n):
+        if i == 0 or place[ranked[i - 1]] != place[ranked[i]]:
+            if groups:
+                ends[groups - 1] = i
+            heads[groups] = i
+            groups += 1
+        else:
+            succ[count], pred[count] = ranked[i - 1], ranked[i]
+            offset[count] = base[ranked[i - 1]] - base[ranked[i]]
+            count += 1
+    if groups:
+        ends[groups - 1] = n
+    return ranked, succ[:count], pred[:count], offset[:count], heads[:groups], ends[:groups]
+
+
+@compiled
+def riders_ahead(ranked: Ints, heads: Ints, ends: Ints, track_of: Ints, track_count: int,
+                 base: Floats, look_tracks: Ints, look_bases: Floats, look_count: Ints
+                 ) -> tuple[Ints, Ints, Floats]:
+    """``RiderPairs.pair_list``'s pairs across tracks: for each track's front rider (the
+    last of ``ranked[heads[g]:ends[g]]``), the first rider other than itself on the tracks
+    it looks along (``look_tracks[m, :look_count[m]]``, each based at ``look_bases`` on its
+    odometer; of each track its first rider, else its second), and the shift of that
+    rider's odometer into the front rider's. Returns the front riders that have one, their
+    leaders and shifts."""
+    first = np.full((2, track_count), -1, dtype=np.int64)
+    for g in range(heads.size):
+        h = heads[g]
+        index = track_of[ranked[h]]
+        first[0, index] = ranked[h]
+        if h + 1 < ends[g]:
+            first[1, index] = ranked[h + 1]
+    fronts = np.empty(heads.size, dtype=np.int64)
+    leaders = np.empty(heads.size, dtype=np.int64)
+    shifts = np.empty(heads.size)
+    count = 0
+    for g in range(heads.size):
+        m = ranked[ends[g] - 1]
+        for j in range(look_count[m]):
+            index = look_tracks[m, j]
+            k = first[0, index]
+            if k == m:
+                k = first[1, index]
+            if k >= 0:
+                fronts[count], leaders[count] = m, k
+                shifts[count] = look_bases[m, j] - base[k]
+                count += 1
+                break
+    return fronts[:count], leaders[:count], shifts[:count]
+
+
+@compiled
 def zone_stops(n: int, k: Ints, low: Floats, high: Floats, wanting: Bools, blocked: Bools
                ) -> tuple[Ints, Floats, Floats, Ints]:
     """Of ``zone_entries``' riders ``k``: those ``blocked`` (a conflicting rider holds the
@@ -774,14 +838,65 @@ def zone_lines(start_switch: Ints, end_switch: Ints, in_end: Bools, in_start: Bo
                                                       in_start, end_line, start_line, lo, hi,
                                                       lookahead)
     blocked = np.zeros(k.size, dtype=np.bool_)
+    by_switch, at = _by_switch(holder_switches)
     for i in range(k.size):
-        for j in range(holders.size):
-            if switch[i] == holder_switches[j] and _conflict(k[i], end[i], holders[j],
-                                                             holder_ends[j], track_of,
-                                                             next_of, seam, back):
+        s = switch[i]
+        if s < 0 or s >= at.size - 1:
+            continue
+        for m in range(at[s], at[s + 1]):
+            j = by_switch[m]
+            if _conflict(k[i], end[i], holders[j], holder_ends[j], track_of, next_of, seam,
+                         back):
                 blocked[i] = True
                 break
     return zone_stops(start_switch.size, k, low, high, wanting, blocked)
+
+
+@compiled
+def _by_switch(switch: Ints) -> tuple[Ints, Ints]:
+    """The positions of ``switch`` (ids >= 0) grouped by id, ascending within an id, and
+    where each id's begin (id s: ``at[s]`` to ``at[s + 1]``): a counting sort, so that a
+    question about one switch visits only its holders (there are dozens of switches at
+    1000 riders)."""
+    top = -1
+    for i in range(switch.size):
+        if switch[i] > top:
+            top = switch[i]
+    at = np.zeros(top + 2, dtype=np.int64)
+    for i in range(switch.size):
+        at[switch[i] + 1] += 1
+    for s in range(top + 1):
+        at[s + 1] += at[s]
+    fill = at[:-1].copy()
+    out = np.empty(switch.size, dtype=np.int64)
+    for i in range(switch.size):
+        out[fill[switch[i]]] = i
+        fill[switch[i]] += 1
+    return out, at
+
+
+@compiled
+def contested_pairs(holders: Ints, at_end: Bools, switch: Ints, track_of: Ints,
+                    next_of: Ints, seam: Bools, back: Bools) -> tuple[Ints, Ints]:
+    """``SwitchZones.holding``'s clash of the holders with each other: the pairs (i, j) of
+    positions in ``holders`` that hold one switch and conflict there (``_conflict``), in
+    the order of numpy.nonzero of their matrix (by i, then j)."""
+    by_switch, at = _by_switch(switch)
+    first, second = np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64)
+    count = 0
+    for i in range(holders.size):
+        s = switch[i]
+        for m in range(at[s], at[s + 1]):
+            j = by_switch[m]
+            if _conflict(holders[i], at_end[i], holders[j], at_end[j], track_of, next_of,
+                         seam, back):
+                if count == first.size:
+                    first = np.concatenate((first, np.empty(max(8, count), dtype=np.int64)))
+                    second = np.concatenate((second, np.empty(max(8, count),
+                                                              dtype=np.int64)))
+                first[count], second[count] = i, j
+                count += 1
+    return first[:count], second[:count]
 
 
 def warm() -> None:
@@ -826,8 +941,11 @@ def warm() -> None:
     resting(i, 2, f, f)
     ended(i, 1, f, i, 0.0)
     conflicts(i, b, i, b, i, i, b, b)
+    contested_pairs(i, b, i, i, i, b, b)
     zone_lines(i, i, b, b, f, f, f, f, 1.0, i, b, i, i, i, b, b)
     in_order(f, grouped, tails)
+    track_pairs(f, grouped, tails, place, f)
+    riders_ahead(i, i, i + 1, i, 1, f, np.zeros((1, 1), dtype=np.int64), np.zeros((1, 1)), i)
     proposals(i, 1, 0, i, f, f, f, f + 1.0, f, f, f, f, f, f)
     envelopes(f, f, f, f + 1.0, f + 1.0)
     states(f, f, f, f + 1.0, f + 1.0, 0.001)
