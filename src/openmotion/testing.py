@@ -32,7 +32,7 @@ Example::
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Collection, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Literal
 
@@ -48,7 +48,12 @@ from openmotion.trajectory.plan import Limits
 from openmotion.trajectory.segments import KinematicState, Profile
 
 if TYPE_CHECKING:
-    from openmotion.planar import MC_PlanarMover, MC_PlanarTrack
+    from openmotion.planar import (
+        MC_PlanarEnvironment,
+        MC_PlanarGroup,
+        MC_PlanarMover,
+        MC_PlanarTrack,
+    )
 
 __all__ = [
     "RUCKIG_PRECISION",
@@ -584,6 +589,45 @@ def enabled_movers(runtime: Runtime, *positions: tuple[float, float]) -> list[MC
         mover.enable()
     runtime.run(0.005)
     return movers
+
+
+def grouped_field(nx: int, ny: int, starts: Sequence[tuple[float, float]],
+                  holes: Collection[tuple[int, int]] = ()
+                  ) -> tuple[Runtime, MC_PlanarEnvironment, MC_PlanarGroup, list[MC_PlanarMover]]:
+    """An ``nx`` x ``ny`` stator field (leaving out the stators (i, j) in ``holes``) with
+    movers m0, m1, ... enabled at ``starts`` [mm], they and the environment in one enabled
+    group: where a router or a property test of a planar machine starts."""
+    from openmotion.planar import (
+        MC_PlanarEnvironment,
+        MC_PlanarGroup,
+        MC_PlanarMover,
+        MoverVector,
+        PlanarMoverParameters,
+        PlanarState,
+    )
+    from openmotion.planar.stators import STATOR_SIZE
+
+    runtime = Runtime()
+    environment = MC_PlanarEnvironment(runtime)
+    for i in range(nx):
+        for j in range(ny):
+            if (i, j) not in holes:
+                environment.add_stator(STATOR_SIZE * i, STATOR_SIZE * j)
+    environment.create_boundary()
+    group = MC_PlanarGroup(runtime)
+    group.enable()
+    movers = [MC_PlanarMover(runtime, PlanarMoverParameters(initial_position=MoverVector(*s)),
+                             name=f"m{k}") for k, s in enumerate(starts)]
+    for mover in movers:
+        mover.enable()
+    runtime.run(0.002)
+    for mover in movers:
+        mover.add_to_group(group)
+    environment.add_to_group(group)
+    runtime.step()
+    runtime.step()
+    assert all(m.state is PlanarState.ENABLED and m.group is group for m in movers)
+    return runtime, environment, group, movers
 
 
 def enabled_line(runtime: Runtime, start: tuple[float, float], end: tuple[float, float],

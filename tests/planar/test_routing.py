@@ -17,42 +17,18 @@ from openmotion.planar import (
     MC_PlanarEnvironment,
     MC_PlanarGroup,
     MC_PlanarMover,
-    MoverVector,
-    PlanarMoverParameters,
-    PlanarState,
 )
 from openmotion.planar.layouts import MAGBOTSIM_LAYOUTS, magbotsim_layout
 from openmotion.planar.routing import Router
 from openmotion.planar.routing.grid import build_grid
 from openmotion.planar.routing.planner import distances
 from openmotion.planar.stators import STATOR_SIZE
+from openmotion.testing import grouped_field
 
 OVERLAP = 1e-6  #: [mm²] footprints may share rounding only
 
 
-def field(nx: int, ny: int, starts: list[tuple[float, float]], holes: set[tuple[int, int]] = ()
-          ) -> tuple[om.Runtime, MC_PlanarEnvironment, MC_PlanarGroup, list[MC_PlanarMover]]:
-    rt = om.Runtime()
-    environment = MC_PlanarEnvironment(rt)
-    for i in range(nx):
-        for j in range(ny):
-            if (i, j) not in holes:
-                environment.add_stator(STATOR_SIZE * i, STATOR_SIZE * j)
-    environment.create_boundary()
-    group = MC_PlanarGroup(rt)
-    group.enable()
-    movers = [MC_PlanarMover(rt, PlanarMoverParameters(initial_position=MoverVector(*s)),
-                             name=f"m{k}") for k, s in enumerate(starts)]
-    for m in movers:
-        m.enable()
-    rt.run(0.002)
-    for m in movers:
-        m.add_to_group(group)
-    environment.add_to_group(group)
-    rt.step()
-    rt.step()
-    assert all(m.state is PlanarState.ENABLED and m.group is group for m in movers)
-    return rt, environment, group, movers
+field = grouped_field  #: nx x ny stators, movers at starts, all in one group
 
 
 def run_checked(rt: om.Runtime, router: Router, environment: MC_PlanarEnvironment,

@@ -11,14 +11,6 @@ import shapely
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import openmotion as om
-from openmotion.planar import (
-    MC_PlanarEnvironment,
-    MC_PlanarGroup,
-    MC_PlanarMover,
-    MoverVector,
-    PlanarMoverParameters,
-)
 from openmotion.planar.routing import Router
 from openmotion.planar.routing.grid import build_grid
 from openmotion.planar.routing.lacam import Space, lacam, pibt_step, with_gaps
@@ -31,6 +23,7 @@ from openmotion.planar.routing.planner import (
     straight_runs,
 )
 from openmotion.planar.stators import STATOR_SIZE
+from openmotion.testing import grouped_field
 
 SIDE = 155.0  #: [mm] the default mover
 
@@ -132,24 +125,7 @@ def route_and_run(nx: int, ny: int, starts: list[tuple[float, float]],
                   targets: list[tuple[float, float, float]]) -> tuple[Router, list, dict]:
     """Route movers standing at ``starts`` to ``targets`` on an nx x ny stator field; run
     until the router is idle, counting overlapping footprints."""
-    rt = om.Runtime()
-    environment = MC_PlanarEnvironment(rt)
-    for i in range(nx):
-        for j in range(ny):
-            environment.add_stator(STATOR_SIZE * i, STATOR_SIZE * j)
-    environment.create_boundary()
-    group = MC_PlanarGroup(rt)
-    group.enable()
-    movers = [MC_PlanarMover(rt, PlanarMoverParameters(initial_position=MoverVector(*s)),
-                             name=f"m{k}") for k, s in enumerate(starts)]
-    for m in movers:
-        m.enable()
-    rt.run(0.002)
-    for m in movers:
-        m.add_to_group(group)
-    environment.add_to_group(group)
-    rt.step()
-    rt.step()
+    rt, _, group, movers = grouped_field(nx, ny, starts)
     router = Router(group, time_budget=0.0)
     handles = router.route(dict(zip(movers, targets, strict=True)))
     assert all(h.busy for h in handles.values())

@@ -29,6 +29,7 @@ from openmotion.planar import (
 from openmotion.planar.routing import RouteCommand, Router
 from openmotion.planar.routing.grid import build_grid
 from openmotion.planar.stators import STATOR_SIZE
+from openmotion.testing import grouped_field
 
 OVERLAP = 1e-6  #: [mm²] footprints may share rounding only
 STATORS = STATOR_SIZE  #: the routing cells are the stators here [mm]
@@ -40,29 +41,7 @@ def centre(i: int, j: int) -> tuple[float, float]:
     return STATORS * (i + 0.5), STATORS * (j + 0.5)
 
 
-def field(nx: int, ny: int, starts: list[tuple[float, float]]
-          ) -> tuple[om.Runtime, MC_PlanarEnvironment, MC_PlanarGroup, list[MC_PlanarMover]]:
-    """nx x ny stators, movers enabled at ``starts``, all in one enabled group."""
-    rt = om.Runtime()
-    environment = MC_PlanarEnvironment(rt)
-    for i in range(nx):
-        for j in range(ny):
-            environment.add_stator(STATORS * i, STATORS * j)
-    environment.create_boundary()
-    group = MC_PlanarGroup(rt)
-    group.enable()
-    movers = [MC_PlanarMover(rt, PlanarMoverParameters(initial_position=MoverVector(*s)),
-                             name=f"m{k}") for k, s in enumerate(starts)]
-    for m in movers:
-        m.enable()
-    rt.run(0.002)
-    for m in movers:
-        m.add_to_group(group)
-    environment.add_to_group(group)
-    rt.step()
-    rt.step()
-    assert all(m.state is PlanarState.ENABLED and m.group is group for m in movers)
-    return rt, environment, group, movers
+field = grouped_field  #: nx x ny stators, movers at starts, all in one group
 
 
 class Watch:

@@ -361,8 +361,8 @@ def brake_gap_holds(pk: float, vk: float, ak: float, dk: float, jk: float, pi: f
     """``_min_brake_gap(...) >= need``, the FAST pair check, for less: it looks first where
     both brakes end (where a follower that cannot keep the gap nearly always fails), stops at
     the first value below ``need``, and skips the roots of a piece whose cubic a bound keeps
-    ``BOUND_MARGIN`` above ``need``. The same answer for every pair (tests/rail/
-    test_brake_gap.py)."""
+    ``BOUND_MARGIN`` above ``need``. The same answer for every pair
+    (tests/transport/test_gap_control.py)."""
     ke1, ke2, ke3, kj1, kj3, kp0, kv0, ka0, kp1, kv1, ka1, kp2, kv2, ka2, kp3 = _brake_ends(
         pk, vk, ak, dk, jk)
     ie1, ie2, ie3, ij1, ij3, ip0, iv0, ia0, ip1, iv1, ia1, ip2, iv2, ia2, ip3 = _brake_ends(
