@@ -33,7 +33,7 @@ import time
 from collections import Counter
 from collections.abc import Callable, Iterator
 from concurrent.futures import Future
-from contextlib import contextmanager
+from contextlib import AbstractContextManager, contextmanager
 from dataclasses import dataclass, field
 from enum import StrEnum
 from pathlib import Path
@@ -109,6 +109,26 @@ class HostStatus:
                 f" · clients: {who or 'none'}{failed}")
 
 
+class Clients:
+    """The clients connected to a served machine, by kind ("opcua", "ads" ...): both hosts
+    count them for their status."""
+
+    def __init__(self) -> None:
+        self._count: Counter[str] = Counter()
+
+    @contextmanager
+    def connected(self, kind: str) -> Iterator[None]:
+        """Count a client of ``kind`` while inside."""
+        self._count[kind] += 1
+        try:
+            yield
+        finally:
+            self._count[kind] -= 1
+
+    def connected_now(self) -> dict[str, int]:
+        return {kind: n for kind, n in self._count.items() if n > 0}
+
+
 class MachineHost:
     """A machine on a kernel thread, for endpoints to read and command."""
 
@@ -144,7 +164,7 @@ class MachineHost:
         self._next_ticket = 1
         self._snapshot = self._read(0)
         self._published = threading.Condition()
-        self._clients: Counter[str] = Counter()
+        self._clients = Clients()
         self._lateness = np.zeros(LATENESS_WINDOW)
         self._late_count = 0
         self._slips = 0
@@ -356,14 +376,9 @@ class MachineHost:
 
     # -- clients ---------------------------------------------------------------------------
 
-    @contextmanager
-    def client(self, kind: str) -> Iterator[None]:
+    def client(self, kind: str) -> AbstractContextManager[None]:
         """Count a connected client of ``kind`` ("opcua", "ads" ...) while inside."""
-        self._clients[kind] += 1
-        try:
-            yield
-        finally:
-            self._clients[kind] -= 1
+        return self._clients.connected(kind)
 
     def status(self) -> HostStatus:
         count = min(self._late_count, LATENESS_WINDOW)
@@ -371,7 +386,7 @@ class MachineHost:
         snapshot = self._snapshot
         return HostStatus(
             self.pace, self.speed, self._paused, snapshot.cycle, snapshot.time,
-            {kind: n for kind, n in self._clients.items() if n > 0},
+            self._clients.connected_now(),
             float(np.percentile(late, 99)) * 1e3 if count else 0.0,
             float(late.max()) * 1e3 if count else 0.0, self._slips, self._failure)
 

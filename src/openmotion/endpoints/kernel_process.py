@@ -26,9 +26,8 @@ import os
 import pickle
 import threading
 import time
-from collections import Counter
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager, suppress
+from collections.abc import Callable
+from contextlib import AbstractContextManager, suppress
 from dataclasses import replace
 from multiprocessing.connection import Connection
 from pathlib import Path
@@ -39,6 +38,7 @@ import numpy as np
 from openmotion.core.errors import ConfigError
 from openmotion.endpoints.host import (
     REQUEST_TIMEOUT,
+    Clients,
     HostError,
     HostStatus,
     MachineHost,
@@ -188,7 +188,7 @@ class ProcessHost:
         self._process: multiprocessing.process.BaseProcess | None = None
         self._pipe: Connection | None = None
         self._lock = threading.Lock()
-        self._clients: Counter[str] = Counter()
+        self._clients = Clients()
         self._started = False
         self._closed = False
         #: what the scheduler gave the kernel ("realtime", "nice -10" or "normal"), once it
@@ -350,16 +350,11 @@ class ProcessHost:
 
     # -- clients ---------------------------------------------------------------------------
 
-    @contextmanager
-    def client(self, kind: str) -> Iterator[None]:
-        self._clients[kind] += 1
-        try:
-            yield
-        finally:
-            self._clients[kind] -= 1
+    def client(self, kind: str) -> AbstractContextManager[None]:
+        return self._clients.connected(kind)
 
     def status(self) -> HostStatus:
-        clients = {kind: n for kind, n in self._clients.items() if n > 0}
+        clients = self._clients.connected_now()
         if self._process is None:
             snapshot = self.snapshot
             return HostStatus(self.pace, self.speed, False, snapshot.cycle, snapshot.time,
