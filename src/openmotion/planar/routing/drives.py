@@ -85,6 +85,8 @@ class RouterStats:
     rejected: int = 0  #: commands the group refused (the router retries them)
     held_back: int = 0  #: legs kept for a cycle because the group would refuse them
     extended: int = 0  #: legs sent in motion to carry on along the same line
+    #: legs sent short of their straight run's end, the group holding back the rest (D-373)
+    shortened: int = 0
     replans: int = 0  #: movers' routes re-planned around the others' (D-344)
     plans: list[Plan] = field(default_factory=list)
 

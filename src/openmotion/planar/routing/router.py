@@ -10,8 +10,9 @@ every mover whose next leg may start a MoveToPosition (MoveC for a final turn):
   dependency graph of the plan), so the movers cannot wait on each other in a circle,
   whatever their real speeds;
 - consecutive moves in one direction become one leg, planned time-optimally by the mover,
-  lengthened in motion when the steps after it are released; any-angle legs skip the
-  grid's staircases where the plan leaves room;
+  lengthened in motion when the steps after it are released or the area ahead clears (a
+  run the group would refuse whole starts as far along it as the group admits, D-373);
+  any-angle legs skip the grid's staircases where the plan leaves room;
 - before sending, the router asks the group whether it would admit the leg's swept area
   now (``ReservationRegistry.blocker``) and waits a cycle if not: the group's own check
   still decides every command, so safety never rests on the plan.
@@ -31,7 +32,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING
 
 import shapely
@@ -75,6 +76,8 @@ if TYPE_CHECKING:
 
 PLANNING_LIMIT = 5.0  #: a route call gives up on the movers left after this long [s]
 DEFAULT_TIME_BUDGET = 0.05  #: planning time a route call may spend improving its plan [s]
+#: shortcuts of one leg offered to the group, farthest first, before the plan's own leg (D-373)
+SHORTCUT_TRIES = 3
 _TRANSLATE = ST_MoveToPositionOptions(use_orientation=False)
 _TURN = ST_MoveToPositionOptions(use_orientation=True)
 
@@ -389,26 +392,37 @@ class Router:
         if not self._ready(drive, k, reached):
             return
         end = self._straight_end(drive, k, reached)
-        shortcut = self._shortcut(drive, k, end, reached)
-        for last_point in (shortcut, end):
-            if last_point is not None and self._send(drive, k, last_point,
-                                                     last_point is shortcut, sent):
+        shortcuts = self._shortcuts(drive, k, end, reached)
+        for _, shortcut in zip(range(SHORTCUT_TRIES), shortcuts, strict=False):
+            if self._send(drive, k, shortcut, True, sent):
                 return
-        self.stats.held_back += 1  # the group would refuse even the plan's own leg: wait
+        if self._send(drive, k, end, False, sent):
+            return
+        for last_point in _short_of(drive.route.points, k, end):  # D-373
+            if self._send(drive, k, last_point, False, sent):
+                self.stats.shortened += 1
+                return
+        self.stats.held_back += 1  # the group would refuse even the plan's first cell: wait
         drive.waits += 1
 
     def _extend(self, drive: Drive, reached: list[int], sent: list[BaseGeometry]) -> None:
         """A leg in motion along the plan's cells goes on along the same line when the steps
-        after its end are released now: the longer MoveToPosition starts from the mover's
-        motion on that line, so it does not stop at the old end (§7.2.2.8.1)."""
+        after its end are released now, as far as the group admits: the longer
+        MoveToPosition starts from the mover's motion on that line, so it does not stop at
+        the old end (§7.2.2.8.1)."""
         leg = drive.leg
         if leg is None or leg.last < 0 or leg.shortcut or leg.last >= len(drive.route.points) - 1:
             return
         if not self._ready(drive, leg.last, reached):
             return
         end = self._straight_end(drive, leg.first, reached)
-        if end > leg.last and self._send(drive, leg.first, end, False, sent):
-            self.stats.extended += 1
+        if end <= leg.last:
+            return
+        # the whole run when the group admits it, else as far along it as it admits (D-373)
+        for last_point in (end, *_short_of(drive.route.points, leg.last, end)):
+            if self._send(drive, leg.first, last_point, False, sent):
+                self.stats.extended += 1
+                return
 
     def _send(self, drive: Drive, k: int, last_point: int, off_plan: bool,
               sent: list[BaseGeometry]) -> bool:
@@ -457,10 +471,10 @@ class Router:
             return None
         return end
 
-    def _shortcut(self, drive: Drive, k: int, straight_end: int, reached: list[int]
-                  ) -> int | None:
-        """The farthest route point beyond ``straight_end`` that a straight leg from point
-        ``k`` may reach (any angle). The leg's swept area stays on the surface and off the
+    def _shortcuts(self, drive: Drive, k: int, straight_end: int, reached: list[int]
+                   ) -> Iterator[int]:
+        """The route points beyond ``straight_end`` that a straight leg from point ``k`` may
+        reach (any angle), farthest first. The leg's swept area stays on the surface and off the
         obstacles; where it ends the mover stands early, so the cells under it there are
         held by no other mover in the plan from step k to that point and whoever held them
         before has passed. The cells it only sweeps need no more than the group's own check
@@ -469,7 +483,7 @@ class Router:
         points = drive.route.points
         last = len(points) - 1
         if self._execution.grid is None or straight_end >= last:
-            return None
+            return
         agent = drive.route.agent
         me = drive.index
         start = points[k]
@@ -481,8 +495,7 @@ class Router:
             stand = self._execution.grid.touched(points[end], points[end], agent.hx, agent.hy)
             if self._clear(stand, 2 * k, 2 * end, me, reached) and \
                     self._on_surface(drive, start, points[end]):
-                return end
-        return None
+                yield end
 
     def _on_surface(self, drive: Drive, a: tuple[float, float], b: tuple[float, float]
                     ) -> bool:
@@ -525,6 +538,14 @@ class Router:
         command = mover.move_c(drive.route.agent.target[2])
         self.stats.legs += 1
         drive.leg = Leg(command, drive.reached, -1, (x, y), (x, y))
+
+
+def _short_of(points: Sequence[tuple[float, float]], k: int, end: int) -> list[int]:
+    """The route points between ``k`` and ``end`` (excluded) where a leg on the straight run
+    from ``k`` to ``end`` may stop short, farthest first: each place once, at its last
+    index (a wait of the plan there is then behind the mover)."""
+    return [j for j in range(end - 1, k, -1)
+            if points[j] != points[j + 1] and points[j] != points[k]]
 
 
 def _unit(a: tuple[float, float], b: tuple[float, float]) -> tuple[float, float]:
