@@ -67,6 +67,27 @@ def test_two_movers_swap_places_through_admitted_commands() -> None:
     assert set(router.routes) == {"m0", "m1"} and router.routes["m0"][0] == pytest.approx(a)
 
 
+def test_a_follower_on_the_line_starts_short_and_is_extended_without_a_stop() -> None:
+    """D-373: the group refuses the follower's whole run while the leader's reservation
+    covers it; a shorter leg starts once the first cell clears and is lengthened in motion."""
+    rt, environment, group, movers = field(6, 1, [centre(1, 0), centre(0, 0)])
+    leader, follower = movers
+    router = Router(group, time_budget=0.0, pitch=STATOR_SIZE)
+    handles = router.route({leader: (*centre(5, 0), 0.0), follower: (*centre(4, 0), 0.0)})
+    started_at, stops = None, 0
+    while router.busy and rt.now < 5.0:
+        was_moving = follower.in_motion
+        rt.step()
+        if follower.in_motion and started_at is None:
+            started_at = leader.pose.x
+        if was_moving and not follower.in_motion and follower.pose.x < centre(4, 0)[0] - 1e-3:
+            stops += 1
+    assert all(h.done for h in handles.values())
+    assert started_at is not None and started_at < centre(3, 0)[0]  # the leader far from done
+    assert stops == 0 and router.stats.rejected == 0
+    assert router.stats.shortened >= 1 and router.stats.extended >= 1
+
+
 def test_a_target_with_c_turns_the_mover_there() -> None:
     rt, environment, group, movers = field(3, 3, [centre(0, 0)])
     router = Router(group)
