@@ -11,11 +11,11 @@ target (turning there, if the target's c differs), both reserved like moves.
 
 The first plan comes from LaCAM over PIBT steps (lacam.py, complete, D-339), replayed with
 gaps so that it obeys the half-step rule (D-340). While the time budget lasts it is improved
-(D-341): LaCAM again with other priorities, and groups of agents re-planned one after the
-other with space-time A* (earliest arrival, heuristic: the distance on the static grid)
-around the others' routes, held in the reservation table ``_Table``. The plan whose last
-agent arrives earliest is kept (anytime). What cannot be planned is reported with the agent
-farthest from its target.
+(D-341, D-369): groups of agents are re-planned one after the other with space-time A*
+around the others' routes, held in the reservation table ``_Table``; the A*'s cost counts
+moves, waits and a stop per run of moves (D-368). The plan whose last agent would arrive
+earliest when run in its order of passage (``executed_times``) is kept (anytime). What
+cannot be planned is reported with the agent farthest from its target.
 """
 
 from __future__ import annotations
@@ -185,7 +185,8 @@ class Planner:
 
     def plan(self, time_budget: float, seed: int = 0) -> Plan:
         """A first plan (LaCAM, complete), improved while ``time_budget`` [s] lasts by
-        re-planning groups of agents with space-time A* around the others (D-339)."""
+        re-planning groups of agents with space-time A* around the others (D-339, D-369);
+        with a budget of 0 the first plan, and no clock read."""
         started = time.perf_counter()
         cpu = time.thread_time()
         rng = random.Random(seed)
