@@ -20,6 +20,8 @@ from openmotion.planar.routing.planner import (
     PlanningFailed,
     conflicts,
     distances,
+    executed_times,
+    plan_around,
     straight_runs,
 )
 from openmotion.planar.stators import STATOR_SIZE
@@ -119,6 +121,51 @@ def test_random_dense_fields_give_conflict_free_complete_plans(n: int, seed: int
     plan = Planner(grid, agents_on(grid, starts, goals)).plan(0.0, seed=seed)
     assert conflicts(plan.routes) == []
     assert [r.cells[-1] for r in plan.routes] == goals
+
+
+def test_a_route_around_a_crossing_mover_keeps_its_line_rather_than_zigzag() -> None:
+    # an agent along row 2 of 10 x 6 cells; a kept route crosses its line going down column 4
+    grid = build_grid(shapely.box(0.0, 0.0, 1600.0, 960.0), SIDE)
+    nx = grid.nx
+    crossing = agents_on(grid, [4], [5 * nx + 4])[0]
+    kept = Planner(grid, [crossing])._route(crossing, [j * nx + 4 for j in range(6)])  # noqa: SLF001
+    agent = agents_on(grid, [2 * nx], [2 * nx + 7])[0]
+    route = plan_around(Planner(grid, [agent]), [kept], [0], 0)[0]
+    assert conflicts([kept, route]) == []
+    assert route.cells[-1] == 2 * nx + 7 and route.arrival == 7  # as early as the zigzag
+    assert len(straight_runs(route)) == 1  # one leg: no stop on the way (D-368)
+
+
+def test_executed_times_drop_the_waits_no_order_asks_for() -> None:
+    grid = build_grid(shapely.box(0.0, 0.0, 1600.0, 960.0), SIDE)
+    nx = grid.nx
+    planner = Planner(grid, agents_on(grid, [0, 2 * nx], [3, 2 * nx + 3]))
+    straight = planner._route(planner.agents[0], [0, 1, 2, 3])  # noqa: SLF001
+    waiting = planner._route(planner.agents[1], [2 * nx, 2 * nx, 2 * nx + 1, 2 * nx + 1,  # noqa: SLF001
+                                                 2 * nx + 2, 2 * nx + 3])
+    pitch = min(grid.pitch)
+    # three moves and one start each: the waits of the second are nobody's order
+    assert executed_times([straight, waiting], pitch) == [5.0, 5.0]
+    # a mover that enters a cell after the first one passed it waits until it has gone on
+    # to the cell after (4 = one start and a move), then starts and moves (3)
+    follower = Planner(grid, agents_on(grid, [nx + 1], [1]))
+    after = follower._route(follower.agents[0], [nx + 1, nx + 1, nx + 1, 1])  # noqa: SLF001
+    assert executed_times([straight, after], pitch) == [5.0, 7.0]
+
+
+def test_the_time_budget_only_ever_improves_the_first_plan() -> None:
+    grid = square_grid(5)
+    cells = [c for c in range(grid.size) if grid.free[c]]
+    rng = random.Random(11)
+    starts, goals = rng.sample(cells, 12), rng.sample(cells, 12)
+    pitch = min(grid.pitch)
+    first = Planner(grid, agents_on(grid, starts, goals)).plan(0.0, seed=2)
+    again = Planner(grid, agents_on(grid, starts, goals)).plan(0.0, seed=2)
+    assert [r.cells for r in first.routes] == [r.cells for r in again.routes]  # no clock
+    better = Planner(grid, agents_on(grid, starts, goals)).plan(0.2, seed=2)
+    assert conflicts(better.routes) == [] and [r.cells[-1] for r in better.routes] == goals
+    assert max(executed_times(better.routes, pitch)) <= max(executed_times(first.routes,
+                                                                           pitch))
 
 
 def route_and_run(nx: int, ny: int, starts: list[tuple[float, float]],

@@ -11,11 +11,11 @@ target (turning there, if the target's c differs), both reserved like moves.
 
 The first plan comes from LaCAM over PIBT steps (lacam.py, complete, D-339), replayed with
 gaps so that it obeys the half-step rule (D-340). While the time budget lasts it is improved
-(D-341): LaCAM again with other priorities, and groups of agents re-planned one after the
-other with space-time A* (earliest arrival, heuristic: the distance on the static grid)
-around the others' routes, held in the reservation table ``_Table``. The plan whose last
-agent arrives earliest is kept (anytime). What cannot be planned is reported with the agent
-farthest from its target.
+(D-341, D-369): groups of agents are re-planned one after the other with space-time A*
+around the others' routes, held in the reservation table ``_Table``; the A*'s cost counts
+moves, waits and a stop per run of moves (D-368). The plan whose last agent would arrive
+earliest when run in its order of passage (``executed_times``) is kept (anytime). What
+cannot be planned is reported with the agent farthest from its target.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from openmotion.planar.routing.grid import RoutingGrid
+from openmotion.planar.routing.grid import MOVES, RoutingGrid
 from openmotion.planar.routing.lacam import (
     SearchExhausted,
     SearchTimeout,
@@ -43,6 +43,13 @@ FOREVER = 1 << 30  #: a half-step after every plan
 FIRST_PLAN_LIMIT = 0.5  #: the first plan's search may take this long at least [s]
 LNS_EXPANSIONS = 20_000  #: A* gives up on one agent of an improvement round after this many
 LNS_SIZE = 4  #: agents re-planned together in one improvement round
+#: the estimated time a mover loses to a stop and a start (a turn, a wait on its way), in
+#: moves of one cell: at the default dynamics a one-cell leg takes about three times as long
+#: as one more cell of a longer leg (160-240 mm cells, D-368)
+STOP_COST = 2.0
+FLOOR_AGENTS = 8  #: up to this many agents, the anytime rounds stop at each one's best alone
+#: one step's wait: about a one-cell leg of the mover waited for, in moves of one cell
+WAIT_COST = 3.0
 
 
 @dataclass
@@ -167,7 +174,7 @@ class Planner:
         self.grid = grid
         self.agents = list(agents)
         self._dist: dict[int, dict[int, int]] = {}
-        self._neighbours: dict[int, list[int]] = {}
+        self._neighbours: dict[tuple[float, float], dict[int, list]] = {}
 
     def distance(self, agent: Agent) -> dict[int, int]:
         table = self._dist.get(agent.goal_cell)
@@ -178,28 +185,27 @@ class Planner:
 
     def plan(self, time_budget: float, seed: int = 0) -> Plan:
         """A first plan (LaCAM, complete), improved while ``time_budget`` [s] lasts by
-        re-planning groups of agents with space-time A* around the others (D-339)."""
+        re-planning groups of agents with space-time A* around the others (D-339, D-369);
+        with a budget of 0 the first plan, and no clock read."""
         started = time.perf_counter()
         cpu = time.thread_time()
         rng = random.Random(seed)
         routes = self._first_routes(max(time_budget, FIRST_PLAN_LIMIT), seed)
         first_time = time.perf_counter() - started
         first_cpu = time.thread_time() - cpu
-        cost = _cost(routes)
+        score = self._score(routes)
         tried = 1
-        bound = self._lower_bound()
-        while cost[0] > bound and time.perf_counter() - started < time_budget:
-            tried += 1
-            if len(routes) > LNS_SIZE and tried % 2 == 0:  # LaCAM again, other tie-breaks
-                try:
-                    better = self._first_routes(time_budget - (time.perf_counter() - started),
-                                                seed + tried)
-                except PlanningFailed:
-                    better = None
-            else:
-                better = self._neighbourhood(routes, rng)
-            if better is not None and _cost(better) < cost:
-                routes, cost = better, _cost(better)
+        if time_budget > 0:
+            floor = self._floor()
+            while score[0] > floor and time.perf_counter() - started < time_budget:
+                tried += 1
+                if tried == 2 and len(routes) <= FLOOR_AGENTS:  # all, the longest way first
+                    better = self._prioritized()
+                else:
+                    better = self._neighbourhood(routes, rng)
+                if better is not None and self._score(better) < score:
+                    routes, score = better, self._score(better)
+        cost = _cost(routes)
         table = _Table()
         for index, route in enumerate(routes):
             table.hold(route, index)
@@ -261,8 +267,10 @@ class Planner:
         cells, one by one in a random order, around the others' routes (large neighbourhood
         search); None when an agent finds no slot."""
         n = len(routes)
-        latest = max(r.arrival for r in routes)
-        critical = rng.choice([a for a in range(n) if routes[a].arrival == latest])
+        times = executed_times(routes, min(self.grid.pitch))
+        latest = max(times)
+        critical = rng.choice([a for a in range(n) if times[a] == latest])
+        last_step = max(r.arrival for r in routes)
         if n <= LNS_SIZE:
             group = list(range(n))
         else:
@@ -285,16 +293,59 @@ class Planner:
         new = list(routes)
         try:
             for index in group:
-                route = self._plan_agent(index, table, LNS_EXPANSIONS)
+                route = self._plan_agent(index, table, LNS_EXPANSIONS, last_step)
                 table.hold(route, index)
                 new[index] = route
         except _OrderFailed:
             return None
         return new
 
-    def _lower_bound(self) -> int:
-        return max((self.distance(a).get(a.start_cell, 0) + a.start_leg + a.final_leg
-                    for a in self.agents), default=0)
+    def _score(self, routes: list[Route]) -> tuple[float, float]:
+        """(the latest estimated arrival, their sum) when the plan runs in its order of
+        passage (``executed_times``): what the anytime rounds lower (D-368)."""
+        times = executed_times(routes, min(self.grid.pitch))
+        return max(times, default=0.0), round(sum(times), 6)
+
+    def route_time(self, route: Route) -> float:
+        """A route's estimated time in moves of one cell, as ``_plan_agent`` counts it: the
+        length of every move, a wait per step standing, and a stop per run of moves in one
+        direction (D-368)."""
+        pitch = min(self.grid.pitch)
+        total, last = 0.0, None
+        points = route.points
+        for a, b in zip(points, points[1:], strict=False):
+            if a == b:
+                total += WAIT_COST
+                last = None
+                continue
+            direction = _direction(a, b)
+            total += math.dist(a, b) / pitch + (0.0 if direction == last else STOP_COST)
+            last = direction
+        return round(total, 6)
+
+    def _floor(self) -> float:
+        """No round can end the latest arrival earlier than this: with few agents each one's
+        best estimated time alone on the grid, with many (where that would take a good part
+        of the budget) A*'s lower bound of it."""
+        if len(self.agents) > FLOOR_AGENTS:
+            return max((self._rest(a, self.distance(a))(a.start_cell, -1) + a.start_leg
+                        + a.final_leg for a in self.agents), default=0.0)
+        table = _Table()
+        try:
+            return max((self.route_time(self._plan_agent(k, table))
+                        for k in range(len(self.agents))), default=0.0)
+        except _OrderFailed:
+            return 0.0
+
+    def _prioritized(self) -> list[Route] | None:
+        """Every agent by space-time A*, the longest way first, each standing on its start
+        only until the first step (prioritized planning); None when one finds no slot."""
+        order = sorted(range(len(self.agents)), key=lambda a: -self.distance(
+            self.agents[a]).get(self.agents[a].start_cell, 0))
+        try:
+            return self._plan_order(order, standing=False)[0]
+        except _OrderFailed:
+            return None
 
     def _plan_order(self, order: list[int], standing: bool = True
                     ) -> tuple[list[Route], _Table]:
@@ -315,14 +366,57 @@ class Planner:
             routes[index] = route
         return [r for r in routes if r is not None], table
 
-    def _neighbours_of(self, cell: int) -> list[int]:
-        out = self._neighbours.get(cell)
+    def _rest(self, agent: Agent, dist: dict[int, int]):  # noqa: ANN202 - a closure
+        """A lower bound of the cost from (cell, direction of the last move) to the agent's
+        goal cell: the longer of its steps on the grid and its octile length, plus a stop
+        unless the goal lies straight ahead (consistent, so A* stays optimal)."""
+        nx = self.grid.nx
+        gi, gj = agent.goal_cell % nx, agent.goal_cell // nx
+        cache: dict[tuple[int, int], float] = {}
+
+        def rest(cell: int, direction: int) -> float:
+            out = cache.get((cell, direction))
+            if out is None:
+                di, dj = gi - cell % nx, gj - cell // nx
+                if di == 0 and dj == 0:
+                    out = 0.0
+                else:
+                    ai, aj = abs(di), abs(dj)
+                    octile = max(ai, aj) + (math.sqrt(2.0) - 1.0) * min(ai, aj)
+                    out = max(float(dist[cell]), octile)
+                    if direction < 0 or not _ahead(MOVES[direction], di, dj):
+                        out += STOP_COST
+                cache[(cell, direction)] = out
+            return out
+        return rest
+
+    def _moves_from(self, cell: int, hx: float, hy: float
+                    ) -> list[tuple[int, int, float, tuple[int, ...], tuple[int, ...]]]:
+        """(cell, direction, length in pitches, cells swept, cells under it after) of a wait
+        (direction -1) and of each move from ``cell``, for a footprint of half extents
+        (hx, hy)."""
+        table = self._neighbours.setdefault((hx, hy), {})
+        out = table.get(cell)
         if out is None:
-            out = [cell, *self.grid.neighbours(cell)]
-            self._neighbours[cell] = out
+            grid = self.grid
+            nx = grid.nx
+            under = grid.touched_cells(cell, cell, hx, hy)
+            out = [(cell, -1, 0.0, under, under)]
+            for other in grid.neighbours(cell):
+                di, dj = other % nx - cell % nx, other // nx - cell // nx
+                out.append((other, MOVES.index((di, dj)), math.hypot(di, dj),
+                            grid.touched_cells(cell, other, hx, hy),
+                            grid.touched_cells(other, other, hx, hy)))
+            table[cell] = out
         return out
 
-    def _plan_agent(self, index: int, table: _Table, limit: int = MAX_EXPANSIONS) -> Route:
+    def _plan_agent(self, index: int, table: _Table, limit: int = MAX_EXPANSIONS,
+                    latest: int | None = None) -> Route:
+        """Agent ``index``'s cheapest route around what ``table`` holds: space-time A* over
+        (cell, step, direction of the last move) whose cost is the estimated time of
+        ``route_time`` (moves, waits and a stop per run), so that of two routes arriving
+        alike the one with fewer turns and stops wins (D-368). ``latest``: the step by which
+        it must arrive (an improvement round wants no later arrival)."""
         agent = self.agents[index]
         grid = self.grid
         dist = self.distance(agent)
@@ -336,44 +430,61 @@ class Planner:
             raise _OrderFailed(index, "its start cell is taken at once")
         horizon = t0 + dist[agent.start_cell] + HORIZON_SLACK + max(table.last.values(),
                                                                     default=0) // 2
-        start = (agent.start_cell, t0)
-        parent: dict[tuple[int, int], tuple[int, int] | None] = {start: None}
-        heap = [(t0 + dist[agent.start_cell], -t0, agent.start_cell, t0)]
+        if latest is not None:
+            horizon = min(horizon, latest - (1 if agent.final_leg else 0))
+        # state: (cell, step, direction of the move into it; -1 after a wait or at the start)
+        start = (agent.start_cell, t0, -1)
+        parent: dict[tuple[int, int, int], tuple[int, int, int] | None] = {start: None}
+        best: dict[tuple[int, int, int], float] = {start: 0.0}
+        rest = self._rest(agent, dist)
+        heap = [(rest(agent.start_cell, -1), -t0, 0.0, agent.start_cell, t0, -1)]
         expansions = 0
         goal_state = None
         final = agent.final_cells
         goal = frozenset(final) | frozenset(grid.touched_cells(agent.goal_cell,
                                                                agent.goal_cell, hx, hy))
+        passable: dict[tuple[int, int, int], bool] = {}  #: (u, v, step) -> the move is free
         while heap:
-            _, _, u, t = heapq.heappop(heap)
+            _, _, g, u, t, d = heapq.heappop(heap)
+            if g > best.get((u, t, d), math.inf):
+                continue
             expansions += 1
             if expansions > limit:
                 break
             if u == agent.goal_cell:
                 after = 2 * t + 1 if agent.final_leg else 2 * t
                 if table.free_after(final, after):
-                    goal_state = (u, t)
+                    goal_state = (u, t, d)
                     break
             if t >= horizon:
                 continue
-            for v in self._neighbours_of(u):
-                state = (v, t + 1)
-                if state in parent:
+            for v, direction, length, swept, under in self._moves_from(u, hx, hy):
+                if dist.get(v, FOREVER) + t + 1 > horizon:
                     continue
-                d = dist.get(v)
-                if d is None:
+                if direction < 0:
+                    cost = WAIT_COST
+                else:
+                    cost = length if direction == d else length + STOP_COST
+                state = (v, t + 1, direction)
+                further = g + cost
+                if further >= best.get(state, math.inf):
                     continue
-                if not table.free(grid.touched_cells(u, v, hx, hy), 2 * t + 1, index, goal):
+                key = (u, v, t)
+                ok = passable.get(key)
+                if ok is None:
+                    ok = passable[key] = table.free(swept, 2 * t + 1, index, goal) and \
+                        table.free(under, 2 * t + 2, index, goal)
+                if not ok:
                     continue
-                if not table.free(grid.touched_cells(v, v, hx, hy), 2 * t + 2, index, goal):
-                    continue
-                parent[state] = (u, t)
-                heapq.heappush(heap, (t + 1 + d, -(t + 1), v, t + 1))
+                best[state] = further
+                parent[state] = (u, t, d)
+                heapq.heappush(heap, (further + rest(v, direction), -(t + 1), further, v,
+                                      t + 1, direction))
         if goal_state is None:
             raise _OrderFailed(index, "every way to its target is taken by other movers "
                                       "(prioritized planning found no slot)")
         cells = []
-        state: tuple[int, int] | None = goal_state
+        state: tuple[int, int, int] | None = goal_state
         while state is not None:
             cells.append(state[0])
             state = parent[state]
@@ -403,6 +514,59 @@ class Planner:
         else:
             occupied[-1] = tuple(sorted(set(occupied[-1]) | set(agent.final_cells)))
         return Route(agent, points, occupied, route_cells)
+
+
+def executed_times(routes: list[Route], pitch: float) -> list[float]:
+    """Each route's estimated arrival, in moves of one cell, when the routes run in the
+    plan's order of passage through every cell rather than in its steps (as the router
+    drives them, D-347): a move starts once the movers the plan lets through its cells
+    before have left them, costs its length, and a stop when it does not continue the move
+    before it without waiting (D-368). Waits of the plan that no order asks for vanish."""
+    n = len(routes)
+    # per cell: (first, last half-step, agent) of every visit, in order
+    visits: dict[int, list[tuple[int, int, int]]] = {}
+    for a, route in enumerate(routes):
+        open_: dict[int, int] = {}
+        for half, cells in enumerate(route.occupied):
+            for cell in [c for c in open_ if c not in cells]:
+                visits.setdefault(cell, []).append((open_.pop(cell), half - 1, a))
+            for cell in cells:
+                open_.setdefault(cell, half)
+        for cell, first in open_.items():
+            visits.setdefault(cell, []).append((first, FOREVER, a))
+    after: list[dict[int, list[tuple[int, int]]]] = [{} for _ in range(n)]
+    for cell_visits in visits.values():
+        cell_visits.sort()
+        for (_, last, a), (first, _, b) in zip(cell_visits, cell_visits[1:], strict=False):
+            if a != b:  # b's step taking the cell waits until a reached the point after
+                after[b].setdefault(max(0, (first - 1) // 2), []).append((a, last // 2 + 1))
+    reach = [[0.0] + [math.inf] * (len(r.points) - 1) for r in routes]
+    last: list[tuple[float, float] | None] = [None] * n
+    steps = max((len(r.points) for r in routes), default=1)
+    for step in range(steps - 1):
+        for a, route in enumerate(routes):
+            if step + 1 >= len(route.points):
+                continue
+            ready = reach[a][step]
+            for other, point in after[a].get(step, ()):
+                ready = max(ready, reach[other][min(point, len(routes[other].points) - 1)])
+            u, v = route.points[step], route.points[step + 1]
+            if u == v:
+                if ready > reach[a][step]:
+                    last[a] = None  # it stands still for another: the next move starts
+                reach[a][step + 1] = ready
+                continue
+            direction = _direction(u, v)
+            stop = direction != last[a] or ready > reach[a][step]
+            reach[a][step + 1] = ready + math.dist(u, v) / pitch + (STOP_COST if stop else 0.0)
+            last[a] = direction
+    return [round(r[-1], 6) for r in reach]
+
+
+def _ahead(move: tuple[int, int], di: int, dj: int) -> bool:
+    """(di, dj) is a whole number of ``move``s."""
+    k = max(abs(di), abs(dj))
+    return move[0] * k == di and move[1] * k == dj
 
 
 def _cost(routes: list[Route]) -> tuple[int, int]:
