@@ -13,8 +13,9 @@ from hypothesis import strategies as st
 
 from openmotion.planar.routing import Router
 from openmotion.planar.routing.grid import build_grid
-from openmotion.planar.routing.lacam import Space, lacam, pibt_step, with_gaps
+from openmotion.planar.routing.lacam import SearchTimeout, Space, lacam, pibt_step, with_gaps
 from openmotion.planar.routing.planner import (
+    FIRST_PLAN_WORK,
     Agent,
     Planner,
     PlanningFailed,
@@ -80,7 +81,7 @@ def test_no_mover_enters_a_cell_another_leaves_in_the_same_step() -> None:
     starts, goals = rng.sample(cells, 18), rng.sample(cells, 18)
     agents = agents_on(grid, starts, goals)
     space = Space(grid, agents, [distances(grid, a.goal_cell) for a in agents])
-    configs = lacam(space, 2.0, seed=0)
+    configs = lacam(space, FIRST_PLAN_WORK, seed=0)
     assert configs[0] == space.starts and configs[-1] == space.goals
     timeline = with_gaps(space, configs)
     for t in range(len(timeline[0]) - 1):
@@ -88,6 +89,23 @@ def test_no_mover_enters_a_cell_another_leaves_in_the_same_step() -> None:
         for k, path in enumerate(timeline):
             for cell in space.move(k, path[t], path[t + 1]):
                 assert taken.setdefault(cell, k) == k, (t, cell)
+
+
+def test_the_first_search_gives_up_after_a_count_of_work_not_a_time() -> None:
+    grid = square_grid(5)
+    cells = [c for c in range(grid.size) if grid.free[c]]
+    rng = random.Random(6)
+    starts, goals = rng.sample(cells, 25), rng.sample(cells, 25)  # about 2500 steps to plan
+    agents = agents_on(grid, starts, goals)
+    space = Space(grid, agents, [distances(grid, a.goal_cell) for a in agents])
+    ends = []
+    for _ in range(2):  # the same configurations searched each time: no clock decides
+        with pytest.raises(SearchTimeout) as ended:
+            lacam(space, 25 * 40, seed=0)
+        ends.append((ended.value.explored, ended.value.closest))
+    assert ends[0] == ends[1] and ends[0][0] <= 42
+    configs = lacam(space, FIRST_PLAN_WORK, seed=0)  # the same space, enough work: a plan
+    assert configs[-1] == space.goals
 
 
 def test_a_pibt_step_refuses_a_constraint_that_swaps_two_movers() -> None:

@@ -50,11 +50,11 @@ class SearchExhausted(Exception):
 
 
 class SearchTimeout(Exception):
-    """The time limit ended the search; ``closest`` is the mover farthest from its target
-    in the configuration nearest to the goal."""
+    """The time limit or the work limit ended the search; ``closest`` is the mover farthest
+    from its target in the configuration nearest to the goal."""
 
     def __init__(self, closest: int, explored: int) -> None:
-        super().__init__(f"no plan within the time limit ({explored} configurations)")
+        super().__init__(f"no plan within the limit ({explored} configurations)")
         self.closest = closest
         self.explored = explored
 
@@ -300,11 +300,18 @@ def pibt_step(space: Space, config: tuple[int, ...], order: Sequence[int],
     return tuple(step.next)
 
 
-def lacam(space: Space, time_limit: float, seed: int = 0) -> list[tuple[int, ...]]:
-    """Configurations from the starts to the goals (each a step), by LaCAM over PIBT."""
+def lacam(space: Space, work_limit: int, seed: int = 0,
+          time_limit: float = 0.0) -> list[tuple[int, ...]]:
+    """Configurations from the starts to the goals (each a step), by LaCAM over PIBT.
+
+    The search gives up after ``work_limit`` PIBT steps of one mover (configurations tried x
+    movers), or later, once ``time_limit`` [s] of wall clock has also passed. Without a time
+    limit no clock is read, so the outcome is the same on any machine under any load
+    (D-374)."""
     rng = random.Random(seed)
     started = time.perf_counter()
     n = len(space.agents)
+    max_count = max(1, work_limit // max(1, n))
     start, goal = space.starts, space.goals
     priorities = [rng.random() * TIE for _ in range(n)]
     root = _High(start, None, priorities)
@@ -317,7 +324,8 @@ def lacam(space: Space, time_limit: float, seed: int = 0) -> list[tuple[int, ...
         if node.config == goal:
             return _backtrack(node)
         count += 1
-        if count % 8 == 0 and time.perf_counter() - started > time_limit:
+        if count > max_count and (time_limit <= 0.0 or (
+                count % 8 == 0 and time.perf_counter() - started > time_limit)):
             worst = max(range(n), key=lambda k: space.h(k, best.config[k]))
             raise SearchTimeout(worst, len(explored))
         if not node.tree:

@@ -40,7 +40,10 @@ from openmotion.planar.routing.lacam import (
 MAX_EXPANSIONS = 20_000  #: A* gives up on one agent after this many expansions
 HORIZON_SLACK = 40  #: steps an agent may wait beyond its distance and the others' last use
 FOREVER = 1 << 30  #: a half-step after every plan
-FIRST_PLAN_LIMIT = 0.5  #: the first plan's search may take this long at least [s]
+#: the first plan's search gives up after this many PIBT steps of one mover (about a second
+#: of one core here; the densest test fields need an eighth of it), or when a longer time
+#: budget ends: a count, not a clock, so a failed search fails alike everywhere (D-374)
+FIRST_PLAN_WORK = 500_000
 LNS_EXPANSIONS = 20_000  #: A* gives up on one agent of an improvement round after this many
 LNS_SIZE = 4  #: agents re-planned together in one improvement round
 #: the estimated time a mover loses to a stop and a start (a turn, a wait on its way), in
@@ -190,7 +193,7 @@ class Planner:
         started = time.perf_counter()
         cpu = time.thread_time()
         rng = random.Random(seed)
-        routes = self._first_routes(max(time_budget, FIRST_PLAN_LIMIT), seed)
+        routes = self._first_routes(time_budget, seed)
         first_time = time.perf_counter() - started
         first_cpu = time.thread_time() - cpu
         score = self._score(routes)
@@ -216,7 +219,7 @@ class Planner:
         plan.tried = tried
         return plan
 
-    def _first_routes(self, limit: float, seed: int) -> list[Route]:
+    def _first_routes(self, time_budget: float, seed: int) -> list[Route]:
         """Routes from LaCAM over PIBT steps (lacam.py); PlanningFailed naming the agent
         farthest from its target when the search ends without a plan."""
         for index, agent in enumerate(self.agents):
@@ -225,10 +228,10 @@ class Planner:
             del index
         space = Space(self.grid, self.agents, [self.distance(a) for a in self.agents])
         try:
-            configs = lacam(space, limit, seed)
+            configs = lacam(space, FIRST_PLAN_WORK, seed, time_limit=time_budget)
         except SearchTimeout as failed:
             raise PlanningFailed(self.agents[failed.closest],
-                                 f"no plan found within {limit:g} s "
+                                 f"no plan found within the search's limit "
                                  f"({failed.explored} configurations searched)") from None
         except SearchExhausted as failed:
             raise PlanningFailed(self.agents[failed.closest],
