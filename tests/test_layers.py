@@ -10,6 +10,8 @@ import ast
 from collections import defaultdict
 from pathlib import Path
 
+import pytest
+
 SRC = Path(__file__).resolve().parents[1] / "src" / "openmotion"
 
 #: inner layers first; a package may import its own layer and the layers before it
@@ -95,22 +97,28 @@ def cycle(graph: dict[str, set[str]]) -> list[str]:
     return []
 
 
-def test_every_package_imports_inward_only():
-    assert outward(package_imports()) == []
+@pytest.fixture(scope="module")
+def imports() -> dict[str, set[str]]:
+    """The package's import graph, parsed once for the four checks below."""
+    return package_imports()
 
 
-def test_systems_never_import_each_other():
-    crossings = sorted((package, target) for package, targets in package_imports().items()
+def test_every_package_imports_inward_only(imports: dict[str, set[str]]):
+    assert outward(imports) == []
+
+
+def test_systems_never_import_each_other(imports: dict[str, set[str]]):
+    crossings = sorted((package, target) for package, targets in imports.items()
                        for target in targets if package in SYSTEMS and target in SYSTEMS)
     assert crossings == []
 
 
-def test_the_kernel_knows_no_system():
-    assert package_imports()["kernel"] <= LAYERS[0]
+def test_the_kernel_knows_no_system(imports: dict[str, set[str]]):
+    assert imports["kernel"] <= LAYERS[0]
 
 
-def test_no_import_cycle_between_packages():
-    assert cycle(package_imports()) == []
+def test_no_import_cycle_between_packages(imports: dict[str, set[str]]):
+    assert cycle(imports) == []
 
 
 def test_the_checks_see_a_cycle_and_an_outward_import(tmp_path: Path):

@@ -226,6 +226,7 @@ def test_random_bytes_never_stop_the_server(served) -> None:
         stop.set()
         reader.join(timeout=10)
     assert not failures, failures
-    assert replies == closes == FUZZ_FRAMES // 2 and reads[0] > 0 and server.clients == 0
+    assert replies == closes == FUZZ_FRAMES // 2 and reads[0] > 0
+    _wait_until(lambda: server.clients == 0)  # its thread sees the last close a moment later
     assert (host.snapshot.values == before).all()
     assert ads_result(exchange(server.port, frame(4, b""))) == 0
