@@ -63,7 +63,10 @@ MAX_NOTIFICATIONS = 1_000  #: notifications one connection may hold
 MAX_SUM = 500  #: sub-requests of one sum command (TwinCAT's limit)
 MAX_NOTE_SIZE = 1 << 16  #: bytes one notification may watch
 NOTE_TICK = 0.01  #: longest sleep of the notification thread [s]
-FIRST_SAMPLE_DELAY = 0.002  #: from adding a notification to its first sample [s]
+#: from adding a notification to its first sample [s]: a client maps the handle only after
+#: it has read the reply, and drops a sample for a handle it does not know yet; 2 ms lost the
+#: first sample on a loaded machine
+FIRST_SAMPLE_DELAY = 0.05
 MIN_NOTE_CYCLE = 0.001  #: shortest cycle of a notification (a cycle time of 0 means this) [s]
 SEND_TIMEOUT = 2.0  #: a client that takes nothing for this long is dropped [s]
 POLL = 0.2  #: how often blocked threads look whether the server stops [s]
