@@ -78,6 +78,8 @@ class CycleTables:
     def __init__(self, traffic: Traffic) -> None:
         self.traffic = traffic
         self.geometry: Geometry | None = None  #: (``geometry_now``)
+        #: what a geometry takes from the riders' tracks alone (``_on_tracks``)
+        self.on_tracks: tuple[np.ndarray, TrackArrays, tuple[np.ndarray, ...]] | None = None
         #: the riders' table rows: odometer, x, y, c (fixed from the coupling on)
         self.table_rows: tuple[np.ndarray, ...] | None = None
         self.track_infos: dict[int, TrackInfo] = {}  #: ``track_info`` of the version ...
@@ -121,6 +123,7 @@ class CycleTables:
     def renew(self) -> None:
         """New rider arrays (a coupling or uncoupling): nothing derived stays."""
         self.geometry = None
+        self.on_tracks = None
         self.table_rows = None
         self.track_infos, self.track_infos_version = {}, -1
         self.looks = _no_looks(0)
@@ -171,14 +174,8 @@ class CycleTables:
                 self.table_rows = (np.array([r.row for r in riders], dtype=np.int64),
                                    *(np.ascontiguousarray(x) for x in xyc.T))
             rows, x_rows, y_rows, c_rows = self.table_rows
-            # what belongs to a track, from the network's per-track arrays (``track_arrays``)
-            track_of = t.track_index.copy()
-            mine, ranked, ends = group_by_track(track_of)  # mine: each rider's track's place
-            on = track_of[ranked[ends - 1]]  # the tracks with riders, in place order
-            arrays = self.track_arrays(on)
-            start_switch, end_switch = _switch_ids(arrays.start_switch, arrays.end_switch,
-                                                   on, mine)
-            self.place, self.grouped = mine, (ranked, ends)
+            track_of, arrays, (start_switch, end_switch, length, start_range, end_range) = \
+                self._on_tracks()
             # the next track of each rider's route (-1: none): a rider that passes a switch
             # onto another rider's track keeps its gap to it as a pair (a route that comes
             # round a loop to that track much later does not relate them there); seam: the
@@ -192,10 +189,35 @@ class CycleTables:
             self.route_arrays = (track_of, next_of, seam, back)
             self.path_next = path_next
             self.stretches, self.clashes, self.merges, self.merged = {}, {}, {}, None
-            self.geometry = Geometry(rows, x_rows, y_rows, c_rows, arrays.length[track_of],
-                                     start_switch, end_switch, arrays.start_range[track_of],
-                                     arrays.end_range[track_of])
+            self.geometry = Geometry(rows, x_rows, y_rows, c_rows, length, start_switch,
+                                     end_switch, start_range, end_range)
         return self.geometry
+
+    def _on_tracks(self) -> tuple[np.ndarray, TrackArrays, tuple[np.ndarray, ...]]:
+        """The part of a geometry that depends only on the riders' tracks: each rider's
+        track index, the network's ``track_arrays`` and per rider its track's switch ids,
+        length and collision ranges; sets ``place`` and ``grouped``. Kept while no rider
+        changes track and the network's version stays: a new command changes a rider's
+        route, not its track, and rebuilt all of it (at 1000 riders the most of a cycle
+        that carries one)."""
+        t = self.traffic
+        kept = self.on_tracks
+        if kept is not None and kept[1] is self.tracks \
+                and self.tracks_version == t.network.version \
+                and kept[1].length.size == len(t.network.tracks) \
+                and np.array_equal(kept[0], t.track_index):
+            return kept
+        # what belongs to a track, from the network's per-track arrays (``track_arrays``)
+        track_of = t.track_index.copy()
+        mine, ranked, ends = group_by_track(track_of)  # mine: each rider's track's place
+        on = track_of[ranked[ends - 1]]  # the tracks with riders, in place order
+        arrays = self.track_arrays(on)
+        start_switch, end_switch = _switch_ids(arrays.start_switch, arrays.end_switch, on, mine)
+        self.place, self.grouped = mine, (ranked, ends)
+        self.on_tracks = (track_of, arrays, (start_switch, end_switch, arrays.length[track_of],
+                                             arrays.start_range[track_of],
+                                             arrays.end_range[track_of]))
+        return self.on_tracks
 
     def looks_for(self, riders: np.ndarray, look: Callable[[int], tuple[list[int], list[float]]]
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -228,8 +228,16 @@ class TrackNetwork:
         through other tracks (Dijkstra over the vertices, end to start only): its legs with
         odometer bases, the current track first at base 0. None: not reachable."""
         self.refresh()
+        lengths: dict[int, float] = {}  # each track's length asked once (a few µs each)
+
+        def length(t: MC_PlanarTrack) -> float:
+            found = lengths.get(t.index)
+            if found is None:
+                found = lengths[t.index] = t.length
+            return found
+
         counter = itertools.count()
-        queue = [(track.length - s, next(counter), [track], False)]
+        queue = [(length(track) - s, next(counter), [track], False)]
         best: dict[int, float] = {}
         while queue:
             cost, _, path, arrived = heapq.heappop(queue)
@@ -237,12 +245,12 @@ class TrackNetwork:
                 legs, base = [], 0.0
                 for t in path:
                     legs.append(Leg(t, base))
-                    base += t.length
+                    base += length(t)
                 return legs
             for nxt in self.successors(path[-1]):
                 if nxt is target:
                     heapq.heappush(queue, (cost + target_s, next(counter), [*path, nxt], True))
-                reach = cost + nxt.length
+                reach = cost + length(nxt)
                 if reach < best.get(nxt.index, float("inf")):
                     best[nxt.index] = reach
                     heapq.heappush(queue, (reach, next(counter), [*path, nxt], False))

@@ -116,9 +116,10 @@ class Traffic:
         #: per rider, the index of its track and of the next track of its route (-1: none),
         #: kept as they change (``routed``); the geometry takes a copy
         self.track_index = np.zeros(n, dtype=np.int64)
-        #: per rider and track index: the track is its own or on its route (``routed``),
-        #: so a track's operation mode is one count (``riders_on``)
-        self._use = np.zeros((n, max(1, len(getattr(self.network, "tracks", ())))), dtype=bool)
+        #: per track index and rider: the track is its own or on its route (``routed``),
+        #: so a track's operation mode is one count over a contiguous row (``riders_on``:
+        #: every MoveOnTrack asks it of each track of its route)
+        self._use = np.zeros((max(1, len(getattr(self.network, "tracks", ()))), n), dtype=bool)
         self._uses: dict[int, set[int]] = {}  #: per rider, the track indices set in ``_use``
         self.next_index = np.full(n, -1, dtype=np.int64)
         #: per rider, whether its route goes back over the seam of its closed track (D-147)
@@ -185,21 +186,21 @@ class Traffic:
         used = self._uses.get(k)
         if used is not None:
             for index in used:
-                self._use[k, index] = False
+                self._use[index, k] = False
         used = {r.track.index, *(leg.track.index for leg in r.route)}
         self._uses[k] = used
         for index in used:
-            if index >= self._use.shape[1]:
+            if index >= self._use.shape[0]:
                 self._widen_use(index + 1)
-            self._use[k, index] = True
+            self._use[index, k] = True
         self.next_index[r.slot] = r.route[1].track.index if len(r.route) > 1 and not back \
             else -1
         self.back[r.slot] = back
 
     def _widen_use(self, count: int) -> None:
         """Room in ``_use`` for ``count`` tracks (a track added after the riders came)."""
-        wider = np.zeros((self._use.shape[0], count), dtype=bool)
-        wider[:, :self._use.shape[1]] = self._use
+        wider = np.zeros((count, self._use.shape[1]), dtype=bool)
+        wider[:self._use.shape[0]] = self._use
         self._use = wider
 
     def riders_on(self, track: Rail, moving: bool) -> int:
@@ -207,7 +208,7 @@ class Traffic:
         the route ahead (§4.3: the track is Moving), else also those standing on it (a
         halted rider's unused legs do not count)."""
         index = track.index
-        routed = self._use[:, index] & (self.mode != IDLE) if index < self._use.shape[1] \
+        routed = self._use[index] & (self.mode != IDLE) if index < self._use.shape[0] \
             else np.zeros(self.mode.size, dtype=bool)
         if moving:
             return int(np.count_nonzero(routed))
