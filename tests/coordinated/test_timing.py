@@ -427,6 +427,53 @@ def run_events(path: list[Piece], events: list[tuple], dense: bool = False) -> N
     assert_rules(law, path, factors_at)
 
 
+def _alternating_path(slow: int) -> list[Piece]:
+    """24 pieces: a fast start, a slowing piece with an exit cap, a crawl at 1 mm/s, then
+    pieces alternating between 20 and 2 mm/s."""
+    return [Piece(2.0, 20.0, 100.0, 100.0, 3348.0, math.inf),
+            Piece(3.0, 18.0, 149.0, 149.0, 1000.0, 6.0),
+            Piece(20.0, 1.0, 100.0, 100.0, 1008.0, 24.0)] + [
+        Piece(1.0, 2.0 if k % 2 else 20.0, 100.0, 100.0, 1000.0, math.inf) for k in range(slow)]
+
+
+def test_a_jerk_override_while_a_stop_waits_keeps_the_caps():
+    """A stop that cannot brake yet follows the plan; a lower jerk factor set then must not
+    make the next leg give up the junction speed the running leg was planned for. The rates
+    the motion was planned with were forgotten as soon as that leg (planned under the old
+    factors) ended, and the next leg entered the 1 mm/s piece at 13.5 mm/s."""
+    run_events(_alternating_path(21), [(1, "stop", 10.0, 100.0, 1.0, 1.0, 1.0),
+                                       (2, "override", 0.0, 0.0, 1.0, 1.0, 0.5)])
+
+
+@st.composite
+def alternating_pieces(draw: st.DrawFn) -> list[Piece]:
+    """24 pieces alternating between fast and slow caps, exit caps open, closed or in
+    between, one piece capped at 1 mm/s."""
+    slow = draw(st.integers(0, 23))
+    result = []
+    for k in range(24):
+        fast = k % 2 == 0
+        velocity = 1.0 if k == slow else draw(
+            st.floats(20.0, 300.0) if fast else st.floats(2.0, 60.0))
+        rates = draw(st.floats(100.0, 5000.0))
+        exit_velocity = draw(st.one_of(st.just(math.inf), st.just(0.0), st.floats(0.5, 50.0)))
+        result.append(Piece(draw(st.floats(0.05, 20.0)), velocity, rates, rates,
+                            draw(st.floats(1e3, 1e6)), exit_velocity))
+    return result
+
+
+@settings(max_examples=30)
+@given(path=alternating_pieces(), when=st.integers(1, 300), later=st.integers(0, 300),
+       kind=st.sampled_from(["stop", "interrupt"]), rates=st.tuples(
+           st.floats(10.0, 1e5), st.floats(100.0, 1e8)), factors=st.sampled_from(
+           [(1.0, 1.0, 0.5), (1.0, 0.5, 0.5), (0.5, 1.0, 0.5), (1.0, 1.0, 0.2)]))
+def test_overrides_after_a_stop_keep_the_caps(path, when, later, kind, rates, factors):
+    """A stop (or an interrupt) during a zone-timed path, then an override that lowers the
+    jerk: every cap kept (the case above, found by this search)."""
+    run_events(path, [(when, kind, *rates, 1.0, 1.0, 1.0),
+                      (when + later, "override", 0.0, 0.0, *factors)])
+
+
 # -- events -----------------------------------------------------------------------------------
 
 

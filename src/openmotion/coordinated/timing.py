@@ -134,7 +134,7 @@ class _Leg:
     At ``end`` the state is ``final`` (s, v, a) exactly; the next leg starts there.
     """
 
-    __slots__ = ("t0", "data", "t", "p", "v", "a", "j", "end", "final", "zone", "k", "regular",
+    __slots__ = ("t0", "data", "t", "p", "v", "a", "j", "end", "final", "zone", "k", "rates",
                  "profile")
 
     def __init__(self, t0: float, data: np.ndarray, end: float,
@@ -142,7 +142,8 @@ class _Leg:
         self.t0, self.data, self.end, self.final, self.zone = t0, data, end, final, zone
         self.t, self.p, self.v, self.a, self.j = data.tolist()
         self.k = 0
-        self.regular = False  #: keeps the caps of the factors set now (not a fallback brake)
+        #: the acceleration and jerk factors whose caps the leg keeps (None: a fallback brake)
+        self.rates: tuple[float, float] | None = None
         self.profile = False  #: a dense path's whole profile (dense_timing.py), not a zone's
 
     @classmethod
@@ -334,7 +335,11 @@ class TimeLaw:
             leg_ = self._leg
             if now < leg_.t0 + leg_.end:
                 break
-            if leg_.regular:
+            if leg_.rates is not None and leg_.rates == self._factors[1:]:
+                # a leg planned under the factors set now has run: the motion no longer
+                # needs the rates of an earlier override (a leg planned before a drop of the
+                # jerk factor that ends after it does not count: the next leg may still need
+                # the old rates to reach the junction speed that leg was planned for)
                 self._planned_rates = self._factors[1:]
             self._next_leg(leg_.t0 + leg_.end, leg_.final, leg_.zone)
         else:
@@ -438,7 +443,7 @@ class TimeLaw:
         self._work[2] += 1
         new = _Leg(time, data, float(data[0, -1]), (self._length, 0.0, 0.0),
                    self._zones.n - 1)
-        new.profile = new.regular = True
+        new.profile, new.rates = True, self._factors[1:]
         return new
 
     def _replanned(self, time: float, state: tuple[float, float, float], zone: int
@@ -509,7 +514,8 @@ class TimeLaw:
         caps = self._caps(zone)
         new = self._leg_within(time, state, zone, end, target, caps)
         if new is not None:
-            return _regular(new)
+            new.rates = self._factors[1:]
+            return new
         v_max, acc, dec, jerk = caps
         zd = self._zones.data
         fa, fj = self._planned_rates
@@ -871,11 +877,6 @@ class TimeLaw:
     def standing(self) -> bool:
         """v == 0 and a == 0 at the last sample."""
         return self._state[1] == 0.0 and self._state[2] == 0.0
-
-
-def _regular(leg_: _Leg) -> _Leg:
-    leg_.regular = True
-    return leg_
 
 
 def _velocity_change(start: KinematicState, target: float, deceleration: float,
