@@ -427,6 +427,53 @@ def run_events(path: list[Piece], events: list[tuple], dense: bool = False) -> N
     assert_rules(law, path, factors_at)
 
 
+def _alternating_path(slow: int) -> list[Piece]:
+    """24 pieces: a fast start, a slowing piece with an exit cap, a crawl at 1 mm/s, then
+    pieces alternating between 20 and 2 mm/s."""
+    return [Piece(2.0, 20.0, 100.0, 100.0, 3348.0, math.inf),
+            Piece(3.0, 18.0, 149.0, 149.0, 1000.0, 6.0),
+            Piece(20.0, 1.0, 100.0, 100.0, 1008.0, 24.0)] + [
+        Piece(1.0, 2.0 if k % 2 else 20.0, 100.0, 100.0, 1000.0, math.inf) for k in range(slow)]
+
+
+def test_a_jerk_override_while_a_stop_waits_keeps_the_caps():
+    """A stop that cannot brake yet follows the plan; a lower jerk factor set then must not
+    make the next leg give up the junction speed the running leg was planned for. The rates
+    the motion was planned with were forgotten as soon as that leg (planned under the old
+    factors) ended, and the next leg entered the 1 mm/s piece at 13.5 mm/s."""
+    run_events(_alternating_path(21), [(1, "stop", 10.0, 100.0, 1.0, 1.0, 1.0),
+                                       (2, "override", 0.0, 0.0, 1.0, 1.0, 0.5)])
+
+
+@st.composite
+def alternating_pieces(draw: st.DrawFn) -> list[Piece]:
+    """24 pieces alternating between fast and slow caps, exit caps open, closed or in
+    between, one piece capped at 1 mm/s."""
+    slow = draw(st.integers(0, 23))
+    result = []
+    for k in range(24):
+        fast = k % 2 == 0
+        velocity = 1.0 if k == slow else draw(
+            st.floats(20.0, 300.0) if fast else st.floats(2.0, 60.0))
+        rates = draw(st.floats(100.0, 5000.0))
+        exit_velocity = draw(st.one_of(st.just(math.inf), st.just(0.0), st.floats(0.5, 50.0)))
+        result.append(Piece(draw(st.floats(0.05, 20.0)), velocity, rates, rates,
+                            draw(st.floats(1e3, 1e6)), exit_velocity))
+    return result
+
+
+@settings(max_examples=30)
+@given(path=alternating_pieces(), when=st.integers(1, 300), later=st.integers(0, 300),
+       kind=st.sampled_from(["stop", "interrupt"]), rates=st.tuples(
+           st.floats(10.0, 1e5), st.floats(100.0, 1e8)), factors=st.sampled_from(
+           [(1.0, 1.0, 0.5), (1.0, 0.5, 0.5), (0.5, 1.0, 0.5), (1.0, 1.0, 0.2)]))
+def test_overrides_after_a_stop_keep_the_caps(path, when, later, kind, rates, factors):
+    """A stop (or an interrupt) during a zone-timed path, then an override that lowers the
+    jerk: every cap kept (the case above, found by this search)."""
+    run_events(path, [(when, kind, *rates, 1.0, 1.0, 1.0),
+                      (when + later, "override", 0.0, 0.0, *factors)])
+
+
 # -- events -----------------------------------------------------------------------------------
 
 
@@ -683,7 +730,7 @@ def test_a_dense_profile_needs_a_law_at_rest_without_override():
 
 
 def test_events_during_a_dense_profile():
-    """A stop follows the profile until its brake keeps every cap; an override change pauses
+    """A stop brakes the profile at once (D-362); an override change pauses
     the profile and runs on by zones under the new factors; pieces appended while it runs
     follow its end, where it rests (D-335). Every cap kept throughout."""
     path = dense_path()
@@ -713,6 +760,42 @@ def test_events_during_a_dense_profile():
     assert_rules(grown, path)
 
 
+def brake_after_stop(law: TimeLaw, when: int, cycle: float = CYCLE) -> list[tuple]:
+    """Sample from cycle ``when`` (the stop's) until the motion stands; the samples that
+    break the stop's promise (D-362): the acceleration rising while positive, or the speed
+    rising once the acceleration was <= 0."""
+    broken, previous = [], law.sample(when * cycle)
+    for i in range(when + 1, when + 1_000_000):
+        current = law.sample(i * cycle)
+        if current[2] > 0.0 and current[2] > previous[2] * (1.0 + REL) + REL:
+            broken.append(("acceleration rises", i, previous, current))
+        if previous[2] <= 0.0 and current[1] > previous[1] * (1.0 + REL) + REL:
+            broken.append(("speed rises", i, previous, current))
+        previous = current
+        if law.standing:
+            return broken
+    raise AssertionError("the stop never came to rest")
+
+
+@pytest.mark.parametrize("when", [50, 240, 300, 500, 680, 900])
+def test_a_stop_during_a_dense_profile_brakes_at_once(when):
+    """MC_GroupStop during a dense path's profile brakes from the cycle it is given, the
+    acceleration falling at once with each piece's jerk cap, every cap kept (D-362). The
+    cycles are where the profile speeds up (50, 240, 300, 500, 680) or eases a brake (900):
+    it used to run on along the profile, speeding up, until a brake with one set of rates
+    kept every cap."""
+    path = dense_path()
+    law = TimeLaw(0.0, record=True)
+    law.append(path, dense=True)
+    for i in range(1, when):
+        law.sample(i * CYCLE)
+    law.stop(when * CYCLE, 5000.0, 1e6, keep=False)
+    assert brake_after_stop(law, when) == []
+    run_to_end(law, start=round(law._time / CYCLE) + 1)
+    assert_rules(law, path)
+    assert law.length < sum(p.length for p in path)
+
+
 @st.composite
 def dense_pieces(draw: st.DrawFn) -> list[Piece]:
     """16-60 alternating lines and contours with random caps, all junctions open."""
@@ -730,6 +813,29 @@ def dense_pieces(draw: st.DrawFn) -> list[Piece]:
 @given(path=dense_pieces(), events=EVENTS)
 def test_dense_profiles_with_stops_interrupts_and_overrides_keep_the_rules(path, events):
     run_events(path, events, dense=True)
+
+
+@settings(max_examples=15)
+@given(path=dense_pieces(), when=st.floats(0.0, 1.0), keep=st.booleans(),
+       rates=st.sampled_from([(math.inf, math.inf), (1e4, 1e7), (100.0, 1e4)]))
+def test_stops_during_dense_profiles_never_speed_up(path, when, keep, rates):
+    """Wherever a stop (or an interrupt) falls on a random dense path, whatever its rates:
+    the motion never speeds up along the path beyond letting go of the acceleration it
+    had, and keeps every cap (D-362)."""
+    cycle = 0.0005
+    duration = TimeLaw(0.0)
+    duration.append(path, dense=True)
+    end = round(run_to_end(duration, cycle)[0] / cycle)
+    law = TimeLaw(0.0, record=True)
+    law.append(path, dense=True)
+    stop = max(1, round(when * end))
+    for i in range(1, stop):
+        law.sample(i * cycle)
+    law.stop(stop * cycle, *rates, keep=keep)
+    assert brake_after_stop(law, stop, cycle) == []
+    law.resume(law._time)
+    run_to_end(law, cycle, start=round(law._time / cycle) + 1)
+    assert violations(law, path) == []
 
 
 # -- refusals ---------------------------------------------------------------------------------

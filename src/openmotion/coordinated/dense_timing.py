@@ -336,6 +336,117 @@ def profile(lengths: np.ndarray, vel: np.ndarray, acc: np.ndarray, dec: np.ndarr
 
 
 @compiled
+def _cubic(p: float, v: float, a: float, j: float, d: float) -> tuple[float, float, float]:
+    """(s, v, a) after ``d`` [s] of a constant-jerk segment."""
+    return p + d * (v + d * (0.5 * a + d * j / 6.0)), v + d * (a + 0.5 * d * j), a + d * j
+
+
+@compiled
+def _landing_gap(v: float, a: float, deceleration: float, land_jerk: float) -> float:
+    """a minus the acceleration from which a ramp to a = 0 with ``land_jerk`` ends at rest
+    (not below -``deceleration``): > 0 brakes too softly to land yet, < 0 too hard."""
+    return a + min(deceleration, math.sqrt(2.0 * land_jerk * max(v, 0.0)))
+
+
+@compiled
+def release(s: float, v: float, a: float, ends: np.ndarray, jerk: np.ndarray,
+            deceleration: float, land_jerk: float) -> tuple[np.ndarray, bool]:
+    """The start of a stop's brake on a dense path (D-362): from (s, v, a) the acceleration
+    moves at once, with each piece's own jerk cap (``jerk``, already within the request),
+    piece after piece, to the brake that ruckig's stop with ``deceleration`` and
+    ``land_jerk`` continues to rest: down to -``deceleration``, or to where a ramp back to
+    a = 0 with ``land_jerk`` ends at rest (v = a² / (2 land_jerk)); up to that brake where
+    the motion brakes harder than it can land (the profile held a on the contours while it
+    slowed for a slower stretch). Returns the segments (5, m) from t = 0, the last one the
+    state reached (jerk 0), and False where the path ends or the motion rests first."""
+    n = ends.shape[0]
+    data = np.zeros((5, n + 4))
+    m = 0
+    t = 0.0
+    k = int(np.searchsorted(ends, s, side="right"))
+    tiny = 1e-12 * max(deceleration, abs(a), 1.0)
+    for _ in range(n + 4):
+        gap = _landing_gap(v, a, deceleration, land_jerk)
+        if abs(gap) <= tiny or v <= 0.0:
+            break
+        if k >= n:
+            return data[:, :0].copy(), False
+        j = -jerk[k] if gap > 0.0 else jerk[k]
+        if j < 0.0:  # down: a(t) - target(v(t)) falls once a <= 0 and crosses by a = -dec
+            lo, hi = max(0.0, a / -j), (a + deceleration) / -j
+        else:  # up: by a = 0 at the latest, if the motion is still moving then
+            lo, hi = 0.0, -a / j
+            if _cubic(s, v, a, j, hi)[1] <= 0.0:
+                return data[:, :0].copy(), False
+        for _ in range(60):
+            middle = 0.5 * (lo + hi)
+            _, vm, am = _cubic(s, v, a, j, middle)
+            if (_landing_gap(vm, am, deceleration, land_jerk) > 0.0) == (j < 0.0):
+                lo = middle
+            else:
+                hi = middle
+        horizon = lo if j < 0.0 else hi  # the side from which ruckig's stop lands exactly
+        crossed = _cubic(s, v, a, j, horizon)[0] > ends[k]
+        if crossed:  # the piece ends first: its end, by bisection (s rises while v > 0)
+            lo, hi = 0.0, horizon
+            for _ in range(80):
+                middle = 0.5 * (lo + hi)
+                if _cubic(s, v, a, j, middle)[0] > ends[k]:
+                    hi = middle
+                else:
+                    lo = middle
+            horizon = lo
+        if horizon > 0.0:
+            data[0, m], data[1, m], data[2, m], data[3, m], data[4, m] = t, s, v, a, j
+            m += 1
+            s, v, a = _cubic(s, v, a, j, horizon)
+            t += horizon
+        if crossed:
+            s = max(s, ends[k])
+            k += 1
+        elif horizon <= 0.0 or not crossed:
+            break
+    data[0, m], data[1, m], data[2, m], data[3, m], data[4, m] = t, s, max(v, 0.0), a, 0.0
+    return data[:, :m + 1].copy(), v > 0.0
+
+
+@compiled
+def split(data: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """``data`` (its last segment open) with each segment cut where it passes a piece's end,
+    so that ``check`` sees every stretch against the caps of its own piece."""
+    m = data.shape[1]
+    first = int(np.searchsorted(ends, data[1, 0], side="right"))
+    last = int(np.searchsorted(ends, data[1, m - 1], side="left"))
+    out = np.zeros((5, m + max(last - first, 0) + 2))
+    q = 0
+    k = first
+    for i in range(m):
+        t0, p0, v0, a0, j = data[0, i], data[1, i], data[2, i], data[3, i], data[4, i]
+        out[0, q], out[1, q], out[2, q], out[3, q], out[4, q] = t0, p0, v0, a0, j
+        q += 1
+        if i + 1 == m:
+            break
+        dt = data[0, i + 1] - t0
+        p1 = data[1, i + 1]
+        while k < ends.shape[0] and ends[k] <= p0:
+            k += 1
+        while k < ends.shape[0] and ends[k] < p1 and q < out.shape[1] - 1:
+            lo, hi = 0.0, dt
+            for _ in range(80):
+                middle = 0.5 * (lo + hi)
+                if _cubic(p0, v0, a0, j, middle)[0] >= ends[k]:
+                    hi = middle
+                else:
+                    lo = middle
+            if 0.0 < hi < dt:
+                ps, vs, as_ = _cubic(p0, v0, a0, j, hi)
+                out[0, q], out[1, q], out[2, q], out[3, q], out[4, q] = t0 + hi, ps, vs, as_, j
+                q += 1
+            k += 1
+    return out[:, :q].copy()
+
+
+@compiled
 def check(data: np.ndarray, ends: np.ndarray, vel: np.ndarray, acc: np.ndarray,
           dec: np.ndarray, jerk: np.ndarray) -> int:
     """-1 if every segment of ``data`` (its last one open) keeps the caps of the piece it
@@ -374,4 +485,5 @@ def check(data: np.ndarray, ends: np.ndarray, vel: np.ndarray, acc: np.ndarray,
     return -1
 
 
-__all__ = ["SHARE", "check", "junction_speeds", "planned_time", "profile"]
+__all__ = ["SHARE", "check", "junction_speeds", "planned_time", "profile", "release",
+           "split"]

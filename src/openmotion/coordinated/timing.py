@@ -29,9 +29,9 @@ Dense profile (D-335). Zones return to a = 0 at every junction and run at their 
 A dense path (``append(..., dense=True)`` on a law that has not started) runs instead by one
 profile from rest to rest that ramps the acceleration at the start of each piece with the
 piece's jerk cap and holds it to the piece's end (dense_timing.py), checked segment by
-segment against the caps before it runs. While it runs, a stop follows it until the stop's
-brake fits, an override change brakes it to rest under the old factors and runs on by zones
-(``set_factors``), and appended pieces follow its end, where it rests.
+segment against the caps before it runs. While it runs, a stop brakes at once piece by
+piece (``_dense_brake``, D-362), an override change brakes it to rest under the old factors
+and runs on by zones (``set_factors``), and appended pieces follow its end, where it rests.
 
 Stops (§5.13-§5.16). ``stop`` brakes with the requested deceleration and jerk, lowered to the
 smallest caps of the pieces within the braking distance. Where that brake would pass a junction
@@ -52,7 +52,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from openmotion.coordinated.dense_timing import check, junction_speeds
+from openmotion.coordinated.dense_timing import check, junction_speeds, release, split
 from openmotion.coordinated.dense_timing import profile as dense_profile
 from openmotion.coordinated.timing_kernels import (
     leg,
@@ -73,6 +73,7 @@ from openmotion.trajectory.segments import KinematicState, Profile
 
 _MAX_EVENTS = 1_000_000  #: legs one sample may run through before we call it a bug
 _TAIL_TRIES = 256  #: junctions before the end a dense profile tries to brake from
+_BRAKE_PASSES = 12  #: times a dense stop's brake widens the pieces whose caps it takes
 
 
 @dataclass(frozen=True, slots=True)
@@ -134,7 +135,7 @@ class _Leg:
     At ``end`` the state is ``final`` (s, v, a) exactly; the next leg starts there.
     """
 
-    __slots__ = ("t0", "data", "t", "p", "v", "a", "j", "end", "final", "zone", "k", "regular",
+    __slots__ = ("t0", "data", "t", "p", "v", "a", "j", "end", "final", "zone", "k", "rates",
                  "profile")
 
     def __init__(self, t0: float, data: np.ndarray, end: float,
@@ -142,7 +143,8 @@ class _Leg:
         self.t0, self.data, self.end, self.final, self.zone = t0, data, end, final, zone
         self.t, self.p, self.v, self.a, self.j = data.tolist()
         self.k = 0
-        self.regular = False  #: keeps the caps of the factors set now (not a fallback brake)
+        #: the acceleration and jerk factors whose caps the leg keeps (None: a fallback brake)
+        self.rates: tuple[float, float] | None = None
         self.profile = False  #: a dense path's whole profile (dense_timing.py), not a zone's
 
     @classmethod
@@ -334,7 +336,11 @@ class TimeLaw:
             leg_ = self._leg
             if now < leg_.t0 + leg_.end:
                 break
-            if leg_.regular:
+            if leg_.rates is not None and leg_.rates == self._factors[1:]:
+                # a leg planned under the factors set now has run: the motion no longer
+                # needs the rates of an earlier override (a leg planned before a drop of the
+                # jerk factor that ends after it does not count: the next leg may still need
+                # the old rates to reach the junction speed that leg was planned for)
                 self._planned_rates = self._factors[1:]
             self._next_leg(leg_.t0 + leg_.end, leg_.final, leg_.zone)
         else:
@@ -438,7 +444,7 @@ class TimeLaw:
         self._work[2] += 1
         new = _Leg(time, data, float(data[0, -1]), (self._length, 0.0, 0.0),
                    self._zones.n - 1)
-        new.profile = new.regular = True
+        new.profile, new.rates = True, self._factors[1:]
         return new
 
     def _replanned(self, time: float, state: tuple[float, float, float], zone: int
@@ -509,7 +515,8 @@ class TimeLaw:
         caps = self._caps(zone)
         new = self._leg_within(time, state, zone, end, target, caps)
         if new is not None:
-            return _regular(new)
+            new.rates = self._factors[1:]
+            return new
         v_max, acc, dec, jerk = caps
         zd = self._zones.data
         fa, fj = self._planned_rates
@@ -671,6 +678,9 @@ class TimeLaw:
         """Start the stop's brake if it keeps every cap it passes; True when it did."""
         request = self._stop
         profile, ok = self._stop_brake(state, request.deceleration, request.jerk)
+        if not ok and self._on_profile():
+            dense = self._dense_brake(state, request.deceleration, request.jerk)
+            profile, ok = (dense, True) if dense is not None else (profile, False)
         if not ok:
             return False
         rest = float(profile.p[-1])
@@ -704,6 +714,54 @@ class TimeLaw:
                 break
             deceleration, jerk = lower
         return deceleration, jerk
+
+    def _dense_brake(self, state: tuple[float, float, float], deceleration: float,
+                     jerk: float) -> Profile | None:
+        """A stop's brake from a dense profile under way (D-362), or None where none keeps
+        every cap. The profile holds the acceleration on the contours, whose jerk caps are
+        small, and changes it on the lines, so one set of rates cannot brake it: the
+        acceleration falls at once with each piece's own jerk cap (``release``), and the
+        last stretch is ruckig's stop with the smallest deceleration and jerk caps of the
+        pieces it covers, which ends at rest with a = 0. The requested rates first, the
+        pieces' own caps where those pass a slower piece too fast."""
+        s, v, a = state
+        pieces = self._pieces
+        fv = self._velocity_factor
+        _, fa, fj = self._factors
+        ends = pieces.row(_END)
+        vel, acc = pieces.row(_V) * fv, pieces.row(_A) * fa
+        dec, jerk_caps = pieces.row(_D) * fa, pieces.row(_J) * fj
+        k0 = min(int(np.searchsorted(ends, s, side="right")), pieces.n - 1)
+        requests = [(deceleration, jerk)]
+        if math.isfinite(deceleration) or math.isfinite(jerk):
+            requests.append((math.inf, math.inf))
+        for rate, jerk_limit in requests:
+            capped = np.minimum(jerk_caps, jerk_limit)
+            k1 = k0
+            for _ in range(_BRAKE_PASSES):
+                low = min(rate, float(dec[k0:k1 + 1].min()))
+                land = float(capped[k0:k1 + 1].min())
+                head, moving = release(s, v, a, ends, capped, low, land)
+                self._work[1] += k1 - k0 + 1
+                if not moving:
+                    break
+                _, s1, v1, a1, _ = head[:, -1]
+                tail = plan_stop(KinematicState(s1, v1, a1), low, land)
+                rest = float(tail.p[-1])
+                if rest > self._length:
+                    break
+                k_rest = min(int(np.searchsorted(ends, rest, side="left")), pieces.n - 1)
+                if k_rest > k1:  # the brake reaches pieces with lower caps: take them in
+                    k1 = k_rest
+                    continue
+                data = tail.data.copy()
+                data[0] += head[0, -1]
+                data = np.hstack((head[:, :-1], data))
+                if check(split(data, ends), ends, vel, acc, dec, jerk_caps) < 0:
+                    data[1, -1] = rest
+                    return Profile.from_data(data)
+                break
+        return None
 
     def _stop_brake(self, state: tuple[float, float, float], deceleration: float,
                     jerk: float) -> tuple[Profile, bool]:
@@ -871,11 +929,6 @@ class TimeLaw:
     def standing(self) -> bool:
         """v == 0 and a == 0 at the last sample."""
         return self._state[1] == 0.0 and self._state[2] == 0.0
-
-
-def _regular(leg_: _Leg) -> _Leg:
-    leg_.regular = True
-    return leg_
 
 
 def _velocity_change(start: KinematicState, target: float, deceleration: float,
