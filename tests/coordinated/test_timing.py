@@ -861,3 +861,24 @@ def test_bad_calls_are_refused():
         law.stop(2.0, 0.0, 1.0, keep=False)
     with pytest.raises(ValueError):
         TimeLaw(0.0, start_velocity=-1.0)
+
+
+def test_a_dense_profile_never_reaches_a_slow_piece_still_accelerating() -> None:
+    """Found by the nightly profile: the profile's tail began at the 1 mm/s cap with the
+    acceleration still rising (42 mm/s²), so ruckig's brake to the end passed 1.9 mm/s."""
+    head = [(0.19582961772890736, 100.0, 500.0, 350.0, 1e5),
+            (0.019969283108408863, 73.23622352109602, 4036.7297342097445, 3304.4992091774707,
+             1e3),
+            (0.17660949776719503, 100.0, 500.0, 1464.912614173094, 1e5),
+            (0.15276704268680438, 1.0, 500.0, 996.7500252752438, 70963.79824680975),
+            (0.3, 100.0, 500.0, 150.0, 1e5),
+            (0.13224016918513723, 1.0, 500.0, 1471.1394240585823, 24552.413466501486),
+            (0.3, 100.0, 500.0, 150.0, 1e5),
+            (0.005, 1.7988498246958904, 500.0, 150.0, 1e3),
+            *[(0.005, 100.0, 500.0, 150.0, 1e5), (0.005, 1.0, 500.0, 150.0, 1e3)] * 2,
+            (0.005, 100.0, 500.0, 150.0, 1e5),
+            (0.005, 2.028206285905543, 2907.994682280403, 872.3984046841209, 1e3),
+            (0.005, 100.0, 500.0, 150.0, 1e5)]
+    tail = [(0.3, 1.0, 500.0, 150.0, 1e3), (0.3, 100.0, 500.0, 150.0, 1e5)] * 18
+    path = [Piece(*row, math.inf, 0) for row in head + tail]
+    run_events(path, [], dense=True)

@@ -423,7 +423,11 @@ class TimeLaw:
             s = float(ends[m - 1])
             limits = Limits(float(vel[m:].min()), float(acc[m:].min()), float(dec[m:].min()),
                             float(jerk[m:].min()))
-            if v > limits.velocity or not -limits.deceleration <= a <= limits.acceleration:
+            # a start at the cap that still accelerates passes it before the jerk can
+            # bring the acceleration down: ruckig's tail would then break the cap
+            if v + max(a, 0.0) ** 2 / (2.0 * limits.jerk) > \
+                    limits.velocity * (1.0 + RELATIVE_TOLERANCE) \
+                    or not -limits.deceleration <= a <= limits.acceleration:
                 continue
             try:
                 tail = plan_position(KinematicState(s, v, a), self._length, limits)
