@@ -227,3 +227,19 @@ def test_poses_between_cell_centres_and_turns_are_planned_as_legs_of_their_own()
     plan = router.stats.plans[-1]
     assert conflicts(plan.routes) == []
     assert any(-1 in r.cells[1:-1] or r.cells[0] == -1 for r in plan.routes)
+
+
+def test_an_improvement_round_gives_up_when_its_deadline_has_passed() -> None:
+    """A round that starts just before the budget ends may not run on past it: its A*
+    looks at the clock and gives up (D-375). A deadline of 0 has always passed."""
+    grid = square_grid(6)
+    cells = [c for c in range(grid.size) if grid.free[c]]
+    rng = random.Random(0)
+    starts, goals = rng.sample(cells, 8), rng.sample(cells, 8)
+    planner = Planner(grid, agents_on(grid, starts, goals))
+    first = planner.plan(0.0, seed=0)
+    assert planner._prioritized(deadline=0.0) is None  # noqa: SLF001
+    assert planner._neighbourhood(first.routes, random.Random(0), deadline=0.0) is None  # noqa: SLF001
+    # without a deadline the same rounds plan: the planner is still usable
+    assert conflicts(planner._prioritized()) == []  # noqa: SLF001
+    assert conflicts(planner._neighbourhood(first.routes, random.Random(0))) == []  # noqa: SLF001

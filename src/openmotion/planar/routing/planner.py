@@ -38,6 +38,7 @@ from openmotion.planar.routing.lacam import (
 )
 
 MAX_EXPANSIONS = 20_000  #: A* gives up on one agent after this many expansions
+CLOCK_EVERY = 64  #: an improvement round's A* looks at the clock every this many expansions
 HORIZON_SLACK = 40  #: steps an agent may wait beyond its distance and the others' last use
 FOREVER = 1 << 30  #: a half-step after every plan
 #: the first plan's search gives up after this many PIBT steps of one mover (about a second
@@ -202,10 +203,11 @@ class Planner:
             floor = self._floor()
             while score[0] > floor and time.perf_counter() - started < time_budget:
                 tried += 1
+                deadline = started + time_budget  # a round ends with the budget (D-375)
                 if tried == 2 and len(routes) <= FLOOR_AGENTS:  # all, the longest way first
-                    better = self._prioritized()
+                    better = self._prioritized(deadline)
                 else:
-                    better = self._neighbourhood(routes, rng)
+                    better = self._neighbourhood(routes, rng, deadline)
                 if better is not None and self._score(better) < score:
                     routes, score = better, self._score(better)
         cost = _cost(routes)
@@ -265,10 +267,11 @@ class Planner:
         occupied[-1] = tuple(sorted(set(occupied[-1]) | set(agent.final_cells)))
         return Route(agent, points, occupied, cells)
 
-    def _neighbourhood(self, routes: list[Route], rng: random.Random) -> list[Route] | None:
+    def _neighbourhood(self, routes: list[Route], rng: random.Random,
+                       deadline: float | None = None) -> list[Route] | None:
         """Re-plan the latest agent and up to LNS_SIZE - 1 agents whose routes meet its
         cells, one by one in a random order, around the others' routes (large neighbourhood
-        search); None when an agent finds no slot."""
+        search); None when an agent finds no slot or the ``deadline`` passes."""
         n = len(routes)
         times = executed_times(routes, min(self.grid.pitch))
         latest = max(times)
@@ -296,7 +299,7 @@ class Planner:
         new = list(routes)
         try:
             for index in group:
-                route = self._plan_agent(index, table, LNS_EXPANSIONS, last_step)
+                route = self._plan_agent(index, table, LNS_EXPANSIONS, last_step, deadline)
                 table.hold(route, index)
                 new[index] = route
         except _OrderFailed:
@@ -340,18 +343,19 @@ class Planner:
         except _OrderFailed:
             return 0.0
 
-    def _prioritized(self) -> list[Route] | None:
+    def _prioritized(self, deadline: float | None = None) -> list[Route] | None:
         """Every agent by space-time A*, the longest way first, each standing on its start
-        only until the first step (prioritized planning); None when one finds no slot."""
+        only until the first step (prioritized planning); None when one finds no slot or
+        the ``deadline`` passes."""
         order = sorted(range(len(self.agents)), key=lambda a: -self.distance(
             self.agents[a]).get(self.agents[a].start_cell, 0))
         try:
-            return self._plan_order(order, standing=False)[0]
+            return self._plan_order(order, standing=False, deadline=deadline)[0]
         except _OrderFailed:
             return None
 
-    def _plan_order(self, order: list[int], standing: bool = True
-                    ) -> tuple[list[Route], _Table]:
+    def _plan_order(self, order: list[int], standing: bool = True,
+                    deadline: float | None = None) -> tuple[list[Route], _Table]:
         """Plan the agents in ``order``. ``standing``: who is not planned yet stands on its
         start for good (the others go around it); else it holds its start only at step 0
         and must get out of the way of those planned before it (swaps need this)."""
@@ -364,7 +368,7 @@ class Planner:
                     table.held[(cell, 0)] = index
         routes: list[Route | None] = [None] * len(self.agents)
         for index in order:
-            route = self._plan_agent(index, table)
+            route = self._plan_agent(index, table, deadline=deadline)
             table.hold(route, index)
             routes[index] = route
         return [r for r in routes if r is not None], table
@@ -414,12 +418,14 @@ class Planner:
         return out
 
     def _plan_agent(self, index: int, table: _Table, limit: int = MAX_EXPANSIONS,
-                    latest: int | None = None) -> Route:
+                    latest: int | None = None, deadline: float | None = None) -> Route:
         """Agent ``index``'s cheapest route around what ``table`` holds: space-time A* over
         (cell, step, direction of the last move) whose cost is the estimated time of
         ``route_time`` (moves, waits and a stop per run), so that of two routes arriving
         alike the one with fewer turns and stops wins (D-368). ``latest``: the step by which
-        it must arrive (an improvement round wants no later arrival)."""
+        it must arrive (an improvement round wants no later arrival). ``deadline``: the
+        ``time.perf_counter()`` at which an improvement round's budget ends; the search
+        gives up then, as after ``limit`` expansions."""
         agent = self.agents[index]
         grid = self.grid
         dist = self.distance(agent)
@@ -452,7 +458,8 @@ class Planner:
             if g > best.get((u, t, d), math.inf):
                 continue
             expansions += 1
-            if expansions > limit:
+            if expansions > limit or (deadline is not None and expansions % CLOCK_EVERY == 0
+                                      and time.perf_counter() > deadline):
                 break
             if u == agent.goal_cell:
                 after = 2 * t + 1 if agent.final_leg else 2 * t
