@@ -164,6 +164,8 @@ class Blocked(Exception):
 
 
 def check_pairs(agents: list[Agent], movers: list[MC_PlanarMover]) -> None:
+    """Refuse, naming the other mover, two movers whose starts or whose targets share a cell
+    of the grid: the planner gives each mover one cell, so such a pair has no plan."""
     starts: dict[int, int] = {}
     for k, agent in enumerate(agents):
         for cell in agent.start_cells:
